@@ -1,0 +1,99 @@
+/*
+ * Memory hooks and the monotonic clock.
+ *
+ * Every allocation goes through the scene's or selector's tclod_allocator so a
+ * host can account for or pool libtclod's memory. Structure-of-arrays blocks
+ * grow all or nothing (tclod_arrays_grow): an out-of-memory failure in the
+ * middle of a growth leaves every array as it was, which is what lets each API
+ * call promise "TCLOD_ERR_NOMEM, nothing changed".
+ */
+#include "internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#if defined(_WIN32)
+#include <windows.h>
+#else
+#include <time.h>
+#endif
+
+static void *default_alloc(size_t size, void *ctx) {
+    (void)ctx;
+    return malloc(size);
+}
+
+static void default_free(void *ptr, size_t size, void *ctx) {
+    (void)size;
+    (void)ctx;
+    free(ptr);
+}
+
+int tclod_allocator_init(tclod_allocator *dst, const tclod_allocator *src) {
+    if (src && (src->alloc == NULL) != (src->free == NULL)) return 0;
+    if (src && src->alloc) {
+        *dst = *src;
+    } else {
+        dst->alloc = default_alloc;
+        dst->free = default_free;
+        dst->ctx = NULL;
+    }
+    return 1;
+}
+
+void *tclod_mem_alloc(const tclod_allocator *a, size_t size) {
+    return a->alloc(size ? size : 1, a->ctx);
+}
+
+void tclod_mem_free(const tclod_allocator *a, void *ptr, size_t size) {
+    if (ptr) a->free(ptr, size ? size : 1, a->ctx);
+}
+
+tclod_status tclod_arrays_grow(const tclod_allocator *a, const tclod_array *arrays, size_t count,
+                               size_t old_cap, size_t new_cap) {
+    void *fresh[32];
+    size_t i;
+    assert(count <= sizeof fresh / sizeof fresh[0]);
+    assert(new_cap >= old_cap);
+    for (i = 0; i < count; ++i) {
+        if (new_cap > SIZE_MAX / arrays[i].elem) break;
+        fresh[i] = tclod_mem_alloc(a, arrays[i].elem * new_cap);
+        if (!fresh[i]) break;
+    }
+    if (i < count) {
+        while (i-- > 0) tclod_mem_free(a, fresh[i], arrays[i].elem * new_cap);
+        return TCLOD_ERR_NOMEM;
+    }
+    for (i = 0; i < count; ++i) {
+        unsigned char *to = (unsigned char *)fresh[i];
+        size_t elem = arrays[i].elem;
+        if (old_cap) memcpy(to, *arrays[i].ptr, elem * old_cap);
+        if (arrays[i].fill >= 0)
+            memset(to + elem * old_cap, arrays[i].fill, elem * (new_cap - old_cap));
+        tclod_mem_free(a, *arrays[i].ptr, elem * old_cap);
+        *arrays[i].ptr = fresh[i];
+    }
+    return TCLOD_OK;
+}
+
+void tclod_arrays_free(const tclod_allocator *a, const tclod_array *arrays, size_t count,
+                       size_t cap) {
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        if (cap) tclod_mem_free(a, *arrays[i].ptr, arrays[i].elem * cap);
+        *arrays[i].ptr = NULL;
+    }
+}
+
+double tclod_now(void) {
+#if defined(_WIN32)
+    LARGE_INTEGER freq, now;
+    QueryPerformanceFrequency(&freq);
+    QueryPerformanceCounter(&now);
+    return (double)now.QuadPart / (double)freq.QuadPart;
+#else
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+#endif
+}

@@ -1,0 +1,578 @@
+/*
+ * TCLOD_SOLVER_GREEDY: the Mason–Blake increment over LOD hierarchies
+ * (Mason & Blake 1997, as summarised in seed 004 §3.1–3.2 and seed 000 §2.1.1).
+ *
+ * A selection is a cut through the hierarchies. An increment replaces a cut
+ * node by its children; increments are taken best Δbenefit/Δcost first from an
+ * indexed heap, and one that does not fit is skipped while smaller ones are
+ * still tried (fill). A cold solve starts from the roots and, because plain
+ * ratio order can be arbitrarily bad, finally compares its result with the best
+ * skipped increment taken alone (with the increments above it), which keeps it
+ * within half of the optimum when benefits show diminishing returns. A warm
+ * solve starts from the previous cut: it re-evaluates only the frontier (cut
+ * nodes, their children and their collapsible parents), applies decrements
+ * (children -> parent, least benefit lost per cost saved first) while over
+ * budget, then increments and increment/decrement swaps while they gain.
+ * A final exact re-summation in result order repairs any rounding drift, so the
+ * budget guarantee holds to the last bit.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Relative gain a swap must make, so rounding can never make swaps cycle. */
+#define SWAP_MARGIN 1e-12
+/* Iterations between two reads of the clock. */
+#define CLOCK_STRIDE 16u
+
+/* ---- evaluation ------------------------------------------------------------ */
+
+static int value_bad(double v) { return !(v >= 0.0) || isinf(v); }
+
+/* Calls the callbacks for node n once per solve and caches the values.
+ * Returns 0, or -1 when strict mode saw a bad value. */
+static int evaluate(tclod_selector *sel, tclod_id n) {
+    const tclod_scene *s = sel->scene;
+    const tclod_callbacks *cb = &sel->desc.callbacks;
+    tclod_query q;
+    double b, c = 0.0;
+    if (sel->stamp[n] == sel->solve_id) return 0;
+    sel->stamp[n] = sel->solve_id;
+    q.id = n;
+    q.count = 1;
+    q.view = sel->frame->view;
+    q.screen_area = -1.0f;
+    q.distance = -1.0f;
+    if (sel->has_view && s->bounds[4u * n + 3u] >= 0.0f)
+        tclod_view_cache_measure(&sel->view, &s->bounds[4u * n], &q.screen_area, &q.distance);
+    sel->stats.evaluations++;
+    b = cb->benefit(cb->user, &q);
+    if (value_bad(b)) {
+        sel->stats.invalid_values++;
+        b = 0.0;
+        if (sel->desc.strict) sel->failed = 1;
+    }
+    if (b > 0.0) {
+        c = cb->cost(cb->user, &q);
+        if (value_bad(c)) {
+            sel->stats.invalid_values++;
+            c = HUGE_VAL;
+            if (sel->desc.strict) sel->failed = 1;
+        }
+    }
+    sel->benefit[n] = b;
+    sel->cost[n] = c;
+    return sel->failed ? -1 : 0;
+}
+
+/* ---- the cut and its running sums ------------------------------------------ */
+
+static int counts(const tclod_selector *sel, tclod_id n) {
+    return sel->benefit[n] > 0.0 && !(sel->flags[n] & TCLOD_FLAG_DROPPED);
+}
+
+static void account(tclod_selector *sel, tclod_id n, double sign) {
+    if (!counts(sel, n)) return;
+    sel->benefit_sum += sign * sel->benefit[n];
+    if (isinf(sel->cost[n])) {
+        if (sign > 0.0)
+            sel->unaffordable++;
+        else
+            sel->unaffordable--;
+    } else {
+        sel->cost_sum += sign * sel->cost[n];
+    }
+}
+
+static void cut_add(tclod_selector *sel, tclod_id n) {
+    assert(sel->cut_pos[n] == TCLOD_NONE);
+    sel->cut_pos[n] = sel->cut_count;
+    sel->cut[sel->cut_count++] = n;
+    account(sel, n, 1.0);
+}
+
+static void cut_remove(tclod_selector *sel, tclod_id n) {
+    uint32_t slot = sel->cut_pos[n];
+    tclod_id last = sel->cut[--sel->cut_count];
+    account(sel, n, -1.0);
+    sel->cut[slot] = last;
+    sel->cut_pos[last] = slot;
+    sel->cut_pos[n] = TCLOD_NONE;
+}
+
+static int feasible(const tclod_selector *sel) {
+    return sel->unaffordable == 0 && sel->cost_sum <= sel->frame->budget;
+}
+
+static const tclod_id *children_of(const tclod_selector *sel, tclod_id n, uint32_t *count) {
+    const tclod_scene *s = sel->scene;
+    *count = s->child_first[n + 1u] - s->child_first[n];
+    return s->children + s->child_first[n];
+}
+
+/* ---- increments and decrements ------------------------------------------------ */
+
+/* Evaluates the children of a visible cut node and computes its increment.
+ * Returns the heap key, or NaN when it is no candidate (no children, no gain,
+ * an unaffordable child); -1 in *failed on a strict error. */
+static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
+    uint32_t count, i;
+    const tclod_id *ch = children_of(sel, n, &count);
+    double sum_b = 0.0, sum_c = 0.0, db, dc;
+    int affordable = 1;
+    *failed = 0;
+    if (count == 0 || !counts(sel, n)) return (double)NAN;
+    for (i = 0; i < count; ++i) {
+        if (evaluate(sel, ch[i]) != 0) {
+            *failed = 1;
+            return (double)NAN;
+        }
+        sum_b += sel->benefit[ch[i]];
+        if (isinf(sel->cost[ch[i]]))
+            affordable = 0;
+        else
+            sum_c += sel->cost[ch[i]];
+    }
+    db = sum_b - sel->benefit[n];
+    dc = sum_c - sel->cost[n]; /* -inf when n itself is unaffordable */
+    sel->delta_b[n] = db;
+    sel->delta_c[n] = dc;
+    if (!affordable || !isfinite(sum_c) || !(db > 0.0)) return (double)NAN;
+    return dc > 0.0 ? db / dc : HUGE_VAL;
+}
+
+/* Queues n's increment if it is a candidate (append: heap order restored by
+ * the caller; otherwise pushed). */
+static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
+    int failed;
+    double key = increment_key(sel, n, &failed);
+    if (failed) return -1;
+    if (key == key) {
+        if (append)
+            tclod_heap_append(&sel->inc, n, key);
+        else
+            tclod_heap_push(&sel->inc, n, key);
+    }
+    return 0;
+}
+
+/* 1 when every child of p is in the cut. */
+static int collapsible(const tclod_selector *sel, tclod_id p) {
+    uint32_t count, i;
+    const tclod_id *ch = children_of(sel, p, &count);
+    for (i = 0; i < count; ++i)
+        if (sel->cut_pos[ch[i]] == TCLOD_NONE) return 0;
+    return count > 0;
+}
+
+/* Key of the decrement collapsing p's children (all in the cut) into p:
+ * smallest loss per saved cost first, so the heap stores it negated. Free
+ * collapses (no loss, no extra cost) and those removing unaffordable children
+ * come first; collapses that save nothing come last. */
+static double decrement_key(tclod_selector *sel, tclod_id p) {
+    uint32_t count, i;
+    const tclod_id *ch = children_of(sel, p, &count);
+    double sum_b = 0.0, sum_c = 0.0, loss, saved;
+    int unaffordable = 0;
+    for (i = 0; i < count; ++i) {
+        if (!counts(sel, ch[i])) continue;
+        sum_b += sel->benefit[ch[i]];
+        if (isinf(sel->cost[ch[i]]))
+            unaffordable = 1;
+        else
+            sum_c += sel->cost[ch[i]];
+    }
+    loss = sum_b - sel->benefit[p];
+    saved = sum_c - sel->cost[p];
+    sel->delta_b[p] = loss;
+    sel->delta_c[p] = saved;
+    if (isinf(sel->cost[p]) || !isfinite(sum_c)) return -HUGE_VAL;
+    if (unaffordable) return HUGE_VAL;
+    if (loss <= 0.0 && saved >= 0.0) return HUGE_VAL;
+    if (saved > 0.0) return -(loss / saved);
+    return -HUGE_VAL;
+}
+
+/* Queues the decrement into p when p is collapsible. */
+static int queue_decrement(tclod_selector *sel, tclod_id p, int append) {
+    double key;
+    if (p == TCLOD_NONE || tclod_heap_contains(&sel->dec, p) || !collapsible(sel, p)) return 0;
+    if (evaluate(sel, p) != 0) return -1;
+    key = decrement_key(sel, p);
+    if (append)
+        tclod_heap_append(&sel->dec, p, key);
+    else
+        tclod_heap_push(&sel->dec, p, key);
+    return 0;
+}
+
+static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
+    uint32_t count, i;
+    const tclod_id *ch = children_of(sel, n, &count);
+    tclod_id parent = sel->scene->parent[n];
+    double path_b = sel->path_b[n] + sel->delta_b[n];
+    double path_c = sel->path_c[n] + sel->delta_c[n];
+    if (tclod_heap_contains(&sel->inc, n)) tclod_heap_remove(&sel->inc, n);
+    cut_remove(sel, n);
+    for (i = 0; i < count; ++i) {
+        cut_add(sel, ch[i]);
+        sel->path_b[ch[i]] = path_b;
+        sel->path_c[ch[i]] = path_c;
+        if (queue_increment(sel, ch[i], 0) != 0) return -1;
+    }
+    sel->stats.increments++;
+    if (track_dec) {
+        if (parent != TCLOD_NONE && tclod_heap_contains(&sel->dec, parent))
+            tclod_heap_remove(&sel->dec, parent);
+        if (queue_decrement(sel, n, 0) != 0) return -1;
+    }
+    return 0;
+}
+
+static int apply_decrement(tclod_selector *sel, tclod_id p) {
+    uint32_t count, i;
+    const tclod_id *ch = children_of(sel, p, &count);
+    if (tclod_heap_contains(&sel->dec, p)) tclod_heap_remove(&sel->dec, p);
+    for (i = 0; i < count; ++i) {
+        if (tclod_heap_contains(&sel->inc, ch[i])) tclod_heap_remove(&sel->inc, ch[i]);
+        if (tclod_heap_contains(&sel->dec, ch[i])) tclod_heap_remove(&sel->dec, ch[i]);
+        cut_remove(sel, ch[i]);
+    }
+    cut_add(sel, p);
+    sel->stats.decrements++;
+    if (queue_increment(sel, p, 0) != 0) return -1;
+    return queue_decrement(sel, sel->scene->parent[p], 0);
+}
+
+/* ---- roots ------------------------------------------------------------------- */
+
+/* When even the visible roots in the cut do not fit: leaves out the lowest
+ * value (benefit / cost) roots until the rest fits, then takes back, best
+ * first, any left-out root that still fits. Unaffordable roots go first. Like
+ * every ratio greedy for a knapsack this alone can be arbitrarily bad, so the
+ * most beneficial root that fits alone is tried as the starting point too. */
+static void drop_roots(tclod_selector *sel) {
+    uint32_t n = 0, i, first_dropped, best = TCLOD_NONE;
+    double budget = sel->frame->budget;
+    for (i = 0; i < sel->cut_count; ++i) {
+        tclod_id r = sel->cut[i];
+        double c;
+        if (!counts(sel, r)) continue;
+        c = sel->cost[r];
+        sel->scratch[n] = r;
+        sel->scratch_key[n] = isinf(c) ? -HUGE_VAL : (c > 0.0 ? sel->benefit[r] / c : HUGE_VAL);
+        n++;
+    }
+    tclod_sort_by_key(sel->scratch, sel->scratch_key, n);
+    first_dropped = n;
+    while (first_dropped > 0 && !feasible(sel)) {
+        tclod_id r = sel->scratch[--first_dropped];
+        account(sel, r, -1.0);
+        sel->flags[r] |= TCLOD_FLAG_DROPPED;
+    }
+    for (i = first_dropped; i < n; ++i) {
+        tclod_id r = sel->scratch[i];
+        if (sel->cost_sum + sel->cost[r] <= budget) {
+            sel->flags[r] &= (uint8_t)~TCLOD_FLAG_DROPPED;
+            account(sel, r, 1.0);
+        }
+    }
+    for (i = 0; i < n; ++i) {
+        tclod_id r = sel->scratch[i];
+        if (sel->cost[r] <= budget && sel->benefit[r] > sel->benefit_sum &&
+            (best == TCLOD_NONE || sel->benefit[r] > sel->benefit[sel->scratch[best]]))
+            best = i;
+    }
+    if (best != TCLOD_NONE) {
+        for (i = 0; i < n; ++i) {
+            tclod_id r = sel->scratch[i];
+            account(sel, r, -1.0);
+            sel->flags[r] |= TCLOD_FLAG_DROPPED;
+        }
+        for (i = 0; i < n; ++i) {
+            tclod_id r = sel->scratch[i == 0 ? best : (i <= best ? i - 1u : i)];
+            if (sel->cost_sum + sel->cost[r] <= budget) {
+                sel->flags[r] &= (uint8_t)~TCLOD_FLAG_DROPPED;
+                account(sel, r, 1.0);
+            }
+        }
+    }
+    for (i = 0; i < n; ++i) {
+        tclod_id r = sel->scratch[i];
+        if (!(sel->flags[r] & TCLOD_FLAG_DROPPED)) continue;
+        sel->stats.dropped_roots++;
+        if (tclod_heap_contains(&sel->inc, r)) tclod_heap_remove(&sel->inc, r);
+    }
+}
+
+/* ---- starts --------------------------------------------------------------------- */
+
+static void clear_cut(tclod_selector *sel) {
+    uint32_t i;
+    for (i = 0; i < sel->cut_count; ++i) {
+        sel->cut_pos[sel->cut[i]] = TCLOD_NONE;
+        sel->flags[sel->cut[i]] = 0;
+    }
+    sel->cut_count = 0;
+    sel->cost_sum = sel->benefit_sum = 0.0;
+    sel->unaffordable = 0;
+    tclod_heap_clear(&sel->inc);
+    tclod_heap_clear(&sel->dec);
+}
+
+/* Cut = the roots; drops roots that do not fit; queues their increments. */
+static int start_cold(tclod_selector *sel) {
+    const tclod_scene *s = sel->scene;
+    uint32_t i;
+    clear_cut(sel);
+    for (i = 0; i < s->root_count; ++i) {
+        tclod_id r = s->roots[i];
+        if (evaluate(sel, r) != 0) return -1;
+        sel->path_b[r] = sel->path_c[r] = 0.0;
+        cut_add(sel, r);
+    }
+    if (!feasible(sel)) drop_roots(sel);
+    for (i = 0; i < sel->cut_count; ++i)
+        if (queue_increment(sel, sel->cut[i], 1) != 0) return -1;
+    tclod_heap_build(&sel->inc);
+    return 0;
+}
+
+/* Cut = the previous cut, re-evaluated; queues its increments and decrements. */
+static int start_warm(tclod_selector *sel) {
+    const tclod_scene *s = sel->scene;
+    uint32_t i;
+    sel->cost_sum = sel->benefit_sum = 0.0;
+    sel->unaffordable = 0;
+    for (i = 0; i < sel->cut_count; ++i) {
+        tclod_id n = sel->cut[i];
+        sel->flags[n] = 0;
+        if (evaluate(sel, n) != 0) return -1;
+        account(sel, n, 1.0);
+    }
+    for (i = 0; i < sel->cut_count; ++i) {
+        tclod_id n = sel->cut[i];
+        tclod_id p = s->parent[n];
+        if (queue_increment(sel, n, 1) != 0) return -1;
+        /* each parent is looked at once: from its first child */
+        if (p != TCLOD_NONE && s->children[s->child_first[p]] == n &&
+            queue_decrement(sel, p, 1) != 0)
+            return -1;
+    }
+    tclod_heap_build(&sel->inc);
+    tclod_heap_build(&sel->dec);
+    return 0;
+}
+
+/* ---- the search ------------------------------------------------------------------ */
+
+static int out_of_time(tclod_selector *sel) {
+    const tclod_frame *f = sel->frame;
+    uint32_t it = sel->stats.iterations;
+    if (f->max_iterations && it >= f->max_iterations) {
+        sel->stats.stop_reason = TCLOD_STOP_ITERATIONS;
+        return 1;
+    }
+    if (f->solve_seconds > 0.0 && it % CLOCK_STRIDE == 0 &&
+        tclod_now() - sel->start_time >= f->solve_seconds) {
+        sel->stats.stop_reason = TCLOD_STOP_TIME;
+        return 1;
+    }
+    return 0;
+}
+
+/* Restores feasibility of a warm start: decrements while over budget, then
+ * roots are dropped if the roots alone do not fit. Always completes. */
+static int restore_budget(tclod_selector *sel) {
+    while (!feasible(sel)) {
+        if (sel->dec.count == 0) {
+            drop_roots(sel);
+            break;
+        }
+        sel->stats.iterations++;
+        if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0) return -1;
+    }
+    return 0;
+}
+
+/* Makes room for increment n by decrements whose summed loss stays below its
+ * gain. Returns 1 when the swap was made, 0 when it would not gain. */
+static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
+    double need = sel->cost_sum + sel->delta_c[n] - sel->frame->budget;
+    double gain = sel->delta_b[n], freed = 0.0, loss = 0.0;
+    tclod_id parent = sel->scene->parent[n];
+    uint32_t taken = 0, i;
+    int ok = 0;
+    *failed = 0;
+    while (sel->dec.count > 0) {
+        double key = sel->dec.keys[0];
+        tclod_id p = sel->dec.ids[0];
+        if (p != parent && !(sel->delta_c[p] > 0.0)) break; /* the rest saves nothing */
+        tclod_heap_pop(&sel->dec);
+        sel->scratch[taken] = p;
+        sel->scratch_key[taken] = key;
+        taken++;
+        if (p == parent) continue; /* would remove n itself */
+        freed += sel->delta_c[p];
+        loss += sel->delta_b[p];
+        if (gain - loss <= SWAP_MARGIN * fabs(gain)) break;
+        if (freed >= need) {
+            ok = 1;
+            break;
+        }
+    }
+    for (i = 0; i < taken; ++i) {
+        tclod_id p = sel->scratch[i];
+        if (!ok || p == parent)
+            tclod_heap_push(&sel->dec, p, sel->scratch_key[i]);
+    }
+    if (!ok) return 0;
+    for (i = 0; i < taken; ++i) {
+        tclod_id p = sel->scratch[i];
+        if (p == parent) continue;
+        sel->stats.iterations++;
+        if (apply_decrement(sel, p) != 0) {
+            *failed = 1;
+            return 0;
+        }
+    }
+    if (apply_increment(sel, n, 1) != 0) *failed = 1;
+    return 1;
+}
+
+/* Best single skipped increment of a cold solve, with the increments above it. */
+typedef struct alternative {
+    tclod_id node;
+    double benefit;
+} alternative;
+
+/* Increments (and, warm, free collapses and swaps) until nothing fits, nothing
+ * is left, or a limit is hit. */
+static int improve(tclod_selector *sel, int warm, alternative *alt, double roots_b,
+                   double roots_c) {
+    int skipped = 0, failed = 0;
+    sel->stats.stop_reason = TCLOD_STOP_FINEST;
+    for (;;) {
+        tclod_id n;
+        if (out_of_time(sel)) return 0;
+        if (warm && sel->dec.count > 0 && sel->dec.keys[0] == HUGE_VAL) {
+            sel->stats.iterations++;
+            if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0) return -1;
+            continue;
+        }
+        if (sel->inc.count == 0) break;
+        n = tclod_heap_pop(&sel->inc);
+        sel->stats.iterations++;
+        if (sel->unaffordable == 0 && sel->cost_sum + sel->delta_c[n] <= sel->frame->budget) {
+            if (apply_increment(sel, n, warm) != 0) return -1;
+            continue;
+        }
+        skipped = 1;
+        if (warm) {
+            if (try_swap(sel, n, &failed)) continue;
+            if (failed) return -1;
+        } else if (alt) {
+            double c = roots_c + sel->path_c[n] + sel->delta_c[n];
+            double b = roots_b + sel->path_b[n] + sel->delta_b[n];
+            if (c <= sel->frame->budget && b > alt->benefit) {
+                alt->node = n;
+                alt->benefit = b;
+            }
+        }
+    }
+    sel->stats.stop_reason = skipped ? TCLOD_STOP_BUDGET : TCLOD_STOP_FINEST;
+    return 0;
+}
+
+/* Restarts from the roots with node n's increment and all increments above it
+ * forced, then improves greedily again. */
+static int solve_forced(tclod_selector *sel, tclod_id n) {
+    const tclod_scene *s = sel->scene;
+    uint32_t depth = 0;
+    tclod_id a;
+    if (start_cold(sel) != 0) return -1;
+    for (a = n; a != TCLOD_NONE; a = s->parent[a]) sel->scratch[depth++] = a;
+    while (depth-- > 0) {
+        a = sel->scratch[depth];
+        assert(sel->cut_pos[a] != TCLOD_NONE);
+        sel->stats.iterations++;
+        if (apply_increment(sel, a, 0) != 0) return -1;
+    }
+    return improve(sel, 0, NULL, 0.0, 0.0);
+}
+
+/* Exact sum in result order; repairs rounding drift with decrements or, when
+ * none is left, by leaving out roots one at a time. */
+static int enforce_budget(tclod_selector *sel, int dec_built) {
+    const tclod_scene *s = sel->scene;
+    for (;;) {
+        double sum = 0.0;
+        uint32_t i;
+        for (i = 0; i < sel->cut_count; ++i) {
+            tclod_id n = sel->cut[i];
+            if (counts(sel, n)) sum += sel->cost[n];
+        }
+        if (sum <= sel->frame->budget) {
+            sel->cost_sum = sum;
+            return 0;
+        }
+        if (!dec_built) {
+            tclod_heap_clear(&sel->dec);
+            for (i = 0; i < sel->cut_count; ++i) {
+                tclod_id p = s->parent[sel->cut[i]];
+                if (queue_decrement(sel, p, 0) != 0) return -1;
+            }
+            dec_built = 1;
+        }
+        if (sel->dec.count > 0) {
+            if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0) return -1;
+        } else {
+            /* only roots remain: leave out the lowest-value kept one */
+            tclod_id worst = TCLOD_NONE;
+            double worst_value = HUGE_VAL;
+            for (i = 0; i < sel->cut_count; ++i) {
+                tclod_id r = sel->cut[i];
+                double value;
+                if (!counts(sel, r)) continue;
+                value = sel->cost[r] > 0.0 ? sel->benefit[r] / sel->cost[r] : HUGE_VAL;
+                if (worst == TCLOD_NONE || value < worst_value ||
+                    (value == worst_value && r > worst)) {
+                    worst = r;
+                    worst_value = value;
+                }
+            }
+            assert(worst != TCLOD_NONE);
+            account(sel, worst, -1.0);
+            sel->flags[worst] |= TCLOD_FLAG_DROPPED;
+            sel->stats.dropped_roots++;
+        }
+    }
+}
+
+tclod_status tclod_greedy_solve(tclod_selector *sel) {
+    int warm = sel->desc.warm_start && sel->has_cut;
+    int rc;
+    if (warm) {
+        rc = start_warm(sel);
+        if (rc == 0) rc = restore_budget(sel);
+        if (rc == 0) rc = improve(sel, 1, NULL, 0.0, 0.0);
+    } else {
+        rc = start_cold(sel);
+        if (rc == 0) {
+            alternative alt = {TCLOD_NONE, 0.0};
+            double roots_b = sel->benefit_sum, roots_c = sel->cost_sum;
+            alternative *use_alt = sel->stats.dropped_roots ? NULL : &alt;
+            rc = improve(sel, 0, use_alt, roots_b, roots_c);
+            if (rc == 0 && alt.node != TCLOD_NONE &&
+                (sel->stats.stop_reason == TCLOD_STOP_BUDGET ||
+                 sel->stats.stop_reason == TCLOD_STOP_FINEST) &&
+                alt.benefit > sel->benefit_sum * (1.0 + SWAP_MARGIN))
+                rc = solve_forced(sel, alt.node);
+        }
+    }
+    if (rc == 0) rc = enforce_budget(sel, warm);
+    tclod_heap_clear(&sel->inc);
+    tclod_heap_clear(&sel->dec);
+    return rc == 0 ? TCLOD_OK : TCLOD_ERR_CALLBACK;
+}

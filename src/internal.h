@@ -1,0 +1,156 @@
+/*
+ * Declarations shared by the library's source files only. Nothing here is
+ * exported; the public contract is include/tclod/tclod.h.
+ */
+#ifndef TCLOD_INTERNAL_H
+#define TCLOD_INTERNAL_H
+
+#include "tclod/tclod.h"
+
+#include <assert.h>
+#include <stddef.h>
+#include <stdint.h>
+
+/* ---- alloc.c: memory and time --------------------------------------------- */
+
+/* Copies src (may be NULL) into dst, filling NULL hooks with malloc/free.
+ * Returns 0 when src sets only one of alloc/free. */
+int tclod_allocator_init(tclod_allocator *dst, const tclod_allocator *src);
+void *tclod_mem_alloc(const tclod_allocator *a, size_t size);
+void tclod_mem_free(const tclod_allocator *a, void *ptr, size_t size);
+
+/* One array of a structure-of-arrays block that grows as a whole. */
+typedef struct tclod_array {
+    void **ptr;      /* where the array pointer lives */
+    size_t elem;     /* element size in bytes */
+    int fill;        /* byte written into new elements, or -1 to leave them */
+} tclod_array;
+
+/* Grows every array from old_cap to new_cap elements, all or nothing: either
+ * every array is replaced by a larger copy (old contents kept, new elements
+ * filled) and TCLOD_OK returned, or nothing changes and TCLOD_ERR_NOMEM. */
+tclod_status tclod_arrays_grow(const tclod_allocator *a, const tclod_array *arrays, size_t count,
+                               size_t old_cap, size_t new_cap);
+void tclod_arrays_free(const tclod_allocator *a, const tclod_array *arrays, size_t count,
+                       size_t cap);
+
+/* Monotonic clock in seconds. */
+double tclod_now(void);
+
+/* ---- scene.c --------------------------------------------------------------- */
+
+struct tclod_scene {
+    tclod_allocator alloc;
+
+    /* nodes, structure of arrays, indexed by id */
+    uint32_t node_count, node_cap;
+    tclod_id *parent; /* TCLOD_NONE for roots; parent < id always */
+    float *bounds;    /* 4 per node: x, y, z, radius; radius < 0 = no bounds */
+
+    uint32_t smooth_count, smooth_cap;
+    float *smooth_bounds; /* 4 per smooth object */
+
+    /* child index, rebuilt lazily when version != index_version */
+    uint32_t index_cap;
+    uint32_t *child_first; /* children of n: children[child_first[n] .. child_first[n+1]) */
+    tclod_id *children;    /* ascending ids within each parent */
+    tclod_id *roots;       /* ascending ids */
+    uint32_t root_count;
+
+    uint32_t version;       /* bumped by every change */
+    uint32_t index_version; /* version the child index describes */
+};
+
+/* ---- view.c ---------------------------------------------------------------- */
+
+/* A validated view, orthonormalised once per frame. */
+typedef struct tclod_view_cache {
+    double eye[3], forward[3], up[3], right[3];
+    double side[4][3];      /* outward normals of the planes through the eye */
+    double near_z, far_z;
+    double focal_px;        /* (viewport_height / 2) / tan(fov_y / 2) */
+    double viewport_area;   /* viewport_height² * aspect */
+} tclod_view_cache;
+
+/* Fills c from a view that passed tclod_view_validate. */
+void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v);
+/* Projected area (0 outside the frustum) and distance of a bounding sphere. */
+void tclod_view_cache_measure(const tclod_view_cache *c, const float bounds[4], float *area,
+                              float *distance);
+
+/* ---- heap.c: indexed binary max-heap --------------------------------------- */
+
+/* Orders ids by key, largest first; equal keys by smaller id first. pos[id] is
+ * the id's slot or TCLOD_NONE, so entries can be removed in O(log n). */
+typedef struct tclod_heap {
+    tclod_id *ids;
+    double *keys;
+    uint32_t *pos; /* indexed by id */
+    uint32_t count;
+} tclod_heap;
+
+/* Adds id without restoring order; call tclod_heap_build before any pop. */
+void tclod_heap_append(tclod_heap *h, tclod_id id, double key);
+/* Restores heap order over all entries in O(n). */
+void tclod_heap_build(tclod_heap *h);
+void tclod_heap_push(tclod_heap *h, tclod_id id, double key);
+/* Removes and returns the first id; the heap must not be empty. */
+tclod_id tclod_heap_pop(tclod_heap *h);
+void tclod_heap_remove(tclod_heap *h, tclod_id id);
+/* Empties the heap, resetting pos of its entries. */
+void tclod_heap_clear(tclod_heap *h);
+
+static inline int tclod_heap_contains(const tclod_heap *h, tclod_id id) {
+    return h->pos[id] != TCLOD_NONE;
+}
+
+/* Sorts ids[0..n) in heap order (largest key first, ties by smaller id),
+ * moving keys along. In place, no recursion. */
+void tclod_sort_by_key(tclod_id *ids, double *keys, uint32_t n);
+
+/* ---- selector.c / greedy.c -------------------------------------------------- */
+
+enum { TCLOD_FLAG_DROPPED = 1u };
+
+struct tclod_selector {
+    tclod_scene *scene; /* read-only except for its lazy child index */
+    tclod_allocator alloc;
+    tclod_selector_desc desc;
+    int busy; /* a solve is running: re-entry is refused */
+
+    /* per-node buffers, cap elements each */
+    uint32_t cap;
+    double *benefit, *cost;   /* callback values of this solve (stamp == solve_id);
+                                 cost 0 when invisible, +inf when unaffordable */
+    double *delta_b, *delta_c; /* increment of a node: its children replace it */
+    double *path_b, *path_c;   /* increments taken above a node (cold solve) */
+    uint32_t *stamp;
+    uint32_t *cut_pos;         /* slot in cut[], or TCLOD_NONE */
+    uint8_t *flags;
+    tclod_heap inc;            /* increments, best Δb/Δc first */
+    tclod_heap dec;            /* decrements, least loss per saved cost first */
+    tclod_id *cut, *prev_cut, *result, *scratch;
+    double *scratch_key;
+
+    uint32_t cut_count, prev_count, result_count;
+    uint32_t solve_id;
+    uint32_t scene_version; /* scene version the cut belongs to */
+    int has_cut;            /* cut/prev_cut describe a selection of that version */
+
+    /* the solve in progress */
+    const tclod_frame *frame;
+    tclod_view_cache view;
+    int has_view;
+    int failed;             /* strict mode: a bad callback value was seen */
+    double cost_sum;        /* running: finite costs of visible, kept cut nodes */
+    double benefit_sum;
+    uint32_t unaffordable;  /* visible, kept cut nodes with infinite cost */
+    double start_time;
+    tclod_stats stats;
+};
+
+/* Runs TCLOD_SOLVER_GREEDY for sel->frame into the working cut. Returns
+ * TCLOD_OK or TCLOD_ERR_CALLBACK (strict); the caller commits or rolls back. */
+tclod_status tclod_greedy_solve(tclod_selector *sel);
+
+#endif /* TCLOD_INTERNAL_H */

@@ -1,0 +1,206 @@
+/*
+ * Selector: the public entry points around the solvers.
+ *
+ * tclod_select validates its arguments before touching anything, grows the
+ * per-node buffers to the scene's size (the only allocations, all or nothing),
+ * runs the solver on a working cut and then either commits it as the new result
+ * or, on a strict-mode callback error, rolls the working cut back to the
+ * committed one, so the previous result stays readable and warm starts stay
+ * valid. A busy flag refuses re-entry from the host's callbacks.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <string.h>
+
+const char *tclod_status_string(tclod_status s) {
+    switch (s) {
+    case TCLOD_OK: return "ok";
+    case TCLOD_ERR_ARG: return "invalid argument";
+    case TCLOD_ERR_NOMEM: return "out of memory";
+    case TCLOD_ERR_HIERARCHY: return "invalid hierarchy";
+    case TCLOD_ERR_CALLBACK: return "callback returned an invalid value";
+    case TCLOD_ERR_STATE: return "call out of order or re-entered";
+    }
+    return "unknown status";
+}
+
+unsigned tclod_version(void) { return (unsigned)TCLOD_VERSION_NUMBER; }
+
+#define TCLOD_STR2(x) #x
+#define TCLOD_STR(x) TCLOD_STR2(x)
+
+const char *tclod_version_string(void) {
+    return TCLOD_STR(TCLOD_VERSION_MAJOR) "." TCLOD_STR(TCLOD_VERSION_MINOR) "." TCLOD_STR(
+        TCLOD_VERSION_PATCH);
+}
+
+int tclod_solver_available(tclod_solver solver) { return solver == TCLOD_SOLVER_GREEDY; }
+
+void tclod_selector_desc_default(tclod_selector_desc *d) {
+    if (!d) return;
+    memset(d, 0, sizeof *d);
+    d->solver = TCLOD_SOLVER_GREEDY;
+    d->warm_start = 1;
+    d->split_smooth = 0;
+    d->split_threshold = 0.01;
+    d->strict = 0;
+}
+
+/* Every per-node buffer of a selector, for growing and freeing them together. */
+static size_t node_buffers(tclod_selector *sel, tclod_array out[20]) {
+    size_t n = 0;
+    out[n++] = (tclod_array){(void **)&sel->benefit, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&sel->cost, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&sel->delta_b, sizeof(double), 0};
+    out[n++] = (tclod_array){(void **)&sel->delta_c, sizeof(double), 0};
+    out[n++] = (tclod_array){(void **)&sel->path_b, sizeof(double), 0};
+    out[n++] = (tclod_array){(void **)&sel->path_c, sizeof(double), 0};
+    out[n++] = (tclod_array){(void **)&sel->stamp, sizeof(uint32_t), 0};
+    out[n++] = (tclod_array){(void **)&sel->cut_pos, sizeof(uint32_t), 0xff};
+    out[n++] = (tclod_array){(void **)&sel->flags, sizeof(uint8_t), 0};
+    out[n++] = (tclod_array){(void **)&sel->inc.ids, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&sel->inc.keys, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&sel->inc.pos, sizeof(uint32_t), 0xff};
+    out[n++] = (tclod_array){(void **)&sel->dec.ids, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&sel->dec.keys, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&sel->dec.pos, sizeof(uint32_t), 0xff};
+    out[n++] = (tclod_array){(void **)&sel->cut, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&sel->prev_cut, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&sel->result, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&sel->scratch, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&sel->scratch_key, sizeof(double), -1};
+    return n;
+}
+
+tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_desc *d,
+                                   const tclod_allocator *a, tclod_selector **out) {
+    tclod_allocator alloc;
+    tclod_selector *sel;
+    if (!s || !d || !out || !tclod_allocator_init(&alloc, a)) return TCLOD_ERR_ARG;
+    if (!tclod_solver_available(d->solver) || !d->callbacks.benefit || !d->callbacks.cost)
+        return TCLOD_ERR_ARG;
+    if (!(d->split_threshold >= 0.0) || isinf(d->split_threshold)) return TCLOD_ERR_ARG;
+    sel = (tclod_selector *)tclod_mem_alloc(&alloc, sizeof *sel);
+    if (!sel) return TCLOD_ERR_NOMEM;
+    memset(sel, 0, sizeof *sel);
+    /* the scene is only written through its lazy child index */
+    sel->scene = (tclod_scene *)(uintptr_t)s;
+    sel->alloc = alloc;
+    sel->desc = *d;
+    *out = sel;
+    return TCLOD_OK;
+}
+
+void tclod_selector_destroy(tclod_selector *sel) {
+    tclod_array buffers[20];
+    tclod_allocator alloc;
+    if (!sel || sel->busy) return;
+    alloc = sel->alloc;
+    tclod_arrays_free(&alloc, buffers, node_buffers(sel, buffers), sel->cap);
+    tclod_mem_free(&alloc, sel, sizeof *sel);
+}
+
+static tclod_status reserve(tclod_selector *sel, uint32_t nodes) {
+    tclod_array buffers[20];
+    size_t count = node_buffers(sel, buffers);
+    uint32_t cap = sel->cap;
+    tclod_status st;
+    if (nodes <= cap) return TCLOD_OK;
+    while (cap < nodes) cap = cap < 64u ? 64u : (cap > UINT32_MAX / 2u ? nodes : cap * 2u);
+    st = tclod_arrays_grow(&sel->alloc, buffers, count, sel->cap, cap);
+    if (st == TCLOD_OK) sel->cap = cap;
+    return st;
+}
+
+static tclod_status check_frame(const tclod_frame *f) {
+    if (!(f->budget >= 0.0)) return TCLOD_ERR_ARG;
+    if (!(f->solve_seconds >= 0.0)) return TCLOD_ERR_ARG;
+    if (f->view && tclod_view_validate(f->view) != TCLOD_OK) return TCLOD_ERR_ARG;
+    return TCLOD_OK;
+}
+
+/* Puts the committed cut back as the working cut after a failed solve. */
+static void roll_back(tclod_selector *sel) {
+    uint32_t i;
+    for (i = 0; i < sel->cut_count; ++i) {
+        sel->cut_pos[sel->cut[i]] = TCLOD_NONE;
+        sel->flags[sel->cut[i]] = 0;
+    }
+    memcpy(sel->cut, sel->prev_cut, sizeof(tclod_id) * sel->prev_count);
+    sel->cut_count = sel->prev_count;
+    for (i = 0; i < sel->cut_count; ++i) sel->cut_pos[sel->cut[i]] = i;
+}
+
+/* The working cut becomes the result: visible, kept nodes in cut order. */
+static void commit(tclod_selector *sel) {
+    uint32_t i, n = 0;
+    double benefit = 0.0, cost = 0.0;
+    for (i = 0; i < sel->cut_count; ++i) {
+        tclod_id id = sel->cut[i];
+        if (!(sel->benefit[id] > 0.0) || (sel->flags[id] & TCLOD_FLAG_DROPPED)) continue;
+        sel->result[n++] = id;
+        benefit += sel->benefit[id];
+        cost += sel->cost[id];
+    }
+    assert(cost <= sel->frame->budget);
+    sel->result_count = n;
+    memcpy(sel->prev_cut, sel->cut, sizeof(tclod_id) * sel->cut_count);
+    sel->prev_count = sel->cut_count;
+    sel->has_cut = 1;
+    sel->scene_version = sel->scene->version;
+    sel->stats.benefit = benefit;
+    sel->stats.cost = cost;
+}
+
+tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats *st) {
+    tclod_status status;
+    if (!sel || !f) return TCLOD_ERR_ARG;
+    if (sel->busy) return TCLOD_ERR_STATE;
+    status = check_frame(f);
+    if (status != TCLOD_OK) return status;
+    sel->busy = 1;
+    status = tclod_scene_prepare(sel->scene);
+    if (status == TCLOD_OK) status = reserve(sel, sel->scene->node_count);
+    if (status != TCLOD_OK) {
+        sel->busy = 0;
+        return status;
+    }
+    if (sel->scene_version != sel->scene->version) sel->has_cut = 0;
+    if (++sel->solve_id == 0) {
+        memset(sel->stamp, 0, sizeof(uint32_t) * sel->cap);
+        sel->solve_id = 1;
+    }
+    memset(&sel->stats, 0, sizeof sel->stats);
+    sel->start_time = tclod_now();
+    sel->frame = f;
+    sel->failed = 0;
+    sel->has_view = f->view != NULL;
+    if (sel->has_view) tclod_view_cache_init(&sel->view, f->view);
+
+    status = tclod_greedy_solve(sel);
+    if (status != TCLOD_OK) {
+        roll_back(sel);
+    } else {
+        commit(sel);
+        sel->stats.solve_seconds = tclod_now() - sel->start_time;
+        if (st) *st = sel->stats;
+    }
+    sel->frame = NULL;
+    sel->busy = 0;
+    return status;
+}
+
+tclod_status tclod_selector_cut(const tclod_selector *sel, const tclod_id **ids, size_t *n) {
+    if (!sel || !ids || !n) return TCLOD_ERR_ARG;
+    if (sel->busy) return TCLOD_ERR_STATE;
+    *ids = sel->result;
+    *n = sel->result_count;
+    return TCLOD_OK;
+}
+
+double tclod_selector_resolution(const tclod_selector *sel, tclod_id smooth) {
+    (void)sel;
+    (void)smooth;
+    return 0.0;
+}

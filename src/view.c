@@ -1,0 +1,146 @@
+/*
+ * View helpers: frustum test, projected screen area and distance of bounding
+ * spheres (DESIGN.md §3, "View helpers").
+ *
+ * A view is orthonormalised once per frame into a tclod_view_cache. The four
+ * side planes pass through the eye; a point p (relative to the eye) lies inside
+ * the top plane when dot(p, up) <= tan(a) * dot(p, forward), a = fov_y / 2,
+ * i.e. dot(p, up * cos a - forward * sin a) <= 0, a unit normal; the sphere is
+ * outside when its centre lies more than its radius beyond any plane. The
+ * projected radius of a sphere seen at distance d is r / sqrt(d² - r²) times
+ * the focal length in pixels (the tangent of its angular radius).
+ */
+#include "internal.h"
+
+#include <math.h>
+
+static double dot3(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void cross3(const double a[3], const double b[3], double out[3]) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static double normalize3(double v[3]) {
+    double len = sqrt(dot3(v, v));
+    if (len > 0.0) {
+        v[0] /= len;
+        v[1] /= len;
+        v[2] /= len;
+    }
+    return len;
+}
+
+static void load3(const float in[3], double out[3]) {
+    out[0] = (double)in[0];
+    out[1] = (double)in[1];
+    out[2] = (double)in[2];
+}
+
+tclod_status tclod_view_validate(const tclod_view *v) {
+    double f[3], u[3], side[3];
+    double pi = 3.14159265358979323846;
+    int i;
+    if (!v) return TCLOD_ERR_ARG;
+    for (i = 0; i < 3; ++i)
+        if (!isfinite(v->eye[i]) || !isfinite(v->forward[i]) || !isfinite(v->up[i]))
+            return TCLOD_ERR_ARG;
+    if (!isfinite(v->fov_y) || !isfinite(v->aspect) || !isfinite(v->near_z) ||
+        !isfinite(v->far_z) || !isfinite(v->viewport_height))
+        return TCLOD_ERR_ARG;
+    if (!(v->fov_y > 0.0f) || !((double)v->fov_y < pi) || !(v->aspect > 0.0f) ||
+        !(v->near_z > 0.0f) || !(v->far_z > v->near_z) || !(v->viewport_height > 0.0f))
+        return TCLOD_ERR_ARG;
+    load3(v->forward, f);
+    load3(v->up, u);
+    if (normalize3(f) <= 0.0 || normalize3(u) <= 0.0) return TCLOD_ERR_ARG;
+    cross3(f, u, side);
+    if (sqrt(dot3(side, side)) < 1e-6) return TCLOD_ERR_ARG; /* forward parallel to up */
+    return TCLOD_OK;
+}
+
+void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v) {
+    double half_y = 0.5 * (double)v->fov_y;
+    double half_x = atan((double)v->aspect * tan(half_y));
+    double cy = cos(half_y), sy = sin(half_y), cx = cos(half_x), sx = sin(half_x);
+    int i;
+    load3(v->eye, c->eye);
+    load3(v->forward, c->forward);
+    load3(v->up, c->up);
+    normalize3(c->forward);
+    cross3(c->forward, c->up, c->right);
+    normalize3(c->right);
+    cross3(c->right, c->forward, c->up); /* exact orthonormal up */
+    for (i = 0; i < 3; ++i) {
+        c->side[0][i] = c->up[i] * cy - c->forward[i] * sy;     /* top */
+        c->side[1][i] = -c->up[i] * cy - c->forward[i] * sy;    /* bottom */
+        c->side[2][i] = c->right[i] * cx - c->forward[i] * sx;  /* right */
+        c->side[3][i] = -c->right[i] * cx - c->forward[i] * sx; /* left */
+    }
+    c->near_z = (double)v->near_z;
+    c->far_z = (double)v->far_z;
+    c->focal_px = 0.5 * (double)v->viewport_height / tan(half_y);
+    c->viewport_area = (double)v->viewport_height * (double)v->viewport_height * (double)v->aspect;
+}
+
+static int cache_sphere_visible(const tclod_view_cache *c, const double p[3], double r) {
+    double z = dot3(p, c->forward);
+    int i;
+    if (z < c->near_z - r || z > c->far_z + r) return 0;
+    for (i = 0; i < 4; ++i)
+        if (dot3(p, c->side[i]) > r) return 0;
+    return 1;
+}
+
+static double cache_screen_area(const tclod_view_cache *c, double d2, double r) {
+    double r2 = r * r, rpx, area;
+    if (d2 <= r2) return c->viewport_area;
+    rpx = c->focal_px * r / sqrt(d2 - r2);
+    area = 3.14159265358979323846 * rpx * rpx;
+    return area < c->viewport_area ? area : c->viewport_area;
+}
+
+void tclod_view_cache_measure(const tclod_view_cache *c, const float bounds[4], float *area,
+                              float *distance) {
+    double p[3], r = (double)bounds[3], d2;
+    p[0] = (double)bounds[0] - c->eye[0];
+    p[1] = (double)bounds[1] - c->eye[1];
+    p[2] = (double)bounds[2] - c->eye[2];
+    d2 = dot3(p, p);
+    *distance = (float)sqrt(d2);
+    *area = cache_sphere_visible(c, p, r) ? (float)cache_screen_area(c, d2, r) : 0.0f;
+}
+
+int tclod_view_sphere_visible(const tclod_view *view, const float bounds[4]) {
+    tclod_view_cache c;
+    double p[3];
+    if (!view || !bounds) return 0;
+    tclod_view_cache_init(&c, view);
+    p[0] = (double)bounds[0] - c.eye[0];
+    p[1] = (double)bounds[1] - c.eye[1];
+    p[2] = (double)bounds[2] - c.eye[2];
+    return cache_sphere_visible(&c, p, (double)bounds[3]);
+}
+
+float tclod_view_screen_area(const tclod_view *view, const float bounds[4]) {
+    tclod_view_cache c;
+    double p[3];
+    if (!view || !bounds) return 0.0f;
+    tclod_view_cache_init(&c, view);
+    p[0] = (double)bounds[0] - c.eye[0];
+    p[1] = (double)bounds[1] - c.eye[1];
+    p[2] = (double)bounds[2] - c.eye[2];
+    return (float)cache_screen_area(&c, dot3(p, p), (double)bounds[3]);
+}
+
+float tclod_view_distance(const tclod_view *view, const float bounds[4]) {
+    double d[3];
+    if (!view || !bounds) return 0.0f;
+    d[0] = (double)bounds[0] - (double)view->eye[0];
+    d[1] = (double)bounds[1] - (double)view->eye[1];
+    d[2] = (double)bounds[2] - (double)view->eye[2];
+    return (float)sqrt(dot3(d, d));
+}
