@@ -37,8 +37,8 @@ static int evaluate(tclod_selector *sel, tclod_id n) {
     const tclod_callbacks *cb = &sel->desc.callbacks;
     tclod_query q;
     double b, c = 0.0;
-    if (sel->stamp[n] == sel->solve_id) return 0;
-    sel->stamp[n] = sel->solve_id;
+    if (sel->node[n].stamp == sel->solve_id) return 0;
+    sel->node[n].stamp = sel->solve_id;
     q.id = n;
     q.count = 1;
     q.view = sel->frame->view;
@@ -61,44 +61,44 @@ static int evaluate(tclod_selector *sel, tclod_id n) {
             if (sel->desc.strict) sel->failed = 1;
         }
     }
-    sel->benefit[n] = b;
-    sel->cost[n] = c;
+    sel->node[n].benefit = b;
+    sel->node[n].cost = c;
     return sel->failed ? -1 : 0;
 }
 
 /* ---- the cut and its running sums ------------------------------------------ */
 
 static int counts(const tclod_selector *sel, tclod_id n) {
-    return sel->benefit[n] > 0.0 && !(sel->flags[n] & TCLOD_FLAG_DROPPED);
+    return sel->node[n].benefit > 0.0 && !(sel->flags[n] & TCLOD_FLAG_DROPPED);
 }
 
 static void account(tclod_selector *sel, tclod_id n, double sign) {
     if (!counts(sel, n)) return;
-    sel->benefit_sum += sign * sel->benefit[n];
-    if (isinf(sel->cost[n])) {
+    sel->benefit_sum += sign * sel->node[n].benefit;
+    if (isinf(sel->node[n].cost)) {
         if (sign > 0.0)
             sel->unaffordable++;
         else
             sel->unaffordable--;
     } else {
-        sel->cost_sum += sign * sel->cost[n];
+        sel->cost_sum += sign * sel->node[n].cost;
     }
 }
 
 static void cut_add(tclod_selector *sel, tclod_id n) {
-    assert(sel->cut_pos[n] == TCLOD_NONE);
-    sel->cut_pos[n] = sel->cut_count;
+    assert(sel->node[n].cut_pos == TCLOD_NONE);
+    sel->node[n].cut_pos = sel->cut_count;
     sel->cut[sel->cut_count++] = n;
     account(sel, n, 1.0);
 }
 
 static void cut_remove(tclod_selector *sel, tclod_id n) {
-    uint32_t slot = sel->cut_pos[n];
+    uint32_t slot = sel->node[n].cut_pos;
     tclod_id last = sel->cut[--sel->cut_count];
     account(sel, n, -1.0);
     sel->cut[slot] = last;
-    sel->cut_pos[last] = slot;
-    sel->cut_pos[n] = TCLOD_NONE;
+    sel->node[last].cut_pos = slot;
+    sel->node[n].cut_pos = TCLOD_NONE;
 }
 
 static int feasible(const tclod_selector *sel) {
@@ -128,33 +128,55 @@ static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
             *failed = 1;
             return (double)NAN;
         }
-        sum_b += sel->benefit[ch[i]];
-        if (isinf(sel->cost[ch[i]]))
+        sum_b += sel->node[ch[i]].benefit;
+        if (isinf(sel->node[ch[i]].cost))
             affordable = 0;
         else
-            sum_c += sel->cost[ch[i]];
+            sum_c += sel->node[ch[i]].cost;
     }
-    db = sum_b - sel->benefit[n];
-    dc = sum_c - sel->cost[n]; /* -inf when n itself is unaffordable */
-    sel->delta_b[n] = db;
-    sel->delta_c[n] = dc;
+    db = sum_b - sel->node[n].benefit;
+    dc = sum_c - sel->node[n].cost; /* -inf when n itself is unaffordable */
+    sel->node[n].delta_b = db;
+    sel->node[n].delta_c = dc;
     if (!affordable || !isfinite(sum_c) || !(db > 0.0)) return (double)NAN;
     return dc > 0.0 ? db / dc : HUGE_VAL;
 }
 
-/* Queues n's increment if it is a candidate (append: heap order restored by
- * the caller; otherwise pushed). */
+/* Queues n's increment if it is a candidate, by ratio and by cost (append:
+ * heap order restored by the caller; otherwise pushed). */
 static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
     int failed;
     double key = increment_key(sel, n, &failed);
     if (failed) return -1;
     if (key == key) {
-        if (append)
+        if (append) {
             tclod_heap_append(&sel->inc, n, key);
-        else
+            tclod_heap_append(&sel->cheap, n, -sel->node[n].delta_c);
+        } else {
             tclod_heap_push(&sel->inc, n, key);
+            tclod_heap_push(&sel->cheap, n, -sel->node[n].delta_c);
+        }
     }
     return 0;
+}
+
+static void unqueue_increment(tclod_selector *sel, tclod_id n) {
+    if (!tclod_heap_contains(&sel->inc, n)) return;
+    tclod_heap_remove(&sel->inc, n);
+    tclod_heap_remove(&sel->cheap, n);
+}
+
+static tclod_id pop_increment(tclod_selector *sel) {
+    tclod_id n = sel->inc.items[0].id;
+    unqueue_increment(sel, n);
+    return n;
+}
+
+/* 1 when some queued increment fits the remaining budget. Increments that do
+ * not fit stay unfit while the search only adds cost, so this ends the fill. */
+static int increment_may_fit(const tclod_selector *sel) {
+    return sel->cheap.count > 0 && sel->unaffordable == 0 &&
+           sel->cost_sum - sel->cheap.items[0].key <= sel->frame->budget;
 }
 
 /* 1 when every child of p is in the cut. */
@@ -162,7 +184,7 @@ static int collapsible(const tclod_selector *sel, tclod_id p) {
     uint32_t count, i;
     const tclod_id *ch = children_of(sel, p, &count);
     for (i = 0; i < count; ++i)
-        if (sel->cut_pos[ch[i]] == TCLOD_NONE) return 0;
+        if (sel->node[ch[i]].cut_pos == TCLOD_NONE) return 0;
     return count > 0;
 }
 
@@ -177,17 +199,17 @@ static double decrement_key(tclod_selector *sel, tclod_id p) {
     int unaffordable = 0;
     for (i = 0; i < count; ++i) {
         if (!counts(sel, ch[i])) continue;
-        sum_b += sel->benefit[ch[i]];
-        if (isinf(sel->cost[ch[i]]))
+        sum_b += sel->node[ch[i]].benefit;
+        if (isinf(sel->node[ch[i]].cost))
             unaffordable = 1;
         else
-            sum_c += sel->cost[ch[i]];
+            sum_c += sel->node[ch[i]].cost;
     }
-    loss = sum_b - sel->benefit[p];
-    saved = sum_c - sel->cost[p];
-    sel->delta_b[p] = loss;
-    sel->delta_c[p] = saved;
-    if (isinf(sel->cost[p]) || !isfinite(sum_c)) return -HUGE_VAL;
+    loss = sum_b - sel->node[p].benefit;
+    saved = sum_c - sel->node[p].cost;
+    sel->node[p].delta_b = loss;
+    sel->node[p].delta_c = saved;
+    if (isinf(sel->node[p].cost) || !isfinite(sum_c)) return -HUGE_VAL;
     if (unaffordable) return HUGE_VAL;
     if (loss <= 0.0 && saved >= 0.0) return HUGE_VAL;
     if (saved > 0.0) return -(loss / saved);
@@ -211,14 +233,14 @@ static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
     uint32_t count, i;
     const tclod_id *ch = children_of(sel, n, &count);
     tclod_id parent = sel->scene->parent[n];
-    double path_b = sel->path_b[n] + sel->delta_b[n];
-    double path_c = sel->path_c[n] + sel->delta_c[n];
-    if (tclod_heap_contains(&sel->inc, n)) tclod_heap_remove(&sel->inc, n);
+    double path_b = sel->path[2u * n] + sel->node[n].delta_b;
+    double path_c = sel->path[2u * n + 1u] + sel->node[n].delta_c;
+    unqueue_increment(sel, n);
     cut_remove(sel, n);
     for (i = 0; i < count; ++i) {
         cut_add(sel, ch[i]);
-        sel->path_b[ch[i]] = path_b;
-        sel->path_c[ch[i]] = path_c;
+        sel->path[2u * ch[i]] = path_b;
+        sel->path[2u * ch[i] + 1u] = path_c;
         if (queue_increment(sel, ch[i], 0) != 0) return -1;
     }
     sel->stats.increments++;
@@ -235,7 +257,7 @@ static int apply_decrement(tclod_selector *sel, tclod_id p) {
     const tclod_id *ch = children_of(sel, p, &count);
     if (tclod_heap_contains(&sel->dec, p)) tclod_heap_remove(&sel->dec, p);
     for (i = 0; i < count; ++i) {
-        if (tclod_heap_contains(&sel->inc, ch[i])) tclod_heap_remove(&sel->inc, ch[i]);
+        unqueue_increment(sel, ch[i]);
         if (tclod_heap_contains(&sel->dec, ch[i])) tclod_heap_remove(&sel->dec, ch[i]);
         cut_remove(sel, ch[i]);
     }
@@ -259,9 +281,9 @@ static void drop_roots(tclod_selector *sel) {
         tclod_id r = sel->cut[i];
         double c;
         if (!counts(sel, r)) continue;
-        c = sel->cost[r];
+        c = sel->node[r].cost;
         sel->scratch[n] = r;
-        sel->scratch_key[n] = isinf(c) ? -HUGE_VAL : (c > 0.0 ? sel->benefit[r] / c : HUGE_VAL);
+        sel->scratch_key[n] = isinf(c) ? -HUGE_VAL : (c > 0.0 ? sel->node[r].benefit / c : HUGE_VAL);
         n++;
     }
     tclod_sort_by_key(sel->scratch, sel->scratch_key, n);
@@ -273,15 +295,15 @@ static void drop_roots(tclod_selector *sel) {
     }
     for (i = first_dropped; i < n; ++i) {
         tclod_id r = sel->scratch[i];
-        if (sel->cost_sum + sel->cost[r] <= budget) {
+        if (sel->cost_sum + sel->node[r].cost <= budget) {
             sel->flags[r] &= (uint8_t)~TCLOD_FLAG_DROPPED;
             account(sel, r, 1.0);
         }
     }
     for (i = 0; i < n; ++i) {
         tclod_id r = sel->scratch[i];
-        if (sel->cost[r] <= budget && sel->benefit[r] > sel->benefit_sum &&
-            (best == TCLOD_NONE || sel->benefit[r] > sel->benefit[sel->scratch[best]]))
+        if (sel->node[r].cost <= budget && sel->node[r].benefit > sel->benefit_sum &&
+            (best == TCLOD_NONE || sel->node[r].benefit > sel->node[sel->scratch[best]].benefit))
             best = i;
     }
     if (best != TCLOD_NONE) {
@@ -292,7 +314,7 @@ static void drop_roots(tclod_selector *sel) {
         }
         for (i = 0; i < n; ++i) {
             tclod_id r = sel->scratch[i == 0 ? best : (i <= best ? i - 1u : i)];
-            if (sel->cost_sum + sel->cost[r] <= budget) {
+            if (sel->cost_sum + sel->node[r].cost <= budget) {
                 sel->flags[r] &= (uint8_t)~TCLOD_FLAG_DROPPED;
                 account(sel, r, 1.0);
             }
@@ -302,7 +324,7 @@ static void drop_roots(tclod_selector *sel) {
         tclod_id r = sel->scratch[i];
         if (!(sel->flags[r] & TCLOD_FLAG_DROPPED)) continue;
         sel->stats.dropped_roots++;
-        if (tclod_heap_contains(&sel->inc, r)) tclod_heap_remove(&sel->inc, r);
+        unqueue_increment(sel, r);
     }
 }
 
@@ -311,13 +333,14 @@ static void drop_roots(tclod_selector *sel) {
 static void clear_cut(tclod_selector *sel) {
     uint32_t i;
     for (i = 0; i < sel->cut_count; ++i) {
-        sel->cut_pos[sel->cut[i]] = TCLOD_NONE;
+        sel->node[sel->cut[i]].cut_pos = TCLOD_NONE;
         sel->flags[sel->cut[i]] = 0;
     }
     sel->cut_count = 0;
     sel->cost_sum = sel->benefit_sum = 0.0;
     sel->unaffordable = 0;
     tclod_heap_clear(&sel->inc);
+    tclod_heap_clear(&sel->cheap);
     tclod_heap_clear(&sel->dec);
 }
 
@@ -329,13 +352,14 @@ static int start_cold(tclod_selector *sel) {
     for (i = 0; i < s->root_count; ++i) {
         tclod_id r = s->roots[i];
         if (evaluate(sel, r) != 0) return -1;
-        sel->path_b[r] = sel->path_c[r] = 0.0;
+        sel->path[2u * r] = sel->path[2u * r + 1u] = 0.0;
         cut_add(sel, r);
     }
     if (!feasible(sel)) drop_roots(sel);
     for (i = 0; i < sel->cut_count; ++i)
         if (queue_increment(sel, sel->cut[i], 1) != 0) return -1;
     tclod_heap_build(&sel->inc);
+    tclod_heap_build(&sel->cheap);
     return 0;
 }
 
@@ -361,6 +385,7 @@ static int start_warm(tclod_selector *sel) {
             return -1;
     }
     tclod_heap_build(&sel->inc);
+    tclod_heap_build(&sel->cheap);
     tclod_heap_build(&sel->dec);
     return 0;
 }
@@ -396,26 +421,37 @@ static int restore_budget(tclod_selector *sel) {
     return 0;
 }
 
+/* Loss per saved cost of the cheapest decrement that saves cost, or +inf. */
+static double min_loss_ratio(const tclod_selector *sel) {
+    if (sel->dec.count == 0) return HUGE_VAL;
+    tclod_id p = sel->dec.items[0].id;
+    if (!(sel->node[p].delta_c > 0.0)) return HUGE_VAL;
+    return -sel->dec.items[0].key;
+}
+
 /* Makes room for increment n by decrements whose summed loss stays below its
  * gain. Returns 1 when the swap was made, 0 when it would not gain. */
 static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
-    double need = sel->cost_sum + sel->delta_c[n] - sel->frame->budget;
-    double gain = sel->delta_b[n], freed = 0.0, loss = 0.0;
+    double need = sel->cost_sum + sel->node[n].delta_c - sel->frame->budget;
+    double gain = sel->node[n].delta_b, freed = 0.0, loss = 0.0;
     tclod_id parent = sel->scene->parent[n];
     uint32_t taken = 0, i;
     int ok = 0;
     *failed = 0;
+    /* decrements come least loss per saved cost first, so freeing `need`
+     * loses at least that ratio times need */
+    if (gain <= min_loss_ratio(sel) * need) return 0;
     while (sel->dec.count > 0) {
-        double key = sel->dec.keys[0];
-        tclod_id p = sel->dec.ids[0];
-        if (p != parent && !(sel->delta_c[p] > 0.0)) break; /* the rest saves nothing */
+        double key = sel->dec.items[0].key;
+        tclod_id p = sel->dec.items[0].id;
+        if (p != parent && !(sel->node[p].delta_c > 0.0)) break; /* the rest saves nothing */
         tclod_heap_pop(&sel->dec);
         sel->scratch[taken] = p;
         sel->scratch_key[taken] = key;
         taken++;
         if (p == parent) continue; /* would remove n itself */
-        freed += sel->delta_c[p];
-        loss += sel->delta_b[p];
+        freed += sel->node[p].delta_c;
+        loss += sel->node[p].delta_b;
         if (gain - loss <= SWAP_MARGIN * fabs(gain)) break;
         if (freed >= need) {
             ok = 1;
@@ -445,42 +481,57 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
 typedef struct alternative {
     tclod_id node;
     double benefit;
+    double roots_b, roots_c; /* the roots' benefit and cost */
 } alternative;
 
-/* Increments (and, warm, free collapses and swaps) until nothing fits, nothing
- * is left, or a limit is hit. */
-static int improve(tclod_selector *sel, int warm, alternative *alt, double roots_b,
-                   double roots_c) {
+static void consider_alternative(tclod_selector *sel, alternative *alt, tclod_id n) {
+    const double *path = &sel->path[2u * n];
+    double c = alt->roots_c + path[1] + sel->node[n].delta_c;
+    double b = alt->roots_b + path[0] + sel->node[n].delta_b;
+    if (c <= sel->frame->budget && b > alt->benefit) {
+        alt->node = n;
+        alt->benefit = b;
+    }
+}
+
+/* Increments while any fits, best ratio first, skipping those that do not fit
+ * (fill). Then a warm solve makes swaps while the best increment's ratio beats
+ * the cheapest decrement's (Mason–Blake's balance), and a cold solve records
+ * the skipped increments as alternatives. Warm solves also take free
+ * collapses first. Stops early at a limit. */
+static int improve(tclod_selector *sel, int warm, alternative *alt) {
     int skipped = 0, failed = 0;
+    uint32_t i;
     sel->stats.stop_reason = TCLOD_STOP_FINEST;
     for (;;) {
         tclod_id n;
         if (out_of_time(sel)) return 0;
-        if (warm && sel->dec.count > 0 && sel->dec.keys[0] == HUGE_VAL) {
+        if (warm && sel->dec.count > 0 && sel->dec.items[0].key == HUGE_VAL) {
             sel->stats.iterations++;
             if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0) return -1;
             continue;
         }
         if (sel->inc.count == 0) break;
-        n = tclod_heap_pop(&sel->inc);
-        sel->stats.iterations++;
-        if (sel->unaffordable == 0 && sel->cost_sum + sel->delta_c[n] <= sel->frame->budget) {
-            if (apply_increment(sel, n, warm) != 0) return -1;
+        if (increment_may_fit(sel)) {
+            n = pop_increment(sel);
+            sel->stats.iterations++;
+            if (sel->cost_sum + sel->node[n].delta_c <= sel->frame->budget) {
+                if (apply_increment(sel, n, warm) != 0) return -1;
+                continue;
+            }
+            skipped = 1;
+            if (alt) consider_alternative(sel, alt, n);
             continue;
         }
         skipped = 1;
-        if (warm) {
-            if (try_swap(sel, n, &failed)) continue;
-            if (failed) return -1;
-        } else if (alt) {
-            double c = roots_c + sel->path_c[n] + sel->delta_c[n];
-            double b = roots_b + sel->path_b[n] + sel->delta_b[n];
-            if (c <= sel->frame->budget && b > alt->benefit) {
-                alt->node = n;
-                alt->benefit = b;
-            }
-        }
+        if (!warm || !(sel->inc.items[0].key > min_loss_ratio(sel))) break;
+        n = pop_increment(sel);
+        sel->stats.iterations++;
+        if (try_swap(sel, n, &failed)) continue;
+        if (failed) return -1;
     }
+    if (alt)
+        for (i = 0; i < sel->inc.count; ++i) consider_alternative(sel, alt, sel->inc.items[i].id);
     sel->stats.stop_reason = skipped ? TCLOD_STOP_BUDGET : TCLOD_STOP_FINEST;
     return 0;
 }
@@ -495,11 +546,11 @@ static int solve_forced(tclod_selector *sel, tclod_id n) {
     for (a = n; a != TCLOD_NONE; a = s->parent[a]) sel->scratch[depth++] = a;
     while (depth-- > 0) {
         a = sel->scratch[depth];
-        assert(sel->cut_pos[a] != TCLOD_NONE);
+        assert(sel->node[a].cut_pos != TCLOD_NONE);
         sel->stats.iterations++;
         if (apply_increment(sel, a, 0) != 0) return -1;
     }
-    return improve(sel, 0, NULL, 0.0, 0.0);
+    return improve(sel, 0, NULL);
 }
 
 /* Exact sum in result order; repairs rounding drift with decrements or, when
@@ -511,7 +562,7 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
         uint32_t i;
         for (i = 0; i < sel->cut_count; ++i) {
             tclod_id n = sel->cut[i];
-            if (counts(sel, n)) sum += sel->cost[n];
+            if (counts(sel, n)) sum += sel->node[n].cost;
         }
         if (sum <= sel->frame->budget) {
             sel->cost_sum = sum;
@@ -535,7 +586,7 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
                 tclod_id r = sel->cut[i];
                 double value;
                 if (!counts(sel, r)) continue;
-                value = sel->cost[r] > 0.0 ? sel->benefit[r] / sel->cost[r] : HUGE_VAL;
+                value = sel->node[r].cost > 0.0 ? sel->node[r].benefit / sel->node[r].cost : HUGE_VAL;
                 if (worst == TCLOD_NONE || value < worst_value ||
                     (value == worst_value && r > worst)) {
                     worst = r;
@@ -556,14 +607,14 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
     if (warm) {
         rc = start_warm(sel);
         if (rc == 0) rc = restore_budget(sel);
-        if (rc == 0) rc = improve(sel, 1, NULL, 0.0, 0.0);
+        if (rc == 0) rc = improve(sel, 1, NULL);
     } else {
         rc = start_cold(sel);
         if (rc == 0) {
-            alternative alt = {TCLOD_NONE, 0.0};
-            double roots_b = sel->benefit_sum, roots_c = sel->cost_sum;
-            alternative *use_alt = sel->stats.dropped_roots ? NULL : &alt;
-            rc = improve(sel, 0, use_alt, roots_b, roots_c);
+            alternative alt = {TCLOD_NONE, 0.0, 0.0, 0.0};
+            alt.roots_b = sel->benefit_sum;
+            alt.roots_c = sel->cost_sum;
+            rc = improve(sel, 0, sel->stats.dropped_roots ? NULL : &alt);
             if (rc == 0 && alt.node != TCLOD_NONE &&
                 (sel->stats.stop_reason == TCLOD_STOP_BUDGET ||
                  sel->stats.stop_reason == TCLOD_STOP_FINEST) &&
@@ -573,6 +624,7 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
     }
     if (rc == 0) rc = enforce_budget(sel, warm);
     tclod_heap_clear(&sel->inc);
+    tclod_heap_clear(&sel->cheap);
     tclod_heap_clear(&sel->dec);
     return rc == 0 ? TCLOD_OK : TCLOD_ERR_CALLBACK;
 }

@@ -1,61 +1,73 @@
 /*
- * Indexed binary max-heap of node ids keyed by double, and an in-place
- * heapsort using the same order.
+ * Indexed 4-ary max-heap of node ids keyed by double, and an in-place heapsort
+ * using the same order.
  *
  * The greedy solver keeps its increments (best Δbenefit/Δcost first) and its
  * decrements (least loss per saved cost first, stored negated) here. Equal
  * keys are ordered by the smaller id, which makes every selection
- * deterministic. pos[] maps an id to its slot so an entry whose node left the
- * cut can be removed in O(log n).
+ * deterministic. Each id's slot is kept so an entry whose node left the cut can
+ * be removed in O(log n). Four children per slot (64 bytes of entries, one
+ * cache line) halve the depth of a binary heap, which is what a pop costs.
  */
 #include "internal.h"
+
+#define ARITY 4u
 
 static int before(double ka, tclod_id ia, double kb, tclod_id ib) {
     return ka > kb || (ka == kb && ia < ib);
 }
 
-static void place(tclod_heap *h, uint32_t slot, tclod_id id, double key) {
-    h->ids[slot] = id;
-    h->keys[slot] = key;
-    h->pos[id] = slot;
+static int entry_before(const tclod_heap_entry *a, const tclod_heap_entry *b) {
+    return before(a->key, a->id, b->key, b->id);
+}
+
+static uint32_t *slot_of(const tclod_heap *h, tclod_id id) {
+    return &h->pos[(size_t)id * h->pos_stride];
 }
 
 static void sift_up(tclod_heap *h, uint32_t slot) {
-    tclod_id id = h->ids[slot];
-    double key = h->keys[slot];
+    tclod_heap_entry e = h->items[slot];
     while (slot > 0) {
-        uint32_t up = (slot - 1u) / 2u;
-        if (!before(key, id, h->keys[up], h->ids[up])) break;
-        place(h, slot, h->ids[up], h->keys[up]);
+        uint32_t up = (slot - 1u) / ARITY;
+        if (!entry_before(&e, &h->items[up])) break;
+        h->items[slot] = h->items[up];
+        *slot_of(h, h->items[slot].id) = slot;
         slot = up;
     }
-    place(h, slot, id, key);
+    h->items[slot] = e;
+    *slot_of(h, e.id) = slot;
 }
 
 static void sift_down(tclod_heap *h, uint32_t slot) {
-    tclod_id id = h->ids[slot];
-    double key = h->keys[slot];
+    tclod_heap_entry e = h->items[slot];
     for (;;) {
-        uint32_t child = 2u * slot + 1u;
-        if (child >= h->count) break;
-        if (child + 1u < h->count &&
-            before(h->keys[child + 1u], h->ids[child + 1u], h->keys[child], h->ids[child]))
-            child++;
-        if (!before(h->keys[child], h->ids[child], key, id)) break;
-        place(h, slot, h->ids[child], h->keys[child]);
-        slot = child;
+        uint32_t first = ARITY * slot + 1u, best, c, end;
+        if (first >= h->count) break;
+        end = first + ARITY < h->count ? first + ARITY : h->count;
+        best = first;
+        for (c = first + 1u; c < end; ++c)
+            if (entry_before(&h->items[c], &h->items[best])) best = c;
+        if (!entry_before(&h->items[best], &e)) break;
+        h->items[slot] = h->items[best];
+        *slot_of(h, h->items[slot].id) = slot;
+        slot = best;
     }
-    place(h, slot, id, key);
+    h->items[slot] = e;
+    *slot_of(h, e.id) = slot;
 }
 
 void tclod_heap_append(tclod_heap *h, tclod_id id, double key) {
-    assert(h->pos[id] == TCLOD_NONE);
+    tclod_heap_entry *e = &h->items[h->count];
+    assert(*slot_of(h, id) == TCLOD_NONE);
     assert(key == key); /* never NaN */
-    place(h, h->count++, id, key);
+    e->key = key;
+    e->id = id;
+    e->unused = 0;
+    *slot_of(h, id) = h->count++;
 }
 
 void tclod_heap_build(tclod_heap *h) {
-    uint32_t i = h->count / 2u;
+    uint32_t i = h->count > 1u ? (h->count - 2u) / ARITY + 1u : 0u;
     while (i-- > 0) sift_down(h, i);
 }
 
@@ -65,21 +77,21 @@ void tclod_heap_push(tclod_heap *h, tclod_id id, double key) {
 }
 
 tclod_id tclod_heap_pop(tclod_heap *h) {
-    tclod_id top = h->ids[0];
+    tclod_id top = h->items[0].id;
     assert(h->count > 0);
     tclod_heap_remove(h, top);
     return top;
 }
 
 void tclod_heap_remove(tclod_heap *h, tclod_id id) {
-    uint32_t slot = h->pos[id];
+    uint32_t slot = *slot_of(h, id);
     uint32_t last = --h->count;
     assert(slot != TCLOD_NONE);
-    h->pos[id] = TCLOD_NONE;
+    *slot_of(h, id) = TCLOD_NONE;
     if (slot == last) return;
-    place(h, slot, h->ids[last], h->keys[last]);
-    if (slot > 0 && before(h->keys[slot], h->ids[slot], h->keys[(slot - 1u) / 2u],
-                           h->ids[(slot - 1u) / 2u]))
+    h->items[slot] = h->items[last];
+    *slot_of(h, h->items[slot].id) = slot;
+    if (slot > 0 && entry_before(&h->items[slot], &h->items[(slot - 1u) / ARITY]))
         sift_up(h, slot);
     else
         sift_down(h, slot);
@@ -87,7 +99,7 @@ void tclod_heap_remove(tclod_heap *h, tclod_id id) {
 
 void tclod_heap_clear(tclod_heap *h) {
     uint32_t i;
-    for (i = 0; i < h->count; ++i) h->pos[h->ids[i]] = TCLOD_NONE;
+    for (i = 0; i < h->count; ++i) *slot_of(h, h->items[i].id) = TCLOD_NONE;
     h->count = 0;
 }
 

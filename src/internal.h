@@ -66,7 +66,8 @@ struct tclod_scene {
 /* A validated view, orthonormalised once per frame. */
 typedef struct tclod_view_cache {
     double eye[3], forward[3], up[3], right[3];
-    double side[4][3];      /* outward normals of the planes through the eye */
+    double cos_y, sin_y;    /* of half the vertical field of view */
+    double cos_x, sin_x;    /* of half the horizontal field of view */
     double near_z, far_z;
     double focal_px;        /* (viewport_height / 2) / tan(fov_y / 2) */
     double viewport_area;   /* viewport_height² * aspect */
@@ -78,14 +79,21 @@ void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v);
 void tclod_view_cache_measure(const tclod_view_cache *c, const float bounds[4], float *area,
                               float *distance);
 
-/* ---- heap.c: indexed binary max-heap --------------------------------------- */
+/* ---- heap.c: indexed 4-ary max-heap ------------------------------------------- */
 
-/* Orders ids by key, largest first; equal keys by smaller id first. pos[id] is
- * the id's slot or TCLOD_NONE, so entries can be removed in O(log n). */
+typedef struct tclod_heap_entry {
+    double key;
+    tclod_id id;
+    uint32_t unused;
+} tclod_heap_entry;
+
+/* Orders ids by key, largest first; equal keys by smaller id first. The slot of
+ * id i is pos[i * pos_stride] (TCLOD_NONE when absent), so an entry can be
+ * removed in O(log n); the slots live inside the selector's node records. */
 typedef struct tclod_heap {
-    tclod_id *ids;
-    double *keys;
-    uint32_t *pos; /* indexed by id */
+    tclod_heap_entry *items;
+    uint32_t *pos;
+    uint32_t pos_stride;
     uint32_t count;
 } tclod_heap;
 
@@ -97,11 +105,11 @@ void tclod_heap_push(tclod_heap *h, tclod_id id, double key);
 /* Removes and returns the first id; the heap must not be empty. */
 tclod_id tclod_heap_pop(tclod_heap *h);
 void tclod_heap_remove(tclod_heap *h, tclod_id id);
-/* Empties the heap, resetting pos of its entries. */
+/* Empties the heap, resetting the slots of its entries. */
 void tclod_heap_clear(tclod_heap *h);
 
 static inline int tclod_heap_contains(const tclod_heap *h, tclod_id id) {
-    return h->pos[id] != TCLOD_NONE;
+    return h->pos[(size_t)id * h->pos_stride] != TCLOD_NONE;
 }
 
 /* Sorts ids[0..n) in heap order (largest key first, ties by smaller id),
@@ -112,6 +120,17 @@ void tclod_sort_by_key(tclod_id *ids, double *keys, uint32_t n);
 
 enum { TCLOD_FLAG_DROPPED = 1u };
 
+/* What a selector knows of one node, packed in one record because the solver
+ * touches these fields together at random ids. */
+typedef struct tclod_node_state {
+    double benefit, cost;      /* callback values of this solve (stamp == solve_id);
+                                  cost 0 when invisible, +inf when unaffordable */
+    double delta_b, delta_c;   /* increment of the node: its children replace it */
+    uint32_t stamp;
+    uint32_t cut_pos;          /* slot in cut[], or TCLOD_NONE */
+    uint32_t inc_pos, cheap_pos, dec_pos; /* heap slots */
+} tclod_node_state;
+
 struct tclod_selector {
     tclod_scene *scene; /* read-only except for its lazy child index */
     tclod_allocator alloc;
@@ -120,14 +139,12 @@ struct tclod_selector {
 
     /* per-node buffers, cap elements each */
     uint32_t cap;
-    double *benefit, *cost;   /* callback values of this solve (stamp == solve_id);
-                                 cost 0 when invisible, +inf when unaffordable */
-    double *delta_b, *delta_c; /* increment of a node: its children replace it */
-    double *path_b, *path_c;   /* increments taken above a node (cold solve) */
-    uint32_t *stamp;
-    uint32_t *cut_pos;         /* slot in cut[], or TCLOD_NONE */
+    tclod_node_state *node;
+    double *path;              /* 2 per node: benefit and cost of the increments
+                                  taken above it (cold solve) */
     uint8_t *flags;
     tclod_heap inc;            /* increments, best Δb/Δc first */
+    tclod_heap cheap;          /* the same increments, smallest Δc first */
     tclod_heap dec;            /* decrements, least loss per saved cost first */
     tclod_id *cut, *prev_cut, *result, *scratch;
     double *scratch_key;

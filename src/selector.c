@@ -47,30 +47,32 @@ void tclod_selector_desc_default(tclod_selector_desc *d) {
     d->strict = 0;
 }
 
-/* Every per-node buffer of a selector, for growing and freeing them together. */
-static size_t node_buffers(tclod_selector *sel, tclod_array out[20]) {
+/* Every per-node buffer of a selector, for growing and freeing them together.
+ * Node records are filled with 0xff bytes: no cut or heap slot (TCLOD_NONE),
+ * and a stamp no solve uses. */
+static size_t node_buffers(tclod_selector *sel, tclod_array out[11]) {
     size_t n = 0;
-    out[n++] = (tclod_array){(void **)&sel->benefit, sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&sel->cost, sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&sel->delta_b, sizeof(double), 0};
-    out[n++] = (tclod_array){(void **)&sel->delta_c, sizeof(double), 0};
-    out[n++] = (tclod_array){(void **)&sel->path_b, sizeof(double), 0};
-    out[n++] = (tclod_array){(void **)&sel->path_c, sizeof(double), 0};
-    out[n++] = (tclod_array){(void **)&sel->stamp, sizeof(uint32_t), 0};
-    out[n++] = (tclod_array){(void **)&sel->cut_pos, sizeof(uint32_t), 0xff};
+    out[n++] = (tclod_array){(void **)&sel->node, sizeof(tclod_node_state), 0xff};
+    out[n++] = (tclod_array){(void **)&sel->path, 2 * sizeof(double), 0};
     out[n++] = (tclod_array){(void **)&sel->flags, sizeof(uint8_t), 0};
-    out[n++] = (tclod_array){(void **)&sel->inc.ids, sizeof(tclod_id), -1};
-    out[n++] = (tclod_array){(void **)&sel->inc.keys, sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&sel->inc.pos, sizeof(uint32_t), 0xff};
-    out[n++] = (tclod_array){(void **)&sel->dec.ids, sizeof(tclod_id), -1};
-    out[n++] = (tclod_array){(void **)&sel->dec.keys, sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&sel->dec.pos, sizeof(uint32_t), 0xff};
+    out[n++] = (tclod_array){(void **)&sel->inc.items, sizeof(tclod_heap_entry), -1};
+    out[n++] = (tclod_array){(void **)&sel->cheap.items, sizeof(tclod_heap_entry), -1};
+    out[n++] = (tclod_array){(void **)&sel->dec.items, sizeof(tclod_heap_entry), -1};
     out[n++] = (tclod_array){(void **)&sel->cut, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->prev_cut, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->result, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->scratch, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->scratch_key, sizeof(double), -1};
     return n;
+}
+
+/* The heaps find their slots inside the node records. */
+static void bind_heaps(tclod_selector *sel) {
+    uint32_t stride = (uint32_t)(sizeof(tclod_node_state) / sizeof(uint32_t));
+    sel->inc.pos = &sel->node[0].inc_pos;
+    sel->cheap.pos = &sel->node[0].cheap_pos;
+    sel->dec.pos = &sel->node[0].dec_pos;
+    sel->inc.pos_stride = sel->cheap.pos_stride = sel->dec.pos_stride = stride;
 }
 
 tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_desc *d,
@@ -93,7 +95,7 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
 }
 
 void tclod_selector_destroy(tclod_selector *sel) {
-    tclod_array buffers[20];
+    tclod_array buffers[11];
     tclod_allocator alloc;
     if (!sel || sel->busy) return;
     alloc = sel->alloc;
@@ -102,14 +104,17 @@ void tclod_selector_destroy(tclod_selector *sel) {
 }
 
 static tclod_status reserve(tclod_selector *sel, uint32_t nodes) {
-    tclod_array buffers[20];
+    tclod_array buffers[11];
     size_t count = node_buffers(sel, buffers);
     uint32_t cap = sel->cap;
     tclod_status st;
     if (nodes <= cap) return TCLOD_OK;
     while (cap < nodes) cap = cap < 64u ? 64u : (cap > UINT32_MAX / 2u ? nodes : cap * 2u);
     st = tclod_arrays_grow(&sel->alloc, buffers, count, sel->cap, cap);
-    if (st == TCLOD_OK) sel->cap = cap;
+    if (st == TCLOD_OK) {
+        sel->cap = cap;
+        bind_heaps(sel);
+    }
     return st;
 }
 
@@ -124,12 +129,12 @@ static tclod_status check_frame(const tclod_frame *f) {
 static void roll_back(tclod_selector *sel) {
     uint32_t i;
     for (i = 0; i < sel->cut_count; ++i) {
-        sel->cut_pos[sel->cut[i]] = TCLOD_NONE;
+        sel->node[sel->cut[i]].cut_pos = TCLOD_NONE;
         sel->flags[sel->cut[i]] = 0;
     }
     memcpy(sel->cut, sel->prev_cut, sizeof(tclod_id) * sel->prev_count);
     sel->cut_count = sel->prev_count;
-    for (i = 0; i < sel->cut_count; ++i) sel->cut_pos[sel->cut[i]] = i;
+    for (i = 0; i < sel->cut_count; ++i) sel->node[sel->cut[i]].cut_pos = i;
 }
 
 /* The working cut becomes the result: visible, kept nodes in cut order. */
@@ -138,10 +143,10 @@ static void commit(tclod_selector *sel) {
     double benefit = 0.0, cost = 0.0;
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id id = sel->cut[i];
-        if (!(sel->benefit[id] > 0.0) || (sel->flags[id] & TCLOD_FLAG_DROPPED)) continue;
+        if (!(sel->node[id].benefit > 0.0) || (sel->flags[id] & TCLOD_FLAG_DROPPED)) continue;
         sel->result[n++] = id;
-        benefit += sel->benefit[id];
-        cost += sel->cost[id];
+        benefit += sel->node[id].benefit;
+        cost += sel->node[id].cost;
     }
     assert(cost <= sel->frame->budget);
     sel->result_count = n;
@@ -167,8 +172,9 @@ tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats
         return status;
     }
     if (sel->scene_version != sel->scene->version) sel->has_cut = 0;
-    if (++sel->solve_id == 0) {
-        memset(sel->stamp, 0, sizeof(uint32_t) * sel->cap);
+    if (++sel->solve_id == UINT32_MAX) { /* the fill value of new records */
+        uint32_t i;
+        for (i = 0; i < sel->cap; ++i) sel->node[i].stamp = 0;
         sel->solve_id = 1;
     }
     memset(&sel->stats, 0, sizeof sel->stats);

@@ -3,12 +3,14 @@
  * spheres (DESIGN.md §3, "View helpers").
  *
  * A view is orthonormalised once per frame into a tclod_view_cache. The four
- * side planes pass through the eye; a point p (relative to the eye) lies inside
- * the top plane when dot(p, up) <= tan(a) * dot(p, forward), a = fov_y / 2,
- * i.e. dot(p, up * cos a - forward * sin a) <= 0, a unit normal; the sphere is
- * outside when its centre lies more than its radius beyond any plane. The
- * projected radius of a sphere seen at distance d is r / sqrt(d² - r²) times
- * the focal length in pixels (the tangent of its angular radius).
+ * side planes pass through the eye; with a point p (relative to the eye) in
+ * view coordinates x = p·right, y = p·up, z = p·forward, p lies inside the top
+ * and bottom planes when |y| <= tan(a) z, a = fov_y / 2, i.e. when
+ * |y| cos a - z sin a <= 0, a signed distance (the plane normals are unit
+ * vectors); a sphere is outside when that distance exceeds its radius. The left
+ * and right planes are the same with x and the horizontal half-angle. The
+ * projected radius of a sphere seen at distance d is r / sqrt(d² - r²) (the
+ * tangent of its angular radius) times the focal length in pixels.
  */
 #include "internal.h"
 
@@ -65,8 +67,6 @@ tclod_status tclod_view_validate(const tclod_view *v) {
 void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v) {
     double half_y = 0.5 * (double)v->fov_y;
     double half_x = atan((double)v->aspect * tan(half_y));
-    double cy = cos(half_y), sy = sin(half_y), cx = cos(half_x), sx = sin(half_x);
-    int i;
     load3(v->eye, c->eye);
     load3(v->forward, c->forward);
     load3(v->up, c->up);
@@ -74,12 +74,10 @@ void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v) {
     cross3(c->forward, c->up, c->right);
     normalize3(c->right);
     cross3(c->right, c->forward, c->up); /* exact orthonormal up */
-    for (i = 0; i < 3; ++i) {
-        c->side[0][i] = c->up[i] * cy - c->forward[i] * sy;     /* top */
-        c->side[1][i] = -c->up[i] * cy - c->forward[i] * sy;    /* bottom */
-        c->side[2][i] = c->right[i] * cx - c->forward[i] * sx;  /* right */
-        c->side[3][i] = -c->right[i] * cx - c->forward[i] * sx; /* left */
-    }
+    c->cos_y = cos(half_y);
+    c->sin_y = sin(half_y);
+    c->cos_x = cos(half_x);
+    c->sin_x = sin(half_x);
     c->near_z = (double)v->near_z;
     c->far_z = (double)v->far_z;
     c->focal_px = 0.5 * (double)v->viewport_height / tan(half_y);
@@ -88,11 +86,9 @@ void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v) {
 
 static int cache_sphere_visible(const tclod_view_cache *c, const double p[3], double r) {
     double z = dot3(p, c->forward);
-    int i;
     if (z < c->near_z - r || z > c->far_z + r) return 0;
-    for (i = 0; i < 4; ++i)
-        if (dot3(p, c->side[i]) > r) return 0;
-    return 1;
+    if (fabs(dot3(p, c->up)) * c->cos_y - z * c->sin_y > r) return 0;
+    return fabs(dot3(p, c->right)) * c->cos_x - z * c->sin_x <= r;
 }
 
 static double cache_screen_area(const tclod_view_cache *c, double d2, double r) {
