@@ -269,6 +269,12 @@ static int apply_decrement(tclod_selector *sel, tclod_id p) {
 
 /* ---- roots ------------------------------------------------------------------- */
 
+/* 1 when root r fits on top of `used` (an unaffordable root never does, even
+ * under an unlimited budget). */
+static int fits_alone(const tclod_selector *sel, tclod_id r, double used) {
+    return !isinf(sel->node[r].cost) && used + sel->node[r].cost <= sel->frame->budget;
+}
+
 /* When even the visible roots in the cut do not fit: leaves out the lowest
  * value (benefit / cost) roots until the rest fits, then takes back, best
  * first, any left-out root that still fits. Unaffordable roots go first. Like
@@ -276,7 +282,6 @@ static int apply_decrement(tclod_selector *sel, tclod_id p) {
  * most beneficial root that fits alone is tried as the starting point too. */
 static void drop_roots(tclod_selector *sel) {
     uint32_t n = 0, i, first_dropped, best = TCLOD_NONE;
-    double budget = sel->frame->budget;
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id r = sel->cut[i];
         double c;
@@ -295,14 +300,14 @@ static void drop_roots(tclod_selector *sel) {
     }
     for (i = first_dropped; i < n; ++i) {
         tclod_id r = sel->scratch[i];
-        if (sel->cost_sum + sel->node[r].cost <= budget) {
+        if (fits_alone(sel, r, sel->cost_sum)) {
             sel->flags[r] &= (uint8_t)~TCLOD_FLAG_DROPPED;
             account(sel, r, 1.0);
         }
     }
     for (i = 0; i < n; ++i) {
         tclod_id r = sel->scratch[i];
-        if (sel->node[r].cost <= budget && sel->node[r].benefit > sel->benefit_sum &&
+        if (fits_alone(sel, r, 0.0) && sel->node[r].benefit > sel->benefit_sum &&
             (best == TCLOD_NONE || sel->node[r].benefit > sel->node[sel->scratch[best]].benefit))
             best = i;
     }
@@ -314,7 +319,7 @@ static void drop_roots(tclod_selector *sel) {
         }
         for (i = 0; i < n; ++i) {
             tclod_id r = sel->scratch[i == 0 ? best : (i <= best ? i - 1u : i)];
-            if (sel->cost_sum + sel->node[r].cost <= budget) {
+            if (fits_alone(sel, r, sel->cost_sum)) {
                 sel->flags[r] &= (uint8_t)~TCLOD_FLAG_DROPPED;
                 account(sel, r, 1.0);
             }
@@ -564,7 +569,8 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
             tclod_id n = sel->cut[i];
             if (counts(sel, n)) sum += sel->node[n].cost;
         }
-        if (sum <= sel->frame->budget) {
+        /* an unaffordable node makes the sum infinite: never within budget */
+        if (!isinf(sum) && sum <= sel->frame->budget) {
             sel->cost_sum = sum;
             return 0;
         }

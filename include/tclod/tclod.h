@@ -246,13 +246,17 @@ typedef struct tclod_frame {
                                  distance -1 */
     double budget;            /* cost units, >= 0 (+inf = unlimited) */
     double solve_seconds;     /* wall-clock limit for the solve, >= 0; 0 = none */
-    uint32_t max_iterations;  /* limit on increments/decrements tried; 0 = none */
+    uint32_t max_iterations;  /* limit on increments/decrements tried; 0 = none.
+                                 Either limit stops the search with a feasible
+                                 selection; the decrements that bring a warm
+                                 start back within a lowered budget always run */
 } tclod_frame;
 
 /* Why a solve stopped (tclod_stats.stop_reason). */
 typedef enum tclod_stop_reason {
     TCLOD_STOP_BUDGET = 0,     /* no further increment fits the budget */
-    TCLOD_STOP_FINEST = 1,     /* every visible selected node is at its finest level */
+    TCLOD_STOP_FINEST = 1,     /* no increment is left: every visible selected node is
+                                  at its finest level or refining it gains nothing */
     TCLOD_STOP_ITERATIONS = 2, /* tclod_frame.max_iterations reached */
     TCLOD_STOP_TIME = 3        /* tclod_frame.solve_seconds reached */
 } tclod_stop_reason;
