@@ -142,20 +142,19 @@ static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
     return dc > 0.0 ? db / dc : HUGE_VAL;
 }
 
-/* Queues n's increment if it is a candidate, by ratio and by cost (append:
- * heap order restored by the caller; otherwise pushed). */
+/* Queues n's increment if it is a candidate (append: heap order restored by
+ * the caller; otherwise pushed). The by-cost heap exists only once the fill
+ * has begun (see increment_may_fit). */
 static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
     int failed;
     double key = increment_key(sel, n, &failed);
     if (failed) return -1;
     if (key == key) {
-        if (append) {
+        if (append)
             tclod_heap_append(&sel->inc, n, key);
-            tclod_heap_append(&sel->cheap, n, -sel->node[n].delta_c);
-        } else {
+        else
             tclod_heap_push(&sel->inc, n, key);
-            tclod_heap_push(&sel->cheap, n, -sel->node[n].delta_c);
-        }
+        if (sel->cheap_live) tclod_heap_push(&sel->cheap, n, -sel->node[n].delta_c);
     }
     return 0;
 }
@@ -163,7 +162,14 @@ static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
 static void unqueue_increment(tclod_selector *sel, tclod_id n) {
     if (!tclod_heap_contains(&sel->inc, n)) return;
     tclod_heap_remove(&sel->inc, n);
-    tclod_heap_remove(&sel->cheap, n);
+    if (sel->cheap_live) tclod_heap_remove(&sel->cheap, n);
+}
+
+static void clear_heaps(tclod_selector *sel) {
+    tclod_heap_clear(&sel->inc);
+    tclod_heap_clear(&sel->cheap);
+    tclod_heap_clear(&sel->dec);
+    sel->cheap_live = 0;
 }
 
 static tclod_id pop_increment(tclod_selector *sel) {
@@ -172,9 +178,25 @@ static tclod_id pop_increment(tclod_selector *sel) {
     return n;
 }
 
+/* 1 when increment n fits the remaining budget. */
+static int increment_fits(const tclod_selector *sel, tclod_id n) {
+    return sel->unaffordable == 0 && sel->cost_sum + sel->node[n].delta_c <= sel->frame->budget;
+}
+
 /* 1 when some queued increment fits the remaining budget. Increments that do
- * not fit stay unfit while the search only adds cost, so this ends the fill. */
-static int increment_may_fit(const tclod_selector *sel) {
+ * not fit stay unfit while the search only adds cost, so this ends the fill.
+ * The increments ordered by cost are needed only from the first misfit on, so
+ * they are heaped then, in O(n), and kept up to date after that. */
+static int increment_may_fit(tclod_selector *sel) {
+    if (!sel->cheap_live) {
+        uint32_t i;
+        for (i = 0; i < sel->inc.count; ++i) {
+            tclod_id n = sel->inc.items[i].id;
+            tclod_heap_append(&sel->cheap, n, -sel->node[n].delta_c);
+        }
+        tclod_heap_build(&sel->cheap);
+        sel->cheap_live = 1;
+    }
     return sel->cheap.count > 0 && sel->unaffordable == 0 &&
            sel->cost_sum - sel->cheap.items[0].key <= sel->frame->budget;
 }
@@ -275,13 +297,36 @@ static int fits_alone(const tclod_selector *sel, tclod_id r, double used) {
     return !isinf(sel->node[r].cost) && used + sel->node[r].cost <= sel->frame->budget;
 }
 
-/* When even the visible roots in the cut do not fit: leaves out the lowest
- * value (benefit / cost) roots until the rest fits, then takes back, best
- * first, any left-out root that still fits. Unaffordable roots go first. Like
- * every ratio greedy for a knapsack this alone can be arbitrarily bad, so the
- * most beneficial root that fits alone is tried as the starting point too. */
+/* Keeps the visible roots of the cut in scratch[0..n) order, starting with
+ * scratch[first] when first is not TCLOD_NONE, each one that still fits on
+ * top of those kept before it; flags the others as dropped. The running sums
+ * are recounted from scratch, since subtracting from a sum that overflowed to
+ * inf would leave it inf. */
+static void keep_roots(tclod_selector *sel, uint32_t n, uint32_t first) {
+    double used = 0.0;
+    uint32_t i;
+    for (i = 0; i < n; ++i) {
+        uint32_t k = first == TCLOD_NONE ? i : (i == 0 ? first : (i <= first ? i - 1u : i));
+        tclod_id r = sel->scratch[k];
+        if (fits_alone(sel, r, used)) {
+            sel->flags[r] &= (uint8_t)~TCLOD_FLAG_DROPPED;
+            used += sel->node[r].cost;
+        } else {
+            sel->flags[r] |= TCLOD_FLAG_DROPPED;
+        }
+    }
+    sel->cost_sum = sel->benefit_sum = 0.0;
+    sel->unaffordable = 0;
+    for (i = 0; i < sel->cut_count; ++i) account(sel, sel->cut[i], 1.0);
+}
+
+/* When even the visible roots in the cut do not fit: keeps the highest value
+ * (benefit / cost) roots while they fit, skipping those that do not (fill).
+ * Unaffordable roots come last and are never kept. Like every ratio greedy
+ * for a knapsack this alone can be arbitrarily bad, so the most beneficial
+ * root that fits alone is tried as the starting point too. */
 static void drop_roots(tclod_selector *sel) {
-    uint32_t n = 0, i, first_dropped, best = TCLOD_NONE;
+    uint32_t n = 0, i, best = TCLOD_NONE;
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id r = sel->cut[i];
         double c;
@@ -292,39 +337,14 @@ static void drop_roots(tclod_selector *sel) {
         n++;
     }
     tclod_sort_by_key(sel->scratch, sel->scratch_key, n);
-    first_dropped = n;
-    while (first_dropped > 0 && !feasible(sel)) {
-        tclod_id r = sel->scratch[--first_dropped];
-        account(sel, r, -1.0);
-        sel->flags[r] |= TCLOD_FLAG_DROPPED;
-    }
-    for (i = first_dropped; i < n; ++i) {
-        tclod_id r = sel->scratch[i];
-        if (fits_alone(sel, r, sel->cost_sum)) {
-            sel->flags[r] &= (uint8_t)~TCLOD_FLAG_DROPPED;
-            account(sel, r, 1.0);
-        }
-    }
+    keep_roots(sel, n, TCLOD_NONE);
     for (i = 0; i < n; ++i) {
         tclod_id r = sel->scratch[i];
         if (fits_alone(sel, r, 0.0) && sel->node[r].benefit > sel->benefit_sum &&
             (best == TCLOD_NONE || sel->node[r].benefit > sel->node[sel->scratch[best]].benefit))
             best = i;
     }
-    if (best != TCLOD_NONE) {
-        for (i = 0; i < n; ++i) {
-            tclod_id r = sel->scratch[i];
-            account(sel, r, -1.0);
-            sel->flags[r] |= TCLOD_FLAG_DROPPED;
-        }
-        for (i = 0; i < n; ++i) {
-            tclod_id r = sel->scratch[i == 0 ? best : (i <= best ? i - 1u : i)];
-            if (fits_alone(sel, r, sel->cost_sum)) {
-                sel->flags[r] &= (uint8_t)~TCLOD_FLAG_DROPPED;
-                account(sel, r, 1.0);
-            }
-        }
-    }
+    if (best != TCLOD_NONE) keep_roots(sel, n, best);
     for (i = 0; i < n; ++i) {
         tclod_id r = sel->scratch[i];
         if (!(sel->flags[r] & TCLOD_FLAG_DROPPED)) continue;
@@ -344,9 +364,7 @@ static void clear_cut(tclod_selector *sel) {
     sel->cut_count = 0;
     sel->cost_sum = sel->benefit_sum = 0.0;
     sel->unaffordable = 0;
-    tclod_heap_clear(&sel->inc);
-    tclod_heap_clear(&sel->cheap);
-    tclod_heap_clear(&sel->dec);
+    clear_heaps(sel);
 }
 
 /* Cut = the roots; drops roots that do not fit; queues their increments. */
@@ -364,7 +382,6 @@ static int start_cold(tclod_selector *sel) {
     for (i = 0; i < sel->cut_count; ++i)
         if (queue_increment(sel, sel->cut[i], 1) != 0) return -1;
     tclod_heap_build(&sel->inc);
-    tclod_heap_build(&sel->cheap);
     return 0;
 }
 
@@ -390,7 +407,6 @@ static int start_warm(tclod_selector *sel) {
             return -1;
     }
     tclod_heap_build(&sel->inc);
-    tclod_heap_build(&sel->cheap);
     tclod_heap_build(&sel->dec);
     return 0;
 }
@@ -517,13 +533,16 @@ static int improve(tclod_selector *sel, int warm, alternative *alt) {
             continue;
         }
         if (sel->inc.count == 0) break;
-        if (increment_may_fit(sel)) {
-            n = pop_increment(sel);
+        n = sel->inc.items[0].id;
+        if (increment_fits(sel, n)) {
+            pop_increment(sel);
             sel->stats.iterations++;
-            if (sel->cost_sum + sel->node[n].delta_c <= sel->frame->budget) {
-                if (apply_increment(sel, n, warm) != 0) return -1;
-                continue;
-            }
+            if (apply_increment(sel, n, warm) != 0) return -1;
+            continue;
+        }
+        if (increment_may_fit(sel)) { /* fill: skip the misfit, try smaller ones */
+            pop_increment(sel);
+            sel->stats.iterations++;
             skipped = 1;
             if (alt) consider_alternative(sel, alt, n);
             continue;
@@ -629,8 +648,6 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
         }
     }
     if (rc == 0) rc = enforce_budget(sel, warm);
-    tclod_heap_clear(&sel->inc);
-    tclod_heap_clear(&sel->cheap);
-    tclod_heap_clear(&sel->dec);
+    clear_heaps(sel);
     return rc == 0 ? TCLOD_OK : TCLOD_ERR_CALLBACK;
 }

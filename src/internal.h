@@ -145,6 +145,7 @@ struct tclod_selector {
     uint8_t *flags;
     tclod_heap inc;            /* increments, best Δb/Δc first */
     tclod_heap cheap;          /* the same increments, smallest Δc first */
+    int cheap_live;            /* cheap holds every queued increment */
     tclod_heap dec;            /* decrements, least loss per saved cost first */
     tclod_id *cut, *prev_cut, *result, *scratch;
     double *scratch_key;
