@@ -1,0 +1,214 @@
+/*
+ * exact — enumeration of every cut of a small scene, and a cut checker.
+ * Option lists are built bottom-up: options(n) = {n alone} ∪ the cartesian
+ * product of options(child) over n's children, each option a (benefit, cost)
+ * pair; options over the budget are pruned since costs are >= 0.
+ */
+#include "exact.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct exact_option {
+    double benefit, cost;
+} exact_option;
+
+typedef struct exact_list {
+    exact_option *items;
+    size_t count;
+} exact_list;
+
+/* product of a and b (pairwise sums) without options over the budget; 0 on
+ * allocation failure. */
+static int exact_product(const exact_list *a, const exact_list *b, double budget, exact_list *out) {
+    size_t i, j, k = 0;
+    out->items = (exact_option *)malloc((a->count * b->count + 1u) * sizeof *out->items);
+    if (out->items == NULL)
+        return 0;
+    for (i = 0; i < a->count; ++i)
+        for (j = 0; j < b->count; ++j) {
+            double c = a->items[i].cost + b->items[j].cost;
+            if (c <= budget) {
+                out->items[k].benefit = a->items[i].benefit + b->items[j].benefit;
+                out->items[k].cost = c;
+                k++;
+            }
+        }
+    out->count = k;
+    return 1;
+}
+
+/* Options of node n's subtree; 0 on allocation failure. */
+static int exact_options(const table_model *m, tclod_id n, double budget, exact_list *out) {
+    exact_list acc, child, next;
+    int has_children = 0;
+    tclod_id c;
+
+    out->items = NULL;
+    out->count = 0;
+    if (m->benefit[n] == 0.0) {
+        out->items = (exact_option *)malloc(sizeof *out->items);
+        if (out->items == NULL)
+            return 0;
+        out->items[0].benefit = 0.0;
+        out->items[0].cost = 0.0;
+        out->count = 1;
+        return 1;
+    }
+    /* acc starts as the neutral product {(0, 0)}. */
+    acc.items = (exact_option *)malloc(sizeof *acc.items);
+    if (acc.items == NULL)
+        return 0;
+    acc.items[0].benefit = 0.0;
+    acc.items[0].cost = 0.0;
+    acc.count = 1;
+    for (c = 0; c < m->count; ++c) {
+        if (m->parent[c] != n)
+            continue;
+        has_children = 1;
+        if (!exact_options(m, c, budget, &child)) {
+            free(acc.items);
+            return 0;
+        }
+        if (!exact_product(&acc, &child, budget, &next)) {
+            free(child.items);
+            free(acc.items);
+            return 0;
+        }
+        free(child.items);
+        free(acc.items);
+        acc = next;
+    }
+    if (!has_children)
+        acc.count = 0;
+    out->items = (exact_option *)malloc((acc.count + 1u) * sizeof *out->items);
+    if (out->items == NULL) {
+        free(acc.items);
+        return 0;
+    }
+    if (acc.count > 0)
+        memcpy(out->items, acc.items, acc.count * sizeof *acc.items);
+    free(acc.items);
+    out->count = acc.count;
+    if (m->cost[n] <= budget) {
+        out->items[out->count].benefit = m->benefit[n];
+        out->items[out->count].cost = m->cost[n];
+        out->count++;
+    }
+    return 1;
+}
+
+double exact_optimum(const table_model *m, double budget, double *cost_out) {
+    exact_list acc, root, next;
+    double best = -1.0, best_cost = 0.0;
+    tclod_id i;
+    size_t k;
+
+    if (m->count > EXACT_MAX_NODES)
+        return -2.0;
+    for (i = 0; i < m->count; ++i)
+        if (!isfinite(m->benefit[i]) || !isfinite(m->cost[i]) || m->benefit[i] < 0.0 ||
+            m->cost[i] < 0.0)
+            return -2.0;
+    acc.items = (exact_option *)malloc(sizeof *acc.items);
+    if (acc.items == NULL)
+        return -2.0;
+    acc.items[0].benefit = 0.0;
+    acc.items[0].cost = 0.0;
+    acc.count = 1;
+    for (i = 0; i < m->count; ++i) {
+        if (m->parent[i] != TCLOD_NONE)
+            continue;
+        if (!exact_options(m, i, budget, &root)) {
+            free(acc.items);
+            return -2.0;
+        }
+        if (!exact_product(&acc, &root, budget, &next)) {
+            free(root.items);
+            free(acc.items);
+            return -2.0;
+        }
+        free(root.items);
+        free(acc.items);
+        acc = next;
+    }
+    for (k = 0; k < acc.count; ++k)
+        if (acc.items[k].benefit > best) {
+            best = acc.items[k].benefit;
+            best_cost = acc.items[k].cost;
+        }
+    free(acc.items);
+    if (cost_out != NULL)
+        *cost_out = best_cost;
+    return best;
+}
+
+/* A benefit the library draws: finite and > 0 (anything else is culled). */
+static int exact_visible(double benefit) {
+    return benefit > 0.0 && benefit < INFINITY;
+}
+
+int exact_check_cut(const table_model *m, const tclod_id *ids, size_t n, int roots_may_drop) {
+    unsigned char *listed, *has_child;
+    int ok = 1;
+    size_t i;
+    tclod_id v;
+
+    listed = (unsigned char *)calloc((size_t)m->count + 1u, 2);
+    if (listed == NULL)
+        return 0;
+    has_child = listed + m->count + 1u;
+    for (i = 0; i < n && ok; ++i) {
+        if (ids[i] >= m->count || listed[ids[i]] || !exact_visible(m->benefit[ids[i]]))
+            ok = 0;
+        else
+            listed[ids[i]] = 1;
+    }
+    for (v = 0; v < m->count; ++v)
+        if (m->parent[v] != TCLOD_NONE)
+            has_child[m->parent[v]] = 1;
+    /* Walk every leaf up to its root: count listed nodes on the path, and
+     * whether an invisible node covers it. */
+    for (v = 0; v < m->count && ok; ++v) {
+        unsigned on_path = 0;
+        int culled = 0;
+        tclod_id u, root = v;
+        if (has_child[v])
+            continue;
+        for (u = v; u != TCLOD_NONE; u = m->parent[u]) {
+            on_path += listed[u];
+            culled |= !exact_visible(m->benefit[u]);
+            root = u;
+        }
+        if (on_path > 1)
+            ok = 0;
+        else if (on_path == 0 && !culled) {
+            /* Allowed only when the whole hierarchy of this root is unlisted. */
+            tclod_id w;
+            if (!roots_may_drop)
+                ok = 0;
+            for (w = 0; w < m->count && ok; ++w) {
+                tclod_id r = w;
+                if (!listed[w])
+                    continue;
+                while (m->parent[r] != TCLOD_NONE)
+                    r = m->parent[r];
+                if (r == root)
+                    ok = 0;
+            }
+        }
+    }
+    free(listed);
+    return ok;
+}
+
+static int exact_compare_ids(const void *a, const void *b) {
+    tclod_id x = *(const tclod_id *)a, y = *(const tclod_id *)b;
+    return (x > y) - (x < y);
+}
+
+void exact_sort_ids(tclod_id *ids, size_t n) {
+    if (n > 1)
+        qsort(ids, n, sizeof *ids, exact_compare_ids);
+}

@@ -1,0 +1,35 @@
+/*
+ * exact — brute-force reference answers for small table_model scenes.
+ *
+ * A cut chooses, for every root, either the root itself or, recursively, a
+ * cut of each of its children. A node with benefit 0 is invisible: it stays in
+ * the cut as itself, costs nothing and its subtree is not refined. exact_optimum
+ * enumerates every cut and returns the largest total benefit whose total cost
+ * fits the budget; exact_check_cut checks that a list of ids is a cut.
+ */
+#ifndef EXACT_H
+#define EXACT_H
+
+#include <stddef.h>
+
+#include "table_scene.h"
+
+/* Largest benefit of a cut of all of m's hierarchies (no root left out) whose
+ * cost is <= budget; -1 when no cut fits (the roots alone are too expensive).
+ * *cost_out (may be NULL) receives that cut's cost. For scenes up to
+ * EXACT_MAX_NODES nodes with valid (finite, >= 0) values; -2 otherwise or when
+ * memory runs out. */
+#define EXACT_MAX_NODES 16u
+double exact_optimum(const table_model *m, double budget, double *cost_out);
+
+/* 1 when ids[0..n) are the visible nodes of a cut of m: every id exists and is
+ * listed once, no listed node is an ancestor of another, and every root-to-leaf
+ * path that contains no invisible node (benefit 0, or NaN, inf or negative)
+ * contains exactly one listed node; with roots_may_drop, whole hierarchies with
+ * nothing listed are also accepted. Listed nodes must be visible. 0 otherwise. */
+int exact_check_cut(const table_model *m, const tclod_id *ids, size_t n, int roots_may_drop);
+
+/* Sorts n ids ascending (result order is deterministic but not sorted). */
+void exact_sort_ids(tclod_id *ids, size_t n);
+
+#endif /* EXACT_H */

@@ -1,0 +1,840 @@
+/*
+ * test_greedy — the greedy solver (src/greedy.c): increment order worked out
+ * by hand, fill past increments that do not fit, culling of invisible
+ * subtrees, dropping of roots that do not fit, the ½-of-optimum bound (on an
+ * adversarial instance and against a brute-force optimum on random trees),
+ * warm starts with decrements, the anytime limits and stop reasons, and the
+ * one-call-per-node rule for callbacks.
+ *
+ * Increment of node n = replace n by its children:
+ *   Δb = Σ benefit(children) - benefit(n), Δc = Σ cost(children) - cost(n),
+ * an invisible child (benefit 0) costing 0. One iteration = one increment
+ * tried, taken or skipped because it does not fit.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <tclod/tclod.h>
+
+#include "exact.h"
+#include "helpers.h"
+#include "table_scene.h"
+
+/* Selects one frame without a view; asserts success. */
+static void select_frame(tclod_selector *sel, double budget, uint32_t max_iterations,
+                         tclod_stats *st) {
+    tclod_frame f = helper_frame(NULL, budget);
+    f.max_iterations = max_iterations;
+    assert_int_equal(tclod_select(sel, &f, st), TCLOD_OK);
+}
+
+/* Asserts exact benefit and cost of a result whose values are exact binary
+ * fractions (so any summation order gives the same double). */
+static void assert_totals(const tclod_stats *st, double benefit, double cost) {
+    if (st->benefit != benefit || st->cost != cost)
+        fail_msg("benefit %.17g cost %.17g, expected %.17g and %.17g", st->benefit, st->cost,
+                 benefit, cost);
+}
+
+/* The tree of the hand-worked order (ids in creation order, b = benefit,
+ * c = cost):
+ *   R 0 (b 10, c 2)  children A 1 (8, 2), B 2 (6, 2)
+ *   A 1              children A1 3 (5, 2), A2 4 (5, 2)
+ *   B 2              children B1 5 (4.5, 2), B2 6 (4.5, 2)
+ *   S 7 (3, 1)       child S1 8 (6, 3), whose child is S2 9 (7, 7)
+ * Increments:
+ *   R : Δb = 8 + 6 - 10 = 4       Δc = 2 + 2 - 2 = 2   ratio 2
+ *   A : Δb = 5 + 5 - 8 = 2        Δc = 2 + 2 - 2 = 2   ratio 1
+ *   B : Δb = 4.5 + 4.5 - 6 = 3    Δc = 2 + 2 - 2 = 2   ratio 1.5
+ *   S : Δb = 6 - 3 = 3            Δc = 3 - 1 = 2       ratio 1.5
+ *   S1: Δb = 7 - 6 = 1            Δc = 7 - 3 = 4       ratio 0.25
+ * Order: R (2), then B and S tie at 1.5 and B has the lower id (2 < 7),
+ * then S, A (1), S1 (0.25). Roots alone: benefit 13, cost 3. */
+static void build_order_tree(helper_fixture *f) {
+    helper_add(f, TCLOD_NONE, 10.0, 2.0); /* 0 R */
+    helper_add(f, 0, 8.0, 2.0);           /* 1 A */
+    helper_add(f, 0, 6.0, 2.0);           /* 2 B */
+    helper_add(f, 1, 5.0, 2.0);           /* 3 A1 */
+    helper_add(f, 1, 5.0, 2.0);           /* 4 A2 */
+    helper_add(f, 2, 4.5, 2.0);           /* 5 B1 */
+    helper_add(f, 2, 4.5, 2.0);           /* 6 B2 */
+    helper_add(f, TCLOD_NONE, 3.0, 1.0);  /* 7 S */
+    helper_add(f, 7, 6.0, 3.0);           /* 8 S1 */
+    helper_add(f, 8, 7.0, 7.0);           /* 9 S2 */
+}
+
+static void increments_follow_the_hand_worked_order(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* Cut after k increments with an unlimited budget:
+     *   k 1 (R):  {A, B, S}            b 8+6+3 = 17        c 2+2+1 = 5
+     *   k 2 (B):  {A, B1, B2, S}       b 8+9+3 = 20        c 2+4+1 = 7
+     *   k 3 (S):  {A, B1, B2, S1}      b 8+9+6 = 23        c 2+4+3 = 9
+     *   k 4 (A):  {A1, A2, B1, B2, S1} b 10+9+6 = 25       c 4+4+3 = 11 */
+    static const tclod_id k1[] = {1, 2, 7};
+    static const tclod_id k2[] = {1, 5, 6, 7};
+    static const tclod_id k3[] = {1, 5, 6, 8};
+    static const tclod_id k4[] = {3, 4, 5, 6, 8};
+    static const tclod_id finest[] = {3, 4, 5, 6, 9};
+    const struct {
+        const tclod_id *cut;
+        size_t n;
+        double benefit, cost;
+    } after[] = {{k1, 3, 17.0, 5.0}, {k2, 4, 20.0, 7.0}, {k3, 4, 23.0, 9.0}, {k4, 5, 25.0, 11.0}};
+    tclod_selector *sel;
+    tclod_stats st;
+    uint32_t k;
+    build_order_tree(f);
+    sel = helper_selector(f->scene, &f->model, 0);
+    for (k = 1; k <= 4; ++k) {
+        table_reset_counts(&f->model);
+        select_frame(sel, INFINITY, k, &st);
+        helper_assert_cut(sel, after[k - 1].cut, after[k - 1].n);
+        assert_totals(&st, after[k - 1].benefit, after[k - 1].cost);
+        assert_int_equal(st.iterations, k);
+        assert_int_equal(st.increments, k);
+        assert_int_equal(st.decrements, 0);
+        assert_int_equal(st.stop_reason, TCLOD_STOP_ITERATIONS);
+        assert_int_equal(st.evaluations, table_asked_nodes(&f->model));
+    }
+    /* No limit: all five increments, then everything is at its finest level
+     * ({A1, A2, B1, B2, S2}: b 10+9+7 = 26, c 4+4+7 = 15). */
+    table_reset_counts(&f->model);
+    select_frame(sel, INFINITY, 0, &st);
+    helper_assert_cut(sel, finest, 5);
+    assert_totals(&st, 26.0, 15.0);
+    assert_int_equal(st.iterations, 5);
+    assert_int_equal(st.increments, 5);
+    assert_int_equal(st.stop_reason, TCLOD_STOP_FINEST);
+    assert_int_equal(st.evaluations, 10);
+    assert_int_equal(st.dropped_roots, 0);
+    assert_int_equal(st.invalid_values, 0);
+    tclod_selector_destroy(sel);
+}
+
+static void increments_stop_when_nothing_more_fits(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* Budget 10: R (c 5), B (c 7), S (c 9) are taken; A would cost 9 + 2 = 11
+     * and S1 9 + 4 = 13: neither fits. Whether they count as tried depends on
+     * whether the solver looks at them or sees that none can fit, so the
+     * iterations lie between 3 and 5. The cut
+     * {A, B1, B2, S1} (b 23, c 9) is also the optimum: the other cuts of cost
+     * <= 10 are {A1, A2, B1, B2, S} (b 22), {A1, A2, B, S1} (b 22) and less. */
+    static const tclod_id budget_10[] = {1, 5, 6, 8};
+    /* Budget 3: the roots cost 3 exactly; R and S (+2 each) do not fit. */
+    static const tclod_id budget_3[] = {0, 7};
+    tclod_selector *sel;
+    tclod_stats st;
+    build_order_tree(f);
+    sel = helper_selector(f->scene, &f->model, 0);
+    select_frame(sel, 10.0, 0, &st);
+    helper_assert_cut(sel, budget_10, 4);
+    assert_totals(&st, 23.0, 9.0);
+    assert_in_range(st.iterations, 3, 5);
+    assert_int_equal(st.increments, 3);
+    assert_int_equal(st.stop_reason, TCLOD_STOP_BUDGET);
+    select_frame(sel, 3.0, 0, &st);
+    helper_assert_cut(sel, budget_3, 2);
+    assert_totals(&st, 13.0, 3.0);
+    assert_in_range(st.iterations, 0, 2);
+    assert_int_equal(st.increments, 0);
+    assert_int_equal(st.dropped_roots, 0);
+    assert_int_equal(st.stop_reason, TCLOD_STOP_BUDGET);
+    tclod_selector_destroy(sel);
+}
+
+static void an_increment_that_does_not_fit_is_skipped_for_a_later_one(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* P 0 (1, 1) -> P1 1 (11, 11): Δb 10, Δc 10, ratio 1.
+     * Q 2 (1, 1) -> Q1 3 (1.5, 2): Δb 0.5, Δc 1, ratio 0.5.
+     * Budget 5, roots cost 2: P first needs 12 > 5, skipped; Q needs 3, taken.
+     * {P, Q1}: b 2.5, c 3 — the optimum ({P1, ...} costs >= 12). */
+    static const tclod_id filled[] = {0, 3};
+    static const tclod_id one_try[] = {0, 2};
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, 0, 11.0, 11.0);
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, 2, 1.5, 2.0);
+    sel = helper_selector(f->scene, &f->model, 0);
+    select_frame(sel, 5.0, 0, &st);
+    helper_assert_cut(sel, filled, 2);
+    assert_totals(&st, 2.5, 3.0);
+    assert_int_equal(st.iterations, 2);
+    assert_int_equal(st.increments, 1);
+    assert_int_equal(st.stop_reason, TCLOD_STOP_BUDGET);
+    /* The skipped increment is the first iteration. */
+    select_frame(sel, 5.0, 1, &st);
+    helper_assert_cut(sel, one_try, 2);
+    assert_totals(&st, 2.0, 2.0);
+    assert_int_equal(st.iterations, 1);
+    assert_int_equal(st.increments, 0);
+    assert_int_equal(st.stop_reason, TCLOD_STOP_ITERATIONS);
+    tclod_selector_destroy(sel);
+}
+
+static void invisible_nodes_are_culled_with_their_subtree(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* P 0 (1, 1) with children H 1 (benefit 0, cost 5) and V 2 (2, 3);
+     * H's subtree 3 (5, 1) -> 4 (6, 2) must never be looked at.
+     * Q 5 (benefit 0) is an invisible root with child 6 (3, 1).
+     * W 7 (1, 1) is a visible leaf root.
+     * P's increment: Δb = 0 + 2 - 1 = 1, Δc = 0 + 3 - 1 = 2 (H costs 0): taken.
+     * Result: cut {H, V, Q, W}, listed {V, W}, b 2 + 1 = 3, c 3 + 1 = 4. */
+    static const tclod_id listed[] = {2, 7};
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 1.0, 1.0); /* 0 P */
+    helper_add(f, 0, 0.0, 5.0);          /* 1 H */
+    helper_add(f, 0, 2.0, 3.0);          /* 2 V */
+    helper_add(f, 1, 5.0, 1.0);          /* 3 */
+    helper_add(f, 3, 6.0, 2.0);          /* 4 */
+    helper_add(f, TCLOD_NONE, 0.0, 1.0); /* 5 Q */
+    helper_add(f, 5, 3.0, 1.0);          /* 6 */
+    helper_add(f, TCLOD_NONE, 1.0, 1.0); /* 7 W */
+    sel = helper_selector(f->scene, &f->model, 0);
+    table_reset_counts(&f->model);
+    select_frame(sel, INFINITY, 0, &st);
+    helper_assert_cut(sel, listed, 2);
+    helper_check_result(sel, &f->model, &st, INFINITY, 0);
+    assert_totals(&st, 3.0, 4.0);
+    assert_int_equal(st.increments, 1);
+    assert_int_equal(st.dropped_roots, 0);
+    assert_int_equal(st.stop_reason, TCLOD_STOP_FINEST);
+    /* Benefit asked once for 0, 1, 2, 5, 7; cost only for the visible ones. */
+    assert_int_equal(f->model.benefit_calls[0], 1);
+    assert_int_equal(f->model.benefit_calls[1], 1);
+    assert_int_equal(f->model.benefit_calls[2], 1);
+    assert_int_equal(f->model.benefit_calls[5], 1);
+    assert_int_equal(f->model.benefit_calls[7], 1);
+    assert_int_equal(f->model.cost_calls[0], 1);
+    assert_int_equal(f->model.cost_calls[2], 1);
+    assert_int_equal(f->model.cost_calls[7], 1);
+    assert_int_equal(f->model.cost_calls[1], 0);
+    assert_int_equal(f->model.cost_calls[5], 0);
+    /* The culled subtrees are never evaluated. */
+    assert_int_equal(f->model.benefit_calls[3] + f->model.cost_calls[3], 0);
+    assert_int_equal(f->model.benefit_calls[4] + f->model.cost_calls[4], 0);
+    assert_int_equal(f->model.benefit_calls[6] + f->model.cost_calls[6], 0);
+    assert_int_equal(st.evaluations, 5);
+    tclod_selector_destroy(sel);
+}
+
+static void roots_that_do_not_fit_are_dropped_lowest_value_first(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* Roots a 0 (10, 6), b 1 (3, 1), c 2 (4, 4): together cost 11. Values
+     * (benefit / cost) 1.67, 3 and 1. Budget 7: dropping c (lowest) leaves
+     * cost 7 <= 7, so a and b stay: b 13, one root dropped.
+     * An invisible root d 3 (benefit 0) is never counted as dropped. */
+    static const tclod_id kept[] = {0, 1};
+    static const tclod_id all[] = {0, 1, 2};
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 10.0, 6.0);
+    helper_add(f, TCLOD_NONE, 3.0, 1.0);
+    helper_add(f, TCLOD_NONE, 4.0, 4.0);
+    helper_add(f, TCLOD_NONE, 0.0, 9.0);
+    sel = helper_selector(f->scene, &f->model, 0);
+    select_frame(sel, 7.0, 0, &st);
+    helper_assert_cut(sel, kept, 2);
+    helper_check_result(sel, &f->model, &st, 7.0, 1);
+    assert_totals(&st, 13.0, 7.0);
+    assert_int_equal(st.dropped_roots, 1);
+    /* Budget 11: everything fits, nothing dropped. */
+    select_frame(sel, 11.0, 0, &st);
+    helper_assert_cut(sel, all, 3);
+    assert_totals(&st, 17.0, 11.0);
+    assert_int_equal(st.dropped_roots, 0);
+    tclod_selector_destroy(sel);
+}
+
+static void zero_budget_drops_every_visible_root_that_costs(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* The three visible roots of the previous test and an invisible one:
+     * with budget 0 the three are dropped, the invisible one is not counted. */
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 10.0, 6.0);
+    helper_add(f, TCLOD_NONE, 3.0, 1.0);
+    helper_add(f, TCLOD_NONE, 4.0, 4.0);
+    helper_add(f, TCLOD_NONE, 0.0, 9.0);
+    helper_add(f, 0, 20.0, 7.0);
+    sel = helper_selector(f->scene, &f->model, 0);
+    select_frame(sel, 0.0, 0, &st);
+    helper_assert_cut(sel, NULL, 0);
+    assert_totals(&st, 0.0, 0.0);
+    assert_int_equal(st.dropped_roots, 3);
+    tclod_selector_destroy(sel);
+}
+
+static void zero_budget_keeps_roots_that_cost_nothing(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* Budget 0: a 0 (10, 6) must go; z 1 (2, 0) costs nothing (value
+     * 2 / 0 = inf) and stays: b 2, c 0, one root dropped. */
+    tclod_selector *sel;
+    tclod_stats st;
+    const tclod_id *ids;
+    size_t n;
+    helper_add(f, TCLOD_NONE, 10.0, 6.0);
+    helper_add(f, TCLOD_NONE, 2.0, 0.0);
+    sel = helper_selector(f->scene, &f->model, 0);
+    select_frame(sel, 0.0, 0, &st);
+    assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(ids[0], 1);
+    assert_totals(&st, 2.0, 0.0);
+    assert_int_equal(st.dropped_roots, 1);
+    tclod_selector_destroy(sel);
+}
+
+static void greedy_reaches_half_the_optimum_on_an_adversarial_instance(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* Two chains with tiny roots A 0 and B 2 (b 0.125, c 0.125 each):
+     *   A -> A1 1 (b 1.375, c 1.125):    Δb 1.25, Δc 1     ratio 1.25
+     *   B -> B1 3 (b 100.125, c 100.125): Δb 100, Δc 100   ratio 1
+     * Budget 100.75 = roots 0.25 + 100 + 0.5. Ratio order alone takes A1
+     * (cost 1.25), then B1 would cost 101.25 > 100.75: benefit 1.5.
+     * Cuts: {A, B} 0.25, {A1, B} 1.5, {A, B1} 100.25 (cost 100.25 fits),
+     * {A1, B1} (cost 101.25, does not fit): optimum 100.25, half 50.125.
+     * The only cut reaching half is {A, B1}. */
+    static const tclod_id best[] = {0, 3};
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 0.125, 0.125);
+    helper_add(f, 0, 1.375, 1.125);
+    helper_add(f, TCLOD_NONE, 0.125, 0.125);
+    helper_add(f, 2, 100.125, 100.125);
+    sel = helper_selector(f->scene, &f->model, 0);
+    select_frame(sel, 100.75, 0, &st);
+    helper_check_result(sel, &f->model, &st, 100.75, 0);
+    assert_true(st.benefit >= 0.5 * 100.25);
+    assert_true(st.benefit <= 100.25);
+    helper_assert_cut(sel, best, 2);
+    tclod_selector_destroy(sel);
+}
+
+static void exact_solver_agrees_with_hand_worked_optima(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* The brute-force optimum that the random tests trust, on the order tree:
+     * budget 3 -> roots only, 13; 10 -> {A, B1, B2, S1}, 23; 11 ->
+     * {A1, A2, B1, B2, S1}, 25; 15 and unlimited -> the leaves, 26;
+     * 2.5 -> no cut fits (-1). And the cut checker on hand-made lists. */
+    static const tclod_id valid[] = {3, 4, 2, 8};
+    static const tclod_id overlapping[] = {1, 3, 4, 2, 8};
+    static const tclod_id uncovered[] = {3, 2, 8};
+    static const tclod_id repeated[] = {3, 4, 2, 8, 8};
+    static const tclod_id one_hierarchy[] = {0};
+    double cost;
+    build_order_tree(f);
+    assert_true(exact_optimum(&f->model, 3.0, &cost) == 13.0);
+    assert_true(cost == 3.0);
+    assert_true(exact_optimum(&f->model, 10.0, &cost) == 23.0);
+    assert_true(cost == 9.0);
+    assert_true(exact_optimum(&f->model, 11.0, NULL) == 25.0);
+    assert_true(exact_optimum(&f->model, 15.0, NULL) == 26.0);
+    assert_true(exact_optimum(&f->model, INFINITY, NULL) == 26.0);
+    assert_true(exact_optimum(&f->model, 2.5, NULL) == -1.0);
+    assert_true(exact_check_cut(&f->model, valid, 4, 0));
+    assert_false(exact_check_cut(&f->model, overlapping, 5, 0));
+    assert_false(exact_check_cut(&f->model, uncovered, 3, 0));
+    assert_false(exact_check_cut(&f->model, uncovered, 3, 1));
+    assert_false(exact_check_cut(&f->model, repeated, 5, 0));
+    assert_false(exact_check_cut(&f->model, one_hierarchy, 1, 0));
+    assert_true(exact_check_cut(&f->model, one_hierarchy, 1, 1));
+    /* With B invisible its subtree needs no listed node. */
+    f->model.benefit[2] = 0.0;
+    assert_true(exact_check_cut(&f->model, uncovered + 0, 1, 1) == 0);
+    {
+        static const tclod_id culled_b[] = {3, 4, 8};
+        assert_true(exact_check_cut(&f->model, culled_b, 3, 0));
+    }
+}
+
+static int compare_doubles(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Random scenes of 3..12 nodes and 1..3 roots, each solved cold at four
+ * budgets between the roots' cost and 1.1 x the leaves' cost, compared with
+ * the brute-force optimum over all cuts. */
+static void random_trees_against_exact_optimum(table_values values, int check_half) {
+    enum { seeds = 300, budgets = 4 };
+    static double ratios[seeds * budgets];
+    size_t count = 0;
+    uint64_t seed;
+    for (seed = 1; seed <= seeds; ++seed) {
+        tclod_scene *s = NULL;
+        tclod_selector *sel;
+        table_model m;
+        table_rng rng;
+        uint32_t nodes, roots;
+        double lo, hi;
+        int b;
+        table_rng_seed(&rng, seed * 7919u + (uint64_t)values);
+        nodes = 3 + table_rng_below(&rng, 10);
+        roots = 1 + table_rng_below(&rng, 3);
+        table_init(&m);
+        assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+        assert_int_equal(table_random_hierarchy(&m, s, &rng, nodes, roots, values), TCLOD_OK);
+        sel = helper_selector(s, &m, 0);
+        /* A margin of 1e-12 above the roots' cost keeps a different summation
+         * order from legitimately dropping a root. */
+        lo = table_roots_cost(&m) * (1.0 + 1e-12);
+        if (values == TABLE_DIMINISHING) {
+            hi = table_leaves_cost(&m) * 1.1;
+        } else {
+            uint32_t i;
+            hi = lo;
+            for (i = 0; i < m.count; ++i)
+                hi += m.cost[i];
+        }
+        for (b = 0; b < budgets; ++b) {
+            double budget = b == 0 ? lo : table_rng_uniform(&rng, lo, hi);
+            double optimum;
+            tclod_stats st;
+            table_reset_counts(&m);
+            select_frame(sel, budget, 0, &st);
+            helper_check_result(sel, &m, &st, budget, 0);
+            assert_true(table_max_calls(&m) <= 1);
+            optimum = exact_optimum(&m, budget, NULL);
+            assert_true(optimum >= 0.0);
+            if (st.benefit > optimum + 1e-9)
+                fail_msg("seed %u budget %.17g: benefit %.17g above the optimum %.17g",
+                         (unsigned)seed, budget, st.benefit, optimum);
+            if (check_half && st.benefit < 0.5 * optimum)
+                fail_msg("seed %u budget %.17g: benefit %.17g below half the optimum %.17g",
+                         (unsigned)seed, budget, st.benefit, optimum);
+            ratios[count++] = optimum > 0.0 ? st.benefit / optimum : 1.0;
+        }
+        tclod_selector_destroy(sel);
+        tclod_scene_destroy(s);
+        table_free(&m);
+    }
+    qsort(ratios, count, sizeof ratios[0], compare_doubles);
+    print_message("%s values: greedy / optimum over %u solves: median %.4f, min %.4f\n",
+                  values == TABLE_DIMINISHING ? "diminishing" : "arbitrary", (unsigned)count,
+                  ratios[count / 2], ratios[0]);
+}
+
+static void greedy_is_within_half_of_exact_optimum_on_random_trees(void **state) {
+    (void)state;
+    random_trees_against_exact_optimum(TABLE_DIMINISHING, 1);
+}
+
+static void greedy_never_beats_the_optimum_nor_the_budget_on_arbitrary_values(void **state) {
+    (void)state;
+    random_trees_against_exact_optimum(TABLE_ARBITRARY, 0);
+}
+
+/* A random diminishing-returns scene of `nodes` nodes and `roots` roots. */
+static void random_scene(helper_fixture *f, uint64_t seed, uint32_t nodes, uint32_t roots) {
+    table_rng rng;
+    table_rng_seed(&rng, seed);
+    assert_int_equal(
+        table_random_hierarchy(&f->model, f->scene, &rng, nodes, roots, TABLE_DIMINISHING),
+        TCLOD_OK);
+}
+
+static void warm_start_on_an_unchanged_frame_is_at_least_as_good(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *cold, *warm;
+    double lo, hi;
+    int i;
+    random_scene(f, 42, 400, 12);
+    lo = table_roots_cost(&f->model) * (1.0 + 1e-12);
+    hi = table_leaves_cost(&f->model);
+    cold = helper_selector(f->scene, &f->model, 0);
+    warm = helper_selector(f->scene, &f->model, 1);
+    for (i = 0; i <= 10; ++i) {
+        double budget = lo + (hi - lo) * (double)i / 10.0;
+        tclod_stats first, second, reference;
+        select_frame(cold, budget, 0, &reference);
+        select_frame(warm, budget, 0, &first);
+        helper_check_result(warm, &f->model, &first, budget, 0);
+        table_reset_counts(&f->model);
+        select_frame(warm, budget, 0, &second);
+        helper_check_result(warm, &f->model, &second, budget, 0);
+        assert_true(table_max_calls(&f->model) <= 1);
+        /* 1e-12 relative: the same cut listed in another order may sum
+         * differently in the last bit. */
+        if (second.benefit < first.benefit * (1.0 - 1e-12) ||
+            second.benefit < reference.benefit * (1.0 - 1e-12))
+            fail_msg("budget %.17g: warm %.17g, previous %.17g, cold %.17g", budget, second.benefit,
+                     first.benefit, reference.benefit);
+        /* Start over from the roots for the next budget. */
+        tclod_selector_destroy(warm);
+        warm = helper_selector(f->scene, &f->model, 1);
+    }
+    tclod_selector_destroy(warm);
+    tclod_selector_destroy(cold);
+}
+
+static void warm_start_after_a_budget_drop_uses_decrements(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *sel;
+    tclod_stats st;
+    table_rng rng;
+    double previous;
+    int frame;
+    table_rng_seed(&rng, 7);
+    assert_int_equal(table_chains(&f->model, f->scene, &rng, 50, 6, 0.0f), TCLOD_OK);
+    sel = helper_selector(f->scene, &f->model, 1);
+    select_frame(sel, table_leaves_cost(&f->model) * 0.5, 0, &st);
+    helper_check_result(sel, &f->model, &st, table_leaves_cost(&f->model) * 0.5, 0);
+    previous = st.cost;
+    /* Each frame the budget falls to 80% of the previous cost (never below
+     * the roots' cost): the previous cut no longer fits and must shrink. */
+    for (frame = 0; frame < 8; ++frame) {
+        double budget = previous * 0.8;
+        if (budget < table_roots_cost(&f->model) * 1.001)
+            break;
+        table_reset_counts(&f->model);
+        select_frame(sel, budget, 0, &st);
+        helper_check_result(sel, &f->model, &st, budget, 0);
+        assert_true(table_max_calls(&f->model) <= 1);
+        assert_true(st.decrements > 0);
+        previous = st.cost;
+    }
+    assert_true(frame >= 3);
+    tclod_selector_destroy(sel);
+}
+
+static void warm_start_after_model_changes_stays_feasible(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *sel;
+    table_rng rng;
+    int frame;
+    random_scene(f, 99, 300, 8);
+    table_rng_seed(&rng, 5);
+    sel = helper_selector(f->scene, &f->model, 1);
+    for (frame = 0; frame < 30; ++frame) {
+        double lo = table_roots_cost(&f->model) * (1.0 + 1e-12);
+        double hi = table_leaves_cost(&f->model);
+        double budget = table_rng_uniform(&rng, lo, hi);
+        tclod_stats st;
+        uint32_t i;
+        table_reset_counts(&f->model);
+        select_frame(sel, budget, 0, &st);
+        helper_check_result(sel, &f->model, &st, budget, 0);
+        assert_true(table_max_calls(&f->model) <= 1);
+        assert_int_equal(st.evaluations, table_asked_nodes(&f->model));
+        /* Between frames: every value scaled by its own factor in [0.5, 2)
+         * (diminishing returns no longer hold), some nodes turn invisible. */
+        for (i = 0; i < f->model.count; ++i) {
+            f->model.benefit[i] *= table_rng_uniform(&rng, 0.5, 2.0);
+            f->model.cost[i] *= table_rng_uniform(&rng, 0.5, 2.0);
+            if (table_rng_below(&rng, 50) == 0)
+                f->model.benefit[i] = 0.0;
+            else if (f->model.benefit[i] == 0.0)
+                f->model.benefit[i] = 1.0;
+        }
+    }
+    tclod_selector_destroy(sel);
+}
+
+static void warm_start_evaluates_fewer_nodes_than_the_scene_has(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* 100 chains of 20 levels (2000 nodes); a budget of 1.5 x the roots'
+     * cost keeps every object within its first few levels. A warm solve
+     * needs the selected level, its parent and its child per object, far
+     * fewer than half the scene. */
+    tclod_selector *sel;
+    tclod_stats st;
+    table_rng rng;
+    double budget;
+    table_rng_seed(&rng, 11);
+    assert_int_equal(table_chains(&f->model, f->scene, &rng, 100, 20, 0.0f), TCLOD_OK);
+    budget = table_roots_cost(&f->model) * 1.5;
+    sel = helper_selector(f->scene, &f->model, 1);
+    select_frame(sel, budget, 0, &st);
+    table_reset_counts(&f->model);
+    select_frame(sel, budget, 0, &st);
+    helper_check_result(sel, &f->model, &st, budget, 0);
+    assert_int_equal(st.evaluations, table_asked_nodes(&f->model));
+    assert_true(st.evaluations < 2000 / 2);
+    tclod_selector_destroy(sel);
+}
+
+static void warm_start_after_the_scene_grew_includes_new_nodes(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* Frame 1: roots 0 (1, 1) and 1 (2, 1). Then a new root 2 (5, 1) and a
+     * child 3 (4, 2) of root 0 (Δb 3, Δc 1) are added. Frame 2 with an
+     * unlimited budget must show both: {3, 1, 2}. */
+    static const tclod_id before[] = {0, 1};
+    static const tclod_id after[] = {1, 2, 3};
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, TCLOD_NONE, 2.0, 1.0);
+    sel = helper_selector(f->scene, &f->model, 1);
+    select_frame(sel, INFINITY, 0, &st);
+    helper_assert_cut(sel, before, 2);
+    helper_add(f, TCLOD_NONE, 5.0, 1.0);
+    helper_add(f, 0, 4.0, 2.0);
+    select_frame(sel, INFINITY, 0, &st);
+    helper_assert_cut(sel, after, 3);
+    assert_totals(&st, 11.0, 4.0);
+    tclod_selector_destroy(sel);
+}
+
+static void warm_start_recovers_dropped_roots_when_the_budget_returns(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* 20 chains of 4 levels. Unlimited budget: the 20 finest levels. Budget
+     * 0: every root costs > 0, so all 20 are dropped and nothing is listed.
+     * Unlimited again: back to the 20 finest levels (ids 4 o + 3). */
+    tclod_id finest[20];
+    tclod_selector *sel;
+    tclod_stats st;
+    table_rng rng;
+    int o;
+    table_rng_seed(&rng, 21);
+    assert_int_equal(table_chains(&f->model, f->scene, &rng, 20, 4, 0.0f), TCLOD_OK);
+    for (o = 0; o < 20; ++o)
+        finest[o] = (tclod_id)(4 * o + 3);
+    sel = helper_selector(f->scene, &f->model, 1);
+    select_frame(sel, INFINITY, 0, &st);
+    helper_assert_cut(sel, finest, 20);
+    select_frame(sel, 0.0, 0, &st);
+    helper_assert_cut(sel, NULL, 0);
+    assert_int_equal(st.dropped_roots, 20);
+    assert_true(st.benefit == 0.0 && st.cost == 0.0);
+    select_frame(sel, INFINITY, 0, &st);
+    helper_assert_cut(sel, finest, 20);
+    assert_int_equal(st.dropped_roots, 0);
+    assert_int_equal(st.stop_reason, TCLOD_STOP_FINEST);
+    tclod_selector_destroy(sel);
+}
+
+static void limits_never_stop_a_warm_start_over_budget(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* 50 chains of 6 levels refined to the finest, then the budget falls to
+     * 30% of the leaves' cost with a limit of one iteration, or of 1 ns: the
+     * decrements back within budget must still run. */
+    tclod_selector *sel;
+    tclod_frame frame;
+    tclod_stats st;
+    table_rng rng;
+    double budget;
+    int limit;
+    table_rng_seed(&rng, 22);
+    assert_int_equal(table_chains(&f->model, f->scene, &rng, 50, 6, 0.0f), TCLOD_OK);
+    budget = table_leaves_cost(&f->model) * 0.3;
+    sel = helper_selector(f->scene, &f->model, 1);
+    for (limit = 0; limit < 2; ++limit) {
+        select_frame(sel, INFINITY, 0, &st);
+        frame = helper_frame(NULL, budget);
+        if (limit == 0)
+            frame.max_iterations = 1;
+        else
+            frame.solve_seconds = 1e-9;
+        assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_OK);
+        helper_check_result(sel, &f->model, &st, budget, 0);
+        assert_true(st.decrements > 0);
+    }
+    tclod_selector_destroy(sel);
+}
+
+static void iteration_limit_stops_with_a_feasible_result(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const uint32_t limits[] = {1, 5, 50};
+    tclod_selector *cold, *warm;
+    double budget;
+    size_t i;
+    random_scene(f, 1234, 2000, 20);
+    budget = table_roots_cost(&f->model) +
+             0.3 * (table_leaves_cost(&f->model) - table_roots_cost(&f->model));
+    cold = helper_selector(f->scene, &f->model, 0);
+    warm = helper_selector(f->scene, &f->model, 1);
+    for (i = 0; i < sizeof limits / sizeof limits[0]; ++i) {
+        tclod_stats st;
+        select_frame(cold, budget, limits[i], &st);
+        helper_check_result(cold, &f->model, &st, budget, 0);
+        assert_int_equal(st.stop_reason, TCLOD_STOP_ITERATIONS);
+        assert_int_equal(st.iterations, limits[i]);
+        assert_true(st.increments <= limits[i]);
+        /* The warm budgets rise from frame to frame, so no decrement is forced
+         * (those always run, whatever the limit) and the limit holds. */
+        select_frame(warm, budget * (0.7 + 0.1 * (double)i), limits[i], &st);
+        helper_check_result(warm, &f->model, &st, budget * (0.7 + 0.1 * (double)i), 0);
+        assert_true(st.iterations <= limits[i]);
+    }
+    tclod_selector_destroy(warm);
+    tclod_selector_destroy(cold);
+}
+
+static void time_limit_stops_with_a_feasible_result(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* 2000 chains of 10 levels: 18000 increments to take with this budget
+     * minus the few that do not fit; 1 ns cannot be enough. */
+    tclod_selector *sel;
+    tclod_frame frame;
+    tclod_stats st;
+    table_rng rng;
+    double budget;
+    table_rng_seed(&rng, 3);
+    assert_int_equal(table_chains(&f->model, f->scene, &rng, 2000, 10, 0.0f), TCLOD_OK);
+    budget = table_leaves_cost(&f->model) * 0.9;
+    sel = helper_selector(f->scene, &f->model, 0);
+    frame = helper_frame(NULL, budget);
+    frame.solve_seconds = 1e-9;
+    assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_OK);
+    helper_check_result(sel, &f->model, &st, budget, 0);
+    assert_int_equal(st.stop_reason, TCLOD_STOP_TIME);
+    assert_true(st.iterations < 18000);
+    assert_true(st.solve_seconds >= 0.0);
+    tclod_selector_destroy(sel);
+}
+
+static void unlimited_budget_refines_everything_to_the_finest_level(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *sel;
+    tclod_stats st;
+    random_scene(f, 77, 500, 10);
+    sel = helper_selector(f->scene, &f->model, 0);
+    select_frame(sel, INFINITY, 0, &st);
+    assert_int_equal(st.stop_reason, TCLOD_STOP_FINEST);
+    helper_check_result(sel, &f->model, &st, INFINITY, 0);
+    /* The finest cut lists exactly the leaves. */
+    {
+        tclod_id *cut = (tclod_id *)malloc(500 * sizeof *cut);
+        unsigned char has_child[500] = {0};
+        size_t n, at = 0;
+        uint32_t i;
+        assert_non_null(cut);
+        for (i = 0; i < 500; ++i)
+            if (f->model.parent[i] != TCLOD_NONE)
+                has_child[f->model.parent[i]] = 1;
+        n = helper_sorted_cut(sel, cut, 500);
+        for (i = 0; i < 500; ++i)
+            if (!has_child[i]) {
+                assert_true(at < n);
+                assert_int_equal(cut[at], i);
+                at++;
+            }
+        assert_int_equal(at, n);
+        free(cut);
+    }
+    tclod_selector_destroy(sel);
+}
+
+static void budget_stop_is_reported_when_an_increment_does_not_fit(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *sel;
+    tclod_stats st;
+    random_scene(f, 78, 500, 10);
+    sel = helper_selector(f->scene, &f->model, 0);
+    select_frame(sel, table_leaves_cost(&f->model) * 0.5, 0, &st);
+    helper_check_result(sel, &f->model, &st, table_leaves_cost(&f->model) * 0.5, 0);
+    assert_int_equal(st.stop_reason, TCLOD_STOP_BUDGET);
+    assert_true(st.iterations > st.increments);
+    tclod_selector_destroy(sel);
+}
+
+static void callbacks_are_called_at_most_once_per_node_per_solve(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *sel[2];
+    table_rng rng;
+    int frame, w;
+    random_scene(f, 2024, 600, 15);
+    table_rng_seed(&rng, 8);
+    sel[0] = helper_selector(f->scene, &f->model, 0);
+    sel[1] = helper_selector(f->scene, &f->model, 1);
+    for (frame = 0; frame < 20; ++frame) {
+        double budget = table_rng_uniform(&rng, 0.0, table_leaves_cost(&f->model) * 1.2);
+        uint32_t limit = frame % 3 == 0 ? 1 + table_rng_below(&rng, 100) : 0;
+        for (w = 0; w < 2; ++w) {
+            tclod_stats st;
+            table_reset_counts(&f->model);
+            select_frame(sel[w], budget, limit, &st);
+            helper_check_result(sel[w], &f->model, &st, budget, 1);
+            if (table_max_calls(&f->model) > 1)
+                fail_msg("frame %d %s: a callback ran %u times for one node", frame,
+                         w ? "warm" : "cold", table_max_calls(&f->model));
+            assert_int_equal(f->model.unknown_ids, 0);
+            assert_int_equal(st.evaluations, table_asked_nodes(&f->model));
+        }
+    }
+    tclod_selector_destroy(sel[1]);
+    tclod_selector_destroy(sel[0]);
+}
+
+static void greedy_ignores_smooth_objects(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    const float bounds[4] = {0.0f, 0.0f, -10.0f, 1.0f};
+    tclod_selector *sel;
+    tclod_stats st;
+    tclod_id smooth;
+    static const tclod_id root[] = {0};
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    assert_int_equal(tclod_scene_add_smooth(f->scene, bounds, &smooth), TCLOD_OK);
+    sel = helper_selector(f->scene, &f->model, 0);
+    select_frame(sel, 10.0, 0, &st);
+    helper_assert_cut(sel, root, 1);
+    assert_true(tclod_selector_resolution(sel, smooth) == 0.0);
+    assert_int_equal(f->model.unknown_ids, 0);
+    tclod_selector_destroy(sel);
+}
+
+static void deep_chain_is_refined_to_its_last_level(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* One object with 200000 levels: level k has benefit k + 1 and cost
+     * (k + 1)², so increment k gains 1 for 2k + 1: ratios fall. With no
+     * budget limit the last level is selected after 199999 increments. */
+    enum { levels = 200000 };
+    tclod_selector *sel;
+    tclod_stats st;
+    tclod_id parent = TCLOD_NONE;
+    static tclod_id last[1] = {levels - 1};
+    uint32_t k;
+    for (k = 0; k < levels; ++k)
+        parent = helper_add(f, parent, (double)k + 1.0, ((double)k + 1.0) * ((double)k + 1.0));
+    sel = helper_selector(f->scene, &f->model, 0);
+    select_frame(sel, INFINITY, 0, &st);
+    helper_assert_cut(sel, last, 1);
+    assert_int_equal(st.increments, levels - 1);
+    assert_int_equal(st.stop_reason, TCLOD_STOP_FINEST);
+    tclod_selector_destroy(sel);
+}
+
+#define FIXTURE_TEST(name) \
+    cmocka_unit_test_setup_teardown(name, helper_fixture_setup, helper_fixture_teardown)
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        FIXTURE_TEST(increments_follow_the_hand_worked_order),
+        FIXTURE_TEST(increments_stop_when_nothing_more_fits),
+        FIXTURE_TEST(an_increment_that_does_not_fit_is_skipped_for_a_later_one),
+        FIXTURE_TEST(invisible_nodes_are_culled_with_their_subtree),
+        FIXTURE_TEST(roots_that_do_not_fit_are_dropped_lowest_value_first),
+        FIXTURE_TEST(zero_budget_drops_every_visible_root_that_costs),
+        FIXTURE_TEST(zero_budget_keeps_roots_that_cost_nothing),
+        FIXTURE_TEST(greedy_reaches_half_the_optimum_on_an_adversarial_instance),
+        FIXTURE_TEST(exact_solver_agrees_with_hand_worked_optima),
+        cmocka_unit_test(greedy_is_within_half_of_exact_optimum_on_random_trees),
+        cmocka_unit_test(greedy_never_beats_the_optimum_nor_the_budget_on_arbitrary_values),
+        FIXTURE_TEST(warm_start_on_an_unchanged_frame_is_at_least_as_good),
+        FIXTURE_TEST(warm_start_after_a_budget_drop_uses_decrements),
+        FIXTURE_TEST(warm_start_after_model_changes_stays_feasible),
+        FIXTURE_TEST(warm_start_evaluates_fewer_nodes_than_the_scene_has),
+        FIXTURE_TEST(warm_start_after_the_scene_grew_includes_new_nodes),
+        FIXTURE_TEST(warm_start_recovers_dropped_roots_when_the_budget_returns),
+        FIXTURE_TEST(limits_never_stop_a_warm_start_over_budget),
+        FIXTURE_TEST(iteration_limit_stops_with_a_feasible_result),
+        FIXTURE_TEST(time_limit_stops_with_a_feasible_result),
+        FIXTURE_TEST(unlimited_budget_refines_everything_to_the_finest_level),
+        FIXTURE_TEST(budget_stop_is_reported_when_an_increment_does_not_fit),
+        FIXTURE_TEST(callbacks_are_called_at_most_once_per_node_per_solve),
+        FIXTURE_TEST(greedy_ignores_smooth_objects),
+        FIXTURE_TEST(deep_chain_is_refined_to_its_last_level),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
