@@ -1,0 +1,361 @@
+/*
+ * tclod_bench — how long tclod_select takes, against scene size, cold and warm.
+ *
+ * Scenes (examples/scenes/world_scene.h):
+ *   random   N objects × 4 levels under a quadtree of group impostors, N = 10^3 … 10^6.
+ *            The world and the camera loop scale with sqrt(N), so the same share of
+ *            the world is in view at every N and the work grows with N.
+ *   flyover  the example's terrain quadtree plus 5000 objects, budget 10 ms.
+ * Modes: cold (warm_start 0: every frame starts from the roots) and warm (warm_start 1:
+ * from the previous frame's cut, with the camera a little further along the loop).
+ *
+ * Budget of a random world: the number of objects in view (mean over 16 points of the
+ * loop) × the mean cost of an object's level 1, i.e. enough for every visible object
+ * at level 1 on average; the solver spends it on fine levels near the eye and level 0
+ * far away, so only part of the visible objects get refined.
+ *
+ * Output: CSV on stdout, one row per (scene, solver, mode, size); progress on stderr.
+ * Times are per frame, median and p99 (nearest rank) over the timed frames, measured
+ * with clock_gettime(CLOCK_MONOTONIC) around tclod_select. Columns after budget:
+ * mean_us; visible (objects in view, mean over the loop); and means per frame of cut
+ * (nodes drawn), refined (objects drawn finer than level 0), evaluations (nodes whose
+ * callbacks ran), iterations, increments, decrements; frames timed. Every frame's
+ * selection is checked against the budget by summing its nodes' costs.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <tclod/tclod.h>
+
+#include "world_scene.h"
+
+/* One loop of the camera path, in frames (as in flyover_sim): 40 s at 60 Hz, so the
+ * camera moves and turns a little each frame. */
+#define FRAMES_PER_LOOP 2400u
+/* Frames run before timing starts: the first one grows the buffers (and for warm
+ * mode comes from the roots), the rest settle caches. */
+#define WARMUP_FRAMES 3u
+#define FLYOVER_BUDGET_MS 10.0
+
+typedef struct bench_row {
+    double median_us, p99_us, mean_us;
+    double benefit, cost, cut, refined, evaluations, iterations, increments, decrements;
+    unsigned long frames;
+} bench_row;
+
+static double now_us(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e6 + (double)ts.tv_nsec * 1e-3;
+}
+
+static int compare_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Nearest-rank percentile (p in (0, 100]) of n sorted values. */
+static double percentile(const double *sorted, size_t n, double p) {
+    size_t rank = (size_t)ceil(p / 100.0 * (double)n);
+    if (rank < 1)
+        rank = 1;
+    if (rank > n)
+        rank = n;
+    return sorted[rank - 1];
+}
+
+static const char *solver_name(tclod_solver s) {
+    switch (s) {
+    case TCLOD_SOLVER_GREEDY:
+        return "greedy";
+    case TCLOD_SOLVER_MIXED:
+        return "mixed";
+    case TCLOD_SOLVER_ROBIN_HOOD:
+        return "robin_hood";
+    }
+    return "unknown";
+}
+
+/* Objects drawn finer than their level 0, out of the n cut nodes ids. */
+static unsigned long refined_objects(const world_scene *w, const tclod_id *ids, size_t n) {
+    unsigned long count = 0;
+    size_t i;
+    for (i = 0; i < n; ++i)
+        count += w->kind[ids[i]] == WORLD_KIND_OBJECT && w->level[ids[i]] > 0;
+    return count;
+}
+
+/* Runs warm-up plus `frames` timed frames along the world's loop. Returns 0 on
+ * success; a budget violation or a library error is reported and returns 1. */
+static int run_config(world_scene *w, tclod_solver solver, int warm, double budget,
+                      unsigned long frames, double *times, bench_row *row) {
+    tclod_selector_desc sd;
+    tclod_selector *sel = NULL;
+    tclod_status st;
+    unsigned long f, total = frames + WARMUP_FRAMES;
+    double sum_us = 0.0;
+
+    memset(row, 0, sizeof(*row));
+    tclod_selector_desc_default(&sd);
+    sd.solver = solver;
+    sd.callbacks = world_callbacks(w);
+    sd.warm_start = warm;
+    st = tclod_selector_create(w->scene, &sd, NULL, &sel);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "tclod_bench: creating a %s selector failed: %s\n", solver_name(solver),
+                tclod_status_string(st));
+        return 1;
+    }
+    for (f = 0; f < total; ++f) {
+        tclod_view view;
+        tclod_frame fr;
+        tclod_stats stats;
+        const tclod_id *ids;
+        size_t n;
+        double t0, t1;
+
+        world_camera_at(&w->path, (double)f / (double)FRAMES_PER_LOOP, &view);
+        memset(&fr, 0, sizeof(fr));
+        fr.view = &view;
+        fr.budget = budget;
+        t0 = now_us();
+        st = tclod_select(sel, &fr, &stats);
+        t1 = now_us();
+        if (st == TCLOD_OK)
+            st = tclod_selector_cut(sel, &ids, &n);
+        if (st != TCLOD_OK) {
+            fprintf(stderr, "tclod_bench: tclod_select failed: %s\n", tclod_status_string(st));
+            tclod_selector_destroy(sel);
+            return 1;
+        }
+        if (stats.cost > budget || world_sum_cost(w, ids, n) > budget) {
+            fprintf(stderr, "tclod_bench: budget exceeded: cost %.17g > budget %.17g\n",
+                    world_sum_cost(w, ids, n), budget);
+            tclod_selector_destroy(sel);
+            return 1;
+        }
+        if (f < WARMUP_FRAMES)
+            continue;
+        times[f - WARMUP_FRAMES] = t1 - t0;
+        sum_us += t1 - t0;
+        row->benefit += stats.benefit;
+        row->cost += stats.cost;
+        row->cut += (double)n;
+        row->refined += (double)refined_objects(w, ids, n);
+        row->evaluations += (double)stats.evaluations;
+        row->iterations += (double)stats.iterations;
+        row->increments += (double)stats.increments;
+        row->decrements += (double)stats.decrements;
+    }
+    tclod_selector_destroy(sel);
+
+    qsort(times, frames, sizeof(*times), compare_double);
+    row->frames = frames;
+    row->median_us =
+        frames % 2 ? times[frames / 2] : 0.5 * (times[frames / 2 - 1] + times[frames / 2]);
+    row->p99_us = percentile(times, frames, 99.0);
+    row->mean_us = sum_us / (double)frames;
+    row->benefit /= (double)frames;
+    row->cost /= (double)frames;
+    row->cut /= (double)frames;
+    row->refined /= (double)frames;
+    row->evaluations /= (double)frames;
+    row->iterations /= (double)frames;
+    row->increments /= (double)frames;
+    row->decrements /= (double)frames;
+    return 0;
+}
+
+static void print_header(void) {
+    printf("scene,solver,mode,objects,nodes,median_us,p99_us,benefit,cost,budget,mean_us,"
+           "visible,cut,refined,evaluations,iterations,increments,decrements,frames\n");
+}
+
+static void print_row(const char *scene, tclod_solver solver, int warm, const world_scene *w,
+                      double budget, unsigned long visible, const bench_row *r) {
+    printf("%s,%s,%s,%lu,%lu,%.2f,%.2f,%.6g,%.6g,%.6g,%.2f,%lu,%.0f,%.0f,%.0f,%.0f,%.0f,%.0f,%lu\n",
+           scene, solver_name(solver), warm ? "warm" : "cold", (unsigned long)w->object_count,
+           (unsigned long)w->node_count, r->median_us, r->p99_us, r->benefit, r->cost, budget,
+           r->mean_us, visible, r->cut, r->refined, r->evaluations, r->iterations, r->increments,
+           r->decrements, r->frames);
+    fflush(stdout);
+}
+
+/* Mean number of objects in view over 16 points of the loop. */
+static unsigned long mean_visible(const world_scene *w) {
+    double sum = 0.0;
+    int i;
+    for (i = 0; i < 16; ++i) {
+        tclod_view view;
+        world_camera_at(&w->path, (double)i / 16.0, &view);
+        sum += (double)world_visible_objects(w, &view);
+    }
+    return (unsigned long)(sum / 16.0 + 0.5);
+}
+
+/* Mean cost of the objects' level 1 (level 0 when objects have one level). */
+static double mean_level1_cost(const world_scene *w) {
+    double sum = 0.0;
+    uint32_t i;
+    for (i = 0; i < w->object_count; ++i) {
+        tclod_id id = w->object_root[i] + (w->levels > 1 ? 1u : 0u);
+        sum += (double)w->cost_ms[id];
+    }
+    return w->object_count ? sum / (double)w->object_count : 0.0;
+}
+
+static int bench_scene(const char *scene, world_scene *w, double budget, unsigned long visible,
+                       unsigned long frames) {
+    static const tclod_solver solvers[] = {TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_MIXED,
+                                           TCLOD_SOLVER_ROBIN_HOOD};
+    double *times = (double *)malloc(frames * sizeof(*times));
+    size_t s;
+    int warm;
+    if (!times) {
+        fprintf(stderr, "tclod_bench: out of memory\n");
+        return 1;
+    }
+    for (s = 0; s < sizeof(solvers) / sizeof(solvers[0]); ++s) {
+        if (!tclod_solver_available(solvers[s]))
+            continue;
+        for (warm = 0; warm <= 1; ++warm) {
+            bench_row row;
+            if (run_config(w, solvers[s], warm, budget, frames, times, &row) != 0) {
+                free(times);
+                return 1;
+            }
+            print_row(scene, solvers[s], warm, w, budget, visible, &row);
+        }
+    }
+    free(times);
+    return 0;
+}
+
+static void usage(FILE *out) {
+    fprintf(out, "usage: tclod_bench [--quick] [--objects N] [--frames N] [--help]\n"
+                 "\n"
+                 "Times tclod_select on random worlds of 10^3 ... 10^6 objects x 4 levels and on\n"
+                 "the flyover scene, cold (from the roots) and warm (from the previous frame),\n"
+                 "and prints CSV on stdout (progress on stderr).\n"
+                 "\n"
+                 "  --quick     10^3, 10^4 and 10^5 objects only (under a minute)\n"
+                 "  --objects N one random world of N objects (and the flyover) instead\n"
+                 "  --frames N  timed frames per configuration (default 200; 10^6 objects: N/4)\n"
+                 "  --help      print this text and exit\n");
+}
+
+int main(int argc, char **argv) {
+    static const uint32_t sizes[] = {1000u, 10000u, 100000u, 1000000u};
+    uint32_t only_objects = 0;
+    unsigned long frames = 200;
+    int quick = 0, i;
+    size_t k;
+    double t_start = now_us();
+
+    for (i = 1; i < argc; ++i) {
+        if (strcmp(argv[i], "--quick") == 0) {
+            quick = 1;
+        } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            usage(stdout);
+            return 0;
+        } else if (strcmp(argv[i], "--objects") == 0) {
+            char *end;
+            unsigned long v;
+            if (i + 1 >= argc) {
+                fprintf(stderr, "tclod_bench: --objects needs a value\n");
+                return 2;
+            }
+            errno = 0;
+            v = strtoul(argv[++i], &end, 10);
+            if (errno != 0 || *end != '\0' || argv[i][0] == '-' || v < 1 || v > 10000000ul) {
+                fprintf(stderr,
+                        "tclod_bench: --objects expects an integer in [1, 10000000], "
+                        "got '%s'\n",
+                        argv[i]);
+                return 2;
+            }
+            only_objects = (uint32_t)v;
+        } else if (strcmp(argv[i], "--frames") == 0) {
+            char *end;
+            if (i + 1 >= argc) {
+                fprintf(stderr, "tclod_bench: --frames needs a value\n");
+                return 2;
+            }
+            errno = 0;
+            frames = strtoul(argv[++i], &end, 10);
+            if (errno != 0 || *end != '\0' || argv[i][0] == '-' || frames < 4 ||
+                frames > 1000000ul) {
+                fprintf(stderr,
+                        "tclod_bench: --frames expects an integer in [4, 1000000], "
+                        "got '%s'\n",
+                        argv[i]);
+                return 2;
+            }
+        } else {
+            fprintf(stderr, "tclod_bench: unknown option '%s' (try --help)\n", argv[i]);
+            return 2;
+        }
+    }
+
+    fprintf(stderr, "tclod_bench: libtclod %s, %s run, %lu frames per configuration\n",
+            tclod_version_string(), quick ? "quick" : "full", frames);
+    print_header();
+
+    for (k = 0; k < sizeof(sizes) / sizeof(sizes[0]); ++k) {
+        world_random_desc d;
+        world_scene w;
+        tclod_status st;
+        uint32_t objects = only_objects ? only_objects : sizes[k];
+        unsigned long visible, n_frames = objects >= 1000000u ? frames / 4 : frames;
+        double budget, t0 = now_us();
+        if (only_objects && k > 0)
+            break;
+        if (quick && objects > 100000u)
+            break;
+        world_random_desc_default(&d);
+        d.objects = objects;
+        st = world_build_random(&d, &w);
+        if (st != TCLOD_OK) {
+            fprintf(stderr, "tclod_bench: building %u objects failed: %s\n", objects,
+                    tclod_status_string(st));
+            return 1;
+        }
+        visible = mean_visible(&w);
+        budget = (double)visible * mean_level1_cost(&w);
+        fprintf(stderr,
+                "tclod_bench: random %u objects: %u nodes (%u groups), built in %.0f ms; "
+                "%lu objects in view, budget %.3f ms\n",
+                objects, w.node_count, w.group_count, (now_us() - t0) / 1000.0, visible, budget);
+        if (bench_scene("random", &w, budget, visible, n_frames) != 0) {
+            world_scene_free(&w);
+            return 1;
+        }
+        world_scene_free(&w);
+    }
+
+    {
+        world_flyover_desc d;
+        world_scene w;
+        tclod_status st;
+        unsigned long visible;
+        world_flyover_desc_default(&d);
+        st = world_build_flyover(&d, &w);
+        if (st != TCLOD_OK) {
+            fprintf(stderr, "tclod_bench: building the flyover failed: %s\n",
+                    tclod_status_string(st));
+            return 1;
+        }
+        visible = mean_visible(&w);
+        if (bench_scene("flyover", &w, FLYOVER_BUDGET_MS, visible, frames) != 0) {
+            world_scene_free(&w);
+            return 1;
+        }
+        world_scene_free(&w);
+    }
+    fprintf(stderr, "tclod_bench: done in %.1f s\n", (now_us() - t_start) / 1e6);
+    return 0;
+}
