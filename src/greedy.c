@@ -101,8 +101,13 @@ static void cut_remove(tclod_selector *sel, tclod_id n) {
     sel->node[n].cut_pos = TCLOD_NONE;
 }
 
+/* The budget left to the cut: the frame's, minus what smooth variables hold. */
+static double cut_budget(const tclod_selector *sel) {
+    return sel->frame->budget - sel->reserved;
+}
+
 static int feasible(const tclod_selector *sel) {
-    return sel->unaffordable == 0 && sel->cost_sum <= sel->frame->budget;
+    return sel->unaffordable == 0 && sel->cost_sum <= cut_budget(sel);
 }
 
 static const tclod_id *children_of(const tclod_selector *sel, tclod_id n, uint32_t *count) {
@@ -180,7 +185,7 @@ static tclod_id pop_increment(tclod_selector *sel) {
 
 /* 1 when increment n fits the remaining budget. */
 static int increment_fits(const tclod_selector *sel, tclod_id n) {
-    return sel->unaffordable == 0 && sel->cost_sum + sel->node[n].delta_c <= sel->frame->budget;
+    return sel->unaffordable == 0 && sel->cost_sum + sel->node[n].delta_c <= cut_budget(sel);
 }
 
 /* 1 when some queued increment fits the remaining budget. Increments that do
@@ -198,7 +203,7 @@ static int increment_may_fit(tclod_selector *sel) {
         sel->cheap_live = 1;
     }
     return sel->cheap.count > 0 && sel->unaffordable == 0 &&
-           sel->cost_sum - sel->cheap.items[0].key <= sel->frame->budget;
+           sel->cost_sum - sel->cheap.items[0].key <= cut_budget(sel);
 }
 
 /* 1 when every child of p is in the cut. */
@@ -294,7 +299,7 @@ static int apply_decrement(tclod_selector *sel, tclod_id p) {
 /* 1 when root r fits on top of `used` (an unaffordable root never does, even
  * under an unlimited budget). */
 static int fits_alone(const tclod_selector *sel, tclod_id r, double used) {
-    return !isinf(sel->node[r].cost) && used + sel->node[r].cost <= sel->frame->budget;
+    return !isinf(sel->node[r].cost) && used + sel->node[r].cost <= cut_budget(sel);
 }
 
 /* Keeps the visible roots of the cut in scratch[0..n) order, starting with
@@ -413,7 +418,7 @@ static int start_warm(tclod_selector *sel) {
 
 /* ---- the search ------------------------------------------------------------------ */
 
-static int out_of_time(tclod_selector *sel) {
+int tclod_out_of_time(tclod_selector *sel) {
     const tclod_frame *f = sel->frame;
     uint32_t it = sel->stats.iterations;
     if (f->max_iterations && it >= f->max_iterations) {
@@ -526,7 +531,7 @@ static int improve(tclod_selector *sel, int warm, alternative *alt) {
     sel->stats.stop_reason = TCLOD_STOP_FINEST;
     for (;;) {
         tclod_id n;
-        if (out_of_time(sel)) return 0;
+        if (tclod_out_of_time(sel)) return 0;
         if (warm && sel->dec.count > 0 && sel->dec.items[0].key == HUGE_VAL) {
             sel->stats.iterations++;
             if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0) return -1;
@@ -589,7 +594,7 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
             if (counts(sel, n)) sum += sel->node[n].cost;
         }
         /* an unaffordable node makes the sum infinite: never within budget */
-        if (!isinf(sum) && sum <= sel->frame->budget) {
+        if (!isinf(sum) && sum <= cut_budget(sel)) {
             sel->cost_sum = sum;
             return 0;
         }
@@ -651,3 +656,38 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
     clear_heaps(sel);
     return rc == 0 ? TCLOD_OK : TCLOD_ERR_CALLBACK;
 }
+
+/* ---- the steps the mixed solver interleaves with its smooth ones ------------ */
+
+int tclod_greedy_start(tclod_selector *sel) { return start_cold(sel); }
+
+tclod_id tclod_greedy_candidate(tclod_selector *sel, double *ratio, int *skipped) {
+    for (;;) {
+        tclod_id n;
+        if (sel->inc.count == 0) return TCLOD_NONE;
+        n = sel->inc.items[0].id;
+        if (increment_fits(sel, n)) {
+            *ratio = sel->inc.items[0].key;
+            return n;
+        }
+        *skipped = 1;
+        if (!increment_may_fit(sel)) return TCLOD_NONE;
+        /* smooth steps only add cost too: a misfit never fits again */
+        pop_increment(sel);
+        sel->stats.iterations++;
+    }
+}
+
+void tclod_greedy_skip(tclod_selector *sel) {
+    pop_increment(sel);
+    sel->stats.iterations++;
+}
+
+int tclod_greedy_take(tclod_selector *sel, tclod_id n) {
+    sel->stats.iterations++;
+    return apply_increment(sel, n, 0);
+}
+
+int tclod_greedy_enforce(tclod_selector *sel) { return enforce_budget(sel, 0); }
+
+void tclod_greedy_end(tclod_selector *sel) { clear_heaps(sel); }

@@ -39,6 +39,17 @@ double tclod_now(void);
 
 /* ---- scene.c --------------------------------------------------------------- */
 
+/* A node of the quadtree over the smooth objects' ground positions (x, z). Its
+ * objects are smooth_order[first .. first + count); its children are the
+ * contiguous nodes child .. child + child_count - 1 (none for a leaf). Every
+ * inner node has at least two children, so there are fewer than 2n nodes. A
+ * leaf holds one object, or several at (nearly) the same position. */
+typedef struct tclod_smooth_node {
+    float bounds[4]; /* sphere around the members' spheres: x, y, z, radius */
+    uint32_t first, count;
+    uint32_t child, child_count;
+} tclod_smooth_node;
+
 struct tclod_scene {
     tclod_allocator alloc;
 
@@ -56,6 +67,13 @@ struct tclod_scene {
     tclod_id *children;    /* ascending ids within each parent */
     tclod_id *roots;       /* ascending ids */
     uint32_t root_count;
+
+    /* smooth quadtree, rebuilt with the child index */
+    uint32_t smooth_index_cap;
+    tclod_id *smooth_order;   /* position -> smooth id, quadtree order */
+    uint32_t *smooth_pos;     /* smooth id -> position */
+    tclod_smooth_node *qt;    /* 2 * smooth_index_cap nodes; qt[0] is the root */
+    uint32_t qt_count;
 
     uint32_t version;       /* bumped by every change */
     uint32_t index_version; /* version the child index describes */
@@ -116,7 +134,56 @@ static inline int tclod_heap_contains(const tclod_heap *h, tclod_id id) {
  * moving keys along. In place, no recursion. */
 void tclod_sort_by_key(tclod_id *ids, double *keys, uint32_t n);
 
-/* ---- selector.c / greedy.c -------------------------------------------------- */
+/* ---- selector.c / greedy.c / split.c / mixed.c ------------------------------- */
+
+/* A variable at the line search's trial point, and at the one before it. */
+typedef struct tclod_var_trial {
+    double x, b, c, db, dc; /* resolution, callback values and slopes there */
+    double qx, qdb;         /* the previous trial point's resolution and benefit slope */
+} tclod_var_trial;
+
+/* The preconditioner's model of a variable (mixed.c). */
+typedef struct tclod_var_model {
+    double x, db, beta;      /* benefit slope: anchor, slope there, exponent */
+    double dc0, c1, dc1, xk; /* cost: two lines meeting at the kink xk */
+    double lxk, l0, l1;      /* ln xk, and ln of the targets at slope 1 before
+                                and after the kink */
+    double lc;               /* ln of the slope above which the part before the
+                                kink is the better choice */
+} tclod_var_model;
+
+/* The smooth variables of one solve (split.c fills the first block, mixed.c
+ * the rest), structure of arrays, one entry per variable; room for one
+ * variable per smooth object. */
+typedef struct tclod_vars {
+    uint32_t count;
+    uint32_t *first, *size;  /* members: smooth order positions first .. first + size */
+    float *bounds;           /* 4 per variable: the group's sphere */
+    float *area, *distance;  /* the query's screen_area and distance */
+    double *r;               /* resolution in [0, 1] */
+    double *b, *c;           /* callback values at r (counted only when r > 0) */
+    double *db, *dc;         /* derivatives at max(r, TCLOD_SLOPE_FLOOR) */
+    double *a;               /* search direction */
+    double *ratio;           /* db / dc: the variable's own benefit/cost slope */
+    /* the preconditioner's model of each variable (mixed.c) */
+    double *m_x, *m_b, *m_db, *beta; /* benefit: anchor, value and slope there, exponent */
+    double *dc0, *c1, *dc1, *x_k;    /* cost: two lines meeting at the kink x_k */
+    double *qx, *qdb;        /* the line search's previous trial point */
+    uint32_t *moving;        /* the variables of the current line search */
+    uint8_t *state;          /* TCLOD_VAR_* */
+    tclod_var_trial *trial;  /* the line search's trial points */
+    tclod_var_model *model;  /* the preconditioner's model (mixed.c) */
+} tclod_vars;
+
+enum {
+    TCLOD_VAR_LIVE = 0,    /* may move */
+    TCLOD_VAR_DEAD = 1,    /* a bad benefit: invisible, stays at 0 */
+    TCLOD_VAR_BLOCKED = 2  /* could not move within the budget; out of this solve */
+};
+
+/* Smallest resolution at which derivatives are asked (a square-root benefit
+ * has an infinite slope at 0). */
+#define TCLOD_SLOPE_FLOOR 1e-9
 
 enum { TCLOD_FLAG_DROPPED = 1u };
 
@@ -150,6 +217,14 @@ struct tclod_selector {
     tclod_id *cut, *prev_cut, *result, *scratch;
     double *scratch_key;
 
+    /* per-smooth-object buffers, smooth_cap elements each */
+    uint32_t smooth_cap;
+    tclod_vars vars;               /* the solve's variables */
+    tclod_smooth_group *groups;    /* the committed smooth result */
+    uint32_t group_count;
+    uint32_t *split_node;          /* split.c's stack: quadtree nodes ... */
+    double *split_x, *split_theta; /* ... their expected resolution and loss share */
+
     uint32_t cut_count, prev_count, result_count;
     uint32_t solve_id;
     uint32_t scene_version; /* scene version the cut belongs to */
@@ -161,6 +236,7 @@ struct tclod_selector {
     int has_view;
     int failed;             /* strict mode: a bad callback value was seen */
     double cost_sum;        /* running: finite costs of visible, kept cut nodes */
+    double reserved;        /* running: cost held by smooth variables (mixed) */
     double benefit_sum;
     uint32_t unaffordable;  /* visible, kept cut nodes with infinite cost */
     double start_time;
@@ -170,5 +246,39 @@ struct tclod_selector {
 /* Runs TCLOD_SOLVER_GREEDY for sel->frame into the working cut. Returns
  * TCLOD_OK or TCLOD_ERR_CALLBACK (strict); the caller commits or rolls back. */
 tclod_status tclod_greedy_solve(tclod_selector *sel);
+
+/* The greedy's steps, for the mixed solver. Each returns 0, or -1 when strict
+ * mode saw a bad callback value. The budget left to the cut is the frame's
+ * budget minus sel->reserved. */
+int tclod_greedy_start(tclod_selector *sel);   /* cut = the roots, increments queued */
+/* The best queued increment that fits (ratio in *ratio), discarding those that
+ * do not fit and never will; TCLOD_NONE when none fits. *skipped is set to 1
+ * when an increment was discarded or none fits while some are queued. */
+tclod_id tclod_greedy_candidate(tclod_selector *sel, double *ratio, int *skipped);
+int tclod_greedy_take(tclod_selector *sel, tclod_id n); /* applies a candidate */
+void tclod_greedy_skip(tclod_selector *sel);            /* drops the best candidate */
+/* Repairs the exact sum of the cut's costs to be within the budget. */
+int tclod_greedy_enforce(tclod_selector *sel);
+void tclod_greedy_end(tclod_selector *sel); /* empties the heaps after a solve */
+int tclod_out_of_time(tclod_selector *sel); /* sets stop_reason when it says 1 */
+
+/* Calls the host's smooth callbacks for the group of smooth order positions
+ * first .. first + count at resolution x in (0, 1] (the query carries area and
+ * distance) and sanitises what they return: a bad benefit gives *b = *db = 0,
+ * a bad benefit slope *db = 0, a bad cost *c = +inf, a bad cost slope
+ * *dc = +inf; each is counted, and sets sel->failed in strict mode. Slopes are
+ * asked at max(x, TCLOD_SLOPE_FLOOR). c and dc may be NULL: no cost asked.
+ * Returns 1 when the benefit was bad, else 0. */
+int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, float area,
+                      float distance, double x, double *b, double *db, double *c, double *dc);
+
+/* split.c: the variables of this frame: the smooth quadtree is culled against
+ * the view and, with desc.split_smooth, split while the predicted loss of a
+ * shared variable exceeds its share of the threshold. Returns 0 or -1 (strict
+ * error). */
+int tclod_split_variables(tclod_selector *sel);
+
+/* mixed.c: TCLOD_SOLVER_MIXED; returns as tclod_greedy_solve. */
+tclod_status tclod_mixed_solve(tclod_selector *sel);
 
 #endif /* TCLOD_INTERNAL_H */

@@ -35,7 +35,9 @@ const char *tclod_version_string(void) {
         TCLOD_VERSION_PATCH);
 }
 
-int tclod_solver_available(tclod_solver solver) { return solver == TCLOD_SOLVER_GREEDY; }
+int tclod_solver_available(tclod_solver solver) {
+    return solver == TCLOD_SOLVER_GREEDY || solver == TCLOD_SOLVER_MIXED;
+}
 
 void tclod_selector_desc_default(tclod_selector_desc *d) {
     if (!d) return;
@@ -45,6 +47,10 @@ void tclod_selector_desc_default(tclod_selector_desc *d) {
     d->split_smooth = 0;
     d->split_threshold = 0.01;
     d->strict = 0;
+    d->smooth_epsilon = 1e-3;
+    d->smooth_precondition = 1;
+    d->smooth_tolerance = 0.05;
+    d->smooth_cull_area = 1.0;
 }
 
 /* Every per-node buffer of a selector, for growing and freeing them together.
@@ -66,6 +72,34 @@ static size_t node_buffers(tclod_selector *sel, tclod_array out[11]) {
     return n;
 }
 
+/* Every per-smooth-object buffer; the split stack holds up to one entry per
+ * quadtree node, i.e. fewer than two per object. */
+static size_t smooth_buffers(tclod_selector *sel, tclod_array out[20]) {
+    tclod_vars *v = &sel->vars;
+    size_t n = 0;
+    out[n++] = (tclod_array){(void **)&v->first, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&v->size, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&v->bounds, 4 * sizeof(float), -1};
+    out[n++] = (tclod_array){(void **)&v->area, sizeof(float), -1};
+    out[n++] = (tclod_array){(void **)&v->distance, sizeof(float), -1};
+    out[n++] = (tclod_array){(void **)&v->r, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&v->b, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&v->c, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&v->db, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&v->dc, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&v->a, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&v->ratio, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&v->moving, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&v->state, sizeof(uint8_t), -1};
+    out[n++] = (tclod_array){(void **)&v->trial, sizeof(tclod_var_trial), -1};
+    out[n++] = (tclod_array){(void **)&v->model, sizeof(tclod_var_model), -1};
+    out[n++] = (tclod_array){(void **)&sel->groups, sizeof(tclod_smooth_group), -1};
+    out[n++] = (tclod_array){(void **)&sel->split_node, 2 * sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&sel->split_x, 2 * sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&sel->split_theta, 2 * sizeof(double), -1};
+    return n;
+}
+
 /* The heaps find their slots inside the node records. */
 static void bind_heaps(tclod_selector *sel) {
     uint32_t stride = (uint32_t)(sizeof(tclod_node_state) / sizeof(uint32_t));
@@ -82,7 +116,13 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
     if (!s || !d || !out || !tclod_allocator_init(&alloc, a)) return TCLOD_ERR_ARG;
     if (!tclod_solver_available(d->solver) || !d->callbacks.benefit || !d->callbacks.cost)
         return TCLOD_ERR_ARG;
+    if (d->solver == TCLOD_SOLVER_MIXED &&
+        (!d->callbacks.smooth_benefit || !d->callbacks.smooth_cost))
+        return TCLOD_ERR_ARG;
     if (!(d->split_threshold >= 0.0) || isinf(d->split_threshold)) return TCLOD_ERR_ARG;
+    if (!(d->smooth_epsilon >= 0.0 && d->smooth_epsilon < 1.0)) return TCLOD_ERR_ARG;
+    if (!(d->smooth_tolerance >= 0.0 && d->smooth_tolerance < 1.0)) return TCLOD_ERR_ARG;
+    if (!(d->smooth_cull_area >= 0.0) || isinf(d->smooth_cull_area)) return TCLOD_ERR_ARG;
     sel = (tclod_selector *)tclod_mem_alloc(&alloc, sizeof *sel);
     if (!sel) return TCLOD_ERR_NOMEM;
     memset(sel, 0, sizeof *sel);
@@ -95,27 +135,41 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
 }
 
 void tclod_selector_destroy(tclod_selector *sel) {
-    tclod_array buffers[11];
+    tclod_array buffers[20];
     tclod_allocator alloc;
     if (!sel || sel->busy) return;
     alloc = sel->alloc;
     tclod_arrays_free(&alloc, buffers, node_buffers(sel, buffers), sel->cap);
+    tclod_arrays_free(&alloc, buffers, smooth_buffers(sel, buffers), sel->smooth_cap);
     tclod_mem_free(&alloc, sel, sizeof *sel);
 }
 
-static tclod_status reserve(tclod_selector *sel, uint32_t nodes) {
-    tclod_array buffers[11];
-    size_t count = node_buffers(sel, buffers);
-    uint32_t cap = sel->cap;
+static uint32_t grown(uint32_t cap, uint32_t need) {
+    while (cap < need) cap = cap < 64u ? 64u : (cap > UINT32_MAX / 2u ? need : cap * 2u);
+    return cap;
+}
+
+/* Grows the per-node and per-smooth-object buffers to the scene's size. The
+ * smooth buffers are grown first: if the node buffers then fail, the larger
+ * smooth buffers are kept, which no caller can observe. */
+static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth) {
+    tclod_array buffers[20];
     tclod_status st;
-    if (nodes <= cap) return TCLOD_OK;
-    while (cap < nodes) cap = cap < 64u ? 64u : (cap > UINT32_MAX / 2u ? nodes : cap * 2u);
-    st = tclod_arrays_grow(&sel->alloc, buffers, count, sel->cap, cap);
-    if (st == TCLOD_OK) {
+    if (sel->desc.solver == TCLOD_SOLVER_MIXED && smooth > sel->smooth_cap) {
+        uint32_t cap = grown(sel->smooth_cap, smooth);
+        st = tclod_arrays_grow(&sel->alloc, buffers, smooth_buffers(sel, buffers),
+                               sel->smooth_cap, cap);
+        if (st != TCLOD_OK) return st;
+        sel->smooth_cap = cap;
+    }
+    if (nodes > sel->cap) {
+        uint32_t cap = grown(sel->cap, nodes);
+        st = tclod_arrays_grow(&sel->alloc, buffers, node_buffers(sel, buffers), sel->cap, cap);
+        if (st != TCLOD_OK) return st;
         sel->cap = cap;
         bind_heaps(sel);
     }
-    return st;
+    return TCLOD_OK;
 }
 
 static tclod_status check_frame(const tclod_frame *f) {
@@ -148,6 +202,19 @@ static void commit(tclod_selector *sel) {
         benefit += sel->node[id].benefit;
         cost += sel->node[id].cost;
     }
+    sel->group_count = 0;
+    for (i = 0; i < sel->vars.count; ++i) {
+        tclod_smooth_group *g;
+        if (!(sel->vars.r[i] > 0.0)) continue;
+        g = &sel->groups[sel->group_count++];
+        g->first = sel->vars.first[i];
+        g->count = sel->vars.size[i];
+        g->resolution = sel->vars.r[i];
+        g->benefit = sel->vars.b[i];
+        g->cost = sel->vars.c[i];
+        benefit += g->benefit;
+        cost += g->cost;
+    }
     assert(cost <= sel->frame->budget);
     sel->result_count = n;
     memcpy(sel->prev_cut, sel->cut, sizeof(tclod_id) * sel->cut_count);
@@ -166,7 +233,8 @@ tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats
     if (status != TCLOD_OK) return status;
     sel->busy = 1;
     status = tclod_scene_prepare(sel->scene);
-    if (status == TCLOD_OK) status = reserve(sel, sel->scene->node_count);
+    if (status == TCLOD_OK)
+        status = reserve(sel, sel->scene->node_count, sel->scene->smooth_count);
     if (status != TCLOD_OK) {
         sel->busy = 0;
         return status;
@@ -184,7 +252,10 @@ tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats
     sel->has_view = f->view != NULL;
     if (sel->has_view) tclod_view_cache_init(&sel->view, f->view);
 
-    status = tclod_greedy_solve(sel);
+    sel->reserved = 0.0;
+    sel->vars.count = 0;
+    status = sel->desc.solver == TCLOD_SOLVER_MIXED ? tclod_mixed_solve(sel)
+                                                     : tclod_greedy_solve(sel);
     if (status != TCLOD_OK) {
         roll_back(sel);
     } else {
@@ -205,8 +276,34 @@ tclod_status tclod_selector_cut(const tclod_selector *sel, const tclod_id **ids,
     return TCLOD_OK;
 }
 
+tclod_status tclod_selector_smooth_groups(const tclod_selector *sel,
+                                          const tclod_smooth_group **groups, size_t *n) {
+    if (!sel || !groups || !n) return TCLOD_ERR_ARG;
+    if (sel->busy) return TCLOD_ERR_STATE;
+    *groups = sel->groups;
+    *n = sel->group_count;
+    return TCLOD_OK;
+}
+
 double tclod_selector_resolution(const tclod_selector *sel, tclod_id smooth) {
-    (void)sel;
-    (void)smooth;
-    return 0.0;
+    const tclod_scene *s;
+    uint32_t pos, lo = 0, hi;
+    if (!sel || sel->busy || sel->group_count == 0) return 0.0;
+    s = sel->scene;
+    /* positions belong to the quadtree the result was made with */
+    if (smooth >= s->smooth_count || sel->scene_version != s->version ||
+        s->index_version != s->version)
+        return 0.0;
+    pos = s->smooth_pos[smooth];
+    hi = sel->group_count;
+    while (hi - lo > 1u) { /* the last group with first <= pos */
+        uint32_t mid = lo + (hi - lo) / 2u;
+        if (sel->groups[mid].first <= pos)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    if (sel->groups[lo].first > pos || pos - sel->groups[lo].first >= sel->groups[lo].count)
+        return 0.0;
+    return sel->groups[lo].resolution;
 }

@@ -449,6 +449,14 @@ static void selector_create_rejects_bad_descriptions(void **state) {
     assert_ptr_equal(out, sentinel);
 }
 
+/* Smooth callbacks for selectors that need them but solve no smooth object. */
+static double linear_smooth(void *user, const tclod_query *q, double r, double *d_dr) {
+    (void)user;
+    (void)q;
+    *d_dr = 1.0;
+    return r;
+}
+
 static void only_available_solvers_can_be_created(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
     const tclod_solver solvers[] = {TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_MIXED,
@@ -457,6 +465,7 @@ static void only_available_solvers_can_be_created(void **state) {
     size_t i;
     helper_add(f, TCLOD_NONE, 1.0, 1.0);
     assert_int_equal(tclod_solver_available(TCLOD_SOLVER_GREEDY), 1);
+    assert_int_equal(tclod_solver_available(TCLOD_SOLVER_MIXED), 1);
     assert_int_equal(tclod_solver_available((tclod_solver)3), 0);
     assert_int_equal(tclod_solver_available((tclod_solver)42), 0);
     for (i = 0; i < sizeof solvers / sizeof solvers[0]; ++i) {
@@ -465,6 +474,7 @@ static void only_available_solvers_can_be_created(void **state) {
         tclod_status st;
         tclod_selector_desc_default(&d);
         table_callbacks(&f->model, &d.callbacks);
+        d.callbacks.smooth_benefit = d.callbacks.smooth_cost = linear_smooth;
         d.solver = solvers[i];
         st = tclod_selector_create(f->scene, &d, NULL, &out);
         if (tclod_solver_available(solvers[i])) {

@@ -137,6 +137,9 @@ typedef struct tclod_query {
     float screen_area;     /* projected bounds in px²; 0 when the bounds are
                               outside the frustum; -1 when no bounds or no view */
     float distance;        /* eye to bounds centre, or -1 when no bounds or no view */
+    const tclod_id *members; /* smooth queries: the count member ids of the group, in
+                                the scene's smooth order (members[0] == id); the
+                                array belongs to the scene. NULL for nodes */
 } tclod_query;
 
 /* The host's model of quality and render time. Callbacks may read anything but
@@ -155,10 +158,21 @@ typedef struct tclod_query {
  * TCLOD_ERR_CALLBACK instead. Each callback is called at most once per node
  * per tclod_select.
  *
- * smooth_benefit / smooth_cost: value at resolution r in [0, 1] of smooth
- *          objects (or groups) and its derivative in *d_dr; used by the mixed
- *          solver. May be NULL for the greedy solver, which ignores smooth
- *          objects. */
+ * smooth_benefit / smooth_cost: value at resolution r in [0, 1] of a smooth
+ *          object, or of a group of them that all share the resolution r (the
+ *          whole group's benefit or cost; q->count members listed in
+ *          q->members, q->id the first), and its derivative d/dr in *d_dr
+ *          (d_dr is never NULL and must be written). Both should be >= 0 and
+ *          nondecreasing in r; benefit concave (diminishing returns) and cost
+ *          0 at r = 0. Cost may be piecewise linear with kinks (a setup cost
+ *          per object that makes the first units dearer, thesis eq. 8.18).
+ *          At r = 0 a smooth object is not drawn: it counts no benefit and no
+ *          cost whatever the callbacks say. Derivatives are asked at r >= 1e-9
+ *          (at 0 a square-root benefit has an infinite slope). NaN, inf or
+ *          negative values and derivatives are counted like the other
+ *          callbacks' and make the group invisible (bad benefit) or the
+ *          resolution unaffordable (bad cost). Required by the mixed solver;
+ *          may be NULL for the greedy solver, which ignores smooth objects. */
 typedef struct tclod_callbacks {
     double (*benefit)(void *user, const tclod_query *q);
     double (*cost)(void *user, const tclod_query *q);
@@ -204,6 +218,15 @@ TCLOD_API tclod_status tclod_scene_add_smooth(tclod_scene *s, const float bounds
  * scene that several threads then select from concurrently. */
 TCLOD_API tclod_status tclod_scene_prepare(tclod_scene *s);
 
+/* The smooth objects in the scene's quadtree order: groups of smooth objects
+ * (tclod_query.members, tclod_smooth_group) are contiguous ranges of it. The
+ * quadtree is built over the objects' ground positions (x, z) when the scene
+ * is prepared, so this prepares the scene if it changed. *order points into
+ * the scene: valid until the scene next changes or is destroyed. Errors:
+ * TCLOD_ERR_ARG (NULL argument), TCLOD_ERR_NOMEM. */
+TCLOD_API tclod_status tclod_scene_smooth_order(tclod_scene *s, const tclod_id **order,
+                                                uint32_t *count);
+
 /* Number of nodes / smooth objects (0 for NULL). */
 TCLOD_API uint32_t tclod_scene_node_count(const tclod_scene *s);
 TCLOD_API uint32_t tclod_scene_smooth_count(const tclod_scene *s);
@@ -228,13 +251,39 @@ typedef struct tclod_selector_desc {
     tclod_solver solver;       /* default TCLOD_SOLVER_GREEDY */
     tclod_callbacks callbacks; /* benefit and cost required; default all NULL */
     int warm_start;            /* 1: start from the previous frame's selection (faster,
-                                  coherent); 0: from the roots. Default 1 */
-    int split_smooth;          /* quadtree variable splitting (mixed solver). Default 0 */
-    double split_threshold;    /* theta, benefit loss allowed by splitting, >= 0.
-                                  Default 0.01 */
+                                  coherent); 0: from the roots. Default 1. The greedy
+                                  solver only: the mixed solver starts from the
+                                  roots and resolution 0 every frame */
+    int split_smooth;          /* quadtree variable splitting (mixed solver): 1 = groups
+                                  of nearby smooth objects share one variable while
+                                  the predicted loss allows it; 0 = one variable per
+                                  visible smooth object. Default 0 */
+    double split_threshold;    /* theta: benefit loss splitting may cause, as a
+                                  fraction of the smooth objects' predicted benefit,
+                                  >= 0. Default 0.01 */
     int strict;                /* 1: a bad callback value fails the call with
                                   TCLOD_ERR_CALLBACK (previous result kept);
                                   0: it is sanitised and counted. Default 0 */
+    /* The mixed solver's smooth part (docs/mixed.md). */
+    int smooth_precondition;   /* 1: every smooth variable carries a model of its own
+                                  benefit slope and cost (a diagonal preconditioner,
+                                  docs/mixed.md): increments are taken while their
+                                  slope beats the smooth variables' slope at the
+                                  budget, and line searches aim every variable at
+                                  its model's resolution. 0: the papers' loop with
+                                  the plain benefit gradient. Default 1 */
+    double smooth_epsilon;     /* papers' loop: barrier of the search direction
+                                  (thesis eq. 8.13), relative to each variable's
+                                  slope, a_i = db/dx_i * max(0, 1 - eps / (1 - x_i)).
+                                  In [0, 1). Default 1e-3 */
+    double smooth_tolerance;   /* papers' loop: a line search may go on until the
+                                  slope falls this fraction below slope_d (eq. 8.14
+                                  matches it exactly: 0), so that the increments
+                                  that follow come in a batch. In [0, 1).
+                                  Default 0.05 */
+    double smooth_cull_area;   /* small-detail culling: smooth groups whose bounds
+                                  project to fewer px² get no variable (not
+                                  drawn). >= 0; 0 = off. Default 1 */
 } tclod_selector_desc;
 
 /* Fills d with the defaults above. */
@@ -263,16 +312,19 @@ typedef enum tclod_stop_reason {
 
 /* Figures of one tclod_select, returned by value. */
 typedef struct tclod_stats {
-    double benefit, cost;    /* of the returned selection, summed in result order;
-                                cost <= budget */
-    uint32_t iterations;     /* increments and decrements tried (taken or not) */
+    double benefit, cost;    /* of the returned selection, summed in result order
+                                (cut, then smooth groups); cost <= budget */
+    uint32_t iterations;     /* increments and decrements tried (taken or not),
+                                and line searches */
     uint32_t increments;     /* increments taken */
     uint32_t decrements;     /* decrements taken */
-    uint32_t line_searches;  /* mixed solver */
-    uint32_t variables;      /* smooth variables after splitting (mixed solver) */
+    uint32_t line_searches;  /* gradient steps on smooth variables (mixed solver) */
+    uint32_t variables;      /* smooth variables after culling and splitting
+                                (mixed solver) */
     uint32_t dropped_roots;  /* visible roots left out because even they did not fit */
     uint32_t invalid_values; /* callback values that were NaN, inf or negative */
-    uint32_t evaluations;    /* nodes whose callbacks were called */
+    uint32_t evaluations;    /* nodes whose callbacks were called, plus smooth
+                                callback calls */
     double solve_seconds;    /* wall-clock time of the solve */
     int stop_reason;         /* a tclod_stop_reason */
 } tclod_stats;
@@ -282,8 +334,9 @@ typedef struct tclod_selector tclod_selector;
 
 /* Creates a selector over scene s, which must outlive it. d is copied; a may be
  * NULL (malloc/free). Errors: TCLOD_ERR_ARG (NULL s, d or out; a solver this
- * build does not provide; benefit or cost callback NULL; split_threshold NaN or
- * < 0), TCLOD_ERR_NOMEM. */
+ * build does not provide; benefit or cost callback NULL; the mixed solver
+ * without smooth_benefit or smooth_cost; split_threshold, smooth_epsilon,
+ * smooth_tolerance or smooth_cull_area NaN or out of range), TCLOD_ERR_NOMEM. */
 TCLOD_API tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_desc *d,
                                              const tclod_allocator *a, tclod_selector **out);
 
@@ -293,7 +346,9 @@ TCLOD_API void tclod_selector_destroy(tclod_selector *sel);
 
 /* Selects representations for one frame; the result replaces the previous one.
  * Guarantee: the costs the callbacks returned for the visible selected nodes,
- * summed in double in the order tclod_selector_cut lists them, are <= budget.
+ * summed in double in the order tclod_selector_cut lists them, followed by
+ * those of the smooth groups in the order tclod_selector_smooth_groups lists
+ * them, are <= budget.
  * Roots are selected first; if even the visible roots do not fit, the lowest
  * value (benefit / cost) roots are left out and counted in st->dropped_roots.
  * Allocates only while its buffers grow to the scene's size (the first call,
@@ -313,9 +368,72 @@ TCLOD_API tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, t
 TCLOD_API tclod_status tclod_selector_cut(const tclod_selector *sel, const tclod_id **ids,
                                           size_t *n);
 
-/* Resolution in [0, 1] selected for a smooth object; 0 = not drawn (also for
- * unknown ids, NULL, and solvers that do not solve smooth objects). */
+/* A drawn group of smooth objects sharing one resolution (a variable of the
+ * mixed solver; a single object when count == 1). */
+typedef struct tclod_smooth_group {
+    uint32_t first;    /* position of the first member in tclod_scene_smooth_order */
+    uint32_t count;    /* members: positions first .. first + count - 1 */
+    double resolution; /* every member's resolution, in (0, 1] */
+    double benefit;    /* smooth_benefit of the group at that resolution */
+    double cost;       /* smooth_cost of the group at that resolution */
+} tclod_smooth_group;
+
+/* The smooth groups drawn by the current selection (resolution > 0), in
+ * result order (increasing first). *groups points into the selector: valid
+ * until the next tclod_select or tclod_selector_destroy. Before the first
+ * selection, and for solvers that ignore smooth objects, *n = 0. Errors:
+ * TCLOD_ERR_ARG (NULL argument), TCLOD_ERR_STATE (called during a solve). */
+TCLOD_API tclod_status tclod_selector_smooth_groups(const tclod_selector *sel,
+                                                    const tclod_smooth_group **groups,
+                                                    size_t *n);
+
+/* Resolution in [0, 1] selected for a smooth object (the resolution of the
+ * group it was drawn in); 0 = not drawn (also for unknown ids, NULL, during a
+ * solve, and for solvers that do not solve smooth objects). O(log groups). */
 TCLOD_API double tclod_selector_resolution(const tclod_selector *sel, tclod_id smooth);
+
+/* ------------------------------------------------------------------------- */
+/* Benefit and cost models                                                   */
+/* ------------------------------------------------------------------------- */
+
+/* Ready-made models from the source papers, for hosts to call from their
+ * callbacks. Screen sizes are in px² (tclod_query.screen_area). */
+
+/* Terrain quadtree patch at depth d of a tree of height max_depth (thesis
+ * eq. 8.21): screen_area * 2^(d - max_depth), the square root of the share of
+ * the full-resolution texels the patch shows. 0 for a negative screen_area. */
+TCLOD_API double tclod_benefit_terrain(double screen_area, uint32_t depth, uint32_t max_depth);
+
+/* Group of `trees` trees drawn at resolution r in [0, 1] (thesis eq. 8.20, with
+ * the resolution x_i = r * trees): k * S * (trees / 64) * sqrt(r). Its
+ * derivative goes to *d_dr (may be NULL), taken at r = 1e-12 when r is smaller
+ * (the square root's slope is infinite at 0). The thesis uses k = 50 with
+ * groups of at most 64 trees. */
+TCLOD_API double tclod_benefit_tree_group(double k, double screen_area, double trees, double r,
+                                          double *d_dr);
+
+/* Splat rendering time of a group of `trees` instances whose full resolution
+ * has `splats` splats in all, at resolution r in [0, 1] (thesis eq. 8.18): with
+ * n = r * splats splats drawn, (c_splat + c_tree) * n while n < trees (every
+ * splat is a separate tree that needs its own setup), else
+ * c_splat * n + c_tree * trees. Piecewise linear, steeper for the first units.
+ * Its derivative goes to *d_dr (may be NULL); at the kink the slope after it.
+ * The thesis measured c_splat = 0.0775 us and c_tree = 1.385 us. */
+TCLOD_API double tclod_cost_splats(double c_splat, double c_tree, double splats, double trees,
+                                   double r, double *d_dr);
+
+/* Triangle-strip rendering time (thesis eq. 8.19; seed 004 §4.2):
+ * c_vertex * vertices. The thesis measured c_vertex = 0.06 us. */
+TCLOD_API double tclod_cost_vertices(double c_vertex, double vertices);
+
+/* Benefit of representation r of an object (seed 004 §4.2):
+ * accuracy * screen_size with
+ * accuracy = max(1, screen_size / original_faces) / max(1, screen_size / faces),
+ * i.e. faces / original_faces while the representation has fewer faces than
+ * the object covers pixels, and 1 once either has at least a face per pixel:
+ * diminishing returns. faces and original_faces > 0; 0 for a negative
+ * screen_size. */
+TCLOD_API double tclod_benefit_accuracy(double screen_size, double faces, double original_faces);
 
 #ifdef __cplusplus
 }
