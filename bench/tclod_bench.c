@@ -1,13 +1,26 @@
 /*
  * tclod_bench — how long tclod_select takes, against scene size, cold and warm.
  *
- * Scenes (examples/scenes/world_scene.h):
+ * Scenes (examples/scenes/world_scene.h, examples/scenes/thesis_scene.h):
  *   random   N objects × 4 levels under a quadtree of group impostors, N = 10^3 … 10^6.
  *            The world and the camera loop scale with sqrt(N), so the same share of
  *            the world is in view at every N and the work grows with N.
  *   flyover  the example's terrain quadtree plus 5000 objects, budget 10 ms.
- * Modes: cold (warm_start 0: every frame starts from the roots) and warm (warm_start 1:
- * from the previous frame's cut, with the camera a little further along the loop).
+ *   thesis   the thesis's test scene (seed 001 §8.4): a 5461-patch terrain quadtree and
+ *            1.4 million trees in about 25 000 smooth objects (groups of <= 64 trees),
+ *            budget 40 ms, solved by the mixed solver.
+ * random and flyover have no smooth objects, so they run the solvers made for discrete
+ * hierarchies only (greedy, and robin_hood once the library provides it), in two modes:
+ * cold (warm_start 0: every frame starts from the roots) and warm (warm_start 1: from
+ * the previous frame's cut, with the camera a little further along the loop).
+ * thesis runs the mixed solver cold, in two modes: split (split_smooth 1: quadtree
+ * variable splitting lets nearby smooth objects share a variable) and flat
+ * (split_smooth 0: one variable per visible smooth object, up to about two thousand).
+ * A cold solve needs no coherence, so instead of following the loop frame by frame
+ * both modes cycle through the same 20 views spread evenly over the whole loop (10
+ * with --quick), which crosses mountains, hills and forests: flat, the slower mode,
+ * times each view once; split times them over and over (200 frames, 40 with --quick,
+ * rounded down to whole cycles). Both rows thus average over exactly the same views.
  *
  * Budget of a random world: the number of objects in view (mean over 16 points of the
  * loop) × the mean cost of an object's level 1, i.e. enough for every visible object
@@ -16,11 +29,21 @@
  *
  * Output: CSV on stdout, one row per (scene, solver, mode, size); progress on stderr.
  * Times are per frame, median and p99 (nearest rank) over the timed frames, measured
- * with clock_gettime(CLOCK_MONOTONIC) around tclod_select. Columns after budget:
- * mean_us; visible (objects in view, mean over the loop); and means per frame of cut
- * (nodes drawn), refined (objects drawn finer than level 0), evaluations (nodes whose
- * callbacks ran), iterations, increments, decrements; frames timed. Every frame's
- * selection is checked against the budget by summing its nodes' costs.
+ * with clock_gettime(CLOCK_MONOTONIC) around tclod_select. objects and nodes are the
+ * objects (thesis: smooth objects) and discrete nodes of the scene. Columns after
+ * budget: mean_us; visible (objects in view, thesis: smooth objects, mean over the
+ * loop); and means per frame of cut (nodes drawn), refined (objects drawn finer than
+ * level 0; thesis: smooth objects drawn), evaluations (nodes whose callbacks ran, plus
+ * smooth callback calls), iterations, increments, decrements; frames timed; then means
+ * per frame of variables (smooth variables after culling and splitting), line_searches,
+ * and object_benefit: the benefit of the selection measured object by object, each cut
+ * node and each member of a drawn smooth group at its group's resolution, with its own
+ * bounds (thesis_selection_benefit). The library's benefit column values a group with
+ * the group's bounds, so it changes with the grouping; object_benefit does not, which
+ * is what lets split and flat be compared. variables, line_searches and object_benefit
+ * are 0 where they do not apply (object_benefit: rows other than thesis). Every frame's
+ * selection is checked against the budget by summing its nodes' (and smooth groups')
+ * costs with the callbacks' formulas.
  */
 #include <errno.h>
 #include <math.h>
@@ -31,6 +54,7 @@
 
 #include <tclod/tclod.h>
 
+#include "thesis_scene.h"
 #include "world_scene.h"
 
 /* One loop of the camera path, in frames (as in flyover_sim): 40 s at 60 Hz, so the
@@ -40,10 +64,18 @@
  * mode comes from the roots), the rest settle caches. */
 #define WARMUP_FRAMES 3u
 #define FLYOVER_BUDGET_MS 10.0
+/* The thesis's rendering budget (seed 001 §8.4, Results: 40 ms per frame). */
+#define THESIS_BUDGET_MS 40.0
+/* Views of the thesis rows, spread over the loop (the flat mode's timed frames: a flat
+ * solve moves thousands of variables), and the split mode's timed frames with --quick. */
+#define THESIS_VIEWS 20ul
+#define THESIS_QUICK_VIEWS 10ul
+#define THESIS_QUICK_FRAMES 40ul
 
 typedef struct bench_row {
     double median_us, p99_us, mean_us;
     double benefit, cost, cut, refined, evaluations, iterations, increments, decrements;
+    double variables, line_searches, object_benefit;
     unsigned long frames;
 } bench_row;
 
@@ -87,6 +119,41 @@ static unsigned long refined_objects(const world_scene *w, const tclod_id *ids, 
     for (i = 0; i < n; ++i)
         count += w->kind[ids[i]] == WORLD_KIND_OBJECT && w->level[ids[i]] > 0;
     return count;
+}
+
+/* Turns the sums of the timed frames in row (and their times) into the row's figures. */
+static void finish_row(bench_row *row, double *times, unsigned long frames, double sum_us) {
+    double n = (double)frames;
+    qsort(times, frames, sizeof(*times), compare_double);
+    row->frames = frames;
+    row->median_us =
+        frames % 2 ? times[frames / 2] : 0.5 * (times[frames / 2 - 1] + times[frames / 2]);
+    row->p99_us = percentile(times, frames, 99.0);
+    row->mean_us = sum_us / n;
+    row->benefit /= n;
+    row->cost /= n;
+    row->cut /= n;
+    row->refined /= n;
+    row->evaluations /= n;
+    row->iterations /= n;
+    row->increments /= n;
+    row->decrements /= n;
+    row->variables /= n;
+    row->line_searches /= n;
+    row->object_benefit /= n;
+}
+
+/* Adds one frame's stats to the row's sums. */
+static void add_stats(bench_row *row, const tclod_stats *stats, size_t cut) {
+    row->benefit += stats->benefit;
+    row->cost += stats->cost;
+    row->cut += (double)cut;
+    row->evaluations += (double)stats->evaluations;
+    row->iterations += (double)stats->iterations;
+    row->increments += (double)stats->increments;
+    row->decrements += (double)stats->decrements;
+    row->variables += (double)stats->variables;
+    row->line_searches += (double)stats->line_searches;
 }
 
 /* Runs warm-up plus `frames` timed frames along the world's loop. Returns 0 on
@@ -142,46 +209,101 @@ static int run_config(world_scene *w, tclod_solver solver, int warm, double budg
             continue;
         times[f - WARMUP_FRAMES] = t1 - t0;
         sum_us += t1 - t0;
-        row->benefit += stats.benefit;
-        row->cost += stats.cost;
-        row->cut += (double)n;
+        add_stats(row, &stats, n);
         row->refined += (double)refined_objects(w, ids, n);
-        row->evaluations += (double)stats.evaluations;
-        row->iterations += (double)stats.iterations;
-        row->increments += (double)stats.increments;
-        row->decrements += (double)stats.decrements;
     }
     tclod_selector_destroy(sel);
+    finish_row(row, times, frames, sum_us);
+    return 0;
+}
 
-    qsort(times, frames, sizeof(*times), compare_double);
-    row->frames = frames;
-    row->median_us =
-        frames % 2 ? times[frames / 2] : 0.5 * (times[frames / 2 - 1] + times[frames / 2]);
-    row->p99_us = percentile(times, frames, 99.0);
-    row->mean_us = sum_us / (double)frames;
-    row->benefit /= (double)frames;
-    row->cost /= (double)frames;
-    row->cut /= (double)frames;
-    row->refined /= (double)frames;
-    row->evaluations /= (double)frames;
-    row->iterations /= (double)frames;
-    row->increments /= (double)frames;
-    row->decrements /= (double)frames;
+/* The thesis rows: the mixed solver, cold, with (split = 1) or without quadtree
+ * variable splitting, over warm-up plus `frames` timed frames that cycle through
+ * `views` views spread evenly over the camera loop. Returns 0 on success; a budget
+ * violation or a library error is reported and returns 1. */
+static int run_thesis(thesis_scene *t, int split, double budget, unsigned long frames,
+                      unsigned long views, double *times, bench_row *row) {
+    tclod_selector_desc sd;
+    tclod_selector *sel = NULL;
+    tclod_status st;
+    unsigned long f, total = frames + WARMUP_FRAMES;
+    double sum_us = 0.0;
+
+    memset(row, 0, sizeof(*row));
+    tclod_selector_desc_default(&sd);
+    sd.solver = TCLOD_SOLVER_MIXED;
+    sd.callbacks = thesis_callbacks(t);
+    sd.warm_start = 0;
+    sd.split_smooth = split;
+    st = tclod_selector_create(t->scene, &sd, NULL, &sel);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "tclod_bench: creating a mixed selector failed: %s\n",
+                tclod_status_string(st));
+        return 1;
+    }
+    for (f = 0; f < total; ++f) {
+        tclod_view view;
+        tclod_frame fr;
+        tclod_stats stats;
+        const tclod_id *ids;
+        const tclod_smooth_group *groups;
+        size_t n, group_count, g;
+        double t0, t1, own_cost;
+
+        thesis_camera_at(
+            t, (double)((f < WARMUP_FRAMES ? f : f - WARMUP_FRAMES) % views) / (double)views,
+            &view);
+        memset(&fr, 0, sizeof(fr));
+        fr.view = &view;
+        fr.budget = budget;
+        t0 = now_us();
+        st = tclod_select(sel, &fr, &stats);
+        t1 = now_us();
+        if (st == TCLOD_OK)
+            st = tclod_selector_cut(sel, &ids, &n);
+        if (st == TCLOD_OK)
+            st = tclod_selector_smooth_groups(sel, &groups, &group_count);
+        if (st != TCLOD_OK) {
+            fprintf(stderr, "tclod_bench: tclod_select failed: %s\n", tclod_status_string(st));
+            tclod_selector_destroy(sel);
+            return 1;
+        }
+        own_cost = thesis_sum_cost(t, ids, n, groups, group_count);
+        if (stats.cost > budget || own_cost > budget) {
+            fprintf(stderr, "tclod_bench: budget exceeded: cost %.17g > budget %.17g\n", own_cost,
+                    budget);
+            tclod_selector_destroy(sel);
+            return 1;
+        }
+        if (f < WARMUP_FRAMES)
+            continue;
+        times[f - WARMUP_FRAMES] = t1 - t0;
+        sum_us += t1 - t0;
+        add_stats(row, &stats, n);
+        for (g = 0; g < group_count; ++g)
+            row->refined += (double)groups[g].count;
+        row->object_benefit += thesis_selection_benefit(t, &view, ids, n, groups, group_count);
+    }
+    tclod_selector_destroy(sel);
+    finish_row(row, times, frames, sum_us);
     return 0;
 }
 
 static void print_header(void) {
     printf("scene,solver,mode,objects,nodes,median_us,p99_us,benefit,cost,budget,mean_us,"
-           "visible,cut,refined,evaluations,iterations,increments,decrements,frames\n");
+           "visible,cut,refined,evaluations,iterations,increments,decrements,frames,"
+           "variables,line_searches,object_benefit\n");
 }
 
-static void print_row(const char *scene, tclod_solver solver, int warm, const world_scene *w,
-                      double budget, unsigned long visible, const bench_row *r) {
-    printf("%s,%s,%s,%lu,%lu,%.2f,%.2f,%.6g,%.6g,%.6g,%.2f,%lu,%.0f,%.0f,%.0f,%.0f,%.0f,%.0f,%lu\n",
-           scene, solver_name(solver), warm ? "warm" : "cold", (unsigned long)w->object_count,
-           (unsigned long)w->node_count, r->median_us, r->p99_us, r->benefit, r->cost, budget,
-           r->mean_us, visible, r->cut, r->refined, r->evaluations, r->iterations, r->increments,
-           r->decrements, r->frames);
+static void print_row(const char *scene, const char *solver, const char *mode,
+                      unsigned long objects, unsigned long nodes, double budget,
+                      unsigned long visible, const bench_row *r) {
+    printf("%s,%s,%s,%lu,%lu,%.2f,%.2f,%.6g,%.6g,%.6g,%.2f,%lu,%.0f,%.0f,%.0f,%.0f,%.0f,%.0f,%lu,"
+           "%.1f,%.1f,%.6g\n",
+           scene, solver, mode, objects, nodes, r->median_us, r->p99_us, r->benefit, r->cost,
+           budget, r->mean_us, visible, r->cut, r->refined, r->evaluations, r->iterations,
+           r->increments, r->decrements, r->frames, r->variables, r->line_searches,
+           r->object_benefit);
     fflush(stdout);
 }
 
@@ -208,10 +330,10 @@ static double mean_level1_cost(const world_scene *w) {
     return w->object_count ? sum / (double)w->object_count : 0.0;
 }
 
+/* The random and flyover rows: every solver for discrete hierarchies, cold and warm. */
 static int bench_scene(const char *scene, world_scene *w, double budget, unsigned long visible,
                        unsigned long frames) {
-    static const tclod_solver solvers[] = {TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_MIXED,
-                                           TCLOD_SOLVER_ROBIN_HOOD};
+    static const tclod_solver solvers[] = {TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_ROBIN_HOOD};
     double *times = (double *)malloc(frames * sizeof(*times));
     size_t s;
     int warm;
@@ -228,30 +350,104 @@ static int bench_scene(const char *scene, world_scene *w, double budget, unsigne
                 free(times);
                 return 1;
             }
-            print_row(scene, solvers[s], warm, w, budget, visible, &row);
+            print_row(scene, solver_name(solvers[s]), warm ? "warm" : "cold",
+                      (unsigned long)w->object_count, (unsigned long)w->node_count, budget, visible,
+                      &row);
         }
     }
     free(times);
     return 0;
 }
 
+/* Mean number of smooth objects in view over 16 points of the thesis loop. */
+static unsigned long thesis_mean_visible(const thesis_scene *t) {
+    double sum = 0.0;
+    int i;
+    for (i = 0; i < 16; ++i) {
+        tclod_view view;
+        thesis_camera_at(t, (double)i / 16.0, &view);
+        sum += (double)thesis_visible_smooth(t, &view);
+    }
+    return (unsigned long)(sum / 16.0 + 0.5);
+}
+
+/* The thesis rows: split then flat. */
+static int bench_thesis(int quick, unsigned long frames) {
+    thesis_desc d;
+    thesis_scene t;
+    tclod_status st;
+    unsigned long visible, views, split_frames;
+    double *times, t0 = now_us();
+    int split, rc = 0;
+
+    if (!tclod_solver_available(TCLOD_SOLVER_MIXED)) {
+        fprintf(stderr, "tclod_bench: thesis: the mixed solver is not in this build, skipped\n");
+        return 0;
+    }
+    split_frames = quick && frames > THESIS_QUICK_FRAMES ? THESIS_QUICK_FRAMES : frames;
+    views = quick ? THESIS_QUICK_VIEWS : THESIS_VIEWS;
+    if (views > split_frames)
+        views = split_frames;
+    split_frames -= split_frames % views; /* whole cycles: every view weighs the same */
+    times = (double *)malloc(split_frames * sizeof(*times));
+    if (!times) {
+        fprintf(stderr, "tclod_bench: out of memory\n");
+        return 1;
+    }
+    thesis_desc_default(&d);
+    st = thesis_build(&d, &t);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "tclod_bench: building the thesis scene failed: %s\n",
+                tclod_status_string(st));
+        free(times);
+        return 1;
+    }
+    visible = thesis_mean_visible(&t);
+    fprintf(stderr,
+            "tclod_bench: thesis: %u terrain nodes, %u trees in %u smooth objects, built in "
+            "%.0f ms; %lu smooth objects in view, budget %.3f ms\n",
+            t.node_count, t.tree_count, t.smooth_count, (now_us() - t0) / 1000.0, visible,
+            THESIS_BUDGET_MS);
+    for (split = 1; split >= 0; --split) {
+        bench_row row;
+        unsigned long n = split ? split_frames : views;
+        if (run_thesis(&t, split, THESIS_BUDGET_MS, n, views, times, &row) != 0) {
+            rc = 1;
+            break;
+        }
+        print_row("thesis", solver_name(TCLOD_SOLVER_MIXED), split ? "split" : "flat",
+                  (unsigned long)t.smooth_count, (unsigned long)t.node_count, THESIS_BUDGET_MS,
+                  visible, &row);
+    }
+    thesis_scene_free(&t);
+    free(times);
+    return rc;
+}
+
 static void usage(FILE *out) {
-    fprintf(out, "usage: tclod_bench [--quick] [--objects N] [--frames N] [--help]\n"
-                 "\n"
-                 "Times tclod_select on random worlds of 10^3 ... 10^6 objects x 4 levels and on\n"
-                 "the flyover scene, cold (from the roots) and warm (from the previous frame),\n"
-                 "and prints CSV on stdout (progress on stderr).\n"
-                 "\n"
-                 "  --quick     10^3, 10^4 and 10^5 objects only (under a minute)\n"
-                 "  --objects N one random world of N objects (and the flyover) instead\n"
-                 "  --frames N  timed frames per configuration (default 200; 10^6 objects: N/4)\n"
-                 "  --help      print this text and exit\n");
+    fprintf(out,
+            "usage: tclod_bench [--quick] [--scene NAME] [--objects N] [--frames N] [--help]\n"
+            "\n"
+            "Times tclod_select on random worlds of 10^3 ... 10^6 objects x 4 levels and on\n"
+            "the flyover scene, cold (from the roots) and warm (from the previous frame), and\n"
+            "the mixed solver on the thesis scene (1.4 million trees) with and without\n"
+            "variable splitting, and prints CSV on stdout (progress on stderr).\n"
+            "\n"
+            "  --quick       10^3, 10^4 and 10^5 objects only, fewer thesis frames (under a\n"
+            "                minute)\n"
+            "  --scene NAME  one scene only: random, flyover or thesis\n"
+            "  --objects N   one random world of N objects (and the other scenes) instead\n"
+            "  --frames N    timed frames per configuration (default 200; 10^6 objects: N/4;\n"
+            "                thesis: 20 views (--quick 10), flat times each once, split\n"
+            "                cycles through them, at most 40 frames with --quick)\n"
+            "  --help        print this text and exit\n");
 }
 
 int main(int argc, char **argv) {
     static const uint32_t sizes[] = {1000u, 10000u, 100000u, 1000000u};
     uint32_t only_objects = 0;
     unsigned long frames = 200;
+    const char *only_scene = NULL;
     int quick = 0, i;
     size_t k;
     double t_start = now_us();
@@ -262,6 +458,19 @@ int main(int argc, char **argv) {
         } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             usage(stdout);
             return 0;
+        } else if (strcmp(argv[i], "--scene") == 0) {
+            if (i + 1 >= argc) {
+                fprintf(stderr, "tclod_bench: --scene needs a value\n");
+                return 2;
+            }
+            only_scene = argv[++i];
+            if (strcmp(only_scene, "random") != 0 && strcmp(only_scene, "flyover") != 0 &&
+                strcmp(only_scene, "thesis") != 0) {
+                fprintf(stderr,
+                        "tclod_bench: unknown scene '%s' (scenes: random, flyover, thesis)\n",
+                        only_scene);
+                return 2;
+            }
         } else if (strcmp(argv[i], "--objects") == 0) {
             char *end;
             unsigned long v;
@@ -312,6 +521,8 @@ int main(int argc, char **argv) {
         uint32_t objects = only_objects ? only_objects : sizes[k];
         unsigned long visible, n_frames = objects >= 1000000u ? frames / 4 : frames;
         double budget, t0 = now_us();
+        if (only_scene && strcmp(only_scene, "random") != 0)
+            break;
         if (only_objects && k > 0)
             break;
         if (quick && objects > 100000u)
@@ -337,7 +548,7 @@ int main(int argc, char **argv) {
         world_scene_free(&w);
     }
 
-    {
+    if (!only_scene || strcmp(only_scene, "flyover") == 0) {
         world_flyover_desc d;
         world_scene w;
         tclod_status st;
@@ -356,6 +567,9 @@ int main(int argc, char **argv) {
         }
         world_scene_free(&w);
     }
+
+    if ((!only_scene || strcmp(only_scene, "thesis") == 0) && bench_thesis(quick, frames) != 0)
+        return 1;
     fprintf(stderr, "tclod_bench: done in %.1f s\n", (now_us() - t_start) / 1e6);
     return 0;
 }

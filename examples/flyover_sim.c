@@ -1,13 +1,24 @@
 /*
  * flyover_sim — headless flyover: the README's main example.
  *
- * A camera flies a closed loop over the flyover world (a 4^6-patch terrain
- * quadtree and 5000 buildings and trees of 4 levels, examples/scenes/world_scene.h).
+ * A camera flies a closed loop over one of two scenes:
+ *  - flyover (default): the flyover world, a 4^6-patch terrain quadtree and 5000
+ *    buildings and trees of 4 levels (examples/scenes/world_scene.h), budget 10 ms;
+ *  - thesis (--scene thesis): the thesis's test scene (seed 001 §8.4), a 120 km
+ *    terrain quadtree of 5461 patches and 1.4 million trees in about 25 000 smooth
+ *    groups whose resolution is continuous (examples/scenes/thesis_scene.h), budget
+ *    40 ms, solved by the mixed solver with quadtree variable splitting (--split 0
+ *    gives every visible tree group its own variable).
  * Every frame the selector picks the representations that fit the budget; the
  * program times tclod_select, checks the budget guarantee itself by summing the
- * costs of the returned nodes, prints a short table and ends with one summary line:
+ * costs of the returned nodes (and, in the thesis scene, of the drawn smooth groups,
+ * recomputed with the callbacks' formulas), prints a short table and ends with one
+ * summary line:
  *
  *   summary: frames=N solver=S mean_select_us=X p99_select_us=Y mean_cost_ratio=Z violations=V
+ *
+ * followed, in the thesis scene, by the means per frame of the smooth variables, line
+ * searches and drawn smooth groups (variables=, line_searches=, smooth_groups=).
  *
  * Nothing is drawn: the point is what a host's frame loop around libtclod looks like
  * and how long the selection takes.
@@ -21,35 +32,57 @@
 
 #include <tclod/tclod.h>
 
+#include "thesis_scene.h"
 #include "world_scene.h"
 
 /* One loop of the path takes this many frames: 40 s at 60 Hz, about 200 m/s. */
 #define FRAMES_PER_LOOP 2400u
+/* The thesis scene's loop is about 197 km long: 12.5 min at 60 Hz, about 260 m/s. */
+#define THESIS_FRAMES_PER_LOOP 45000u
+/* The thesis's rendering budget (seed 001 §8.4, Results: 40 ms per frame). */
+#define THESIS_BUDGET_MS 40.0
 /* The table on stdout shows every this many frames. */
 #define PRINT_EVERY 20u
+
+typedef enum scene_kind { SCENE_FLYOVER, SCENE_THESIS } scene_kind;
 
 typedef struct options {
     unsigned long frames;
     double budget_ms;
+    int budget_given;
     tclod_solver solver;
     const char *solver_name;
+    int solver_given;
     const char *csv_path;
     int warm;
+    scene_kind scene;
+    int split; /* -1: the scene's default */
 } options;
 
 static void usage(FILE *out) {
-    fprintf(out, "usage: flyover_sim [--frames N] [--budget-ms X] [--solver greedy] [--csv FILE]\n"
-                 "                   [--warm 0|1] [--help]\n"
-                 "\n"
-                 "Flies a camera over a terrain with 5000 buildings and trees and selects levels\n"
-                 "of detail every frame so that the predicted render time fits the budget.\n"
-                 "\n"
-                 "  --frames N      frames to simulate, N >= 1 (default 600)\n"
-                 "  --budget-ms X   render-time budget per frame in ms, X > 0 (default 10)\n"
-                 "  --solver S      selection algorithm (default greedy)\n"
-                 "  --csv FILE      also write one CSV row per frame to FILE\n"
-                 "  --warm 0|1      1: start each frame from the previous selection (default 1)\n"
-                 "  --help          print this text and exit\n");
+    fprintf(out,
+            "usage: flyover_sim [--scene flyover|thesis] [--frames N] [--budget-ms X]\n"
+            "                   [--solver greedy|mixed|robin_hood] [--split 0|1] [--csv FILE]\n"
+            "                   [--warm 0|1] [--help]\n"
+            "\n"
+            "Flies a camera over a terrain with 5000 buildings and trees (or, with --scene\n"
+            "thesis, over the thesis's 120 km terrain with 1.4 million trees) and selects\n"
+            "levels of detail every frame so that the predicted render time fits the budget.\n"
+            "\n"
+            "  --scene S       flyover: terrain quadtree and 5000 objects of 4 levels (default);\n"
+            "                  thesis: terrain quadtree and 1.4 million trees in smooth groups\n"
+            "                  of continuous resolution (seed 001 ch. 8.4)\n"
+            "  --frames N      frames to simulate, N >= 1 (default 600)\n"
+            "  --budget-ms X   render-time budget per frame in ms, X > 0 (default 10; thesis 40)\n"
+            "  --solver S      selection algorithm (default greedy; thesis mixed: greedy\n"
+            "                  ignores smooth objects and draws none of its trees)\n"
+            "  --split 0|1     mixed solver: 1 = nearby smooth objects share a variable while\n"
+            "                  the predicted loss allows it (quadtree splitting), 0 = one\n"
+            "                  variable per visible smooth object (default: thesis 1, flyover\n"
+            "                  the library's default)\n"
+            "  --csv FILE      also write one CSV row per frame to FILE\n"
+            "  --warm 0|1      1: start each frame from the previous selection (default 1)\n"
+            "  --help          print this text and exit\n");
 }
 
 static int parse_ulong(const char *s, unsigned long *out) {
@@ -92,15 +125,31 @@ static int solver_from_name(const char *name, tclod_solver *out) {
     return 1;
 }
 
+/* Parses "0" or "1" into *out; 0 for anything else. */
+static int parse_flag(const char *s, int *out) {
+    if (strcmp(s, "0") == 0) {
+        *out = 0;
+    } else if (strcmp(s, "1") == 0) {
+        *out = 1;
+    } else {
+        return 0;
+    }
+    return 1;
+}
+
 /* 0 = run, 1 = --help given, 2 = bad command line (message already printed). */
 static int parse_options(int argc, char **argv, options *o) {
     int i;
     o->frames = 600;
     o->budget_ms = 10.0;
+    o->budget_given = 0;
     o->solver = TCLOD_SOLVER_GREEDY;
     o->solver_name = "greedy";
+    o->solver_given = 0;
     o->csv_path = NULL;
     o->warm = 1;
+    o->scene = SCENE_FLYOVER;
+    o->split = -1;
     for (i = 1; i < argc; ++i) {
         const char *opt = argv[i];
         const char *val = i + 1 < argc ? argv[i + 1] : NULL;
@@ -108,7 +157,8 @@ static int parse_options(int argc, char **argv, options *o) {
             return 1;
         } else if (strcmp(opt, "--frames") == 0 || strcmp(opt, "--budget-ms") == 0 ||
                    strcmp(opt, "--solver") == 0 || strcmp(opt, "--csv") == 0 ||
-                   strcmp(opt, "--warm") == 0) {
+                   strcmp(opt, "--warm") == 0 || strcmp(opt, "--scene") == 0 ||
+                   strcmp(opt, "--split") == 0) {
             if (!val) {
                 fprintf(stderr, "flyover_sim: option %s needs a value\n", opt);
                 return 2;
@@ -126,6 +176,7 @@ static int parse_options(int argc, char **argv, options *o) {
                             val);
                     return 2;
                 }
+                o->budget_given = 1;
             } else if (strcmp(opt, "--solver") == 0) {
                 if (!solver_from_name(val, &o->solver)) {
                     fprintf(stderr,
@@ -139,26 +190,52 @@ static int parse_options(int argc, char **argv, options *o) {
                     return 2;
                 }
                 o->solver_name = val;
+                o->solver_given = 1;
             } else if (strcmp(opt, "--csv") == 0) {
                 if (*val == '\0') {
                     fprintf(stderr, "flyover_sim: --csv expects a file name\n");
                     return 2;
                 }
                 o->csv_path = val;
-            } else {
-                if (strcmp(val, "0") == 0) {
-                    o->warm = 0;
-                } else if (strcmp(val, "1") == 0) {
-                    o->warm = 1;
+            } else if (strcmp(opt, "--scene") == 0) {
+                if (strcmp(val, "flyover") == 0) {
+                    o->scene = SCENE_FLYOVER;
+                } else if (strcmp(val, "thesis") == 0) {
+                    o->scene = SCENE_THESIS;
                 } else {
-                    fprintf(stderr, "flyover_sim: --warm expects 0 or 1, got '%s'\n", val);
+                    fprintf(stderr, "flyover_sim: unknown scene '%s' (scenes: flyover, thesis)\n",
+                            val);
                     return 2;
                 }
+            } else if (strcmp(opt, "--split") == 0) {
+                if (!parse_flag(val, &o->split)) {
+                    fprintf(stderr, "flyover_sim: --split expects 0 or 1, got '%s'\n", val);
+                    return 2;
+                }
+            } else if (!parse_flag(val, &o->warm)) {
+                fprintf(stderr, "flyover_sim: --warm expects 0 or 1, got '%s'\n", val);
+                return 2;
             }
         } else {
             fprintf(stderr, "flyover_sim: unknown option '%s' (try --help)\n", opt);
             return 2;
         }
+    }
+    if (o->scene == SCENE_THESIS) {
+        /* the thesis's budget and solver, unless the command line chose others */
+        if (!o->budget_given)
+            o->budget_ms = THESIS_BUDGET_MS;
+        if (!o->solver_given) {
+            o->solver = TCLOD_SOLVER_MIXED;
+            o->solver_name = "mixed";
+            if (!tclod_solver_available(o->solver)) {
+                fprintf(stderr, "flyover_sim: solver mixed (the thesis scene's default) is not "
+                                "available in this build; choose one with --solver\n");
+                return 2;
+            }
+        }
+        if (o->split < 0)
+            o->split = 1;
     }
     return 0;
 }
@@ -184,15 +261,49 @@ static double percentile(const double *sorted, size_t n, double p) {
     return sorted[rank - 1];
 }
 
+/* The scene flown over: the result of one of the two builders. */
+typedef struct sim_scene {
+    scene_kind kind;
+    world_flyover_desc world_desc;
+    world_scene world;
+    thesis_desc thesis_desc;
+    thesis_scene thesis;
+} sim_scene;
+
+static tclod_status build_scene(sim_scene *s, scene_kind kind) {
+    memset(s, 0, sizeof(*s));
+    s->kind = kind;
+    if (kind == SCENE_THESIS) {
+        thesis_desc_default(&s->thesis_desc);
+        return thesis_build(&s->thesis_desc, &s->thesis);
+    }
+    world_flyover_desc_default(&s->world_desc);
+    return world_build_flyover(&s->world_desc, &s->world);
+}
+
+static void free_scene(sim_scene *s) {
+    if (s->kind == SCENE_THESIS)
+        thesis_scene_free(&s->thesis);
+    else
+        world_scene_free(&s->world);
+}
+
+static void camera_at(const sim_scene *s, unsigned long frame, tclod_view *view) {
+    if (s->kind == SCENE_THESIS)
+        thesis_camera_at(&s->thesis, (double)frame / (double)THESIS_FRAMES_PER_LOOP, view);
+    else
+        world_camera_at(&s->world.path, (double)frame / (double)FRAMES_PER_LOOP, view);
+}
+
 int main(int argc, char **argv) {
     options opt;
-    world_flyover_desc wd;
-    world_scene world;
+    sim_scene sim;
     tclod_selector_desc sd;
     tclod_selector *sel = NULL;
     tclod_status st;
     FILE *csv = NULL;
-    double *select_us = NULL, sum_us = 0.0, sum_ratio = 0.0;
+    double *select_us = NULL, sum_us = 0.0, sum_ratio = 0.0, build_ms;
+    double sum_variables = 0.0, sum_line_searches = 0.0, sum_groups = 0.0;
     unsigned long frame, violations = 0, mismatches = 0;
     int rc;
 
@@ -204,21 +315,26 @@ int main(int argc, char **argv) {
     if (rc != 0)
         return rc;
 
-    world_flyover_desc_default(&wd);
-    st = world_build_flyover(&wd, &world);
+    build_ms = now_us();
+    st = build_scene(&sim, opt.scene);
+    build_ms = (now_us() - build_ms) / 1000.0;
     if (st != TCLOD_OK) {
         fprintf(stderr, "flyover_sim: building the scene failed: %s\n", tclod_status_string(st));
         return 1;
     }
     tclod_selector_desc_default(&sd);
     sd.solver = opt.solver;
-    sd.callbacks = world_callbacks(&world);
+    sd.callbacks =
+        opt.scene == SCENE_THESIS ? thesis_callbacks(&sim.thesis) : world_callbacks(&sim.world);
     sd.warm_start = opt.warm;
-    st = tclod_selector_create(world.scene, &sd, NULL, &sel);
+    if (opt.split >= 0)
+        sd.split_smooth = opt.split;
+    st = tclod_selector_create(opt.scene == SCENE_THESIS ? sim.thesis.scene : sim.world.scene, &sd,
+                               NULL, &sel);
     if (st != TCLOD_OK) {
         fprintf(stderr, "flyover_sim: creating the %s selector failed: %s\n", opt.solver_name,
                 tclod_status_string(st));
-        world_scene_free(&world);
+        free_scene(&sim);
         return 1;
     }
     select_us = (double *)malloc(opt.frames * sizeof(*select_us));
@@ -235,27 +351,41 @@ int main(int argc, char **argv) {
             goto done;
         }
         fprintf(csv, "frame,select_us,drawn,cost_ms,budget_ms,benefit,iterations,increments,"
-                     "decrements\n");
+                     "decrements,variables,line_searches,smooth_groups\n");
     }
 
-    printf("flyover: %u terrain patches (depth %u), %u objects x %u levels, %u nodes, "
-           "%u roots\n",
-           world.terrain_count, wd.terrain_depth, world.object_count, world.levels,
-           world.node_count, world.root_count);
-    printf("solver %s, warm start %d, budget %.3f ms, %lu frames\n\n", opt.solver_name, opt.warm,
-           opt.budget_ms, opt.frames);
-    printf("%7s %10s %7s %9s %10s %12s\n", "frame", "select_us", "drawn", "cost_ms", "budget_ms",
-           "benefit");
+    if (opt.scene == SCENE_THESIS) {
+        const thesis_scene *t = &sim.thesis;
+        printf("thesis: %u terrain patches (depth %u), %u trees in %u smooth groups of <= %u, "
+               "built in %.0f ms\n",
+               t->node_count, t->terrain_depth, t->tree_count, t->smooth_count,
+               THESIS_MAX_GROUP_TREES, build_ms);
+        printf("solver %s, warm start %d, split %d, budget %.3f ms, %lu frames\n\n",
+               opt.solver_name, opt.warm, sd.split_smooth, opt.budget_ms, opt.frames);
+        printf("%7s %10s %7s %9s %10s %12s %7s %9s\n", "frame", "select_us", "drawn", "cost_ms",
+               "budget_ms", "benefit", "groups", "variables");
+    } else {
+        const world_scene *w = &sim.world;
+        printf("flyover: %u terrain patches (depth %u), %u objects x %u levels, %u nodes, "
+               "%u roots\n",
+               w->terrain_count, sim.world_desc.terrain_depth, w->object_count, w->levels,
+               w->node_count, w->root_count);
+        printf("solver %s, warm start %d, budget %.3f ms, %lu frames\n\n", opt.solver_name,
+               opt.warm, opt.budget_ms, opt.frames);
+        printf("%7s %10s %7s %9s %10s %12s\n", "frame", "select_us", "drawn", "cost_ms",
+               "budget_ms", "benefit");
+    }
 
     for (frame = 0; frame < opt.frames; ++frame) {
         tclod_view view;
         tclod_frame fr;
         tclod_stats stats;
         const tclod_id *ids;
-        size_t drawn;
+        const tclod_smooth_group *groups = NULL;
+        size_t drawn, group_count = 0;
         double t0, t1, own_cost;
 
-        world_camera_at(&world.path, (double)frame / (double)FRAMES_PER_LOOP, &view);
+        camera_at(&sim, frame, &view);
         memset(&fr, 0, sizeof(fr));
         fr.view = &view;
         fr.budget = opt.budget_ms;
@@ -270,8 +400,10 @@ int main(int argc, char **argv) {
             goto done;
         }
         st = tclod_selector_cut(sel, &ids, &drawn);
+        if (st == TCLOD_OK && opt.scene == SCENE_THESIS)
+            st = tclod_selector_smooth_groups(sel, &groups, &group_count);
         if (st != TCLOD_OK) {
-            fprintf(stderr, "flyover_sim: tclod_selector_cut failed: %s\n",
+            fprintf(stderr, "flyover_sim: reading the selection failed: %s\n",
                     tclod_status_string(st));
             rc = 1;
             goto done;
@@ -279,23 +411,36 @@ int main(int argc, char **argv) {
         select_us[frame] = t1 - t0;
         sum_us += t1 - t0;
         sum_ratio += stats.cost / opt.budget_ms;
+        sum_variables += (double)stats.variables;
+        sum_line_searches += (double)stats.line_searches;
+        sum_groups += (double)group_count;
 
-        /* The guarantee, checked from outside: what our cost callback returns for
-         * the listed nodes, summed in result order, must not exceed the budget. */
-        own_cost = world_sum_cost(&world, ids, drawn);
+        /* The guarantee, checked from outside: what our cost callbacks return for
+         * the listed nodes (and drawn smooth groups), summed in result order, must
+         * not exceed the budget. */
+        own_cost = opt.scene == SCENE_THESIS
+                       ? thesis_sum_cost(&sim.thesis, ids, drawn, groups, group_count)
+                       : world_sum_cost(&sim.world, ids, drawn);
         if (stats.cost > opt.budget_ms || own_cost > opt.budget_ms)
             ++violations;
         if (own_cost != stats.cost)
             ++mismatches;
 
-        if (frame % PRINT_EVERY == 0 || frame + 1 == opt.frames)
-            printf("%7lu %10.1f %7lu %9.4f %10.4f %12.1f\n", frame, t1 - t0, (unsigned long)drawn,
-                   stats.cost, opt.budget_ms, stats.benefit);
+        if (frame % PRINT_EVERY == 0 || frame + 1 == opt.frames) {
+            if (opt.scene == SCENE_THESIS)
+                printf("%7lu %10.1f %7lu %9.4f %10.4f %12.1f %7lu %9lu\n", frame, t1 - t0,
+                       (unsigned long)drawn, stats.cost, opt.budget_ms, stats.benefit,
+                       (unsigned long)group_count, (unsigned long)stats.variables);
+            else
+                printf("%7lu %10.1f %7lu %9.4f %10.4f %12.1f\n", frame, t1 - t0,
+                       (unsigned long)drawn, stats.cost, opt.budget_ms, stats.benefit);
+        }
         if (csv)
-            fprintf(csv, "%lu,%.3f,%lu,%.9g,%.9g,%.9g,%lu,%lu,%lu\n", frame, t1 - t0,
+            fprintf(csv, "%lu,%.3f,%lu,%.9g,%.9g,%.9g,%lu,%lu,%lu,%lu,%lu,%lu\n", frame, t1 - t0,
                     (unsigned long)drawn, stats.cost, opt.budget_ms, stats.benefit,
                     (unsigned long)stats.iterations, (unsigned long)stats.increments,
-                    (unsigned long)stats.decrements);
+                    (unsigned long)stats.decrements, (unsigned long)stats.variables,
+                    (unsigned long)stats.line_searches, (unsigned long)group_count);
     }
 
     if (mismatches)
@@ -305,9 +450,14 @@ int main(int argc, char **argv) {
                 mismatches);
     qsort(select_us, opt.frames, sizeof(*select_us), compare_double);
     printf("\nsummary: frames=%lu solver=%s mean_select_us=%.1f p99_select_us=%.1f "
-           "mean_cost_ratio=%.4f violations=%lu\n",
+           "mean_cost_ratio=%.4f violations=%lu",
            opt.frames, opt.solver_name, sum_us / (double)opt.frames,
            percentile(select_us, opt.frames, 99.0), sum_ratio / (double)opt.frames, violations);
+    if (opt.scene == SCENE_THESIS)
+        printf(" variables=%.1f line_searches=%.1f smooth_groups=%.1f",
+               sum_variables / (double)opt.frames, sum_line_searches / (double)opt.frames,
+               sum_groups / (double)opt.frames);
+    printf("\n");
     rc = 0;
 
 done:
@@ -317,6 +467,6 @@ done:
     }
     free(select_us);
     tclod_selector_destroy(sel);
-    world_scene_free(&world);
+    free_scene(&sim);
     return rc;
 }
