@@ -13,9 +13,11 @@
  * hierarchies only (greedy, and robin_hood once the library provides it), in two modes:
  * cold (warm_start 0: every frame starts from the roots) and warm (warm_start 1: from
  * the previous frame's cut, with the camera a little further along the loop).
- * thesis runs the mixed solver cold, in two modes: split (split_smooth 1: quadtree
- * variable splitting lets nearby smooth objects share a variable) and flat
- * (split_smooth 0: one variable per visible smooth object, up to about two thousand).
+ * thesis runs the mixed solver cold, in three modes: split (split_smooth 1: quadtree
+ * variable splitting lets nearby smooth objects share a variable), flat
+ * (split_smooth 0: one variable per visible smooth object, up to about two thousand),
+ * and split_gradient (split, with the papers' plain gradient steps instead of the
+ * default preconditioned ones: smooth_precondition 0; timed like split).
  * A cold solve needs no coherence, so instead of following the loop frame by frame
  * both modes cycle through the same 20 views spread evenly over the whole loop (10
  * with --quick), which crosses mountains, hills and forests: flat, the slower mode,
@@ -221,8 +223,8 @@ static int run_config(world_scene *w, tclod_solver solver, int warm, double budg
  * variable splitting, over warm-up plus `frames` timed frames that cycle through
  * `views` views spread evenly over the camera loop. Returns 0 on success; a budget
  * violation or a library error is reported and returns 1. */
-static int run_thesis(thesis_scene *t, int split, double budget, unsigned long frames,
-                      unsigned long views, double *times, bench_row *row) {
+static int run_thesis(thesis_scene *t, int split, int precondition, double budget,
+                      unsigned long frames, unsigned long views, double *times, bench_row *row) {
     tclod_selector_desc sd;
     tclod_selector *sel = NULL;
     tclod_status st;
@@ -235,6 +237,7 @@ static int run_thesis(thesis_scene *t, int split, double budget, unsigned long f
     sd.callbacks = thesis_callbacks(t);
     sd.warm_start = 0;
     sd.split_smooth = split;
+    sd.smooth_precondition = precondition;
     st = tclod_selector_create(t->scene, &sd, NULL, &sel);
     if (st != TCLOD_OK) {
         fprintf(stderr, "tclod_bench: creating a mixed selector failed: %s\n",
@@ -371,14 +374,15 @@ static unsigned long thesis_mean_visible(const thesis_scene *t) {
     return (unsigned long)(sum / 16.0 + 0.5);
 }
 
-/* The thesis rows: split then flat. */
+/* The thesis rows: split and flat with the default, preconditioned smooth steps,
+ * then split with the papers' plain gradient steps (smooth_precondition 0). */
 static int bench_thesis(int quick, unsigned long frames) {
     thesis_desc d;
     thesis_scene t;
     tclod_status st;
     unsigned long visible, views, split_frames;
     double *times, t0 = now_us();
-    int split, rc = 0;
+    int mode, rc = 0;
 
     if (!tclod_solver_available(TCLOD_SOLVER_MIXED)) {
         fprintf(stderr, "tclod_bench: thesis: the mixed solver is not in this build, skipped\n");
@@ -408,14 +412,16 @@ static int bench_thesis(int quick, unsigned long frames) {
             "%.0f ms; %lu smooth objects in view, budget %.3f ms\n",
             t.node_count, t.tree_count, t.smooth_count, (now_us() - t0) / 1000.0, visible,
             THESIS_BUDGET_MS);
-    for (split = 1; split >= 0; --split) {
+    for (mode = 0; mode < 3; ++mode) {
+        static const char *const names[3] = {"split", "flat", "split_gradient"};
         bench_row row;
+        int split = mode != 1, precondition = mode != 2;
         unsigned long n = split ? split_frames : views;
-        if (run_thesis(&t, split, THESIS_BUDGET_MS, n, views, times, &row) != 0) {
+        if (run_thesis(&t, split, precondition, THESIS_BUDGET_MS, n, views, times, &row) != 0) {
             rc = 1;
             break;
         }
-        print_row("thesis", solver_name(TCLOD_SOLVER_MIXED), split ? "split" : "flat",
+        print_row("thesis", solver_name(TCLOD_SOLVER_MIXED), names[mode],
                   (unsigned long)t.smooth_count, (unsigned long)t.node_count, THESIS_BUDGET_MS,
                   visible, &row);
     }

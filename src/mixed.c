@@ -34,6 +34,11 @@
 /* The line search keeps this far (relative) inside the budget, so that the
  * drift of running sums never carries the exact total over it. */
 #define BUDGET_MARGIN 1e-9
+
+/* The budget less that margin (an unlimited budget stays unlimited). */
+static double smooth_limit(double budget) {
+    return isinf(budget) ? budget : budget - BUDGET_MARGIN * budget;
+}
 /* A resolution this close to 0 or 1 is 0 or 1. */
 #define SNAP 1e-12
 /* The slope along a line counts as the target within this (relative) margin. */
@@ -44,7 +49,7 @@
 #define SMOOTH_RUN 64u
 /* Pairwise exchanges at the end of a solve, at most, and the relative gap
  * between slope ratios below which they stop. */
-#define POLISH_STEPS 64u
+#define POLISH_STEPS 16u
 #define POLISH_GAP 0.01
 /* Exponent assumed until a variable has two points of its own: a square-root
  * benefit, the thesis's model (eq. 8.20). */
@@ -552,7 +557,7 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
     L.lambda = lambda;
     L.t_sat = HUGE_VAL;
     L.last_t = -1.0;
-    L.limit = budget - BUDGET_MARGIN * fabs(budget);
+    L.limit = smooth_limit(budget);
     origin.t = origin.benefit = origin.cost = origin.slope_b = origin.slope_c = 0.0;
     origin.abs_b = origin.abs_c = 0.0;
     for (i = 0; i < n; ++i) {
@@ -713,6 +718,28 @@ static int smooth_step(tclod_selector *sel, double target, int *budget_bound) {
     return moved < 0 ? -1 : (moved && !stalled);
 }
 
+/* What the models' tolerances left of the budget goes to the smooth variables
+ * along the plain gradient, up to t_max (the papers' step without a discrete
+ * step to compare with). */
+static int spend_the_rest(tclod_selector *sel) {
+    uint32_t k;
+    for (k = 0; k < 4; ++k) {
+        double slope;
+        int moved, budget_bound, at_slope, stalled;
+        uint32_t n;
+        if (tclod_out_of_time(sel)) return 0;
+        ratios(sel);
+        n = gradient_direction(sel, 0.0, &slope);
+        if (n == 0) return 0;
+        sel->stats.iterations++;
+        sel->stats.line_searches++;
+        moved = line_search(sel, n, 0.0, &budget_bound, &at_slope, &stalled);
+        if (moved < 0) return -1;
+        if (!moved || stalled || budget_bound) return 0;
+    }
+    return 0;
+}
+
 /* The preconditioned loop: increments best first while their slope beats the
  * slope the smooth variables would have after sharing the budget left with
  * them (a smooth step first makes room when they hold it now), then smooth
@@ -720,7 +747,7 @@ static int smooth_step(tclod_selector *sel, double target, int *budget_bound) {
  * gaining; then the increments that still fit. */
 static int improve_modelled(tclod_selector *sel) {
     const double budget = sel->frame->budget;
-    const double limit = budget - BUDGET_MARGIN * fabs(budget);
+    const double limit = smooth_limit(budget);
     double guess = 1.0;
     int skipped = 0, budget_bound;
     uint32_t run = 0;
@@ -735,19 +762,19 @@ static int improve_modelled(tclod_selector *sel) {
         cand = tclod_greedy_candidate(sel, &slope_d, &skipped);
         sel->reserved = held;
         if (cand != TCLOD_NONE) {
-            double dc = sel->node[cand].delta_c, left = limit - sel->cost_sum - held;
+            double dc = sel->node[cand].delta_c, left = budget - sel->cost_sum - held;
             if (dc > 0.0) left -= dc;
             /* its slope beats the smooth variables' at the budget left after it
              * exactly when, at its slope, they would spend no more than that */
             if (!(model_spend(&sel->vars, slope_d) > left)) {
-                if (sel->cost_sum + held + dc <= limit) {
+                if (sel->cost_sum + held + dc <= budget) {
                     if (tclod_greedy_take(sel, cand) != 0) return -1;
                     run = 0;
                     continue;
                 }
                 /* make room: the smooth variables come down to where they
                  * leave it */
-                at = level(sel, left, slope_d);
+                at = level(sel, left - (budget - limit), slope_d);
                 moved = smooth_step(sel, at, &budget_bound);
                 if (moved < 0) return -1;
                 if (!moved || ++run >= SMOOTH_RUN) {
@@ -764,6 +791,7 @@ static int improve_modelled(tclod_selector *sel) {
         if (budget_bound) skipped = 1;
         if (!moved || ++run >= SMOOTH_RUN) break;
     }
+    if (spend_the_rest(sel) != 0) return -1;
     for (;;) { /* what is left: increments that still fit (fill) */
         double slope_d;
         tclod_id cand = tclod_greedy_candidate(sel, &slope_d, &skipped);

@@ -45,7 +45,7 @@ void tclod_selector_desc_default(tclod_selector_desc *d) {
     d->solver = TCLOD_SOLVER_GREEDY;
     d->warm_start = 1;
     d->split_smooth = 0;
-    d->split_threshold = 0.01;
+    d->split_threshold = 0.1;
     d->strict = 0;
     d->smooth_epsilon = 1e-3;
     d->smooth_precondition = 1;

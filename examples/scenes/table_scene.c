@@ -20,6 +20,12 @@ void table_free(table_model *m) {
     free(m->cost);
     free(m->benefit_calls);
     free(m->cost_calls);
+    free(m->smooth.shape);
+    free(m->smooth.w);
+    free(m->smooth.p);
+    free(m->smooth.k);
+    free(m->smooth.steep);
+    free(m->smooth.kink);
     table_init(m);
 }
 
@@ -80,6 +86,7 @@ void table_reset_counts(table_model *m) {
         memset(m->cost_calls, 0, m->count * sizeof *m->cost_calls);
     }
     m->unknown_ids = 0;
+    m->smooth.calls = 0;
 }
 
 uint32_t table_max_calls(const table_model *m) {
@@ -127,6 +134,127 @@ void table_callbacks(table_model *m, tclod_callbacks *cb) {
     cb->benefit = table_benefit;
     cb->cost = table_cost;
     cb->user = m;
+}
+
+void table_mixed_callbacks(table_model *m, tclod_callbacks *cb) {
+    table_callbacks(m, cb);
+    cb->smooth_benefit = table_smooth_benefit;
+    cb->smooth_cost = table_smooth_cost;
+}
+
+/* Grows the smooth arrays to hold `need` objects; 0 on allocation failure
+ * (the arrays that did grow keep their contents). */
+static int smooth_reserve(table_smooth *t, uint32_t need) {
+    uint32_t cap = t->capacity ? t->capacity : 16u;
+    double **arrays[5];
+    void *p;
+    int i;
+    if (need <= t->capacity)
+        return 1;
+    while (cap < need)
+        cap *= 2u;
+    if ((p = realloc(t->shape, cap)) == NULL)
+        return 0;
+    t->shape = (uint8_t *)p;
+    arrays[0] = &t->w;
+    arrays[1] = &t->p;
+    arrays[2] = &t->k;
+    arrays[3] = &t->steep;
+    arrays[4] = &t->kink;
+    for (i = 0; i < 5; ++i) {
+        if ((p = realloc(*arrays[i], cap * sizeof(double))) == NULL)
+            return 0;
+        *arrays[i] = (double *)p;
+    }
+    t->capacity = cap;
+    return 1;
+}
+
+tclod_status table_add_smooth(table_model *m, tclod_scene *s, const float bounds[4],
+                              table_shape shape, double w, double p, double k, double steep,
+                              double kink, tclod_id *out_id) {
+    table_smooth *t = &m->smooth;
+    tclod_id id;
+    tclod_status st;
+    if (!(w >= 0.0) || !(p > 0.0) || (shape == TABLE_POWER && p > 1.0) || !(k >= 0.0) ||
+        !(steep >= k) || !(kink >= 0.0 && kink < 1.0) || (shape != TABLE_POWER && shape != TABLE_LOG))
+        return TCLOD_ERR_ARG;
+    if (tclod_scene_smooth_count(s) != t->count)
+        return TCLOD_ERR_STATE;
+    if (!smooth_reserve(t, t->count + 1u))
+        return TCLOD_ERR_NOMEM;
+    st = tclod_scene_add_smooth(s, bounds, &id);
+    if (st != TCLOD_OK)
+        return st;
+    t->shape[id] = (uint8_t)shape;
+    t->w[id] = w;
+    t->p[id] = p;
+    t->k[id] = k;
+    t->steep[id] = steep;
+    t->kink[id] = kink;
+    t->count++;
+    if (out_id)
+        *out_id = id;
+    return TCLOD_OK;
+}
+
+double table_smooth_benefit_of(const table_model *m, tclod_id id, double r, double *d_dr) {
+    const table_smooth *t = &m->smooth;
+    double w = t->w[id], p = t->p[id], b, d;
+    if (t->shape[id] == TABLE_POWER) {
+        b = w * pow(r, p);
+        d = r > 0.0 ? w * p * pow(r, p - 1.0) : HUGE_VAL;
+    } else {
+        b = w * log1p(p * r);
+        d = w * p / (1.0 + p * r);
+    }
+    if (d_dr)
+        *d_dr = d;
+    return b;
+}
+
+double table_smooth_cost_of(const table_model *m, tclod_id id, double r, double *d_dr) {
+    const table_smooth *t = &m->smooth;
+    double kink = t->kink[id];
+    if (r < kink) {
+        if (d_dr)
+            *d_dr = t->steep[id];
+        return t->steep[id] * r;
+    }
+    if (d_dr)
+        *d_dr = t->k[id];
+    return t->steep[id] * kink + t->k[id] * (r - kink);
+}
+
+/* Sums f over the members of the query's group. */
+static double smooth_sum(table_model *m, const tclod_query *q, double r, double *d_dr,
+                         double (*f)(const table_model *, tclod_id, double, double *)) {
+    double sum = 0.0, dsum = 0.0;
+    uint32_t i;
+    for (i = 0; i < q->count; ++i) {
+        double d;
+        sum += f(m, q->members[i], r, &d);
+        dsum += d;
+    }
+    *d_dr = dsum;
+    return sum;
+}
+
+double table_smooth_benefit(void *user, const tclod_query *q, double r, double *d_dr) {
+    table_model *m = (table_model *)user;
+    m->smooth.calls++;
+    if (m->smooth.bad_after && --m->smooth.bad_after == 0) {
+        m->smooth.bad_after = 1; /* and every call after it */
+        *d_dr = m->smooth.bad_value;
+        return m->smooth.bad_value;
+    }
+    return smooth_sum(m, q, r, d_dr, table_smooth_benefit_of);
+}
+
+double table_smooth_cost(void *user, const tclod_query *q, double r, double *d_dr) {
+    table_model *m = (table_model *)user;
+    m->smooth.calls++;
+    return smooth_sum(m, q, r, d_dr, table_smooth_cost_of);
 }
 
 double table_sum_benefit(const table_model *m, const tclod_id *ids, size_t n) {

@@ -25,6 +25,29 @@
 extern "C" {
 #endif
 
+/* How a smooth object's benefit grows with its resolution r in [0, 1]. */
+typedef enum table_shape {
+    TABLE_POWER = 0, /* w * r^p, p in (0, 1]; p = 1/2 is the thesis's square root */
+    TABLE_LOG = 1    /* w * ln(1 + p r), p > 0 */
+} table_shape;
+
+/* Smooth objects, structure-of-arrays by smooth id. Object i has benefit
+ * shape[i] with weight w[i] and parameter p[i], and cost steep[i] * r up to
+ * r = kink[i], then steep[i] * kink[i] + k[i] * (r - kink[i]): a linear cost
+ * k r when steep == k (or kink == 0), and a setup cost in the manner of the
+ * thesis's eq. 8.18 when steep > k. A group's values (tclod_query.count > 1)
+ * are the sums over its members, all at the same r. */
+typedef struct table_smooth {
+    uint32_t count, capacity;
+    uint8_t *shape;           /* a table_shape */
+    double *w, *p;            /* benefit weight and parameter */
+    double *k, *steep, *kink; /* cost slopes after and before the kink, kink position */
+    uint32_t calls;           /* smooth callback calls since table_smooth_reset */
+    uint32_t bad_after;       /* 0, or: the bad_after-th benefit call from now on
+                                 returns bad_value (to test sanitising) */
+    double bad_value;
+} table_smooth;
+
 /* Per-node values and call counters, structure-of-arrays, indexed by node id. */
 typedef struct table_model {
     uint32_t count;          /* nodes in the model (== nodes in its scene) */
@@ -35,6 +58,7 @@ typedef struct table_model {
     uint32_t *benefit_calls; /* table_benefit calls since table_reset_counts */
     uint32_t *cost_calls;    /* table_cost calls since table_reset_counts */
     uint32_t unknown_ids;    /* queries whose id was not in the model */
+    table_smooth smooth;     /* the smooth objects, by smooth id */
 } table_model;
 
 /* Empty model; no allocation until the first node. Free with table_free. */
@@ -51,7 +75,7 @@ void table_free(table_model *m);
 tclod_status table_add_node(table_model *m, tclod_scene *s, tclod_id parent, const float bounds[4],
                             double benefit, double cost, tclod_id *out_id);
 
-/* Sets every call counter (and unknown_ids) to 0. */
+/* Sets every call counter (and unknown_ids, and the smooth calls) to 0. */
 void table_reset_counts(table_model *m);
 
 /* Largest per-node number of table_benefit / table_cost calls since the last
@@ -69,6 +93,27 @@ double table_cost(void *user, const tclod_query *q);
 
 /* Fills cb with table_benefit, table_cost, user = m, smooth callbacks NULL. */
 void table_callbacks(table_model *m, tclod_callbacks *cb);
+
+/* Adds a smooth object to scene s (tclod_scene_add_smooth with bounds) and
+ * to m's smooth table; parameters as table_smooth describes (kink 0 and steep
+ * == k for a linear cost). Errors as table_add_node; TCLOD_ERR_ARG for
+ * parameters out of range (w < 0, p <= 0, power p > 1, k < 0, steep < k,
+ * kink outside [0, 1)). out_id may be NULL. */
+tclod_status table_add_smooth(table_model *m, tclod_scene *s, const float bounds[4],
+                              table_shape shape, double w, double p, double k, double steep,
+                              double kink, tclod_id *out_id);
+
+/* Benefit and cost of smooth object `id` alone at resolution r in [0, 1], and
+ * their derivatives (either pointer may be NULL): what the callbacks add up. */
+double table_smooth_benefit_of(const table_model *m, tclod_id id, double r, double *d_dr);
+double table_smooth_cost_of(const table_model *m, tclod_id id, double r, double *d_dr);
+
+/* Smooth callbacks for tclod_callbacks: user must be a table_model. */
+double table_smooth_benefit(void *user, const tclod_query *q, double r, double *d_dr);
+double table_smooth_cost(void *user, const tclod_query *q, double r, double *d_dr);
+
+/* Fills cb like table_callbacks, with the smooth callbacks too. */
+void table_mixed_callbacks(table_model *m, tclod_callbacks *cb);
 
 /* Sum of the stored benefits / costs of ids[0..n), added in double in the
  * given order starting from 0.0 (the order the library's guarantee uses). */

@@ -258,9 +258,11 @@ typedef struct tclod_selector_desc {
                                   of nearby smooth objects share one variable while
                                   the predicted loss allows it; 0 = one variable per
                                   visible smooth object. Default 0 */
-    double split_threshold;    /* theta: benefit loss splitting may cause, as a
-                                  fraction of the smooth objects' predicted benefit,
-                                  >= 0. Default 0.01 */
+    double split_threshold;    /* theta: the benefit loss that sharing variables may
+                                  cause by the splitting estimate (docs/mixed.md), as
+                                  a fraction of the smooth objects' predicted benefit,
+                                  >= 0. The estimate is cautious: on the thesis scene
+                                  0.1 loses 0.5 % (docs/benchmarks.md). Default 0.1 */
     int strict;                /* 1: a bad callback value fails the call with
                                   TCLOD_ERR_CALLBACK (previous result kept);
                                   0: it is sanitised and counted. Default 0 */

@@ -1,0 +1,453 @@
+/*
+ * test_mixed — the mixed discrete/continuous solver (src/mixed.c): the line
+ * search of eq. 8.14 on a hand-worked two-variable case, the choice between a
+ * discrete step and a smooth one by their slopes (eq. 8.8-8.11), saturation
+ * and the barrier of eq. 8.13, a kinked setup cost (eq. 8.18) against a
+ * hand-computed optimum, and random separable concave instances against the
+ * closed-form Lagrangian optimum.
+ *
+ * Smooth objects come from the table model: benefit w r^p or w ln(1 + p r),
+ * cost k r, or steep r before a kink. "Papers' loop" is smooth_precondition 0
+ * (gradient direction); the default, preconditioned loop is 1. Scenes have no
+ * bounds and frames no view, so nothing is culled and every smooth object is
+ * a variable of its own (split_smooth 0).
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <tclod/tclod.h>
+
+#include "helpers.h"
+#include "table_scene.h"
+
+/* Adds a smooth object without meaningful bounds (no view is used). */
+static tclod_id add_smooth(helper_fixture *f, table_shape shape, double w, double p, double k,
+                           double steep, double kink) {
+    static const float bounds[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    float b[4];
+    tclod_id id = TCLOD_NONE;
+    memcpy(b, bounds, sizeof b);
+    /* distinct ground positions, so the quadtree separates the objects */
+    b[0] = (float)tclod_scene_smooth_count(f->scene) * 10.0f;
+    assert_int_equal(table_add_smooth(&f->model, f->scene, b, shape, w, p, k, steep, kink, &id),
+                     TCLOD_OK);
+    return id;
+}
+
+static tclod_id add_sqrt(helper_fixture *f, double w, double k) {
+    return add_smooth(f, TABLE_POWER, w, 0.5, k, k, 0.0);
+}
+
+static tclod_selector *mixed_selector(helper_fixture *f, int precondition, double epsilon) {
+    tclod_selector_desc d;
+    tclod_selector *sel = NULL;
+    tclod_selector_desc_default(&d);
+    d.solver = TCLOD_SOLVER_MIXED;
+    table_mixed_callbacks(&f->model, &d.callbacks);
+    d.smooth_precondition = precondition;
+    d.smooth_epsilon = epsilon;
+    d.smooth_tolerance = 0.0;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    return sel;
+}
+
+static void select_mixed(tclod_selector *sel, double budget, uint32_t max_iterations,
+                         tclod_stats *st) {
+    tclod_frame fr = helper_frame(NULL, budget);
+    fr.max_iterations = max_iterations;
+    assert_int_equal(tclod_select(sel, &fr, st), TCLOD_OK);
+}
+
+static void assert_near(double actual, double expected, double rel, const char *what) {
+    if (!(fabs(actual - expected) <= rel * fabs(expected)))
+        fail_msg("%s: %.12g, expected %.12g (relative tolerance %g)", what, actual, expected, rel);
+}
+
+static double resolution(const tclod_selector *sel, tclod_id id) {
+    return tclod_selector_resolution(sel, id);
+}
+
+/* The benefit of the smooth objects at their resolutions, object by object. */
+static double smooth_benefit(const helper_fixture *f, const tclod_selector *sel) {
+    double sum = 0.0;
+    tclod_id i;
+    for (i = 0; i < f->model.smooth.count; ++i) {
+        double r = resolution(sel, i);
+        if (r > 0.0) sum += table_smooth_benefit_of(&f->model, i, r, NULL);
+    }
+    return sum;
+}
+
+/* ---- the line search ------------------------------------------------------- */
+
+/* Papers' loop. Root R (b 1, c 1) with one child C (b 1.5, c 1.5): slope_d =
+ * 0.5 / 0.5 = 1. Smooth objects A = 2 sqrt(r), B = sqrt(r), costs r. At 0
+ * their gradient is proportional to the weights (both square roots), so after
+ * scaling to a largest component of 1 the direction is a = (1, 1/2) and the
+ * line is r = (t, t/2). Along it
+ *   d benefit/dt = 1 * 2/(2 sqrt t) + 1/2 * 1/(2 sqrt(t/2)) = 1.353553/sqrt t,
+ *   d cost/dt    = 1 + 1/2 = 1.5,
+ * so slope_c(t) = 0.902369/sqrt t. The first variable reaches 1 at t_max = 1,
+ * where slope_c = 0.902 < slope_d: eq. 8.14 gives t_opt = 0.902369^2 =
+ * 0.814270, i.e. A = 0.814270 and B = 0.407135. One iteration (the line
+ * search) stops the solve there; a second takes the increment. */
+static void line_search_stops_where_the_slope_along_the_gradient_meets_slope_d(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id root = helper_add(f, TCLOD_NONE, 1.0, 1.0), child, a, b;
+    tclod_selector *sel;
+    tclod_stats st;
+    const tclod_id *ids;
+    size_t n;
+    double slope;
+    child = helper_add(f, root, 1.5, 1.5);
+    a = add_sqrt(f, 2.0, 1.0);
+    b = add_sqrt(f, 1.0, 1.0);
+    sel = mixed_selector(f, 0, 0.0);
+
+    select_mixed(sel, 10.0, 1, &st);
+    assert_int_equal(st.stop_reason, TCLOD_STOP_ITERATIONS);
+    assert_int_equal(st.line_searches, 1);
+    assert_near(resolution(sel, a), 0.814270, 5e-3, "A after the line search");
+    assert_near(resolution(sel, b), 0.5 * resolution(sel, a), 1e-9, "B on the line");
+    /* the slope along the line where it stopped is slope_d */
+    slope = 1.353553 / sqrt(resolution(sel, a)) / 1.5;
+    assert_near(slope, 1.0, 3e-3, "slope_c at t_opt");
+    assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(ids[0], root);
+
+    /* Figure 8.1: after Q (the smooth step) comes P (the increment) */
+    select_mixed(sel, 10.0, 2, &st);
+    assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(ids[0], child);
+    assert_near(resolution(sel, a), 0.814270, 5e-3, "A after the increment");
+    tclod_selector_destroy(sel);
+}
+
+/* ---- discrete or smooth ------------------------------------------------------ */
+
+/* Root R (b 1, c 1), child C (b 1 + 3, c 2): slope_d = 3 / 1 = 3. One smooth
+ * object 2 ln(1 + r) costing r: slope_c = 2 / (1 + r) <= 2 < slope_d. The
+ * budget 2 covers R and the increment, or R and some smooth resolution, not
+ * both: the increment goes first and spends it. Cut {C}, nothing smooth. */
+static void discrete_step_first_when_its_slope_beats_the_smooth_slope(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id root = helper_add(f, TCLOD_NONE, 1.0, 1.0), child, s;
+    int precondition;
+    child = helper_add(f, root, 4.0, 2.0);
+    s = add_smooth(f, TABLE_LOG, 2.0, 1.0, 1.0, 1.0, 0.0);
+    for (precondition = 0; precondition <= 1; ++precondition) {
+        tclod_selector *sel = mixed_selector(f, precondition, 0.0);
+        tclod_stats st;
+        const tclod_id *ids;
+        size_t n;
+        select_mixed(sel, 2.0, 0, &st);
+        assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+        assert_int_equal(n, 1);
+        assert_int_equal(ids[0], child);
+        assert_true(resolution(sel, s) == 0.0);
+        assert_true(st.benefit == 4.0);
+        tclod_selector_destroy(sel);
+    }
+}
+
+/* As above with C (b 1 + 1.5, c 2): slope_d = 1.5 < slope_c(0) = 2. The smooth
+ * object goes first. The papers' loop stops it where its slope falls to 1.5
+ * (r = 2/1.5 - 1 = 1/3), but then the increment (cost 1) no longer fits the
+ * 2/3 left, which the smooth object takes: r = 1. The preconditioned loop sees
+ * at once that after paying for the increment nothing would be left for the
+ * steeper smooth object, and gets there directly. Either way: cut {R}, r = 1
+ * (less the line search's margin of 1e-9 of the budget), benefit 1 + 2 ln 2. */
+static void smooth_step_first_when_its_slope_beats_the_discrete_slope(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id root = helper_add(f, TCLOD_NONE, 1.0, 1.0), s;
+    int precondition;
+    helper_add(f, root, 2.5, 2.0);
+    s = add_smooth(f, TABLE_LOG, 2.0, 1.0, 1.0, 1.0, 0.0);
+    for (precondition = 0; precondition <= 1; ++precondition) {
+        tclod_selector *sel = mixed_selector(f, precondition, 0.0);
+        tclod_stats st;
+        const tclod_id *ids;
+        size_t n;
+        select_mixed(sel, 2.0, 0, &st);
+        assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+        assert_int_equal(n, 1);
+        assert_int_equal(ids[0], root);
+        assert_near(resolution(sel, s), 1.0, 1e-8, "smooth resolution");
+        assert_near(st.benefit, 1.0 + 2.0 * log(2.0), 1e-8, "benefit");
+        assert_true(st.cost <= 2.0);
+        tclod_selector_destroy(sel);
+    }
+}
+
+/* Both go in when the budget has room: C (b 2.5, c 2) as above, budget 2.2 +
+ * 1/3 (R, the increment, and 1/3 + 0.2 for the smooth object). At the end
+ * the smooth object's slope 2 / (1 + r) must not be above slope_d = 1.5 while
+ * the increment is left out, so the increment is in; the smooth object takes
+ * the rest: r = 2.2 + 1/3 - 2 = 0.533333, slope 1.304 < 1.5. */
+static void discrete_and_smooth_steps_share_the_budget_by_slope(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id root = helper_add(f, TCLOD_NONE, 1.0, 1.0), child, s;
+    int precondition;
+    child = helper_add(f, root, 2.5, 2.0);
+    s = add_smooth(f, TABLE_LOG, 2.0, 1.0, 1.0, 1.0, 0.0);
+    for (precondition = 0; precondition <= 1; ++precondition) {
+        tclod_selector *sel = mixed_selector(f, precondition, 0.0);
+        tclod_stats st;
+        const tclod_id *ids;
+        size_t n;
+        select_mixed(sel, 2.2 + 1.0 / 3.0, 0, &st);
+        assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+        assert_int_equal(n, 1);
+        assert_int_equal(ids[0], child);
+        assert_near(resolution(sel, s), 0.2 + 1.0 / 3.0, 1e-7, "smooth resolution");
+        tclod_selector_destroy(sel);
+    }
+}
+
+/* ---- saturation and the barrier ---------------------------------------------- */
+
+/* A = 4 sqrt(r), B = sqrt(r), costs r, budget 1.6. From 0 the direction is
+ * (1, 1/4); A saturates at t = 1, costing 1 + 1/4 = 1.25 <= 1.6, so the first
+ * step ends with A = 1 and B = 1/4. A stays at exactly 1 and the rest of the
+ * budget goes to B: B = 1.6 - 1 = 0.6. The optimum is the same (at slope
+ * lambda, B = 1/(4 lambda^2) = 0.6 gives lambda = 0.645 < 2, where A would want
+ * 4/lambda^2 > 1), so both loops agree. */
+static void saturated_variable_stays_at_one_and_the_rest_goes_to_the_others(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id a = add_sqrt(f, 4.0, 1.0), b = add_sqrt(f, 1.0, 1.0);
+    int precondition;
+    for (precondition = 0; precondition <= 1; ++precondition) {
+        tclod_selector *sel = mixed_selector(f, precondition, 0.0);
+        tclod_stats st;
+        select_mixed(sel, 1.6, 0, &st);
+        assert_true(resolution(sel, a) == 1.0);
+        assert_near(resolution(sel, b), 0.6, 1e-6, "B");
+        assert_true(st.cost <= 1.6);
+        tclod_selector_destroy(sel);
+    }
+}
+
+/* Papers' loop, A = 4 sqrt(r), B = 2 sqrt(r), C = sqrt(r), costs r, budget
+ * 2.5. Step 1 (barrier factors equal at 0): direction (1, 1/2, 1/4), A
+ * saturates at t = 1 at cost 1.75: A = 1, B = 0.5, C = 0.25.
+ * Step 2 without barrier: slopes B 2/(2 sqrt .5) = 1.414214, C 1/(2 sqrt .25)
+ * = 1, direction (1, 0.707107); B would reach 1 at t = 0.5 at cost 2.603553 >
+ * 2.5, so the budget stops it: 1.75 + 1.707107 t = 2.5, t = 0.439340:
+ * B = 0.939340, C = 0.560660.
+ * Step 2 with the barrier eps = 0.4 (relative): B's slope times
+ * 1 - 0.4/0.5 = 0.2, C's times 1 - 0.4/0.75 = 0.466667: (0.282843, 0.466667),
+ * i.e. (0.606092, 1); C reaches 1 first, at t = 0.75, costing 2.954569 > 2.5,
+ * so the budget stops it: 1.75 + 1.606092 t = 2.5, t = 0.466971:
+ * B = 0.783028, C = 0.716971. The barrier moved resolution away from B, the
+ * variable closer to 1. */
+static void barrier_moves_resolution_away_from_a_variable_close_to_one(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id a = add_sqrt(f, 4.0, 1.0), b = add_sqrt(f, 2.0, 1.0), c = add_sqrt(f, 1.0, 1.0);
+    tclod_selector *sel;
+    tclod_stats st;
+
+    sel = mixed_selector(f, 0, 0.0);
+    select_mixed(sel, 2.5, 0, &st);
+    assert_true(resolution(sel, a) == 1.0);
+    assert_near(resolution(sel, b), 0.939340, 1e-5, "B without barrier");
+    assert_near(resolution(sel, c), 0.560660, 1e-5, "C without barrier");
+    tclod_selector_destroy(sel);
+
+    sel = mixed_selector(f, 0, 0.4);
+    select_mixed(sel, 2.5, 0, &st);
+    assert_true(resolution(sel, a) == 1.0);
+    assert_near(resolution(sel, b), 0.783028, 1e-5, "B with barrier");
+    assert_near(resolution(sel, c), 0.716971, 1e-5, "C with barrier");
+    tclod_selector_destroy(sel);
+}
+
+/* ---- kinked cost ------------------------------------------------------------------ */
+
+/* A = sqrt(r) costing r; B = 2 sqrt(r) costing 10 r up to r = 0.1 (a setup
+ * cost: every unit dear until the kink), then 1 + (r - 0.1). Budget 2.
+ * With B past the kink both sit at one slope lambda: A = 1/(4 lambda^2),
+ * B = 4/(4 lambda^2) = 4 A, and A + 1 + (B - 0.1) = 2 gives 5 A = 1.1:
+ * A = 0.22, B = 0.88, benefit sqrt(.22) + 2 sqrt(.88) = 2.345208.
+ * With B before the kink: A = 1/(4 lambda^2), B = 1/(100 lambda^2), costs
+ * A + 10 B = 0.35 / lambda^2 = 2 would put A above 1, so A = 1 and B = 0.1
+ * (the kink): benefit 1 + 2 sqrt(.1) = 1.632456. Without B: A = 1, benefit 1.
+ * The optimum is the first. */
+static void kinked_cost_reaches_the_hand_computed_optimum(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id a = add_sqrt(f, 1.0, 1.0);
+    tclod_id b = add_smooth(f, TABLE_POWER, 2.0, 0.5, 1.0, 10.0, 0.1);
+    tclod_selector *sel = mixed_selector(f, 1, 0.0);
+    tclod_stats st;
+    select_mixed(sel, 2.0, 0, &st);
+    assert_near(resolution(sel, a), 0.22, 2e-3, "A");
+    assert_near(resolution(sel, b), 0.88, 2e-3, "B");
+    assert_near(st.benefit, 2.345208, 1e-4, "benefit");
+    assert_true(st.cost <= 2.0);
+    tclod_selector_destroy(sel);
+}
+
+/* ---- random separable concave instances ------------------------------------------ */
+
+/* The closed-form resolution of object i at slope lambda: where its benefit
+ * slope equals lambda times its (linear) cost slope, within [0, 1]. Power:
+ * w p r^(p-1) = lambda k. Log: w p / (1 + p r) = lambda k. */
+static double lagrange_resolution(const table_model *m, tclod_id i, double lambda) {
+    const table_smooth *t = &m->smooth;
+    double w = t->w[i], p = t->p[i], k = t->k[i], r;
+    if (t->shape[i] == TABLE_POWER)
+        r = pow(w * p / (lambda * k), 1.0 / (1.0 - p));
+    else
+        r = w / (lambda * k) - 1.0 / p;
+    return r < 0.0 ? 0.0 : (r > 1.0 ? 1.0 : r);
+}
+
+/* The optimum of max sum b_i(r_i) s.t. sum k_i r_i <= budget: the spend at
+ * slope lambda is continuous and decreasing, so bisection on ln(lambda). */
+static double lagrange_optimum(const table_model *m, double budget) {
+    double lo = -40.0, hi = 40.0, sum = 0.0;
+    tclod_id i;
+    int it;
+    for (it = 0; it < 200; ++it) {
+        double mid = 0.5 * (lo + hi), cost = 0.0;
+        for (i = 0; i < m->smooth.count; ++i)
+            cost += m->smooth.k[i] * lagrange_resolution(m, i, exp(mid));
+        if (cost > budget)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    for (i = 0; i < m->smooth.count; ++i)
+        sum += table_smooth_benefit_of(m, i, lagrange_resolution(m, i, exp(hi)), NULL);
+    return sum;
+}
+
+static void separable_concave_instances_reach_99_percent_of_the_lagrangian_optimum(void **state) {
+    table_rng rng;
+    int instance;
+    double worst = 1.0;
+    (void)state;
+    table_rng_seed(&rng, 2024);
+    for (instance = 0; instance < 100; ++instance) {
+        helper_fixture *f;
+        tclod_selector *sel;
+        tclod_stats st;
+        double budget, optimum;
+        uint32_t i;
+        assert_int_equal(helper_fixture_setup((void **)&f), 0);
+        for (i = 0; i < 30; ++i) {
+            table_shape shape = table_rng_below(&rng, 2) ? TABLE_LOG : TABLE_POWER;
+            double p = shape == TABLE_POWER ? table_rng_uniform(&rng, 0.2, 0.9)
+                                            : table_rng_uniform(&rng, 1.0, 50.0);
+            double k = table_rng_uniform(&rng, 0.5, 5.5);
+            add_smooth(f, shape, table_rng_uniform(&rng, 0.5, 10.5), p, k, k, 0.0);
+        }
+        budget = table_rng_uniform(&rng, 2.0, 60.0);
+        optimum = lagrange_optimum(&f->model, budget);
+        sel = mixed_selector(f, 1, 0.0);
+        select_mixed(sel, budget, 0, &st);
+        assert_true(st.cost <= budget);
+        if (st.benefit > optimum * (1.0 + 1e-9))
+            fail_msg("instance %d: benefit %.12g above the optimum %.12g", instance, st.benefit,
+                     optimum);
+        assert_near(smooth_benefit(f, sel), st.benefit, 1e-9, "benefit of the resolutions");
+        if (st.benefit / optimum < worst) worst = st.benefit / optimum;
+        tclod_selector_destroy(sel);
+        helper_fixture_teardown((void **)&f);
+    }
+    if (!(worst >= 0.99)) fail_msg("worst instance reached %.5f of the optimum", worst);
+}
+
+/* ---- limits ---------------------------------------------------------------------- */
+
+/* With an unlimited budget every smooth object is at full resolution and every
+ * node at its finest level. */
+static void unlimited_budget_draws_everything_at_full_resolution(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id root = helper_add(f, TCLOD_NONE, 1.0, 1.0), child, s1, s2;
+    int precondition;
+    child = helper_add(f, root, 2.0, 2.0);
+    s1 = add_sqrt(f, 1.0, 1.0);
+    s2 = add_smooth(f, TABLE_LOG, 3.0, 5.0, 2.0, 4.0, 0.05);
+    for (precondition = 0; precondition <= 1; ++precondition) {
+        tclod_selector *sel = mixed_selector(f, precondition, 1e-3);
+        tclod_stats st;
+        const tclod_id *ids;
+        size_t n;
+        select_mixed(sel, INFINITY, 0, &st);
+        assert_true(resolution(sel, s1) == 1.0);
+        assert_true(resolution(sel, s2) == 1.0);
+        assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+        assert_int_equal(n, 1);
+        assert_int_equal(ids[0], child);
+        assert_int_equal(st.stop_reason, TCLOD_STOP_FINEST);
+        tclod_selector_destroy(sel);
+    }
+}
+
+/* A zero budget draws nothing that costs: every resolution is 0. */
+static void zero_budget_draws_no_smooth_object(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id s = add_sqrt(f, 1.0, 1.0);
+    tclod_selector *sel = mixed_selector(f, 1, 1e-3);
+    tclod_stats st;
+    const tclod_smooth_group *groups;
+    size_t n;
+    select_mixed(sel, 0.0, 0, &st);
+    assert_true(resolution(sel, s) == 0.0);
+    assert_int_equal(tclod_selector_smooth_groups(sel, &groups, &n), TCLOD_OK);
+    assert_int_equal(n, 0);
+    assert_true(st.cost == 0.0);
+    tclod_selector_destroy(sel);
+}
+
+/* Every iteration limit gives a feasible selection whose benefit does not
+ * fall as the limit grows past the first few steps' order of magnitude. */
+static void iteration_limits_stop_with_a_feasible_selection(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    table_rng rng;
+    uint32_t i, limit;
+    tclod_id root = helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    table_rng_seed(&rng, 7);
+    for (i = 0; i < 3; ++i) helper_add(f, root, 0.8, 0.4);
+    for (i = 0; i < 12; ++i) add_sqrt(f, table_rng_uniform(&rng, 1.0, 5.0), 1.0);
+    for (limit = 1; limit <= 40; ++limit) {
+        int precondition;
+        for (precondition = 0; precondition <= 1; ++precondition) {
+            tclod_selector *sel = mixed_selector(f, precondition, 1e-3);
+            tclod_stats st;
+            select_mixed(sel, 4.0, limit, &st);
+            assert_true(st.cost <= 4.0);
+            assert_true(st.iterations <= limit + 1u);
+            tclod_selector_destroy(sel);
+        }
+    }
+}
+
+#define FIXTURE_TEST(t) cmocka_unit_test_setup_teardown(t, helper_fixture_setup, helper_fixture_teardown)
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        FIXTURE_TEST(line_search_stops_where_the_slope_along_the_gradient_meets_slope_d),
+        FIXTURE_TEST(discrete_step_first_when_its_slope_beats_the_smooth_slope),
+        FIXTURE_TEST(smooth_step_first_when_its_slope_beats_the_discrete_slope),
+        FIXTURE_TEST(discrete_and_smooth_steps_share_the_budget_by_slope),
+        FIXTURE_TEST(saturated_variable_stays_at_one_and_the_rest_goes_to_the_others),
+        FIXTURE_TEST(barrier_moves_resolution_away_from_a_variable_close_to_one),
+        FIXTURE_TEST(kinked_cost_reaches_the_hand_computed_optimum),
+        cmocka_unit_test(separable_concave_instances_reach_99_percent_of_the_lagrangian_optimum),
+        FIXTURE_TEST(unlimited_budget_draws_everything_at_full_resolution),
+        FIXTURE_TEST(zero_budget_draws_no_smooth_object),
+        FIXTURE_TEST(iteration_limits_stop_with_a_feasible_selection),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,301 @@
+/*
+ * test_split — smooth variables (src/split.c and the scene's quadtree in
+ * src/scene.c): quadtree order, frustum and small-detail culling, and the
+ * splitting criterion of docs/mixed.md, worked out by hand:
+ *
+ *   a node of n objects with children of benefit scales C_i (benefit at full
+ *   resolution) and n_i objects keeps one variable when
+ *     L = sqrt(X) (sqrt(sum C_i^2 / n_i) - sum C_i / sqrt(n))
+ *   is at most its share of theta * C_root * sqrt(X_root / n_root), with
+ *   X_root = n_root * min(1, budget / cost of the root group at full
+ *   resolution).
+ *
+ * Smooth objects come from the table model (benefit w sqrt(r), cost k r; a
+ * group's values are the sums over its members), so C_i is the sum of the
+ * members' weights.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <tclod/tclod.h>
+
+#include "helpers.h"
+#include "table_scene.h"
+
+static tclod_id add_object(helper_fixture *f, float x, float y, float z, float radius, double w) {
+    float b[4];
+    tclod_id id = TCLOD_NONE;
+    b[0] = x;
+    b[1] = y;
+    b[2] = z;
+    b[3] = radius;
+    assert_int_equal(table_add_smooth(&f->model, f->scene, b, TABLE_POWER, w, 0.5, 1.0, 1.0, 0.0, &id),
+                     TCLOD_OK);
+    return id;
+}
+
+static tclod_selector *split_selector(helper_fixture *f, int split, double theta) {
+    tclod_selector_desc d;
+    tclod_selector *sel = NULL;
+    tclod_selector_desc_default(&d);
+    d.solver = TCLOD_SOLVER_MIXED;
+    table_mixed_callbacks(&f->model, &d.callbacks);
+    d.split_smooth = split;
+    d.split_threshold = theta;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    return sel;
+}
+
+static void select_view(tclod_selector *sel, const tclod_view *view, double budget,
+                        tclod_stats *st) {
+    tclod_frame fr = helper_frame(view, budget);
+    assert_int_equal(tclod_select(sel, &fr, st), TCLOD_OK);
+}
+
+/* Position of smooth object id in the scene's smooth order. */
+static uint32_t position_of(helper_fixture *f, tclod_id id) {
+    const tclod_id *order;
+    uint32_t n, i;
+    assert_int_equal(tclod_scene_smooth_order(f->scene, &order, &n), TCLOD_OK);
+    for (i = 0; i < n; ++i)
+        if (order[i] == id) return i;
+    fail_msg("smooth object %u is not in the order", id);
+    return 0;
+}
+
+/* ---- the quadtree order -------------------------------------------------------- */
+
+/* A 4 x 4 grid at x, z in {0, 1, 2, 3}: the root's quadrants are the 2 x 2
+ * blocks, so the four objects of each block hold consecutive positions. */
+static void quadtree_order_keeps_each_quadrant_contiguous(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id grid[4][4];
+    const tclod_id *order;
+    uint32_t n, bx, bz, i, j;
+    uint8_t seen[16];
+    for (i = 0; i < 4; ++i)
+        for (j = 0; j < 4; ++j) grid[i][j] = add_object(f, (float)i, 0.0f, (float)j, 0.1f, 1.0);
+    assert_int_equal(tclod_scene_smooth_order(f->scene, &order, &n), TCLOD_OK);
+    assert_int_equal(n, 16);
+    memset(seen, 0, sizeof seen);
+    for (i = 0; i < n; ++i) {
+        assert_true(order[i] < 16);
+        assert_int_equal(seen[order[i]], 0);
+        seen[order[i]] = 1;
+    }
+    for (bx = 0; bx < 4; bx += 2)
+        for (bz = 0; bz < 4; bz += 2) {
+            uint32_t lo = 16, hi = 0;
+            for (i = bx; i < bx + 2; ++i)
+                for (j = bz; j < bz + 2; ++j) {
+                    uint32_t p = position_of(f, grid[i][j]);
+                    lo = p < lo ? p : lo;
+                    hi = p > hi ? p : hi;
+                }
+            assert_int_equal(hi - lo, 3);
+        }
+}
+
+/* ---- culling ----------------------------------------------------------------- */
+
+/* The reference view looks down -z from the origin. Objects at z = -10 are in
+ * front, at z = +10 behind: those get no variable and resolution 0, and the
+ * budget goes to the others. Two objects in front, sqrt(r), costs r, budget 1:
+ * r = 1/2 each. */
+static void objects_outside_the_frustum_get_no_variable(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id front1 = add_object(f, -1.0f, 0.0f, -10.0f, 0.5f, 1.0);
+    tclod_id front2 = add_object(f, 1.0f, 0.0f, -10.0f, 0.5f, 1.0);
+    tclod_id back1 = add_object(f, -1.0f, 0.0f, 10.0f, 0.5f, 1.0);
+    tclod_id back2 = add_object(f, 1.0f, 0.0f, 10.0f, 0.5f, 1.0);
+    tclod_selector *sel = split_selector(f, 0, 0.0);
+    tclod_view view;
+    tclod_stats st;
+    helper_view(&view);
+    select_view(sel, &view, 1.0, &st);
+    assert_int_equal(st.variables, 2);
+    assert_true(tclod_selector_resolution(sel, back1) == 0.0);
+    assert_true(tclod_selector_resolution(sel, back2) == 0.0);
+    assert_true(fabs(tclod_selector_resolution(sel, front1) - 0.5) < 1e-6);
+    assert_true(fabs(tclod_selector_resolution(sel, front2) - 0.5) < 1e-6);
+    tclod_selector_destroy(sel);
+}
+
+/* An object of radius 0.01 at 90 m projects to pi (500 / tan(pi/4) * 0.01 /
+ * sqrt(90^2 - 0.01^2))^2 = 0.0097 px², below the default small-detail area
+ * of 1 px²: no variable. The one of radius 1 at 10 m covers thousands of px².
+ * With smooth_cull_area 0 both get variables. */
+static void objects_below_the_small_detail_area_get_no_variable(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id near_object = add_object(f, 0.0f, 0.0f, -10.0f, 1.0f, 1.0);
+    tclod_id far_object = add_object(f, 5.0f, 0.0f, -90.0f, 0.01f, 1.0);
+    tclod_selector_desc d;
+    tclod_selector *sel = split_selector(f, 0, 0.0);
+    tclod_view view;
+    tclod_stats st;
+    float area;
+    float fb[4] = {5.0f, 0.0f, -90.0f, 0.01f};
+    helper_view(&view);
+    area = tclod_view_screen_area(&view, fb);
+    assert_true(area < 0.01f && area > 0.009f);
+    select_view(sel, &view, 1.0, &st);
+    assert_int_equal(st.variables, 1);
+    assert_true(tclod_selector_resolution(sel, near_object) > 0.0);
+    assert_true(tclod_selector_resolution(sel, far_object) == 0.0);
+    tclod_selector_destroy(sel);
+
+    tclod_selector_desc_default(&d);
+    d.solver = TCLOD_SOLVER_MIXED;
+    table_mixed_callbacks(&f->model, &d.callbacks);
+    d.smooth_cull_area = 0.0;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    select_view(sel, &view, 1.0, &st);
+    assert_int_equal(st.variables, 2);
+    assert_true(tclod_selector_resolution(sel, far_object) > 0.0);
+    tclod_selector_destroy(sel);
+}
+
+/* ---- the splitting criterion ---------------------------------------------------- */
+
+/* Four alike objects (a 2 x 2 grid, each its own quadrant): C_i = 1, n_i = 1,
+ * n = 4, so L = sqrt(X) (sqrt(4) - 4 / 2) = 0: one shared variable, even with
+ * theta = 0. Budget 2 of the 4 a full group costs: r = 1/2, spread to every
+ * member. */
+static void alike_objects_share_one_variable(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id ids[4];
+    const tclod_smooth_group *groups;
+    tclod_selector *sel;
+    tclod_stats st;
+    size_t n;
+    int i;
+    for (i = 0; i < 4; ++i) ids[i] = add_object(f, (float)(i % 2), 0.0f, (float)(i / 2), 0.1f, 1.0);
+    sel = split_selector(f, 1, 0.0);
+    select_view(sel, NULL, 2.0, &st);
+    assert_int_equal(st.variables, 1);
+    assert_int_equal(tclod_selector_smooth_groups(sel, &groups, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(groups[0].first, 0);
+    assert_int_equal(groups[0].count, 4);
+    assert_true(fabs(groups[0].resolution - 0.5) < 1e-6);
+    for (i = 0; i < 4; ++i)
+        assert_true(tclod_selector_resolution(sel, ids[i]) == groups[0].resolution);
+    tclod_selector_destroy(sel);
+}
+
+/* Two objects of weights 1 and w. Budget 2 covers the root group at full
+ * resolution (cost 2), so X = 2; C_root = 1 + w. L / (theta C_root
+ * sqrt(X / 2)) = (sqrt(2) sqrt(1 + w^2) / (1 + w) - 1) / theta:
+ *   w = 1.30: sqrt(2.69) = 1.640122, * 1.414214 / 2.3 = 1.008469 -> 0.847
+ *   w = 1.35: sqrt(2.8225) = 1.680030, * 1.414214 / 2.35 = 1.011031 -> 1.103
+ * with theta = 0.01: the first pair stays one variable, the second splits. */
+static void a_pair_splits_once_its_spread_outweighs_the_threshold(void **state) {
+    static const double weights[2] = {1.30, 1.35};
+    static const uint32_t expected[2] = {1, 2};
+    int k;
+    (void)state;
+    for (k = 0; k < 2; ++k) {
+        helper_fixture *f;
+        tclod_selector *sel;
+        tclod_stats st;
+        assert_int_equal(helper_fixture_setup((void **)&f), 0);
+        add_object(f, 0.0f, 0.0f, 0.0f, 0.1f, 1.0);
+        add_object(f, 1.0f, 0.0f, 0.0f, 0.1f, weights[k]);
+        sel = split_selector(f, 1, 0.01);
+        select_view(sel, NULL, 2.0, &st);
+        assert_int_equal(st.variables, expected[k]);
+        tclod_selector_destroy(sel);
+        helper_fixture_teardown((void **)&f);
+    }
+}
+
+/* One object of weight 10 and three of weight 1 in a 2 x 2 grid: L =
+ * sqrt(X) (sqrt(100 + 3) - 13 / 2) = 3.65 sqrt(X) against 0.01 * 13 *
+ * sqrt(X / 4) = 0.065 sqrt(X): the group splits into its four objects. */
+static void a_dominant_object_splits_its_group(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *sel;
+    tclod_stats st;
+    int i;
+    for (i = 0; i < 4; ++i)
+        add_object(f, (float)(i % 2), 0.0f, (float)(i / 2), 0.1f, i == 0 ? 10.0 : 1.0);
+    sel = split_selector(f, 1, 0.01);
+    select_view(sel, NULL, 1.0, &st);
+    assert_int_equal(st.variables, 4);
+    tclod_selector_destroy(sel);
+}
+
+/* ---- splitting against one variable per object ------------------------------------ */
+
+/* 64 objects on an 8 x 8 grid whose weights vary smoothly, as screen sizes do
+ * across a view. Splitting with theta = 0.05 uses fewer variables than one per
+ * object and loses at most theta of the benefit the unsplit solve reaches,
+ * counted object by object. */
+static void splitting_keeps_the_benefit_within_the_threshold(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *flat, *split;
+    tclod_stats st_flat, st_split;
+    double b_flat = 0.0, b_split = 0.0;
+    tclod_id i;
+    for (i = 0; i < 64; ++i) {
+        double x = (double)(i % 8), z = (double)(i / 8);
+        add_object(f, (float)x, 0.0f, (float)z, 0.1f, 1.0 + 0.02 * x * x + 0.01 * z);
+    }
+    flat = split_selector(f, 0, 0.0);
+    split = split_selector(f, 1, 0.05);
+    select_view(flat, NULL, 16.0, &st_flat);
+    select_view(split, NULL, 16.0, &st_split);
+    for (i = 0; i < 64; ++i) {
+        b_flat += table_smooth_benefit_of(&f->model, i, tclod_selector_resolution(flat, i), NULL);
+        b_split += table_smooth_benefit_of(&f->model, i, tclod_selector_resolution(split, i), NULL);
+    }
+    assert_int_equal(st_flat.variables, 64);
+    assert_true(st_split.variables < 64);
+    if (!(b_split >= b_flat * (1.0 - 0.05)))
+        fail_msg("split benefit %.9g, flat %.9g", b_split, b_flat);
+    assert_true(st_split.cost <= 16.0);
+    tclod_selector_destroy(flat);
+    tclod_selector_destroy(split);
+}
+
+/* Positions belong to the quadtree the result was made with: after the scene
+ * changes, lookups say 0 until the next selection. */
+static void resolutions_read_zero_after_the_scene_changed(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id a = add_object(f, 0.0f, 0.0f, 0.0f, 0.1f, 1.0), b;
+    tclod_selector *sel = split_selector(f, 0, 0.0);
+    tclod_stats st;
+    select_view(sel, NULL, 0.5, &st);
+    assert_true(fabs(tclod_selector_resolution(sel, a) - 0.5) < 1e-6);
+    b = add_object(f, 1.0f, 0.0f, 0.0f, 0.1f, 1.0);
+    assert_true(tclod_selector_resolution(sel, a) == 0.0);
+    assert_true(tclod_selector_resolution(sel, b) == 0.0);
+    select_view(sel, NULL, 0.5, &st);
+    assert_true(fabs(tclod_selector_resolution(sel, a) - 0.25) < 1e-6);
+    assert_true(fabs(tclod_selector_resolution(sel, b) - 0.25) < 1e-6);
+    tclod_selector_destroy(sel);
+}
+
+#define FIXTURE_TEST(t) cmocka_unit_test_setup_teardown(t, helper_fixture_setup, helper_fixture_teardown)
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        FIXTURE_TEST(quadtree_order_keeps_each_quadrant_contiguous),
+        FIXTURE_TEST(objects_outside_the_frustum_get_no_variable),
+        FIXTURE_TEST(objects_below_the_small_detail_area_get_no_variable),
+        FIXTURE_TEST(alike_objects_share_one_variable),
+        cmocka_unit_test(a_pair_splits_once_its_spread_outweighs_the_threshold),
+        FIXTURE_TEST(a_dominant_object_splits_its_group),
+        FIXTURE_TEST(splitting_keeps_the_benefit_within_the_threshold),
+        FIXTURE_TEST(resolutions_read_zero_after_the_scene_changed),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
