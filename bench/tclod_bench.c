@@ -223,8 +223,9 @@ static int run_config(world_scene *w, tclod_solver solver, int warm, double budg
  * variable splitting, over warm-up plus `frames` timed frames that cycle through
  * `views` views spread evenly over the camera loop. Returns 0 on success; a budget
  * violation or a library error is reported and returns 1. */
-static int run_thesis(thesis_scene *t, int split, int precondition, double budget,
-                      unsigned long frames, unsigned long views, double *times, bench_row *row) {
+static int run_thesis(thesis_scene *t, int split, int precondition, double theta,
+                      double budget, unsigned long frames, unsigned long views, double *times,
+                      bench_row *row) {
     tclod_selector_desc sd;
     tclod_selector *sel = NULL;
     tclod_status st;
@@ -238,6 +239,8 @@ static int run_thesis(thesis_scene *t, int split, int precondition, double budge
     sd.warm_start = 0;
     sd.split_smooth = split;
     sd.smooth_precondition = precondition;
+    if (theta >= 0.0)
+        sd.split_threshold = theta;
     st = tclod_selector_create(t->scene, &sd, NULL, &sel);
     if (st != TCLOD_OK) {
         fprintf(stderr, "tclod_bench: creating a mixed selector failed: %s\n",
@@ -376,7 +379,7 @@ static unsigned long thesis_mean_visible(const thesis_scene *t) {
 
 /* The thesis rows: split and flat with the default, preconditioned smooth steps,
  * then split with the papers' plain gradient steps (smooth_precondition 0). */
-static int bench_thesis(int quick, unsigned long frames) {
+static int bench_thesis(int quick, unsigned long frames, double theta) {
     thesis_desc d;
     thesis_scene t;
     tclod_status st;
@@ -417,7 +420,8 @@ static int bench_thesis(int quick, unsigned long frames) {
         bench_row row;
         int split = mode != 1, precondition = mode != 2;
         unsigned long n = split ? split_frames : views;
-        if (run_thesis(&t, split, precondition, THESIS_BUDGET_MS, n, views, times, &row) != 0) {
+        if (run_thesis(&t, split, precondition, theta, THESIS_BUDGET_MS, n, views, times,
+                       &row) != 0) {
             rc = 1;
             break;
         }
@@ -432,7 +436,8 @@ static int bench_thesis(int quick, unsigned long frames) {
 
 static void usage(FILE *out) {
     fprintf(out,
-            "usage: tclod_bench [--quick] [--scene NAME] [--objects N] [--frames N] [--help]\n"
+            "usage: tclod_bench [--quick] [--scene NAME] [--theta X] [--objects N] [--frames N]\n"
+            "                   [--help]\n"
             "\n"
             "Times tclod_select on random worlds of 10^3 ... 10^6 objects x 4 levels and on\n"
             "the flyover scene, cold (from the roots) and warm (from the previous frame), and\n"
@@ -442,6 +447,7 @@ static void usage(FILE *out) {
             "  --quick       10^3, 10^4 and 10^5 objects only, fewer thesis frames (under a\n"
             "                minute)\n"
             "  --scene NAME  one scene only: random, flyover or thesis\n"
+            "  --theta X     thesis rows: split_threshold X (default: the library's)\n"
             "  --objects N   one random world of N objects (and the other scenes) instead\n"
             "  --frames N    timed frames per configuration (default 200; 10^6 objects: N/4;\n"
             "                thesis: 20 views (--quick 10), flat times each once, split\n"
@@ -454,6 +460,7 @@ int main(int argc, char **argv) {
     uint32_t only_objects = 0;
     unsigned long frames = 200;
     const char *only_scene = NULL;
+    double theta = -1.0;
     int quick = 0, i;
     size_t k;
     double t_start = now_us();
@@ -494,6 +501,19 @@ int main(int argc, char **argv) {
                 return 2;
             }
             only_objects = (uint32_t)v;
+        } else if (strcmp(argv[i], "--theta") == 0) {
+            char *end;
+            if (i + 1 >= argc) {
+                fprintf(stderr, "tclod_bench: --theta needs a value\n");
+                return 2;
+            }
+            errno = 0;
+            theta = strtod(argv[++i], &end);
+            if (errno != 0 || *end != '\0' || !(theta >= 0.0) || isinf(theta)) {
+                fprintf(stderr, "tclod_bench: --theta expects a number >= 0, got '%s'\n",
+                        argv[i]);
+                return 2;
+            }
         } else if (strcmp(argv[i], "--frames") == 0) {
             char *end;
             if (i + 1 >= argc) {
@@ -574,7 +594,7 @@ int main(int argc, char **argv) {
         world_scene_free(&w);
     }
 
-    if ((!only_scene || strcmp(only_scene, "thesis") == 0) && bench_thesis(quick, frames) != 0)
+    if ((!only_scene || strcmp(only_scene, "thesis") == 0) && bench_thesis(quick, frames, theta) != 0)
         return 1;
     fprintf(stderr, "tclod_bench: done in %.1f s\n", (now_us() - t_start) / 1e6);
     return 0;
