@@ -49,21 +49,29 @@ void tclod_mem_free(const tclod_allocator *a, void *ptr, size_t size) {
     if (ptr) a->free(ptr, size ? size : 1, a->ctx);
 }
 
-tclod_status tclod_arrays_grow(const tclod_allocator *a, const tclod_array *arrays, size_t count,
-                               size_t old_cap, size_t new_cap) {
-    void *fresh[32];
+tclod_status tclod_arrays_alloc(const tclod_allocator *a, const tclod_array *arrays, size_t count,
+                                size_t new_cap, void **fresh) {
     size_t i;
-    assert(count <= sizeof fresh / sizeof fresh[0]);
-    assert(new_cap >= old_cap);
     for (i = 0; i < count; ++i) {
         if (new_cap > SIZE_MAX / arrays[i].elem) break;
         fresh[i] = tclod_mem_alloc(a, arrays[i].elem * new_cap);
         if (!fresh[i]) break;
     }
-    if (i < count) {
-        while (i-- > 0) tclod_mem_free(a, fresh[i], arrays[i].elem * new_cap);
-        return TCLOD_ERR_NOMEM;
-    }
+    if (i == count) return TCLOD_OK;
+    while (i-- > 0) tclod_mem_free(a, fresh[i], arrays[i].elem * new_cap);
+    return TCLOD_ERR_NOMEM;
+}
+
+void tclod_arrays_discard(const tclod_allocator *a, const tclod_array *arrays, size_t count,
+                          size_t new_cap, void **fresh) {
+    size_t i;
+    for (i = 0; i < count; ++i) tclod_mem_free(a, fresh[i], arrays[i].elem * new_cap);
+}
+
+void tclod_arrays_commit(const tclod_allocator *a, const tclod_array *arrays, size_t count,
+                         size_t old_cap, size_t new_cap, void **fresh) {
+    size_t i;
+    assert(new_cap >= old_cap);
     for (i = 0; i < count; ++i) {
         unsigned char *to = (unsigned char *)fresh[i];
         size_t elem = arrays[i].elem;
@@ -73,7 +81,16 @@ tclod_status tclod_arrays_grow(const tclod_allocator *a, const tclod_array *arra
         tclod_mem_free(a, *arrays[i].ptr, elem * old_cap);
         *arrays[i].ptr = fresh[i];
     }
-    return TCLOD_OK;
+}
+
+tclod_status tclod_arrays_grow(const tclod_allocator *a, const tclod_array *arrays, size_t count,
+                               size_t old_cap, size_t new_cap) {
+    void *fresh[TCLOD_MAX_ARRAYS];
+    tclod_status st;
+    assert(count <= TCLOD_MAX_ARRAYS);
+    st = tclod_arrays_alloc(a, arrays, count, new_cap, fresh);
+    if (st == TCLOD_OK) tclod_arrays_commit(a, arrays, count, old_cap, new_cap, fresh);
+    return st;
 }
 
 void tclod_arrays_free(const tclod_allocator *a, const tclod_array *arrays, size_t count,

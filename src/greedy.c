@@ -44,6 +44,7 @@ static int evaluate(tclod_selector *sel, tclod_id n) {
     q.view = sel->frame->view;
     q.screen_area = -1.0f;
     q.distance = -1.0f;
+    q.members = NULL;
     if (sel->has_view && s->bounds[4u * n + 3u] >= 0.0f)
         tclod_view_cache_measure(&sel->view, &s->bounds[4u * n], &q.screen_area, &q.distance);
     sel->stats.evaluations++;

@@ -26,11 +26,25 @@ typedef struct tclod_array {
     int fill;        /* byte written into new elements, or -1 to leave them */
 } tclod_array;
 
+/* The most arrays one block may hold. */
+#define TCLOD_MAX_ARRAYS 32
+
 /* Grows every array from old_cap to new_cap elements, all or nothing: either
  * every array is replaced by a larger copy (old contents kept, new elements
  * filled) and TCLOD_OK returned, or nothing changes and TCLOD_ERR_NOMEM. */
 tclod_status tclod_arrays_grow(const tclod_allocator *a, const tclod_array *arrays, size_t count,
                                size_t old_cap, size_t new_cap);
+
+/* The same in two steps, so that several blocks grow all or nothing together:
+ * alloc takes new_cap elements per array into fresh[] (TCLOD_ERR_NOMEM and
+ * nothing held on failure); then either commit (copy, fill, free the old) or
+ * discard (free fresh[]). */
+tclod_status tclod_arrays_alloc(const tclod_allocator *a, const tclod_array *arrays, size_t count,
+                                size_t new_cap, void **fresh);
+void tclod_arrays_commit(const tclod_allocator *a, const tclod_array *arrays, size_t count,
+                         size_t old_cap, size_t new_cap, void **fresh);
+void tclod_arrays_discard(const tclod_allocator *a, const tclod_array *arrays, size_t count,
+                          size_t new_cap, void **fresh);
 void tclod_arrays_free(const tclod_allocator *a, const tclod_array *arrays, size_t count,
                        size_t cap);
 

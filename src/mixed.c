@@ -616,7 +616,8 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
         *matched = best.t < top.t;
     }
     *budget_bound = limited && !*matched;
-    if (!(best.t > 0.0)) return 0;
+    /* no step at all when the line only loses (its slope starts below lambda) */
+    if (!(best.t > 0.0) || !(line_value(&L, &best) > line_value(&L, &origin))) return 0;
     if (L.last_t != best.t && line_eval(sel, &L, best.t, &best) != 0) return -1;
     if (!line_fits(&L, &best)) return 0; /* a host whose values changed */
     for (i = 0; i < n; ++i) {

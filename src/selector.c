@@ -56,7 +56,7 @@ void tclod_selector_desc_default(tclod_selector_desc *d) {
 /* Every per-node buffer of a selector, for growing and freeing them together.
  * Node records are filled with 0xff bytes: no cut or heap slot (TCLOD_NONE),
  * and a stamp no solve uses. */
-static size_t node_buffers(tclod_selector *sel, tclod_array out[11]) {
+static size_t node_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS]) {
     size_t n = 0;
     out[n++] = (tclod_array){(void **)&sel->node, sizeof(tclod_node_state), 0xff};
     out[n++] = (tclod_array){(void **)&sel->path, 2 * sizeof(double), 0};
@@ -74,7 +74,7 @@ static size_t node_buffers(tclod_selector *sel, tclod_array out[11]) {
 
 /* Every per-smooth-object buffer; the split stack holds up to one entry per
  * quadtree node, i.e. fewer than two per object. */
-static size_t smooth_buffers(tclod_selector *sel, tclod_array out[20]) {
+static size_t smooth_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS]) {
     tclod_vars *v = &sel->vars;
     size_t n = 0;
     out[n++] = (tclod_array){(void **)&v->first, sizeof(uint32_t), -1};
@@ -135,7 +135,7 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
 }
 
 void tclod_selector_destroy(tclod_selector *sel) {
-    tclod_array buffers[20];
+    tclod_array buffers[TCLOD_MAX_ARRAYS];
     tclod_allocator alloc;
     if (!sel || sel->busy) return;
     alloc = sel->alloc;
@@ -149,25 +149,36 @@ static uint32_t grown(uint32_t cap, uint32_t need) {
     return cap;
 }
 
-/* Grows the per-node and per-smooth-object buffers to the scene's size. The
- * smooth buffers are grown first: if the node buffers then fail, the larger
- * smooth buffers are kept, which no caller can observe. */
+/* Grows the per-node and per-smooth-object buffers to the scene's size, all
+ * or nothing. */
 static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth) {
-    tclod_array buffers[20];
-    tclod_status st;
-    if (sel->desc.solver == TCLOD_SOLVER_MIXED && smooth > sel->smooth_cap) {
-        uint32_t cap = grown(sel->smooth_cap, smooth);
-        st = tclod_arrays_grow(&sel->alloc, buffers, smooth_buffers(sel, buffers),
-                               sel->smooth_cap, cap);
-        if (st != TCLOD_OK) return st;
-        sel->smooth_cap = cap;
+    tclod_array node_arrays[TCLOD_MAX_ARRAYS], smooth_arrays[TCLOD_MAX_ARRAYS];
+    void *node_fresh[TCLOD_MAX_ARRAYS], *smooth_fresh[TCLOD_MAX_ARRAYS];
+    size_t node_count = node_buffers(sel, node_arrays);
+    size_t smooth_count = smooth_buffers(sel, smooth_arrays);
+    uint32_t cap = nodes > sel->cap ? grown(sel->cap, nodes) : sel->cap;
+    uint32_t smooth_cap = sel->desc.solver == TCLOD_SOLVER_MIXED && smooth > sel->smooth_cap
+                              ? grown(sel->smooth_cap, smooth)
+                              : sel->smooth_cap;
+    if (cap > sel->cap &&
+        tclod_arrays_alloc(&sel->alloc, node_arrays, node_count, cap, node_fresh) != TCLOD_OK)
+        return TCLOD_ERR_NOMEM;
+    if (smooth_cap > sel->smooth_cap &&
+        tclod_arrays_alloc(&sel->alloc, smooth_arrays, smooth_count, smooth_cap, smooth_fresh) !=
+            TCLOD_OK) {
+        if (cap > sel->cap)
+            tclod_arrays_discard(&sel->alloc, node_arrays, node_count, cap, node_fresh);
+        return TCLOD_ERR_NOMEM;
     }
-    if (nodes > sel->cap) {
-        uint32_t cap = grown(sel->cap, nodes);
-        st = tclod_arrays_grow(&sel->alloc, buffers, node_buffers(sel, buffers), sel->cap, cap);
-        if (st != TCLOD_OK) return st;
+    if (cap > sel->cap) {
+        tclod_arrays_commit(&sel->alloc, node_arrays, node_count, sel->cap, cap, node_fresh);
         sel->cap = cap;
         bind_heaps(sel);
+    }
+    if (smooth_cap > sel->smooth_cap) {
+        tclod_arrays_commit(&sel->alloc, smooth_arrays, smooth_count, sel->smooth_cap, smooth_cap,
+                            smooth_fresh);
+        sel->smooth_cap = smooth_cap;
     }
     return TCLOD_OK;
 }
