@@ -94,9 +94,8 @@ int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, float
         *c = cb->smooth_cost(cb->user, &q, xs, dc);
         if (value_bad(*c)) {
             bad_value(sel);
-            *c = HUGE_VAL;
-        }
-        if (value_bad(*dc)) {
+            *c = *dc = HUGE_VAL;
+        } else if (value_bad(*dc)) {
             bad_value(sel);
             *dc = HUGE_VAL;
         }

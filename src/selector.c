@@ -197,7 +197,7 @@ static void roll_back(tclod_selector *sel) {
         sel->node[sel->cut[i]].cut_pos = TCLOD_NONE;
         sel->flags[sel->cut[i]] = 0;
     }
-    memcpy(sel->cut, sel->prev_cut, sizeof(tclod_id) * sel->prev_count);
+    if (sel->prev_count) memcpy(sel->cut, sel->prev_cut, sizeof(tclod_id) * sel->prev_count);
     sel->cut_count = sel->prev_count;
     for (i = 0; i < sel->cut_count; ++i) sel->node[sel->cut[i]].cut_pos = i;
 }
@@ -228,7 +228,7 @@ static void commit(tclod_selector *sel) {
     }
     assert(cost <= sel->frame->budget);
     sel->result_count = n;
-    memcpy(sel->prev_cut, sel->cut, sizeof(tclod_id) * sel->cut_count);
+    if (sel->cut_count) memcpy(sel->prev_cut, sel->cut, sizeof(tclod_id) * sel->cut_count);
     sel->prev_count = sel->cut_count;
     sel->has_cut = 1;
     sel->scene_version = sel->scene->version;

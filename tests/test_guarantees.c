@@ -5,7 +5,10 @@
  * point absorption, bad callback values (sanitised or, in strict mode,
  * reported), bad arguments, determinism, no allocation per frame,
  * TCLOD_ERR_NOMEM without leaks or changes, and refusal of re-entry from
- * callbacks.
+ * callbacks. The same guarantees for the mixed solver (src/mixed.c,
+ * src/split.c) over 10,000 random instances of discrete hierarchies and
+ * smooth objects, with every group's cost recomputed member by member from
+ * the table, and the smooth order that groups and queries refer to.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -555,7 +558,7 @@ static void desc_default_fills_the_documented_values(void **state) {
     assert_null(d.callbacks.user);
     assert_int_equal(d.warm_start, 1);
     assert_int_equal(d.split_smooth, 0);
-    assert_true(d.split_threshold == 0.01);
+    assert_true(d.split_threshold == 0.1);
     assert_int_equal(d.strict, 0);
 }
 
@@ -1091,6 +1094,1319 @@ static void callbacks_cannot_reenter_their_selector(void **state) {
     tclod_selector_destroy(r.sel);
 }
 
+/* ---- the mixed solver ---------------------------------------------------- *
+ *
+ * The same guarantees for TCLOD_SOLVER_MIXED, whose result is the cut
+ * followed by the smooth groups. The checks recompute what the callbacks
+ * returned from the table_model itself: a group's cost is table_smooth_cost_of
+ * of its members (positions first .. first + count - 1 of
+ * tclod_scene_smooth_order) at the group's resolution, added in that order
+ * from 0.0, which is what table_smooth_cost returns for the group. */
+
+/* Largest smooth scene whose result a mixed_snapshot can hold. */
+#define SNAPSHOT_SMOOTH 1024u
+
+/* A copy of a mixed selection: cut, groups and every object's resolution. */
+typedef struct mixed_snapshot {
+    snapshot cut;
+    tclod_smooth_group groups[SNAPSHOT_SMOOTH];
+    size_t group_count;
+    double resolution[SNAPSHOT_SMOOTH];
+    uint32_t smooth_count;
+} mixed_snapshot;
+
+static void take_mixed_snapshot(const tclod_selector *sel, const tclod_scene *s,
+                                mixed_snapshot *ms) {
+    const tclod_smooth_group *groups = NULL;
+    uint32_t i;
+    take_snapshot(sel, &ms->cut);
+    assert_int_equal(tclod_selector_smooth_groups(sel, &groups, &ms->group_count), TCLOD_OK);
+    assert_true(ms->group_count <= SNAPSHOT_SMOOTH);
+    if (ms->group_count > 0)
+        memcpy(ms->groups, groups, ms->group_count * sizeof *groups);
+    ms->smooth_count = tclod_scene_smooth_count(s);
+    assert_true(ms->smooth_count <= SNAPSHOT_SMOOTH);
+    for (i = 0; i < ms->smooth_count; ++i)
+        ms->resolution[i] = tclod_selector_resolution(sel, i);
+}
+
+/* 1 when two group lists are bit-identical, field by field. */
+static int groups_identical(const tclod_smooth_group *a, const tclod_smooth_group *b, size_t n) {
+    size_t i;
+    for (i = 0; i < n; ++i)
+        if (a[i].first != b[i].first || a[i].count != b[i].count ||
+            memcmp(&a[i].resolution, &b[i].resolution, sizeof(double)) != 0 ||
+            memcmp(&a[i].benefit, &b[i].benefit, sizeof(double)) != 0 ||
+            memcmp(&a[i].cost, &b[i].cost, sizeof(double)) != 0)
+            return 0;
+    return 1;
+}
+
+/* Asserts the current result is the snapshot, bit for bit. */
+static void assert_mixed_snapshot(const tclod_selector *sel, const mixed_snapshot *ms) {
+    const tclod_smooth_group *groups = NULL;
+    size_t n = 0;
+    uint32_t i;
+    assert_snapshot(sel, &ms->cut);
+    assert_int_equal(tclod_selector_smooth_groups(sel, &groups, &n), TCLOD_OK);
+    assert_int_equal(n, ms->group_count);
+    assert_true(groups_identical(groups, ms->groups, n));
+    for (i = 0; i < ms->smooth_count; ++i) {
+        double r = tclod_selector_resolution(sel, i);
+        if (memcmp(&r, &ms->resolution[i], sizeof r) != 0)
+            fail_msg("resolution of smooth object %u changed: %.17g, was %.17g", (unsigned)i, r,
+                     ms->resolution[i]);
+    }
+}
+
+/* Asserts what a mixed selection over a table_model promises (DESIGN.md §5,
+ * tclod_select): the costs of the listed cut nodes, then those of the drawn
+ * groups recomputed member by member, summed in double in that order, are
+ * <= budget and are st->cost exactly; every group is a non-empty range of the
+ * smooth order, after the one before it, at a resolution in (0, 1], with the
+ * cost the callback returns for it; every member's resolution is its group's
+ * and every other object's 0. With exact_values (the callbacks return the
+ * table's values unchanged) also: the listed nodes form a cut, every group's
+ * benefit is the callback's and st->benefit is the sum in result order. */
+static void check_mixed_result(const tclod_selector *sel, tclod_scene *s, const table_model *m,
+                               const tclod_stats *st, double budget, int exact_values,
+                               unsigned long long tag) {
+    const tclod_id *ids = NULL, *order = NULL;
+    const tclod_smooth_group *groups = NULL;
+    size_t n = 0, ng = 0, g;
+    uint32_t count = 0, i;
+    double cost, benefit, *res;
+    assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+    if (exact_values && !exact_check_cut(m, ids, n, 1))
+        fail_msg("case %llu: the listed nodes are not a cut", tag);
+    cost = table_sum_cost(m, ids, n);
+    benefit = table_sum_benefit(m, ids, n);
+    assert_int_equal(tclod_scene_smooth_order(s, &order, &count), TCLOD_OK);
+    assert_int_equal(count, m->smooth.count);
+    assert_int_equal(tclod_selector_smooth_groups(sel, &groups, &ng), TCLOD_OK);
+    res = (double *)calloc(count ? count : 1u, sizeof *res);
+    assert_non_null(res);
+    for (g = 0; g < ng; ++g) {
+        const tclod_smooth_group *G = &groups[g];
+        double gc = 0.0, gb = 0.0;
+        if (!(G->resolution > 0.0 && G->resolution <= 1.0))
+            fail_msg("case %llu: group %u has resolution %.17g", tag, (unsigned)g, G->resolution);
+        if (G->count == 0 || G->first >= count || G->count > count - G->first)
+            fail_msg("case %llu: group %u = [%u, +%u) outside the %u objects", tag, (unsigned)g,
+                     (unsigned)G->first, (unsigned)G->count, (unsigned)count);
+        if (g > 0 && G->first < groups[g - 1].first + groups[g - 1].count)
+            fail_msg("case %llu: group %u overlaps or precedes the one before", tag, (unsigned)g);
+        for (i = G->first; i < G->first + G->count; ++i) {
+            gc += table_smooth_cost_of(m, order[i], G->resolution, NULL);
+            gb += table_smooth_benefit_of(m, order[i], G->resolution, NULL);
+            res[order[i]] = G->resolution;
+        }
+        if (G->cost != gc)
+            fail_msg("case %llu: group %u reports cost %.17g, its members cost %.17g", tag,
+                     (unsigned)g, G->cost, gc);
+        if (!(G->benefit >= 0.0) || isinf(G->benefit))
+            fail_msg("case %llu: group %u reports benefit %g", tag, (unsigned)g, G->benefit);
+        if (exact_values && G->benefit != gb)
+            fail_msg("case %llu: group %u reports benefit %.17g, its members give %.17g", tag,
+                     (unsigned)g, G->benefit, gb);
+        cost += gc;
+        benefit += G->benefit;
+    }
+    if (!(cost <= budget))
+        fail_msg("case %llu: cost %.17g in result order exceeds budget %.17g", tag, cost, budget);
+    if (st->cost != cost)
+        fail_msg("case %llu: stats.cost %.17g != %.17g summed in result order", tag, st->cost,
+                 cost);
+    if (exact_values && st->benefit != benefit)
+        fail_msg("case %llu: stats.benefit %.17g != %.17g summed in result order", tag, st->benefit,
+                 benefit);
+    for (i = 0; i < count; ++i) {
+        double r = tclod_selector_resolution(sel, i);
+        if (r != res[i])
+            fail_msg("case %llu: smooth object %u has resolution %.17g, its group %.17g", tag,
+                     (unsigned)i, r, res[i]);
+    }
+    free(res);
+}
+
+/* Adds a smooth object with random parameters (table_add_smooth): power
+ * (p in (0, 1]) or log (p in [0.5, 50)) benefit, weight in [0.1, 10) or
+ * (1 in 16) 0; half with a linear cost k r, half kinked (steep in 1.5 to 40
+ * times k, kink in (0, 0.2)); k in [0.05, 5) or (1 in 16) 0. It lies at a
+ * random place in [-extent, extent]² on the ground, radius in [0.05, 3), or
+ * (1 in 4) at place[], the place of the object before, so that quadtree
+ * leaves hold several objects. */
+static void random_smooth(table_model *m, tclod_scene *s, table_rng *rng, float extent,
+                          float place[4]) {
+    table_shape shape = table_rng_below(rng, 2) ? TABLE_LOG : TABLE_POWER;
+    double w = table_rng_below(rng, 16) == 0 ? 0.0 : table_rng_uniform(rng, 0.1, 10.0);
+    double p = shape == TABLE_POWER ? 1.0 - table_rng_uniform(rng, 0.0, 1.0)
+                                    : table_rng_uniform(rng, 0.5, 50.0);
+    double k = table_rng_below(rng, 16) == 0 ? 0.0 : table_rng_uniform(rng, 0.05, 5.0);
+    double steep = k, kink = 0.0;
+    if (table_rng_below(rng, 2)) {
+        steep = (k > 0.0 ? k : 0.5) * table_rng_uniform(rng, 1.5, 40.0);
+        kink = table_rng_uniform(rng, 0.001, 0.2);
+    }
+    if (m->smooth.count == 0 || table_rng_below(rng, 4) != 0) {
+        place[0] = (float)table_rng_uniform(rng, -extent, extent);
+        place[1] = (float)table_rng_uniform(rng, -1.0, 1.0);
+        place[2] = (float)table_rng_uniform(rng, -extent, extent);
+        place[3] = (float)table_rng_uniform(rng, 0.05, 3.0);
+    }
+    assert_int_equal(table_add_smooth(m, s, place, shape, w, p, k, steep, kink, NULL), TCLOD_OK);
+}
+
+/* A view from a random place in the scene's square at a random height,
+ * turned to a random heading and tilted down, with a random field of view and
+ * far plane: some objects lie behind it, beyond it or project tiny. */
+static void random_view(tclod_view *v, table_rng *rng, float extent) {
+    double heading = table_rng_uniform(rng, 0.0, 6.283185307179586);
+    helper_view(v);
+    v->eye[0] = (float)table_rng_uniform(rng, -extent, extent);
+    v->eye[1] = (float)table_rng_uniform(rng, 0.5, 10.0);
+    v->eye[2] = (float)table_rng_uniform(rng, -extent, extent);
+    v->forward[0] = (float)cos(heading);
+    v->forward[1] = (float)table_rng_uniform(rng, -0.5, 0.0);
+    v->forward[2] = (float)sin(heading);
+    v->fov_y = (float)table_rng_uniform(rng, 0.3, 1.5);
+    v->far_z = extent * (float)table_rng_uniform(rng, 0.5, 3.0) + 1.0f;
+}
+
+/* A mixed-solver description over m's table callbacks. */
+static void mixed_desc(tclod_selector_desc *d, table_model *m, int precondition, int split) {
+    tclod_selector_desc_default(d);
+    d->solver = TCLOD_SOLVER_MIXED;
+    table_mixed_callbacks(m, &d->callbacks);
+    d->smooth_precondition = precondition;
+    d->split_smooth = split;
+}
+
+/* Sum of every node's cost and every smooth object's cost at full
+ * resolution: no selection costs more. */
+static double full_cost(const table_model *m) {
+    double sum = 0.0;
+    uint32_t i;
+    for (i = 0; i < m->count; ++i)
+        sum += m->cost[i];
+    for (i = 0; i < m->smooth.count; ++i)
+        sum += table_smooth_cost_of(m, i, 1.0, NULL);
+    return sum;
+}
+
+static void mixed_budget_holds_on_ten_thousand_random_mixed_instances(void **state) {
+    /* Per instance: a random hierarchy of 0-8 nodes (diminishing or
+     * arbitrary values), 0-12 random smooth objects in a square of side 1,
+     * 40 or 400, both precondition modes, splitting on or off with thresholds
+     * from 0 to 10, small-detail culling off to 5000 px², sometimes other
+     * barrier and tolerance values. Two frames each: budget 0, unlimited, or
+     * uniform up to 1.25 times the full cost; a random view in 2 of 3 frames;
+     * an iteration limit of 1-6 in 1 of 8. Coverage counters make sure
+     * groups are drawn, shared and culled, so that the checks bite. */
+    static const float extents[] = {0.5f, 20.0f, 200.0f};
+    static const double cull_areas[] = {0.0, 1.0, 50.0, 5000.0};
+    static const double thresholds[] = {0.0, 0.01, 0.3, 10.0};
+    uint32_t drawn = 0, shared = 0, culled = 0, limited = 0, kinked_drawn = 0;
+    uint64_t seed;
+    (void)state;
+    for (seed = 1; seed <= 10000; ++seed) {
+        tclod_scene *s = NULL;
+        tclod_selector *sel = NULL;
+        tclod_selector_desc d;
+        table_model m;
+        table_rng rng;
+        float place[4] = {0.0f, 0.0f, 0.0f, 1.0f}, extent;
+        uint32_t nodes, smooth, i;
+        double full;
+        int frame;
+        table_rng_seed(&rng, seed);
+        table_init(&m);
+        assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+        nodes = table_rng_below(&rng, 9);
+        if (nodes > 0)
+            assert_int_equal(table_random_hierarchy(
+                                 &m, s, &rng, nodes,
+                                 1 + table_rng_below(&rng, nodes < 3 ? nodes : 3),
+                                 table_rng_below(&rng, 2) ? TABLE_ARBITRARY : TABLE_DIMINISHING),
+                             TCLOD_OK);
+        smooth = table_rng_below(&rng, 13);
+        extent = extents[table_rng_below(&rng, 3)];
+        for (i = 0; i < smooth; ++i)
+            random_smooth(&m, s, &rng, extent, place);
+        full = full_cost(&m);
+        mixed_desc(&d, &m, (int)table_rng_below(&rng, 2), (int)table_rng_below(&rng, 2));
+        d.split_threshold = thresholds[table_rng_below(&rng, 4)];
+        d.smooth_cull_area = cull_areas[table_rng_below(&rng, 4)];
+        if (table_rng_below(&rng, 4) == 0) {
+            d.smooth_epsilon = table_rng_uniform(&rng, 0.0, 0.5);
+            d.smooth_tolerance = table_rng_uniform(&rng, 0.0, 0.9);
+        }
+        assert_int_equal(tclod_selector_create(s, &d, NULL, &sel), TCLOD_OK);
+        for (frame = 0; frame < 2; ++frame) {
+            uint32_t kind = table_rng_below(&rng, 20);
+            double budget =
+                kind == 0 ? 0.0
+                          : (kind == 1 ? INFINITY : table_rng_uniform(&rng, 0.0, 1.25 * full));
+            tclod_view view;
+            tclod_frame f;
+            tclod_stats st;
+            const tclod_smooth_group *groups;
+            size_t ng, g;
+            int has_view = table_rng_below(&rng, 3) != 0;
+            if (has_view)
+                random_view(&view, &rng, extent);
+            f = helper_frame(has_view ? &view : NULL, budget);
+            if (table_rng_below(&rng, 8) == 0) {
+                f.max_iterations = 1 + table_rng_below(&rng, 6);
+                limited++;
+            }
+            if (tclod_select(sel, &f, &st) != TCLOD_OK)
+                fail_msg("case %llu: select failed", (unsigned long long)seed);
+            check_mixed_result(sel, s, &m, &st, budget, 1, (unsigned long long)seed);
+            assert_int_equal(st.invalid_values, 0);
+            assert_int_equal(tclod_selector_smooth_groups(sel, &groups, &ng), TCLOD_OK);
+            drawn += ng > 0;
+            for (g = 0; g < ng; ++g) {
+                const tclod_id *order;
+                uint32_t count;
+                assert_int_equal(tclod_scene_smooth_order(s, &order, &count), TCLOD_OK);
+                shared += groups[g].count > 1;
+                kinked_drawn += m.smooth.kink[order[groups[g].first]] > 0.0;
+            }
+            culled += has_view && !d.split_smooth && st.variables < smooth;
+        }
+        tclod_selector_destroy(sel);
+        tclod_scene_destroy(s);
+        table_free(&m);
+    }
+    if (drawn < 5000 || shared < 500 || culled < 1000 || limited < 1000 || kinked_drawn < 1000)
+        fail_msg("coverage: %u frames drew groups, %u groups shared, %u frames culled, "
+                 "%u frames limited, %u kinked groups drawn",
+                 (unsigned)drawn, (unsigned)shared, (unsigned)culled, (unsigned)limited,
+                 (unsigned)kinked_drawn);
+}
+
+/* What part of a smooth callback's answer a fault makes bad. */
+enum fault_part {
+    FAULT_BOTH = 0,      /* value and derivative (table_smooth.bad_after for benefits) */
+    FAULT_VALUE = 1,     /* the value; the derivative stays good */
+    FAULT_DERIVATIVE = 2 /* the derivative; the value stays good */
+};
+
+/* Table callbacks that hand out bad smooth values on request and count them:
+ * from the bad_after-th call of the chosen callback on, every call answers
+ * with bad_value in the chosen part. Benefit faults on both parts go through
+ * table_smooth.bad_after, the table's own mechanism. */
+typedef struct smooth_faults {
+    table_model *model;
+    int which;          /* 0: smooth_benefit, 1: smooth_cost */
+    int part;           /* an enum fault_part */
+    uint32_t bad_after; /* 0 = no fault (wrapper faults only) */
+    double bad_value;
+    uint32_t bad_calls;   /* calls that answered with a bad value or derivative */
+    uint32_t bad_numbers; /* bad values and derivatives handed out */
+} smooth_faults;
+
+static int value_is_bad(double v) {
+    return !(v >= 0.0) || isinf(v);
+}
+
+static double faulty_benefit(void *user, const tclod_query *q) {
+    return table_benefit(((smooth_faults *)user)->model, q);
+}
+
+static double faulty_cost(void *user, const tclod_query *q) {
+    return table_cost(((smooth_faults *)user)->model, q);
+}
+
+/* Applies a wrapper fault of callback `which` to a good answer (v, *d_dr). */
+static double apply_fault(smooth_faults *f, int which, double v, double *d_dr) {
+    if (f->which != which || f->bad_after == 0 || --f->bad_after != 0)
+        return v;
+    f->bad_after = 1; /* and every call after it */
+    if (f->part != FAULT_DERIVATIVE)
+        v = f->bad_value;
+    if (f->part != FAULT_VALUE)
+        *d_dr = f->bad_value;
+    return v;
+}
+
+/* Counts what a smooth callback answered. */
+static double count_faults(smooth_faults *f, double v, const double *d_dr) {
+    int bad = value_is_bad(v) + value_is_bad(*d_dr);
+    f->bad_calls += bad > 0;
+    f->bad_numbers += (uint32_t)bad;
+    return v;
+}
+
+static double faulty_smooth_benefit(void *user, const tclod_query *q, double r, double *d_dr) {
+    smooth_faults *f = (smooth_faults *)user;
+    double v = table_smooth_benefit(f->model, q, r, d_dr);
+    return count_faults(f, apply_fault(f, 0, v, d_dr), d_dr);
+}
+
+static double faulty_smooth_cost(void *user, const tclod_query *q, double r, double *d_dr) {
+    smooth_faults *f = (smooth_faults *)user;
+    double v = table_smooth_cost(f->model, q, r, d_dr);
+    return count_faults(f, apply_fault(f, 1, v, d_dr), d_dr);
+}
+
+static void faulty_desc(tclod_selector_desc *d, smooth_faults *f, int precondition, int split) {
+    mixed_desc(d, f->model, precondition, split);
+    d->callbacks.benefit = faulty_benefit;
+    d->callbacks.cost = faulty_cost;
+    d->callbacks.smooth_benefit = faulty_smooth_benefit;
+    d->callbacks.smooth_cost = faulty_smooth_cost;
+    d->callbacks.user = f;
+}
+
+/* Arms a fault: from the k-th call of the smooth benefit (which == 0) or
+ * cost (which == 1) on, `part` of every answer is `bad`; k = 0 disarms. */
+static void arm_fault(smooth_faults *f, int which, int part, uint32_t k, double bad) {
+    int table = which == 0 && part == FAULT_BOTH;
+    f->model->smooth.bad_after = table ? k : 0;
+    f->model->smooth.bad_value = bad;
+    f->which = which;
+    f->part = part;
+    f->bad_after = table ? 0 : k;
+    f->bad_value = bad;
+    f->bad_calls = f->bad_numbers = 0;
+}
+
+/* 10 discrete nodes and 16 smooth objects in a 40 x 40 square. */
+static void faulty_scene(table_model *m, tclod_scene *s, uint64_t seed) {
+    table_rng rng;
+    float place[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    uint32_t i;
+    table_rng_seed(&rng, seed);
+    assert_int_equal(table_random_hierarchy(m, s, &rng, 10, 2, TABLE_DIMINISHING), TCLOD_OK);
+    for (i = 0; i < 16; ++i)
+        random_smooth(m, s, &rng, 20.0f, place);
+}
+
+static const uint32_t fault_calls[] = {1, 2, 3, 5, 8, 13, 21, 34, 55, 89, 144, 377, 100000};
+
+static void bad_smooth_values_are_counted_and_the_budget_still_holds(void **state) {
+    /* Each bad value (NaN, inf, -inf, -1) as the k-th and every later smooth
+     * benefit, or cost, of a select: in the value, the derivative or both.
+     * Every bad number is counted in invalid_values: exactly when only one
+     * part is bad; when both are, the call is counted at least once and at
+     * most twice (the header leaves open whether a bad value's derivative
+     * counts apart). The budget holds, recomputed from the table. With k = 1
+     * every value is bad, so no group can be drawn: a bad benefit makes the
+     * group invisible, a bad cost its resolution unaffordable, even under an
+     * unlimited budget. k beyond the calls made leaves a clean frame. */
+    helper_fixture *f = (helper_fixture *)*state;
+    smooth_faults faults;
+    double budgets[2];
+    size_t v, k, b;
+    int which, part, mode;
+    uint32_t clean = 0;
+    faulty_scene(&f->model, f->scene, 41);
+    budgets[0] = 0.4 * full_cost(&f->model);
+    budgets[1] = INFINITY;
+    memset(&faults, 0, sizeof faults);
+    faults.model = &f->model;
+    for (mode = 0; mode < 4; ++mode) {
+        tclod_selector_desc d;
+        tclod_selector *sel = NULL;
+        faulty_desc(&d, &faults, mode & 1, mode >> 1);
+        assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+        for (v = 0; v < sizeof bad_values / sizeof bad_values[0]; ++v)
+            for (which = 0; which < 2; ++which)
+                for (part = 0; part < 3; ++part)
+                    for (k = 0; k < sizeof fault_calls / sizeof fault_calls[0]; ++k)
+                        for (b = 0; b < 2; ++b) {
+                            tclod_frame frame = helper_frame(NULL, budgets[b]);
+                            tclod_stats st;
+                            const tclod_smooth_group *groups;
+                            size_t ng;
+                            uint32_t calls, numbers;
+                            unsigned long long tag =
+                                (unsigned long long)(mode * 1000000 + v * 100000 + which * 10000 +
+                                                     part * 1000 + k * 10 + b);
+                            arm_fault(&faults, which, part, fault_calls[k], bad_values[v]);
+                            if (tclod_select(sel, &frame, &st) != TCLOD_OK)
+                                fail_msg("case %llu: select failed", tag);
+                            calls = faults.bad_calls;
+                            numbers = faults.bad_numbers;
+                            arm_fault(&faults, 0, FAULT_BOTH, 0, 0.0);
+                            if (part == FAULT_BOTH
+                                    ? st.invalid_values < calls || st.invalid_values > numbers
+                                    : st.invalid_values != numbers)
+                                fail_msg("case %llu: %u bad numbers in %u calls handed out, "
+                                         "%u counted",
+                                         tag, (unsigned)numbers, (unsigned)calls,
+                                         (unsigned)st.invalid_values);
+                            check_mixed_result(sel, f->scene, &f->model, &st, budgets[b],
+                                               calls == 0 || part == FAULT_DERIVATIVE, tag);
+                            assert_int_equal(tclod_selector_smooth_groups(sel, &groups, &ng),
+                                             TCLOD_OK);
+                            if (fault_calls[k] == 1) {
+                                assert_true(calls > 0);
+                                if (part != FAULT_DERIVATIVE && ng != 0)
+                                    fail_msg("case %llu: %u groups drawn with every %s bad", tag,
+                                             (unsigned)ng, which ? "cost" : "benefit");
+                            }
+                            clean += calls == 0;
+                        }
+        tclod_selector_destroy(sel);
+    }
+    assert_true(clean > 0); /* the largest k leaves some frames clean */
+}
+
+static void strict_mode_turns_bad_smooth_values_into_errors_and_keeps_the_result(void **state) {
+    /* A good selection first, with groups drawn; then each bad value as the
+     * k-th and later smooth benefit or cost, in the value, the derivative or
+     * both: the call fails with TCLOD_ERR_CALLBACK whenever a bad number was
+     * handed out (and succeeds otherwise), its stats are not written, and
+     * cut, groups and resolutions stay bit for bit what they were. */
+    helper_fixture *f = (helper_fixture *)*state;
+    smooth_faults faults;
+    double budget;
+    int mode;
+    faulty_scene(&f->model, f->scene, 43);
+    budget = 0.4 * full_cost(&f->model);
+    memset(&faults, 0, sizeof faults);
+    faults.model = &f->model;
+    for (mode = 0; mode < 4; ++mode) {
+        tclod_selector_desc d;
+        tclod_selector *sel = NULL;
+        tclod_frame frame = helper_frame(NULL, budget);
+        tclod_stats st;
+        mixed_snapshot *before = (mixed_snapshot *)malloc(sizeof *before);
+        size_t v, k;
+        int which, part;
+        assert_non_null(before);
+        faulty_desc(&d, &faults, mode & 1, mode >> 1);
+        d.strict = 1;
+        assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+        assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_OK);
+        check_mixed_result(sel, f->scene, &f->model, &st, budget, 1, (unsigned long long)mode);
+        take_mixed_snapshot(sel, f->scene, before);
+        assert_true(before->group_count > 0);
+        for (v = 0; v < sizeof bad_values / sizeof bad_values[0]; ++v)
+            for (which = 0; which < 2; ++which)
+                for (part = 0; part < 3; ++part)
+                    for (k = 0; k < sizeof fault_calls / sizeof fault_calls[0]; ++k) {
+                        tclod_status status;
+                        uint32_t calls;
+                        arm_fault(&faults, which, part, fault_calls[k], bad_values[v]);
+                        poison_stats(&st);
+                        status = tclod_select(sel, &frame, &st);
+                        calls = faults.bad_calls;
+                        arm_fault(&faults, 0, FAULT_BOTH, 0, 0.0);
+                        if (fault_calls[k] == 1)
+                            assert_true(calls > 0);
+                        if (calls > 0) {
+                            if (status != TCLOD_ERR_CALLBACK)
+                                fail_msg("mode %d: smooth %s part %d = %g (call %u on) gave "
+                                         "status %d",
+                                         mode, which ? "cost" : "benefit", part, bad_values[v],
+                                         (unsigned)fault_calls[k], (int)status);
+                            assert_stats_untouched(&st);
+                        } else {
+                            assert_int_equal(status, TCLOD_OK);
+                        }
+                        assert_mixed_snapshot(sel, before);
+                    }
+        /* Good values again: the selector carries on, to the same result. */
+        assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_OK);
+        assert_int_equal(st.invalid_values, 0);
+        assert_mixed_snapshot(sel, before);
+        tclod_selector_destroy(sel);
+        free(before);
+    }
+}
+
+static void scenes_without_nodes_or_smooth_objects_select_within_the_budget(void **state) {
+    /* Degenerate scenes: empty, smooth objects only, nodes only; greedy and
+     * mixed selectors. Every select succeeds within the budget (checked as
+     * everywhere else), and in strict mode a bad smooth value in a scene
+     * without nodes fails the call with the previous result kept. Run under
+     * -DTCLOD_SANITIZE=address,undefined this also checks that no buffer
+     * that was never allocated is handed to memcpy. */
+    static const float places[2][4] = {{0.0f, 0.0f, -5.0f, 1.0f}, {3.0f, 0.0f, -6.0f, 1.0f}};
+    int kind, solver;
+    (void)state;
+    for (kind = 0; kind < 3; ++kind)
+        for (solver = 0; solver < 2; ++solver) {
+            tclod_scene *s = NULL;
+            tclod_selector *sel = NULL;
+            tclod_selector_desc d;
+            table_model m;
+            tclod_stats st;
+            int i;
+            table_init(&m);
+            assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+            if (kind == 1) /* smooth objects only: sqrt benefits 2 and 1, cost r */
+                for (i = 0; i < 2; ++i)
+                    assert_int_equal(table_add_smooth(&m, s, places[i], TABLE_POWER, 2.0 - i, 0.5,
+                                                      1.0, 1.0, 0.0, NULL),
+                                     TCLOD_OK);
+            if (kind == 2) { /* nodes only: root (1, 1) -> child (2, 2) */
+                assert_int_equal(table_add_node(&m, s, TCLOD_NONE, NULL, 1.0, 1.0, NULL), TCLOD_OK);
+                assert_int_equal(table_add_node(&m, s, 0, NULL, 2.0, 2.0, NULL), TCLOD_OK);
+            }
+            mixed_desc(&d, &m, 1, 0);
+            if (solver == 0)
+                d.solver = TCLOD_SOLVER_GREEDY;
+            d.strict = 1;
+            assert_int_equal(tclod_selector_create(s, &d, NULL, &sel), TCLOD_OK);
+            select_ok(sel, 1.5, &st);
+            check_mixed_result(sel, s, &m, &st, 1.5, 1, (unsigned long long)(kind * 10 + solver));
+            if (kind == 1 && solver == 1) {
+                mixed_snapshot *before = (mixed_snapshot *)malloc(sizeof *before);
+                tclod_frame frame = helper_frame(NULL, 1.5);
+                assert_non_null(before);
+                assert_true(tclod_selector_resolution(sel, 0) > 0.0);
+                take_mixed_snapshot(sel, s, before);
+                m.smooth.bad_after = 1;
+                m.smooth.bad_value = NAN;
+                assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_ERR_CALLBACK);
+                m.smooth.bad_after = 0;
+                assert_mixed_snapshot(sel, before);
+                free(before);
+            }
+            select_ok(sel, 0.0, &st);
+            check_mixed_result(sel, s, &m, &st, 0.0, 1, (unsigned long long)(kind * 10 + solver));
+            tclod_selector_destroy(sel);
+            tclod_scene_destroy(s);
+            table_free(&m);
+        }
+}
+
+static void mixed_selectors_reject_bad_descriptions_and_arguments(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double bad_fractions[] = {-1e-300, -0.1, 1.0, 1.5, NAN, INFINITY, -INFINITY};
+    static const double bad_areas[] = {-1e-300, -1.0, NAN, INFINITY, -INFINITY};
+    tclod_selector *const sentinel = (tclod_selector *)(void *)f;
+    tclod_selector *out = sentinel, *sel = NULL;
+    tclod_selector_desc good, d;
+    const tclod_smooth_group *groups = NULL;
+    const tclod_id *order = NULL;
+    const float place[4] = {1.0f, 0.0f, -5.0f, 1.0f};
+    uint32_t count = 0;
+    size_t i, n = 99;
+    int solver;
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    assert_int_equal(
+        table_add_smooth(&f->model, f->scene, place, TABLE_POWER, 1.0, 0.5, 1.0, 1.0, 0.0, NULL),
+        TCLOD_OK);
+    mixed_desc(&good, &f->model, 1, 0);
+    /* The mixed solver needs both smooth callbacks. */
+    d = good;
+    d.callbacks.smooth_benefit = NULL;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
+    d = good;
+    d.callbacks.smooth_cost = NULL;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
+    d.callbacks.smooth_benefit = NULL;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
+    /* Option ranges are checked whatever the solver (the header lists them
+     * without condition). */
+    for (solver = 0; solver < 2; ++solver) {
+        good.solver = solver ? TCLOD_SOLVER_MIXED : TCLOD_SOLVER_GREEDY;
+        for (i = 0; i < sizeof bad_fractions / sizeof bad_fractions[0]; ++i) {
+            d = good;
+            d.smooth_epsilon = bad_fractions[i];
+            if (tclod_selector_create(f->scene, &d, NULL, &out) != TCLOD_ERR_ARG)
+                fail_msg("solver %d: smooth_epsilon %g accepted", solver, bad_fractions[i]);
+            d = good;
+            d.smooth_tolerance = bad_fractions[i];
+            if (tclod_selector_create(f->scene, &d, NULL, &out) != TCLOD_ERR_ARG)
+                fail_msg("solver %d: smooth_tolerance %g accepted", solver, bad_fractions[i]);
+        }
+        for (i = 0; i < sizeof bad_areas / sizeof bad_areas[0]; ++i) {
+            d = good;
+            d.smooth_cull_area = bad_areas[i];
+            if (tclod_selector_create(f->scene, &d, NULL, &out) != TCLOD_ERR_ARG)
+                fail_msg("solver %d: smooth_cull_area %g accepted", solver, bad_areas[i]);
+        }
+        assert_ptr_equal(out, sentinel);
+        /* The ends of the ranges are accepted. */
+        d = good;
+        d.smooth_epsilon = 0.0;
+        d.smooth_tolerance = nextafter(1.0, 0.0);
+        d.smooth_cull_area = 0.0;
+        assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_OK);
+        tclod_selector_destroy(out);
+        out = sentinel;
+        d = good;
+        d.smooth_epsilon = nextafter(1.0, 0.0);
+        d.smooth_tolerance = 0.0;
+        d.smooth_cull_area = DBL_MAX;
+        assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_OK);
+        tclod_selector_destroy(out);
+        out = sentinel;
+    }
+    good.solver = TCLOD_SOLVER_MIXED;
+    assert_int_equal(tclod_selector_create(f->scene, &good, NULL, &sel), TCLOD_OK);
+    /* Before the first selection: no groups, every resolution 0. */
+    assert_int_equal(tclod_selector_smooth_groups(sel, &groups, &n), TCLOD_OK);
+    assert_int_equal(n, 0);
+    assert_true(tclod_selector_resolution(sel, 0) == 0.0);
+    select_ok(sel, 10.0, NULL);
+    assert_true(tclod_selector_resolution(sel, 0) > 0.0); /* fits: cost 1 at r = 1 */
+    n = 99;
+    groups = NULL;
+    assert_int_equal(tclod_selector_smooth_groups(NULL, &groups, &n), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_selector_smooth_groups(sel, NULL, &n), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_selector_smooth_groups(sel, &groups, NULL), TCLOD_ERR_ARG);
+    assert_null(groups);
+    assert_int_equal(n, 99);
+    count = 77;
+    assert_int_equal(tclod_scene_smooth_order(NULL, &order, &count), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scene_smooth_order(f->scene, NULL, &count), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scene_smooth_order(f->scene, &order, NULL), TCLOD_ERR_ARG);
+    assert_null(order);
+    assert_int_equal(count, 77);
+    /* Unknown ids and no selector: 0. */
+    assert_true(tclod_selector_resolution(NULL, 0) == 0.0);
+    assert_true(tclod_selector_resolution(sel, 1) == 0.0);
+    assert_true(tclod_selector_resolution(sel, 12345) == 0.0);
+    assert_true(tclod_selector_resolution(sel, TCLOD_NONE) == 0.0);
+    tclod_selector_destroy(sel);
+    /* The greedy solver ignores smooth objects: no groups, resolution 0. */
+    d = good;
+    d.solver = TCLOD_SOLVER_GREEDY;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    select_ok(sel, 10.0, NULL);
+    assert_int_equal(tclod_selector_smooth_groups(sel, &groups, &n), TCLOD_OK);
+    assert_int_equal(n, 0);
+    assert_true(tclod_selector_resolution(sel, 0) == 0.0);
+    tclod_selector_destroy(sel);
+}
+
+/* A view-dependent smooth benefit: larger on screen. */
+static double view_smooth_benefit(void *user, const tclod_query *q, double r, double *d_dr) {
+    double scale = q->screen_area > 0.0f ? 1.0 + sqrt((double)q->screen_area) / 1000.0 : 1.0;
+    double b = table_smooth_benefit(user, q, r, d_dr);
+    *d_dr *= scale;
+    return b * scale;
+}
+
+/* A mixed selector with view-dependent benefits (view_benefit and
+ * view_smooth_benefit) over m. */
+static tclod_selector *mixed_view_selector(const tclod_scene *s, table_model *m, int precondition,
+                                           int split, const tclod_allocator *a) {
+    tclod_selector_desc d;
+    tclod_selector *sel = NULL;
+    mixed_desc(&d, m, precondition, split);
+    d.callbacks.benefit = view_benefit;
+    d.callbacks.smooth_benefit = view_smooth_benefit;
+    assert_int_equal(tclod_selector_create(s, &d, a, &sel), TCLOD_OK);
+    return sel;
+}
+
+/* 100 chains of 4 levels and `smooth` random smooth objects, all on
+ * [-50, 50]². */
+static void mixed_scene(table_model *m, tclod_scene *s, uint64_t seed, uint32_t smooth) {
+    table_rng rng;
+    float place[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    uint32_t i;
+    table_rng_seed(&rng, seed);
+    assert_int_equal(table_chains(m, s, &rng, 100, 4, 50.0f), TCLOD_OK);
+    for (i = 0; i < smooth; ++i)
+        random_smooth(m, s, &rng, 50.0f, place);
+}
+
+static void two_mixed_selectors_give_bit_identical_results(void **state) {
+    /* Pairs of mixed selectors, in both precondition modes, with splitting
+     * off and on, over the same scene and the same 30 frames (moving view,
+     * varied budgets, some without a view, some with iteration limits): cut,
+     * groups, every resolution and the stats are bit-identical. */
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *sel[8];
+    double full;
+    uint32_t drawn = 0;
+    int i, p;
+    mixed_scene(&f->model, f->scene, 47, 400);
+    full = full_cost(&f->model);
+    for (p = 0; p < 8; ++p)
+        sel[p] = mixed_view_selector(f->scene, &f->model, (p >> 1) & 1, p >> 2, NULL);
+    for (i = 0; i < 30; ++i) {
+        tclod_view v;
+        tclod_frame frame;
+        frame_view(&v, i);
+        frame = sequence_frame(i, &v, 0.1 * full);
+        for (p = 0; p < 8; p += 2) {
+            tclod_stats a, b;
+            const tclod_id *ids_a, *ids_b;
+            const tclod_smooth_group *g_a, *g_b;
+            size_t n_a, n_b;
+            uint32_t k;
+            assert_int_equal(tclod_select(sel[p], &frame, &a), TCLOD_OK);
+            assert_int_equal(tclod_select(sel[p + 1], &frame, &b), TCLOD_OK);
+            assert_int_equal(tclod_selector_cut(sel[p], &ids_a, &n_a), TCLOD_OK);
+            assert_int_equal(tclod_selector_cut(sel[p + 1], &ids_b, &n_b), TCLOD_OK);
+            assert_int_equal(n_a, n_b);
+            if (n_a > 0)
+                assert_memory_equal(ids_a, ids_b, n_a * sizeof *ids_a);
+            assert_int_equal(tclod_selector_smooth_groups(sel[p], &g_a, &n_a), TCLOD_OK);
+            assert_int_equal(tclod_selector_smooth_groups(sel[p + 1], &g_b, &n_b), TCLOD_OK);
+            assert_int_equal(n_a, n_b);
+            if (!groups_identical(g_a, g_b, n_a))
+                fail_msg("frame %d, pair %d: groups differ", i, p / 2);
+            drawn += n_a > 0;
+            for (k = 0; k < f->model.smooth.count; ++k) {
+                double r_a = tclod_selector_resolution(sel[p], k);
+                double r_b = tclod_selector_resolution(sel[p + 1], k);
+                assert_memory_equal(&r_a, &r_b, sizeof r_a);
+            }
+            assert_memory_equal(&a.benefit, &b.benefit, sizeof a.benefit);
+            assert_memory_equal(&a.cost, &b.cost, sizeof a.cost);
+            assert_int_equal(a.iterations, b.iterations);
+            assert_int_equal(a.increments, b.increments);
+            assert_int_equal(a.line_searches, b.line_searches);
+            assert_int_equal(a.variables, b.variables);
+            assert_int_equal(a.evaluations, b.evaluations);
+            assert_int_equal(a.stop_reason, b.stop_reason);
+            assert_true(a.cost <= frame.budget);
+        }
+    }
+    assert_true(drawn > 60); /* most frames draw groups in every pair */
+    for (p = 0; p < 8; ++p)
+        tclod_selector_destroy(sel[p]);
+}
+
+static void mixed_selects_after_the_first_allocate_nothing(void **state) {
+    /* Scene and four mixed selectors (both precondition modes, splitting off
+     * and on) on one counting allocator; after each selector's first select,
+     * 40 more with a moving view, varied budgets and limits, sometimes
+     * without a view (every object a variable), allocate nothing. */
+    test_alloc counter;
+    tclod_allocator hooks;
+    tclod_scene *s = NULL;
+    tclod_selector *sel[4];
+    table_model m;
+    double full;
+    size_t after_first;
+    int i, p;
+    (void)state;
+    test_alloc_init(&counter);
+    hooks = test_alloc_hooks(&counter);
+    table_init(&m);
+    assert_int_equal(tclod_scene_create(&hooks, &s), TCLOD_OK);
+    mixed_scene(&m, s, 53, 300);
+    full = full_cost(&m);
+    for (p = 0; p < 4; ++p) {
+        tclod_view v;
+        tclod_frame frame;
+        sel[p] = mixed_view_selector(s, &m, p & 1, p >> 1, &hooks);
+        frame_view(&v, 0);
+        frame = helper_frame(&v, 0.1 * full);
+        assert_int_equal(tclod_select(sel[p], &frame, NULL), TCLOD_OK);
+    }
+    after_first = counter.allocations;
+    for (i = 1; i <= 40; ++i) {
+        tclod_view v;
+        tclod_frame frame;
+        tclod_stats st;
+        frame_view(&v, i);
+        frame = sequence_frame(i, &v, 0.1 * full);
+        if (i % 6 == 3)
+            frame.solve_seconds = 1e-6;
+        assert_int_equal(tclod_select(sel[i % 4], &frame, &st), TCLOD_OK);
+        assert_true(st.cost <= frame.budget);
+        if (counter.allocations != after_first)
+            fail_msg("select %d allocated %u times", i,
+                     (unsigned)(counter.allocations - after_first));
+    }
+    for (p = 0; p < 4; ++p)
+        tclod_selector_destroy(sel[p]);
+    tclod_scene_destroy(s);
+    assert_int_equal(counter.outstanding_bytes, 0);
+    assert_int_equal(counter.outstanding_blocks, 0);
+    assert_int_equal(counter.bad_frees, 0);
+    table_free(&m);
+}
+
+/* Retries a mixed select with the k-th allocation of t failing, k = 1, 2,
+ * ...; each failure must return TCLOD_ERR_NOMEM, leave cut, groups and
+ * resolutions as `before`, the stats unwritten and t's outstanding bytes as
+ * they were. Returns the number of failures before success. */
+static size_t mixed_select_through_failures(tclod_selector *sel, test_alloc *t,
+                                            const tclod_frame *frame,
+                                            const mixed_snapshot *before) {
+    size_t k;
+    for (k = 1; k <= MAX_ALLOCATIONS_PER_CALL; ++k) {
+        size_t bytes = t->outstanding_bytes;
+        tclod_stats st;
+        tclod_status status;
+        poison_stats(&st);
+        test_alloc_fail_at(t, k);
+        status = tclod_select(sel, frame, &st);
+        if (status == TCLOD_OK)
+            break;
+        assert_int_equal(status, TCLOD_ERR_NOMEM);
+        assert_stats_untouched(&st);
+        assert_mixed_snapshot(sel, before);
+        assert_int_equal(t->outstanding_bytes, bytes);
+    }
+    assert_true(k <= MAX_ALLOCATIONS_PER_CALL);
+    test_alloc_fail_at(t, 0);
+    return k - 1;
+}
+
+static void mixed_select_reports_nomem_and_keeps_the_previous_result(void **state) {
+    /* The scene uses malloc and is prepared; only the selector's buffers come
+     * from the failing allocator. The first select fails at every allocation
+     * in turn with the empty result kept; then the scene grows from 60 to 460
+     * smooth objects (and 400 more nodes), the buffers must grow again and
+     * every failing select keeps the result of the smaller scene. */
+    helper_fixture *f = (helper_fixture *)*state;
+    mixed_snapshot *before = (mixed_snapshot *)malloc(sizeof *before);
+    test_alloc t;
+    tclod_allocator hooks;
+    tclod_selector_desc d;
+    tclod_selector *sel = NULL;
+    tclod_frame frame;
+    tclod_stats st;
+    table_rng rng;
+    float place[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    uint32_t i;
+    assert_non_null(before);
+    test_alloc_init(&t);
+    hooks = test_alloc_hooks(&t);
+    mixed_scene(&f->model, f->scene, 59, 60);
+    assert_int_equal(tclod_scene_prepare(f->scene), TCLOD_OK);
+    mixed_desc(&d, &f->model, 1, 1);
+    assert_int_equal(tclod_selector_create(f->scene, &d, &hooks, &sel), TCLOD_OK);
+    frame = helper_frame(NULL, 0.3 * full_cost(&f->model));
+    take_mixed_snapshot(sel, f->scene, before);
+    assert_int_equal(before->cut.n, 0);
+    assert_int_equal(before->group_count, 0);
+    assert_true(mixed_select_through_failures(sel, &t, &frame, before) > 0);
+    assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_OK);
+    check_mixed_result(sel, f->scene, &f->model, &st, frame.budget, 1, 1);
+
+    table_rng_seed(&rng, 61);
+    assert_int_equal(table_chains(&f->model, f->scene, &rng, 100, 4, 50.0f), TCLOD_OK);
+    for (i = 0; i < 400; ++i)
+        random_smooth(&f->model, f->scene, &rng, 50.0f, place);
+    assert_int_equal(tclod_scene_prepare(f->scene), TCLOD_OK);
+    take_mixed_snapshot(sel, f->scene, before);
+    assert_true(before->group_count > 0);
+    frame.budget = 0.3 * full_cost(&f->model);
+    assert_true(mixed_select_through_failures(sel, &t, &frame, before) > 0);
+    assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_OK);
+    check_mixed_result(sel, f->scene, &f->model, &st, frame.budget, 1, 2);
+    tclod_selector_destroy(sel);
+    assert_int_equal(t.outstanding_bytes, 0);
+    assert_int_equal(t.bad_frees, 0);
+    free(before);
+}
+
+/* Asserts that order[0 .. n) is a permutation of 0 .. n - 1. */
+static void assert_permutation(const tclod_id *order, uint32_t n) {
+    unsigned char *seen = (unsigned char *)calloc(n ? n : 1u, 1);
+    uint32_t i;
+    assert_non_null(seen);
+    for (i = 0; i < n; ++i) {
+        if (order[i] >= n || seen[order[i]])
+            fail_msg("smooth order[%u] = %u repeats or is out of range", (unsigned)i,
+                     (unsigned)order[i]);
+        seen[order[i]] = 1;
+    }
+    free(seen);
+}
+
+static void smooth_order_prepare_and_select_report_nomem_without_leaks(void **state) {
+    /* One failing allocator for scene and selector. tclod_scene_smooth_order
+     * on an unprepared scene of 300 smooth objects, then tclod_scene_prepare
+     * after 200 more, then the first mixed select after 100 more (it builds
+     * the quadtree itself): each fails at every allocation in turn with
+     * TCLOD_ERR_NOMEM and nothing written, and then succeeds; the scene works
+     * afterwards, and once everything is destroyed no byte is left. */
+    test_alloc t;
+    tclod_allocator hooks;
+    tclod_scene *s = NULL;
+    tclod_selector *sel = NULL;
+    tclod_selector_desc d;
+    table_model m;
+    table_rng rng;
+    tclod_frame frame;
+    tclod_stats st;
+    float place[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    const tclod_id *order = NULL;
+    uint32_t count = 0, i;
+    size_t k;
+    (void)state;
+    test_alloc_init(&t);
+    hooks = test_alloc_hooks(&t);
+    table_init(&m);
+    table_rng_seed(&rng, 67);
+    assert_int_equal(tclod_scene_create(&hooks, &s), TCLOD_OK);
+    assert_int_equal(table_random_hierarchy(&m, s, &rng, 50, 5, TABLE_DIMINISHING), TCLOD_OK);
+    for (i = 0; i < 300; ++i)
+        random_smooth(&m, s, &rng, 30.0f, place);
+    for (k = 1; k <= MAX_ALLOCATIONS_PER_CALL; ++k) {
+        const tclod_id *const sentinel = (const tclod_id *)(void *)&t;
+        size_t bytes = t.outstanding_bytes;
+        tclod_status status;
+        order = sentinel;
+        count = 77;
+        test_alloc_fail_at(&t, k);
+        status = tclod_scene_smooth_order(s, &order, &count);
+        if (status == TCLOD_OK)
+            break;
+        assert_int_equal(status, TCLOD_ERR_NOMEM);
+        assert_ptr_equal(order, sentinel);
+        assert_int_equal(count, 77);
+        assert_int_equal(t.outstanding_bytes, bytes);
+    }
+    assert_true(k > 1 && k <= MAX_ALLOCATIONS_PER_CALL);
+    test_alloc_fail_at(&t, 0);
+    assert_int_equal(count, 300);
+    assert_permutation(order, count);
+
+    for (i = 0; i < 200; ++i)
+        random_smooth(&m, s, &rng, 30.0f, place);
+    for (k = 1; k <= MAX_ALLOCATIONS_PER_CALL; ++k) {
+        size_t bytes = t.outstanding_bytes;
+        tclod_status status;
+        test_alloc_fail_at(&t, k);
+        status = tclod_scene_prepare(s);
+        if (status == TCLOD_OK)
+            break;
+        assert_int_equal(status, TCLOD_ERR_NOMEM);
+        assert_int_equal(t.outstanding_bytes, bytes);
+        assert_int_equal(tclod_scene_smooth_count(s), 500);
+    }
+    assert_true(k > 1 && k <= MAX_ALLOCATIONS_PER_CALL);
+    test_alloc_fail_at(&t, 0);
+    assert_int_equal(tclod_scene_smooth_order(s, &order, &count), TCLOD_OK);
+    assert_int_equal(count, 500);
+    assert_permutation(order, count);
+
+    for (i = 0; i < 100; ++i)
+        random_smooth(&m, s, &rng, 30.0f, place);
+    mixed_desc(&d, &m, 1, 1);
+    assert_int_equal(tclod_selector_create(s, &d, &hooks, &sel), TCLOD_OK);
+    frame = helper_frame(NULL, 0.3 * full_cost(&m));
+    for (k = 1; k <= MAX_ALLOCATIONS_PER_CALL; ++k) {
+        const tclod_id *ids;
+        const tclod_smooth_group *groups;
+        size_t n = 99, ng = 99;
+        tclod_status status;
+        test_alloc_fail_at(&t, k);
+        status = tclod_select(sel, &frame, NULL);
+        if (status == TCLOD_OK)
+            break;
+        /* The scene's index may stay built (a cache): bytes are counted at
+         * the end, as in failed_selects_leak_nothing_with_a_shared_allocator. */
+        assert_int_equal(status, TCLOD_ERR_NOMEM);
+        assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+        assert_int_equal(n, 0);
+        assert_int_equal(tclod_selector_smooth_groups(sel, &groups, &ng), TCLOD_OK);
+        assert_int_equal(ng, 0);
+    }
+    assert_true(k > 1 && k <= MAX_ALLOCATIONS_PER_CALL);
+    test_alloc_fail_at(&t, 0);
+    assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_OK);
+    check_mixed_result(sel, s, &m, &st, frame.budget, 1, 600);
+    assert_int_equal(tclod_scene_smooth_order(s, &order, &count), TCLOD_OK);
+    assert_int_equal(count, 600);
+    assert_permutation(order, count);
+    tclod_selector_destroy(sel);
+    tclod_scene_destroy(s);
+    assert_int_equal(t.outstanding_bytes, 0);
+    assert_int_equal(t.outstanding_blocks, 0);
+    assert_int_equal(t.bad_frees, 0);
+    table_free(&m);
+}
+
+/* ---- re-entry from smooth callbacks -------------------------------------- */
+
+typedef struct smooth_reentry {
+    table_model *model;
+    tclod_selector *sel;
+    const tclod_frame *frame;
+    int from_cost; /* re-enter from smooth_cost (1) or smooth_benefit (0) */
+    int calls;     /* re-entry is tried on call 0 only */
+    tclod_status select_status, cut_status, groups_status;
+    double resolution; /* of smooth object 0, asked during the solve */
+} smooth_reentry;
+
+static void try_reentry(smooth_reentry *r) {
+    if (r->calls++ == 0) {
+        const tclod_id *ids = NULL;
+        const tclod_smooth_group *groups = NULL;
+        size_t n = 0;
+        tclod_stats st;
+        r->select_status = tclod_select(r->sel, r->frame, &st);
+        r->cut_status = tclod_selector_cut(r->sel, &ids, &n);
+        r->groups_status = tclod_selector_smooth_groups(r->sel, &groups, &n);
+        r->resolution = tclod_selector_resolution(r->sel, 0);
+        tclod_selector_destroy(r->sel); /* ignored while solving */
+    }
+}
+
+static double reentrant_smooth_benefit(void *user, const tclod_query *q, double r, double *d_dr) {
+    smooth_reentry *e = (smooth_reentry *)user;
+    if (!e->from_cost)
+        try_reentry(e);
+    return table_smooth_benefit(e->model, q, r, d_dr);
+}
+
+static double reentrant_smooth_cost(void *user, const tclod_query *q, double r, double *d_dr) {
+    smooth_reentry *e = (smooth_reentry *)user;
+    if (e->from_cost)
+        try_reentry(e);
+    return table_smooth_cost(e->model, q, r, d_dr);
+}
+
+static double reentry_benefit(void *user, const tclod_query *q) {
+    return table_benefit(((smooth_reentry *)user)->model, q);
+}
+
+static double reentry_cost(void *user, const tclod_query *q) {
+    return table_cost(((smooth_reentry *)user)->model, q);
+}
+
+static void smooth_callbacks_cannot_reenter_their_selector(void **state) {
+    /* Root 0 (1, 1) -> 1 (2, 1.5); three smooth objects, sqrt benefits of
+     * weight 4, 2, 1 and linear costs 1: budget 4 draws some of them (object
+     * 0, the best, for sure). A first select without re-entry gives object 0
+     * a resolution > 0; in the next, the first smooth call (benefit, then
+     * cost) tries select, cut, groups, resolution and destroy: refused with
+     * TCLOD_ERR_STATE, resolution 0 during the solve, destroy ignored; the
+     * outer select succeeds with a valid result. */
+    helper_fixture *f = (helper_fixture *)*state;
+    static const float places[3][4] = {
+        {0.0f, 0.0f, -5.0f, 1.0f}, {10.0f, 0.0f, -5.0f, 1.0f}, {-10.0f, 0.0f, 8.0f, 1.0f}};
+    static const double weights[3] = {4.0, 2.0, 1.0};
+    tclod_frame frame = helper_frame(NULL, 4.0);
+    tclod_selector_desc d;
+    tclod_stats st;
+    smooth_reentry r;
+    int i, from_cost;
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, 0, 2.0, 1.5);
+    for (i = 0; i < 3; ++i)
+        assert_int_equal(table_add_smooth(&f->model, f->scene, places[i], TABLE_POWER, weights[i],
+                                          0.5, 1.0, 1.0, 0.0, NULL),
+                         TCLOD_OK);
+    for (from_cost = 0; from_cost < 2; ++from_cost) {
+        memset(&r, 0, sizeof r);
+        r.model = &f->model;
+        r.frame = &frame;
+        r.from_cost = from_cost;
+        r.calls = 1; /* no re-entry in the first select */
+        mixed_desc(&d, &f->model, 1, 0);
+        d.callbacks.benefit = reentry_benefit;
+        d.callbacks.cost = reentry_cost;
+        d.callbacks.smooth_benefit = reentrant_smooth_benefit;
+        d.callbacks.smooth_cost = reentrant_smooth_cost;
+        d.callbacks.user = &r;
+        assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &r.sel), TCLOD_OK);
+        assert_int_equal(tclod_select(r.sel, &frame, &st), TCLOD_OK);
+        check_mixed_result(r.sel, f->scene, &f->model, &st, 4.0, 1, (unsigned long long)from_cost);
+        assert_true(tclod_selector_resolution(r.sel, 0) > 0.0);
+        r.calls = 0;
+        r.select_status = r.cut_status = r.groups_status = TCLOD_OK;
+        r.resolution = -1.0;
+        assert_int_equal(tclod_select(r.sel, &frame, &st), TCLOD_OK);
+        assert_true(r.calls > 0);
+        assert_int_equal(r.select_status, TCLOD_ERR_STATE);
+        assert_int_equal(r.cut_status, TCLOD_ERR_STATE);
+        assert_int_equal(r.groups_status, TCLOD_ERR_STATE);
+        assert_true(r.resolution == 0.0);
+        check_mixed_result(r.sel, f->scene, &f->model, &st, 4.0, 1, (unsigned long long)from_cost);
+        assert_true(tclod_selector_resolution(r.sel, 0) > 0.0);
+        tclod_selector_destroy(r.sel);
+    }
+}
+
+/* ---- the smooth order ----------------------------------------------------- */
+
+/* Callbacks that check every query against the scene's smooth order (the
+ * inverse permutation `pos`), counting what does not match instead of failing
+ * inside the library. */
+typedef struct query_log {
+    table_model *model;
+    const tclod_id *order;
+    const uint32_t *pos;
+    uint32_t count;
+    uint32_t smooth_queries, largest_group;
+    uint32_t bad_members;             /* members NULL, count 0, members[0] != id, or not a range */
+    uint32_t node_queries, bad_nodes; /* node queries with members or count != 1 */
+} query_log;
+
+static void log_smooth_query(query_log *l, const tclod_query *q) {
+    uint32_t p;
+    if (l->order == NULL)
+        return;
+    l->smooth_queries++;
+    if (q->count > l->largest_group)
+        l->largest_group = q->count;
+    if (q->members == NULL || q->count == 0 || q->id >= l->count || q->members[0] != q->id) {
+        l->bad_members++;
+        return;
+    }
+    p = l->pos[q->id];
+    if (q->count > l->count - p ||
+        memcmp(q->members, l->order + p, q->count * sizeof *q->members) != 0)
+        l->bad_members++;
+}
+
+static void log_node_query(query_log *l, const tclod_query *q) {
+    l->node_queries++;
+    l->bad_nodes += q->members != NULL || q->count != 1;
+}
+
+static double log_benefit(void *user, const tclod_query *q) {
+    query_log *l = (query_log *)user;
+    log_node_query(l, q);
+    return table_benefit(l->model, q);
+}
+
+static double log_cost(void *user, const tclod_query *q) {
+    query_log *l = (query_log *)user;
+    log_node_query(l, q);
+    return table_cost(l->model, q);
+}
+
+static double log_smooth_benefit(void *user, const tclod_query *q, double r, double *d_dr) {
+    query_log *l = (query_log *)user;
+    log_smooth_query(l, q);
+    if (l->bad_members > 0) { /* do not read members that may be wrong */
+        *d_dr = 0.0;
+        return 0.0;
+    }
+    return table_smooth_benefit(l->model, q, r, d_dr);
+}
+
+static double log_smooth_cost(void *user, const tclod_query *q, double r, double *d_dr) {
+    query_log *l = (query_log *)user;
+    log_smooth_query(l, q);
+    if (l->bad_members > 0) {
+        *d_dr = 0.0;
+        return 0.0;
+    }
+    return table_smooth_cost(l->model, q, r, d_dr);
+}
+
+static void smooth_queries_name_contiguous_ranges_of_the_smooth_order(void **state) {
+    /* 300 smooth objects (a quarter sharing a place with the one before) and
+     * 400 chain nodes. tclod_scene_smooth_order is a permutation of 0 .. 299;
+     * every smooth query of every solve (both precondition modes, splitting
+     * off and on, with and without a view) has members[0] == id and members
+     * equal to order[pos(id) .. pos(id) + count). Splitting must ask about
+     * groups of several; the selectors do not change the order. */
+    helper_fixture *f = (helper_fixture *)*state;
+    const tclod_id *order = NULL, *again = NULL;
+    tclod_id *copy;
+    uint32_t *pos;
+    uint32_t count = 0, i;
+    query_log log;
+    double full;
+    int mode, frame;
+    mixed_scene(&f->model, f->scene, 71, 300);
+    full = full_cost(&f->model);
+    assert_int_equal(tclod_scene_smooth_order(f->scene, &order, &count), TCLOD_OK);
+    assert_int_equal(count, 300);
+    assert_permutation(order, count);
+    copy = (tclod_id *)malloc(count * sizeof *copy);
+    pos = (uint32_t *)malloc(count * sizeof *pos);
+    assert_non_null(copy);
+    assert_non_null(pos);
+    memcpy(copy, order, count * sizeof *copy);
+    for (i = 0; i < count; ++i)
+        pos[order[i]] = i;
+    memset(&log, 0, sizeof log);
+    log.model = &f->model;
+    log.order = order;
+    log.pos = pos;
+    log.count = count;
+    for (mode = 0; mode < 4; ++mode) {
+        tclod_selector_desc d;
+        tclod_selector *sel = NULL;
+        mixed_desc(&d, &f->model, mode & 1, mode >> 1);
+        d.callbacks.benefit = log_benefit;
+        d.callbacks.cost = log_cost;
+        d.callbacks.smooth_benefit = log_smooth_benefit;
+        d.callbacks.smooth_cost = log_smooth_cost;
+        d.callbacks.user = &log;
+        assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+        log.largest_group = 0;
+        for (frame = 0; frame < 6; ++frame) {
+            tclod_view v;
+            tclod_frame fr;
+            tclod_stats st;
+            frame_view(&v, frame);
+            fr = helper_frame(frame % 2 ? &v : NULL, (0.05 + 0.1 * frame) * full);
+            assert_int_equal(tclod_select(sel, &fr, &st), TCLOD_OK);
+            if (log.bad_members > 0)
+                fail_msg("mode %d frame %d: %u smooth queries off the order", mode, frame,
+                         (unsigned)log.bad_members);
+            check_mixed_result(sel, f->scene, &f->model, &st, fr.budget, 1,
+                               (unsigned long long)(mode * 10 + frame));
+        }
+        if (mode >> 1)
+            assert_true(log.largest_group > 1);
+        else
+            assert_int_equal(log.largest_group, 1);
+        tclod_selector_destroy(sel);
+    }
+    assert_true(log.smooth_queries > 0);
+    assert_int_equal(tclod_scene_smooth_order(f->scene, &again, &count), TCLOD_OK);
+    assert_int_equal(count, 300);
+    assert_memory_equal(again, copy, count * sizeof *copy);
+    free(pos);
+    free(copy);
+}
+
+/* Fills a stretch of stack with a byte pattern, so that whatever a later call
+ * leaves uninitialised on the stack is not 0 by chance. */
+static void paint_stack(void) {
+    volatile unsigned char area[16384];
+    size_t i;
+    for (i = 0; i < sizeof area; ++i)
+        area[i] = 0xa5;
+}
+
+static void node_queries_have_no_members_and_count_one(void **state) {
+    /* tclod_query.members is "NULL for nodes" and count "1 for nodes": every
+     * node query of the greedy and the mixed solver (with and without a view,
+     * smooth objects in the scene) says so, whatever was on the stack. */
+    helper_fixture *f = (helper_fixture *)*state;
+    query_log log;
+    double full;
+    int mode, frame;
+    mixed_scene(&f->model, f->scene, 73, 50);
+    full = full_cost(&f->model);
+    memset(&log, 0, sizeof log);
+    log.model = &f->model;
+    for (mode = 0; mode < 3; ++mode) {
+        tclod_selector_desc d;
+        tclod_selector *sel = NULL;
+        mixed_desc(&d, &f->model, mode & 1, 0);
+        if (mode == 2)
+            d.solver = TCLOD_SOLVER_GREEDY;
+        d.callbacks.benefit = log_benefit;
+        d.callbacks.cost = log_cost;
+        d.callbacks.smooth_benefit = log_smooth_benefit;
+        d.callbacks.smooth_cost = log_smooth_cost;
+        d.callbacks.user = &log; /* log.order NULL: smooth queries not checked */
+        assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+        for (frame = 0; frame < 4; ++frame) {
+            tclod_view v;
+            tclod_frame fr;
+            frame_view(&v, frame);
+            fr = helper_frame(frame % 2 ? &v : NULL, 0.2 * full);
+            paint_stack();
+            assert_int_equal(tclod_select(sel, &fr, NULL), TCLOD_OK);
+        }
+        tclod_selector_destroy(sel);
+    }
+    assert_true(log.node_queries > 0);
+    if (log.bad_nodes > 0)
+        fail_msg("%u of %u node queries have members != NULL or count != 1",
+                 (unsigned)log.bad_nodes, (unsigned)log.node_queries);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         FIXTURE_TEST(budget_holds_when_tiny_costs_are_absorbed),
@@ -1117,6 +2433,18 @@ int main(void) {
         FIXTURE_TEST(select_reports_nomem_and_keeps_the_previous_result),
         cmocka_unit_test(failed_selects_leak_nothing_with_a_shared_allocator),
         FIXTURE_TEST(callbacks_cannot_reenter_their_selector),
+        cmocka_unit_test(mixed_budget_holds_on_ten_thousand_random_mixed_instances),
+        FIXTURE_TEST(bad_smooth_values_are_counted_and_the_budget_still_holds),
+        FIXTURE_TEST(strict_mode_turns_bad_smooth_values_into_errors_and_keeps_the_result),
+        cmocka_unit_test(scenes_without_nodes_or_smooth_objects_select_within_the_budget),
+        FIXTURE_TEST(mixed_selectors_reject_bad_descriptions_and_arguments),
+        FIXTURE_TEST(two_mixed_selectors_give_bit_identical_results),
+        cmocka_unit_test(mixed_selects_after_the_first_allocate_nothing),
+        FIXTURE_TEST(mixed_select_reports_nomem_and_keeps_the_previous_result),
+        cmocka_unit_test(smooth_order_prepare_and_select_report_nomem_without_leaks),
+        FIXTURE_TEST(smooth_callbacks_cannot_reenter_their_selector),
+        FIXTURE_TEST(smooth_queries_name_contiguous_ranges_of_the_smooth_order),
+        FIXTURE_TEST(node_queries_have_no_members_and_count_one),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -170,7 +170,8 @@ typedef struct tclod_query {
  *          cost whatever the callbacks say. Derivatives are asked at r >= 1e-9
  *          (at 0 a square-root benefit has an infinite slope). NaN, inf or
  *          negative values and derivatives are counted like the other
- *          callbacks' and make the group invisible (bad benefit) or the
+ *          callbacks' (one count per call, whether the value, the slope or
+ *          both are bad) and make the group invisible (bad benefit) or the
  *          resolution unaffordable (bad cost). Required by the mixed solver;
  *          may be NULL for the greedy solver, which ignores smooth objects. */
 typedef struct tclod_callbacks {
@@ -430,11 +431,11 @@ TCLOD_API double tclod_cost_vertices(double c_vertex, double vertices);
 
 /* Benefit of representation r of an object (seed 004 §4.2):
  * accuracy * screen_size with
- * accuracy = max(1, screen_size / original_faces) / max(1, screen_size / faces),
- * i.e. faces / original_faces while the representation has fewer faces than
- * the object covers pixels, and 1 once either has at least a face per pixel:
- * diminishing returns. faces and original_faces > 0; 0 for a negative
- * screen_size. */
+ * accuracy = max(1, screen_size / original_faces) / max(1, screen_size / faces):
+ * faces / original_faces while both have fewer faces than the object covers
+ * pixels, faces / screen_size while only the representation has, and 1 once
+ * it has at least a face per pixel: diminishing returns. faces and
+ * original_faces > 0; 0 for a screen_size <= 0. */
 TCLOD_API double tclod_benefit_accuracy(double screen_size, double faces, double original_faces);
 
 #ifdef __cplusplus
