@@ -30,9 +30,7 @@
 
 static int value_bad(double v) { return !(v >= 0.0) || isinf(v); }
 
-/* Calls the callbacks for node n once per solve and caches the values.
- * Returns 0, or -1 when strict mode saw a bad value. */
-static int evaluate(tclod_selector *sel, tclod_id n) {
+int tclod_evaluate_node(tclod_selector *sel, tclod_id n) {
     const tclod_scene *s = sel->scene;
     const tclod_callbacks *cb = &sel->desc.callbacks;
     tclod_query q;
@@ -130,7 +128,7 @@ static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
     *failed = 0;
     if (count == 0 || !counts(sel, n)) return (double)NAN;
     for (i = 0; i < count; ++i) {
-        if (evaluate(sel, ch[i]) != 0) {
+        if (tclod_evaluate_node(sel, ch[i]) != 0) {
             *failed = 1;
             return (double)NAN;
         }
@@ -248,7 +246,7 @@ static double decrement_key(tclod_selector *sel, tclod_id p) {
 static int queue_decrement(tclod_selector *sel, tclod_id p, int append) {
     double key;
     if (p == TCLOD_NONE || tclod_heap_contains(&sel->dec, p) || !collapsible(sel, p)) return 0;
-    if (evaluate(sel, p) != 0) return -1;
+    if (tclod_evaluate_node(sel, p) != 0) return -1;
     key = decrement_key(sel, p);
     if (append)
         tclod_heap_append(&sel->dec, p, key);
@@ -380,7 +378,7 @@ static int start_cold(tclod_selector *sel) {
     clear_cut(sel);
     for (i = 0; i < s->root_count; ++i) {
         tclod_id r = s->roots[i];
-        if (evaluate(sel, r) != 0) return -1;
+        if (tclod_evaluate_node(sel, r) != 0) return -1;
         sel->path[2u * r] = sel->path[2u * r + 1u] = 0.0;
         cut_add(sel, r);
     }
@@ -400,7 +398,7 @@ static int start_warm(tclod_selector *sel) {
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id n = sel->cut[i];
         sel->flags[n] = 0;
-        if (evaluate(sel, n) != 0) return -1;
+        if (tclod_evaluate_node(sel, n) != 0) return -1;
         account(sel, n, 1.0);
     }
     for (i = 0; i < sel->cut_count; ++i) {

@@ -166,6 +166,16 @@ typedef struct tclod_var_model {
                                 kink is the better choice */
 } tclod_var_model;
 
+/* A node whose children share the time of the instance that ended at it. */
+typedef struct tclod_rh_frame {
+    tclod_id branch;    /* the node */
+    uint32_t next;      /* its next child to place */
+    double extra;       /* time left beyond the children's simplest levels */
+    double value_left;  /* value of the children not placed yet */
+    double alloc, base; /* the time the branch's instance had, and its simplest
+                           level's cost in the enclosing branch's accounting */
+} tclod_rh_frame;
+
 /* The smooth variables of one solve (split.c fills the first block, mixed.c
  * the rest), structure of arrays, one entry per variable; room for one
  * variable per smooth object. */
@@ -239,6 +249,21 @@ struct tclod_selector {
     uint32_t *split_node;          /* split.c's stack: quadtree nodes ... */
     double *split_x, *split_theta; /* ... their expected resolution and loss share */
 
+    /* Robin Hood (robin_hood.c): rh_cap elements each, rh_cap >= nodes + smooth */
+    uint32_t rh_cap;
+    uint32_t rh_version;      /* scene version the chains and the order describe; 0: none */
+    uint32_t rh_order_count;
+    uint32_t *rh_chain;       /* every chain of single children, coarse to fine, end to end */
+    uint32_t *rh_chain_at;    /* per node that starts a chain: where it starts in rh_chain */
+    uint32_t *rh_chain_len;   /* ... and its length */
+    tclod_id *rh_child;       /* per node with several children: them, least complex first
+                                 (in the scene's child ranges) */
+    uint32_t *rh_order;       /* the instances, least complex first: root ids, and smooth
+                                 ids + node count */
+    double *rh_key;           /* 2 per element: complexities and order keys while
+                                 sorting, then this frame's values */
+    tclod_rh_frame *rh_stack; /* the branches being shared out */
+
     uint32_t cut_count, prev_count, result_count;
     uint32_t solve_id;
     uint32_t scene_version; /* scene version the cut belongs to */
@@ -256,6 +281,12 @@ struct tclod_selector {
     double start_time;
     tclod_stats stats;
 };
+
+/* Calls the benefit and cost callbacks for node n once per solve and caches
+ * the values in sel->node[n] (cost asked only when the benefit is > 0; a bad
+ * benefit counts as 0, a bad cost as +inf). Returns 0, or -1 when strict mode
+ * saw a bad value. */
+int tclod_evaluate_node(tclod_selector *sel, tclod_id n);
 
 /* Runs TCLOD_SOLVER_GREEDY for sel->frame into the working cut. Returns
  * TCLOD_OK or TCLOD_ERR_CALLBACK (strict); the caller commits or rolls back. */
@@ -281,8 +312,9 @@ int tclod_out_of_time(tclod_selector *sel); /* sets stop_reason when it says 1 *
  * distance) and sanitises what they return: a bad benefit gives *b = *db = 0,
  * a bad benefit slope *db = 0, a bad cost *c = +inf, a bad cost slope
  * *dc = +inf; each is counted, and sets sel->failed in strict mode. Slopes are
- * asked at max(x, TCLOD_SLOPE_FLOOR). c and dc may be NULL: no cost asked.
- * Returns 1 when the benefit was bad, else 0. */
+ * asked at max(x, TCLOD_SLOPE_FLOOR). c and dc may be NULL: no cost asked;
+ * b and db may be NULL: no benefit asked. Returns 1 when the benefit was bad,
+ * else 0. */
 int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, float area,
                       float distance, double x, double *b, double *db, double *c, double *dc);
 
@@ -294,5 +326,8 @@ int tclod_split_variables(tclod_selector *sel);
 
 /* mixed.c: TCLOD_SOLVER_MIXED; returns as tclod_greedy_solve. */
 tclod_status tclod_mixed_solve(tclod_selector *sel);
+
+/* robin_hood.c: TCLOD_SOLVER_ROBIN_HOOD; returns as tclod_greedy_solve. */
+tclod_status tclod_robin_hood_solve(tclod_selector *sel);
 
 #endif /* TCLOD_INTERNAL_H */

@@ -79,15 +79,17 @@ int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, float
     q.distance = distance;
     q.members = s->smooth_order + first;
     sel->stats.evaluations++;
-    *db = 0.0;
-    *b = cb->smooth_benefit(cb->user, &q, xs, db);
-    if (value_bad(*b)) {
-        bad_value(sel);
-        *b = *db = 0.0;
-        bad = 1;
-    } else if (value_bad(*db)) {
-        bad_value(sel);
+    if (b) {
         *db = 0.0;
+        *b = cb->smooth_benefit(cb->user, &q, xs, db);
+        if (value_bad(*b)) {
+            bad_value(sel);
+            *b = *db = 0.0;
+            bad = 1;
+        } else if (value_bad(*db)) {
+            bad_value(sel);
+            *db = 0.0;
+        }
     }
     if (c) {
         *dc = 0.0;

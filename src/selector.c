@@ -36,7 +36,8 @@ const char *tclod_version_string(void) {
 }
 
 int tclod_solver_available(tclod_solver solver) {
-    return solver == TCLOD_SOLVER_GREEDY || solver == TCLOD_SOLVER_MIXED;
+    return solver == TCLOD_SOLVER_GREEDY || solver == TCLOD_SOLVER_MIXED ||
+           solver == TCLOD_SOLVER_ROBIN_HOOD;
 }
 
 void tclod_selector_desc_default(tclod_selector_desc *d) {
@@ -51,6 +52,9 @@ void tclod_selector_desc_default(tclod_selector_desc *d) {
     d->smooth_precondition = 1;
     d->smooth_tolerance = 0.05;
     d->smooth_cull_area = 1.0;
+    d->value = TCLOD_VALUE_AREA_SQRT_DEPTH;
+    d->misfit = TCLOD_MISFIT_DROP;
+    d->reference_area = 10000.0;
 }
 
 /* Every per-node buffer of a selector, for growing and freeing them together.
@@ -100,6 +104,19 @@ static size_t smooth_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRA
     return n;
 }
 
+/* The Robin Hood solver's buffers, one element per node and smooth object. */
+static size_t rh_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS]) {
+    size_t n = 0;
+    out[n++] = (tclod_array){(void **)&sel->rh_chain, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&sel->rh_chain_at, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&sel->rh_chain_len, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&sel->rh_child, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&sel->rh_order, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&sel->rh_key, 2 * sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&sel->rh_stack, sizeof(tclod_rh_frame), -1};
+    return n;
+}
+
 /* The heaps find their slots inside the node records. */
 static void bind_heaps(tclod_selector *sel) {
     uint32_t stride = (uint32_t)(sizeof(tclod_node_state) / sizeof(uint32_t));
@@ -123,6 +140,10 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
     if (!(d->smooth_epsilon >= 0.0 && d->smooth_epsilon < 1.0)) return TCLOD_ERR_ARG;
     if (!(d->smooth_tolerance >= 0.0 && d->smooth_tolerance < 1.0)) return TCLOD_ERR_ARG;
     if (!(d->smooth_cull_area >= 0.0) || isinf(d->smooth_cull_area)) return TCLOD_ERR_ARG;
+    if ((unsigned)d->value > (unsigned)TCLOD_VALUE_BENEFIT ||
+        (unsigned)d->misfit > (unsigned)TCLOD_MISFIT_COARSEST)
+        return TCLOD_ERR_ARG;
+    if (!(d->reference_area > 0.0) || isinf(d->reference_area)) return TCLOD_ERR_ARG;
     sel = (tclod_selector *)tclod_mem_alloc(&alloc, sizeof *sel);
     if (!sel) return TCLOD_ERR_NOMEM;
     memset(sel, 0, sizeof *sel);
@@ -141,6 +162,7 @@ void tclod_selector_destroy(tclod_selector *sel) {
     alloc = sel->alloc;
     tclod_arrays_free(&alloc, buffers, node_buffers(sel, buffers), sel->cap);
     tclod_arrays_free(&alloc, buffers, smooth_buffers(sel, buffers), sel->smooth_cap);
+    tclod_arrays_free(&alloc, buffers, rh_buffers(sel, buffers), sel->rh_cap);
     tclod_mem_free(&alloc, sel, sizeof *sel);
 }
 
@@ -149,36 +171,51 @@ static uint32_t grown(uint32_t cap, uint32_t need) {
     return cap;
 }
 
-/* Grows the per-node and per-smooth-object buffers to the scene's size, all
- * or nothing. */
+/* One block of buffers that may have to grow. */
+typedef struct growth {
+    tclod_array arrays[TCLOD_MAX_ARRAYS];
+    void *fresh[TCLOD_MAX_ARRAYS];
+    size_t count;
+    uint32_t *cap;   /* its capacity in the selector */
+    uint32_t new_cap;
+} growth;
+
+/* Grows the per-node, per-smooth-object and Robin Hood buffers to the scene's
+ * size, all or nothing. */
 static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth) {
-    tclod_array node_arrays[TCLOD_MAX_ARRAYS], smooth_arrays[TCLOD_MAX_ARRAYS];
-    void *node_fresh[TCLOD_MAX_ARRAYS], *smooth_fresh[TCLOD_MAX_ARRAYS];
-    size_t node_count = node_buffers(sel, node_arrays);
-    size_t smooth_count = smooth_buffers(sel, smooth_arrays);
-    uint32_t cap = nodes > sel->cap ? grown(sel->cap, nodes) : sel->cap;
-    uint32_t smooth_cap = sel->desc.solver == TCLOD_SOLVER_MIXED && smooth > sel->smooth_cap
-                              ? grown(sel->smooth_cap, smooth)
-                              : sel->smooth_cap;
-    if (cap > sel->cap &&
-        tclod_arrays_alloc(&sel->alloc, node_arrays, node_count, cap, node_fresh) != TCLOD_OK)
-        return TCLOD_ERR_NOMEM;
-    if (smooth_cap > sel->smooth_cap &&
-        tclod_arrays_alloc(&sel->alloc, smooth_arrays, smooth_count, smooth_cap, smooth_fresh) !=
+    growth g[3];
+    int uses_smooth = sel->desc.solver != TCLOD_SOLVER_GREEDY;
+    int i, k;
+    if (nodes + smooth < nodes) return TCLOD_ERR_NOMEM; /* ids beyond 32 bits */
+    g[0].count = node_buffers(sel, g[0].arrays);
+    g[0].cap = &sel->cap;
+    g[0].new_cap = nodes > sel->cap ? grown(sel->cap, nodes) : sel->cap;
+    g[1].count = smooth_buffers(sel, g[1].arrays);
+    g[1].cap = &sel->smooth_cap;
+    g[1].new_cap = uses_smooth && smooth > sel->smooth_cap ? grown(sel->smooth_cap, smooth)
+                                                           : sel->smooth_cap;
+    g[2].count = rh_buffers(sel, g[2].arrays);
+    g[2].cap = &sel->rh_cap;
+    g[2].new_cap = sel->desc.solver == TCLOD_SOLVER_ROBIN_HOOD && nodes + smooth > sel->rh_cap
+                       ? grown(sel->rh_cap, nodes + smooth)
+                       : sel->rh_cap;
+    for (i = 0; i < 3; ++i) {
+        if (g[i].new_cap == *g[i].cap) continue;
+        if (tclod_arrays_alloc(&sel->alloc, g[i].arrays, g[i].count, g[i].new_cap, g[i].fresh) !=
             TCLOD_OK) {
-        if (cap > sel->cap)
-            tclod_arrays_discard(&sel->alloc, node_arrays, node_count, cap, node_fresh);
-        return TCLOD_ERR_NOMEM;
+            for (k = 0; k < i; ++k)
+                if (g[k].new_cap != *g[k].cap)
+                    tclod_arrays_discard(&sel->alloc, g[k].arrays, g[k].count, g[k].new_cap,
+                                         g[k].fresh);
+            return TCLOD_ERR_NOMEM;
+        }
     }
-    if (cap > sel->cap) {
-        tclod_arrays_commit(&sel->alloc, node_arrays, node_count, sel->cap, cap, node_fresh);
-        sel->cap = cap;
-        bind_heaps(sel);
-    }
-    if (smooth_cap > sel->smooth_cap) {
-        tclod_arrays_commit(&sel->alloc, smooth_arrays, smooth_count, sel->smooth_cap, smooth_cap,
-                            smooth_fresh);
-        sel->smooth_cap = smooth_cap;
+    for (i = 0; i < 3; ++i) {
+        if (g[i].new_cap == *g[i].cap) continue;
+        tclod_arrays_commit(&sel->alloc, g[i].arrays, g[i].count, *g[i].cap, g[i].new_cap,
+                            g[i].fresh);
+        *g[i].cap = g[i].new_cap;
+        if (i == 0) bind_heaps(sel);
     }
     return TCLOD_OK;
 }
@@ -265,8 +302,11 @@ tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats
 
     sel->reserved = 0.0;
     sel->vars.count = 0;
-    status = sel->desc.solver == TCLOD_SOLVER_MIXED ? tclod_mixed_solve(sel)
-                                                     : tclod_greedy_solve(sel);
+    switch (sel->desc.solver) {
+    case TCLOD_SOLVER_MIXED: status = tclod_mixed_solve(sel); break;
+    case TCLOD_SOLVER_ROBIN_HOOD: status = tclod_robin_hood_solve(sel); break;
+    default: status = tclod_greedy_solve(sel); break;
+    }
     if (status != TCLOD_OK) {
         roll_back(sel);
     } else {

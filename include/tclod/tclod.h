@@ -180,6 +180,13 @@ typedef struct tclod_callbacks {
     double (*smooth_benefit)(void *user, const tclod_query *q, double r, double *d_dr);
     double (*smooth_cost)(void *user, const tclod_query *q, double r, double *d_dr);
     void *user; /* passed through unchanged */
+    /* complexity: Robin Hood solver, optional (NULL = the cost of the
+     *          instance's finest representation at tclod_selector_desc.
+     *          reference_area). How costly instance q->id (a node that starts
+     *          an instance, or a smooth object) is to draw well; instances are
+     *          visited from the least complex. Asked once per instance after
+     *          the scene changed, with no view. */
+    double (*complexity)(void *user, const tclod_query *q);
 } tclod_callbacks;
 
 /* ------------------------------------------------------------------------- */
@@ -248,6 +255,29 @@ typedef enum tclod_solver {
  * tclod_selector_create rejects the others with TCLOD_ERR_ARG. */
 TCLOD_API int tclod_solver_available(tclod_solver solver);
 
+/* Value functions of the Robin Hood solver (seed 003 eq. 8-11): how an
+ * instance's share of the render time follows its size and place. a is the
+ * instance's un-projected area (pi r² of its bounds), z its depth along the
+ * view direction, d its distance from the eye, I its importance: the benefit
+ * callback's value for the instance (its smooth_benefit at r = 1 for a smooth
+ * object). */
+typedef enum tclod_value {
+    TCLOD_VALUE_AREA_SQRT_DEPTH = 0,     /* a / sqrt(z) * I (eq. 8): even shares */
+    TCLOD_VALUE_AREA_DEPTH = 1,          /* a / z * I (eq. 9) */
+    TCLOD_VALUE_AREA_DEPTH2 = 2,         /* a / z² * I (eq. 10): near objects first */
+    TCLOD_VALUE_SQRT_AREA_DISTANCE2 = 3, /* sqrt(a) / d² * I (eq. 11): the screen's middle */
+    TCLOD_VALUE_BENEFIT = 4              /* I alone: the host's own value */
+} tclod_value;
+
+/* What the Robin Hood solver does with an instance whose simplest
+ * representation costs more than its share. */
+typedef enum tclod_misfit {
+    TCLOD_MISFIT_DROP = 0,    /* not drawn; its share goes on to the instances after it
+                                 (seed 003 §5.2) */
+    TCLOD_MISFIT_COARSEST = 1 /* drawn at its simplest representation when the render
+                                 time still left covers it, else not drawn */
+} tclod_misfit;
+
 typedef struct tclod_selector_desc {
     tclod_solver solver;       /* default TCLOD_SOLVER_GREEDY */
     tclod_callbacks callbacks; /* benefit and cost required; default all NULL */
@@ -286,7 +316,16 @@ typedef struct tclod_selector_desc {
                                   Default 0.05 */
     double smooth_cull_area;   /* small-detail culling: smooth groups whose bounds
                                   project to fewer px² get no variable (not
-                                  drawn). >= 0; 0 = off. Default 1 */
+                                  drawn). >= 0; 0 = off. Default 1. The Robin Hood
+                                  solver culls smooth objects the same way */
+    /* The Robin Hood solver (docs/robin_hood.md). */
+    tclod_value value;         /* value function. Default TCLOD_VALUE_AREA_SQRT_DEPTH */
+    tclod_misfit misfit;       /* instances whose simplest representation exceeds
+                                  their share. Default TCLOD_MISFIT_DROP */
+    double reference_area;     /* px²: the projected area at which an instance's
+                                  complexity (the cost of its finest representation)
+                                  is measured when callbacks.complexity is NULL.
+                                  > 0. Default 10000 */
 } tclod_selector_desc;
 
 /* Fills d with the defaults above. */
@@ -339,7 +378,8 @@ typedef struct tclod_selector tclod_selector;
  * NULL (malloc/free). Errors: TCLOD_ERR_ARG (NULL s, d or out; a solver this
  * build does not provide; benefit or cost callback NULL; the mixed solver
  * without smooth_benefit or smooth_cost; split_threshold, smooth_epsilon,
- * smooth_tolerance or smooth_cull_area NaN or out of range), TCLOD_ERR_NOMEM. */
+ * smooth_tolerance, smooth_cull_area, value, misfit or reference_area NaN or
+ * out of range), TCLOD_ERR_NOMEM. */
 TCLOD_API tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_desc *d,
                                              const tclod_allocator *a, tclod_selector **out);
 
@@ -437,6 +477,78 @@ TCLOD_API double tclod_cost_vertices(double c_vertex, double vertices);
  * it has at least a face per pixel: diminishing returns. faces and
  * original_faces > 0; 0 for a screen_size <= 0. */
 TCLOD_API double tclod_benefit_accuracy(double screen_size, double faces, double original_faces);
+
+/* Value of an instance by one of the Robin Hood value functions (seed 003
+ * eq. 8-11): area a (un-projected, >= 0), depth z and distance d (> 0),
+ * importance I (>= 0). 0 for NaN or out-of-range inputs. */
+TCLOD_API double tclod_value_of(tclod_value f, double area, double depth, double distance,
+                                double importance);
+
+/* ------------------------------------------------------------------------- */
+/* Frame time                                                                */
+/* ------------------------------------------------------------------------- */
+
+/* The render time that fits a target frame time (seed 003 eq. 5-7), for a
+ * machine where CPU (logic) and GPU (render) work in parallel: with
+ * l = min(1, (logic_time / frame_time)²) and rho = 1 - l,
+ * *render_time = rho² * frame_time / machine_c. Times in the host's unit (ms).
+ * Errors: TCLOD_ERR_ARG (NULL render_time; frame_time <= 0; logic_time < 0;
+ * machine_c <= 0; any of them NaN or inf), and *render_time is not written. */
+TCLOD_API tclod_status tclod_render_budget(double frame_time, double logic_time,
+                                           double machine_c, double *render_time);
+
+/* Calibration of predicted cost against measured time (seed 004 §4.2, seed 003
+ * §5.3): the host reports, after each frame, the predicted cost of what it drew
+ * (tclod_stats.cost) and the render and logic times it measured; an
+ * exponentially weighted ratio measured / predicted then turns a target frame
+ * time into the budget to select with. The ratio rises fast (frames became
+ * slower than predicted: cut the budget now) and falls slowly, and ignores
+ * changes within a dead band, like the frame-rate controllers of engines. */
+typedef struct tclod_calib tclod_calib;
+
+typedef struct tclod_calib_desc {
+    double initial_scale; /* measured render time per unit of predicted cost to start
+                             from, > 0. Default 1 */
+    double rise_rate;     /* weight of a new measurement when the ratio rises, (0, 1].
+                             Default 0.5 */
+    double fall_rate;     /* weight when it falls, (0, 1]. Default 0.1 */
+    double dead_band;     /* relative change of the ratio that is ignored, in [0, 1).
+                             Default 0.01 */
+    double logic_rate;    /* weight of a new logic-time measurement, (0, 1]. Default 0.2 */
+    double initial_logic; /* logic time to start from, >= 0, host unit. Default 0 */
+    double machine_c;     /* eq. 7's machine constant C, > 0. Default 1 */
+} tclod_calib_desc;
+
+/* Fills d with the defaults above. */
+TCLOD_API void tclod_calib_desc_default(tclod_calib_desc *d);
+
+/* Creates a calibration state. d is copied; a may be NULL (malloc/free).
+ * Errors: TCLOD_ERR_ARG (NULL d or out, a field out of range or NaN),
+ * TCLOD_ERR_NOMEM. */
+TCLOD_API tclod_status tclod_calib_create(const tclod_calib_desc *d, const tclod_allocator *a,
+                                          tclod_calib **out);
+
+/* Frees c. NULL is allowed. */
+TCLOD_API void tclod_calib_destroy(tclod_calib *c);
+
+/* Reports one frame: the predicted cost of what was drawn (>= 0; a frame that
+ * drew nothing, cost 0, leaves the ratio as it is), the measured render time
+ * and the measured logic time (>= 0, host unit). Errors: TCLOD_ERR_ARG (NULL
+ * c, a negative, NaN or infinite value), and nothing changes. */
+TCLOD_API tclod_status tclod_calib_report(tclod_calib *c, double predicted_cost,
+                                          double render_time, double logic_time);
+
+/* The current ratio measured render time / predicted cost (> 0), and logic-time
+ * estimate (>= 0). 0 for NULL. */
+TCLOD_API double tclod_calib_scale(const tclod_calib *c);
+TCLOD_API double tclod_calib_logic(const tclod_calib *c);
+
+/* The budget, in predicted-cost units, for a target frame time: the render
+ * time tclod_render_budget gives for the logic estimate and machine_c, divided
+ * by the ratio. Errors: TCLOD_ERR_ARG (NULL argument, frame_time <= 0, NaN or
+ * inf), and *budget is not written. */
+TCLOD_API tclod_status tclod_calib_budget(const tclod_calib *c, double frame_time,
+                                          double *budget);
 
 #ifdef __cplusplus
 }

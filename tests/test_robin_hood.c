@@ -1,0 +1,399 @@
+/*
+ * test_robin_hood — the Robin Hood solver (src/robin_hood.c, seed 003 §5):
+ * shares proportional to value (eq. 2-4), leftover passed on, the
+ * simple-to-complex order, the value functions (eq. 8-11), the misfit
+ * policies, smooth objects' inverse cost, branches, and the budget.
+ *
+ * Instances are chains of nodes (table model: fixed costs per level) and
+ * smooth objects (benefit w sqrt(r), cost k r). With TCLOD_VALUE_BENEFIT an
+ * instance's value is its importance, the benefit of its first level, which
+ * lets the tests set values directly; the frames have no view unless said.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <tclod/tclod.h>
+
+#include "helpers.h"
+#include "table_scene.h"
+
+/* A chain with the given level costs, every level of benefit `value`. Returns
+ * the first level's id; level k is that id + k. */
+static tclod_id add_chain(helper_fixture *f, double value, const double *costs, int levels) {
+    tclod_id first = helper_add(f, TCLOD_NONE, value, costs[0]), prev = first;
+    int k;
+    for (k = 1; k < levels; ++k) prev = helper_add(f, prev, value, costs[k]);
+    return first;
+}
+
+static tclod_selector *rh_selector(helper_fixture *f, tclod_value value, tclod_misfit misfit) {
+    tclod_selector_desc d;
+    tclod_selector *sel = NULL;
+    tclod_selector_desc_default(&d);
+    d.solver = TCLOD_SOLVER_ROBIN_HOOD;
+    table_mixed_callbacks(&f->model, &d.callbacks);
+    d.value = value;
+    d.misfit = misfit;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    return sel;
+}
+
+static void select_rh(tclod_selector *sel, const tclod_view *view, double budget,
+                      tclod_stats *st) {
+    tclod_frame fr = helper_frame(view, budget);
+    assert_int_equal(tclod_select(sel, &fr, st), TCLOD_OK);
+}
+
+/* 1 when node id is listed in the cut. */
+static int listed(const tclod_selector *sel, tclod_id id) {
+    const tclod_id *ids;
+    size_t n, i;
+    assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+    for (i = 0; i < n; ++i)
+        if (ids[i] == id) return 1;
+    return 0;
+}
+
+/* ---- shares and leftover -------------------------------------------------------- */
+
+/* Four equal chains (levels costing 1, 2, 4, 8), equal values, budget 8 (less
+ * the pass's margin): shares 8/4 = 2 each, so every chain takes its level 1. */
+static void equal_values_get_equal_shares(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double costs[4] = {1.0, 2.0, 4.0, 8.0};
+    tclod_id chains[4];
+    tclod_selector *sel;
+    tclod_stats st;
+    int i;
+    for (i = 0; i < 4; ++i) chains[i] = add_chain(f, 1.0, costs, 4);
+    sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
+    select_rh(sel, NULL, 8.0 * (1.0 + 1e-6), &st);
+    for (i = 0; i < 4; ++i) assert_true(listed(sel, chains[i] + 1u));
+    assert_true(st.cost == 8.0);
+    tclod_selector_destroy(sel);
+}
+
+/* Three instances of equal value, least complex first: A (finest level costs
+ * 1), B (levels 1, 2, 3.5), C (levels 2, 4.5, 10). Budget 9:
+ *   A: share 9/3 = 3, takes 1, leaves 2: pool 8;
+ *   B: share 8/2 = 4, takes 3.5, leaves 0.5: pool 4.5;
+ *   C: share 4.5, takes 4.5.
+ * Without the leftover C would have had 9/3 = 3 and taken 2. */
+static void leftover_of_a_simple_instance_reaches_a_complex_one(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double ca[1] = {1.0}, cb[3] = {1.0, 2.0, 3.5}, cc[3] = {2.0, 4.5, 10.0};
+    tclod_id a, b, c;
+    tclod_selector *sel;
+    tclod_stats st;
+    c = add_chain(f, 1.0, cc, 3);
+    b = add_chain(f, 1.0, cb, 3);
+    a = add_chain(f, 1.0, ca, 1);
+    sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
+    select_rh(sel, NULL, 9.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, a));
+    assert_true(listed(sel, b + 2u));
+    assert_true(listed(sel, c + 1u));
+    assert_true(st.cost == 1.0 + 3.5 + 4.5);
+    tclod_selector_destroy(sel);
+}
+
+/* Equal values, budget 10: K (levels 2, 9), created first, and S (one level
+ * costing 1). Simple first: S's share 5 leaves 4, K's share 9 takes its level
+ * 1. In creation order K would have had 5 and taken 2. A complexity callback
+ * that calls S the more complex turns the order round. */
+static double reversed_complexity(void *user, const tclod_query *q) {
+    (void)user;
+    return q->id == 0 ? 1.0 : 100.0; /* K (id 0) least complex */
+}
+
+static void instances_are_visited_simple_to_complex(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double ck[2] = {2.0, 9.0}, cs[1] = {1.0};
+    tclod_id k = add_chain(f, 1.0, ck, 2), s = add_chain(f, 1.0, cs, 1);
+    tclod_selector_desc d;
+    tclod_selector *sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
+    tclod_stats st;
+    select_rh(sel, NULL, 10.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, s));
+    assert_true(listed(sel, k + 1u));
+    tclod_selector_destroy(sel);
+
+    tclod_selector_desc_default(&d);
+    d.solver = TCLOD_SOLVER_ROBIN_HOOD;
+    table_mixed_callbacks(&f->model, &d.callbacks);
+    d.callbacks.complexity = reversed_complexity;
+    d.value = TCLOD_VALUE_BENEFIT;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    select_rh(sel, NULL, 10.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, k));
+    assert_true(listed(sel, s));
+    tclod_selector_destroy(sel);
+}
+
+/* Values 3 : 1 share 8 as 6 : 2. Chains with levels 1, 2, 6 (value 3) and
+ * 1, 2, 6 (value 1): the first takes 6, the second 2. */
+static void shares_follow_the_values(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double costs[3] = {1.0, 2.0, 6.0};
+    tclod_id big = add_chain(f, 3.0, costs, 3), small = add_chain(f, 1.0, costs, 3);
+    tclod_selector *sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
+    tclod_stats st;
+    select_rh(sel, NULL, 8.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, big + 2u));
+    assert_true(listed(sel, small + 1u));
+    tclod_selector_destroy(sel);
+}
+
+/* ---- misfits ---------------------------------------------------------------- */
+
+/* Equal values, least complex first: B (one level costing 1), then A (one
+ * level costing 3.5). Budget 4: B's share 2 takes 1, leaving 3 for A, whose
+ * share 3 does not cover 3.5: A is left out and counted as a dropped root.
+ * Budget 4.5: A's share 3.5 covers it. */
+static void an_instance_whose_simplest_level_exceeds_its_share_is_dropped(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double ca[1] = {3.5}, cb[1] = {1.0};
+    tclod_id a = add_chain(f, 1.0, ca, 1), b = add_chain(f, 1.0, cb, 1);
+    tclod_selector *sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
+    tclod_stats st;
+    select_rh(sel, NULL, 4.0, &st);
+    assert_true(listed(sel, b));
+    assert_false(listed(sel, a));
+    assert_int_equal(st.dropped_roots, 1);
+    select_rh(sel, NULL, 4.5 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, a));
+    assert_int_equal(st.dropped_roots, 0);
+    tclod_selector_destroy(sel);
+}
+
+/* X (value 1, one level costing 3) goes first (a complexity callback says
+ * so), then Y (value 3, one level costing 2); budget 4. X's share 4 * 1/4 = 1
+ * does not cover 3. DROP: X out, and Y's share is all 4: Y in. COARSEST: the 4
+ * left covers X's 3, so X is drawn, leaving 1 for Y, which neither its share
+ * nor what is left covers: Y out. */
+static void the_coarsest_policy_draws_a_misfit_the_time_left_covers(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double cx[1] = {3.0}, cy[1] = {2.0};
+    tclod_id x = add_chain(f, 1.0, cx, 1), y = add_chain(f, 3.0, cy, 1);
+    tclod_selector_desc d;
+    tclod_selector *sel;
+    tclod_stats st;
+    tclod_selector_desc_default(&d);
+    d.solver = TCLOD_SOLVER_ROBIN_HOOD;
+    table_mixed_callbacks(&f->model, &d.callbacks);
+    d.callbacks.complexity = reversed_complexity; /* id 0 (x) first */
+    d.value = TCLOD_VALUE_BENEFIT;
+
+    d.misfit = TCLOD_MISFIT_DROP;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    select_rh(sel, NULL, 4.0, &st);
+    assert_false(listed(sel, x));
+    assert_true(listed(sel, y));
+    tclod_selector_destroy(sel);
+
+    d.misfit = TCLOD_MISFIT_COARSEST;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    select_rh(sel, NULL, 4.0, &st);
+    assert_true(listed(sel, x));
+    assert_false(listed(sel, y));
+    assert_true(st.cost == 3.0);
+    tclod_selector_destroy(sel);
+}
+
+/* ---- smooth objects ------------------------------------------------------------ */
+
+/* Two smooth objects of equal value, costs r and 2 r (the cheaper first).
+ * Budget 1.5: the first's share 0.75 buys r = 0.75; the second's share 0.75
+ * buys r = 0.375. Budget 3: the first's share 1.5 buys r = 1 for 1, leaving
+ * 0.5; the second's share 2 buys r = 1. */
+static void smooth_objects_take_the_resolution_their_share_buys(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    float b0[4] = {0.0f, 0.0f, 0.0f, 1.0f}, b1[4] = {5.0f, 0.0f, 0.0f, 1.0f};
+    tclod_id s0, s1;
+    tclod_selector *sel;
+    tclod_stats st;
+    /* value: importance = benefit at r = 1 = w; equal w */
+    assert_int_equal(table_add_smooth(&f->model, f->scene, b0, TABLE_POWER, 1.0, 0.5, 1.0, 1.0,
+                                      0.0, &s0),
+                     TCLOD_OK);
+    assert_int_equal(table_add_smooth(&f->model, f->scene, b1, TABLE_POWER, 1.0, 0.5, 2.0, 2.0,
+                                      0.0, &s1),
+                     TCLOD_OK);
+    sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
+    select_rh(sel, NULL, 1.5, &st);
+    assert_true(fabs(tclod_selector_resolution(sel, s0) - 0.75) < 1e-6);
+    assert_true(fabs(tclod_selector_resolution(sel, s1) - 0.375) < 1e-6);
+    assert_true(st.cost <= 1.5);
+    select_rh(sel, NULL, 3.0 * (1.0 + 1e-6), &st);
+    assert_true(tclod_selector_resolution(sel, s0) == 1.0);
+    assert_true(tclod_selector_resolution(sel, s1) == 1.0);
+    tclod_selector_destroy(sel);
+}
+
+/* ---- branches -------------------------------------------------------------------- */
+
+/* A root R (cost 1) with four children of cost 1 and values 1, 1, 1, 3;
+ * child 3 has one child of cost 4 (so child 3's instance is the chain child 3
+ * -> its child, complexity 4). Budget 8 is R's whole share. The children's
+ * simplest levels need 4 <= 8, so they become instances: each keeps its
+ * simplest level and they share the other 4 by value, least complex first.
+ * Children 0, 1, 2 get 1 + 4 * 1/6, 1 + 4 * 1/5, 1 + 4 * 1/4 in turn, use 1
+ * each (nothing finer), and hand the extra back; child 3 gets 1 + 4 = 5 and
+ * takes its child (4). Cut: children 0, 1, 2 and child 3's child, cost 7.
+ * With budget 3 the children's 4 do not fit: R alone. */
+static void a_branch_shares_its_time_among_its_children(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id r = helper_add(f, TCLOD_NONE, 1.0, 1.0), c[4], g;
+    tclod_selector *sel;
+    tclod_stats st;
+    int i;
+    for (i = 0; i < 4; ++i) c[i] = helper_add(f, r, i == 3 ? 3.0 : 1.0, 1.0);
+    g = helper_add(f, c[3], 3.0, 4.0);
+    sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
+    select_rh(sel, NULL, 8.0, &st);
+    for (i = 0; i < 3; ++i) assert_true(listed(sel, c[i]));
+    assert_true(listed(sel, g));
+    assert_false(listed(sel, r));
+    assert_true(st.cost == 7.0);
+    select_rh(sel, NULL, 3.0, &st);
+    assert_true(listed(sel, r));
+    assert_true(st.cost == 1.0);
+    tclod_selector_destroy(sel);
+}
+
+/* ---- value functions (eq. 8-11) ----------------------------------------------- */
+
+static void value_functions_match_seed_003(void **state) {
+    (void)state;
+    /* a = 4, z = 16, d = 20, I = 0.5 */
+    assert_true(tclod_value_of(TCLOD_VALUE_AREA_SQRT_DEPTH, 4.0, 16.0, 20.0, 0.5) ==
+                4.0 / 4.0 * 0.5);
+    assert_true(tclod_value_of(TCLOD_VALUE_AREA_DEPTH, 4.0, 16.0, 20.0, 0.5) == 4.0 / 16.0 * 0.5);
+    assert_true(tclod_value_of(TCLOD_VALUE_AREA_DEPTH2, 4.0, 16.0, 20.0, 0.5) ==
+                4.0 / 256.0 * 0.5);
+    assert_true(tclod_value_of(TCLOD_VALUE_SQRT_AREA_DISTANCE2, 4.0, 16.0, 20.0, 0.5) ==
+                2.0 / 400.0 * 0.5);
+    assert_true(tclod_value_of(TCLOD_VALUE_BENEFIT, 4.0, 16.0, 20.0, 0.5) == 0.5);
+    assert_true(tclod_value_of(TCLOD_VALUE_AREA_DEPTH, NAN, 1.0, 1.0, 1.0) == 0.0);
+    assert_true(tclod_value_of(TCLOD_VALUE_AREA_DEPTH, 1.0, 0.0, 1.0, 1.0) == 0.0);
+    assert_true(tclod_value_of(TCLOD_VALUE_AREA_DEPTH, 1.0, 1.0, 1.0, -1.0) == 0.0);
+    assert_true(tclod_value_of((tclod_value)99, 1.0, 1.0, 1.0, 1.0) == 0.0);
+}
+
+/* Two equal objects (radius 1) straight ahead of the reference view at depths
+ * 10 and 40, importance 1: with a / z², values pi/100 and pi/1600, shares 16 :
+ * 1 of 17. Levels cost 1, 2, 16: the near one takes 16, the far one 1. */
+static void values_follow_the_view(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    float near_b[4] = {0.0f, 0.0f, -10.0f, 1.0f}, far_b[4] = {0.0f, 0.0f, -40.0f, 1.0f};
+    tclod_id near_id, far_id, prev;
+    tclod_selector *sel;
+    tclod_view view;
+    tclod_stats st;
+    assert_int_equal(table_add_node(&f->model, f->scene, TCLOD_NONE, near_b, 1.0, 1.0, &near_id),
+                     TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, near_id, near_b, 1.0, 2.0, &prev),
+                     TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, prev, near_b, 1.0, 16.0, &prev), TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, TCLOD_NONE, far_b, 1.0, 1.0, &far_id),
+                     TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, far_id, far_b, 1.0, 2.0, &prev), TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, prev, far_b, 1.0, 16.0, &prev), TCLOD_OK);
+    helper_view(&view);
+    sel = rh_selector(f, TCLOD_VALUE_AREA_DEPTH2, TCLOD_MISFIT_DROP);
+    select_rh(sel, &view, 17.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, near_id + 2u));
+    assert_true(listed(sel, far_id));
+    tclod_selector_destroy(sel);
+}
+
+/* ---- the budget ------------------------------------------------------------------- */
+
+static void budget_holds_on_random_scenes(void **state) {
+    table_rng rng;
+    int instance;
+    (void)state;
+    table_rng_seed(&rng, 99);
+    for (instance = 0; instance < 2000; ++instance) {
+        helper_fixture *f;
+        tclod_selector_desc d;
+        tclod_selector *sel;
+        tclod_stats st;
+        tclod_view view;
+        const tclod_id *ids;
+        const tclod_smooth_group *groups;
+        size_t n, ng, i;
+        double budget, sum = 0.0;
+        uint32_t k, smooth = table_rng_below(&rng, 6), nodes = 3 + table_rng_below(&rng, 30);
+        assert_int_equal(helper_fixture_setup((void **)&f), 0);
+        assert_int_equal(table_random_hierarchy(&f->model, f->scene, &rng, nodes,
+                                                1 + table_rng_below(&rng, 3),
+                                                table_rng_below(&rng, 2) ? TABLE_DIMINISHING
+                                                                         : TABLE_ARBITRARY),
+                         TCLOD_OK);
+        for (k = 0; k < smooth; ++k) {
+            float b[4];
+            double kc = table_rng_uniform(&rng, 0.1, 3.0);
+            b[0] = (float)table_rng_uniform(&rng, -20.0, 20.0);
+            b[1] = 0.0f;
+            b[2] = (float)table_rng_uniform(&rng, -60.0, 10.0);
+            b[3] = (float)table_rng_uniform(&rng, 0.1, 3.0);
+            assert_int_equal(table_add_smooth(&f->model, f->scene, b, TABLE_POWER,
+                                              table_rng_uniform(&rng, 0.5, 5.0), 0.5, kc,
+                                              kc * table_rng_uniform(&rng, 1.0, 5.0),
+                                              table_rng_uniform(&rng, 0.0, 0.1), NULL),
+                             TCLOD_OK);
+        }
+        tclod_selector_desc_default(&d);
+        d.solver = TCLOD_SOLVER_ROBIN_HOOD;
+        table_mixed_callbacks(&f->model, &d.callbacks);
+        d.value = (tclod_value)table_rng_below(&rng, 5);
+        d.misfit = (tclod_misfit)table_rng_below(&rng, 2);
+        assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+        budget = table_rng_uniform(&rng, 0.0, 40.0);
+        helper_view(&view);
+        select_rh(sel, table_rng_below(&rng, 2) ? &view : NULL, budget, &st);
+        assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+        for (i = 0; i < n; ++i) sum += f->model.cost[ids[i]];
+        assert_int_equal(tclod_selector_smooth_groups(sel, &groups, &ng), TCLOD_OK);
+        for (i = 0; i < ng; ++i) {
+            const tclod_id *order;
+            uint32_t count;
+            assert_int_equal(tclod_scene_smooth_order(f->scene, &order, &count), TCLOD_OK);
+            assert_int_equal(groups[i].count, 1);
+            sum += table_smooth_cost_of(&f->model, order[groups[i].first], groups[i].resolution,
+                                        NULL);
+        }
+        if (!(sum <= budget)) fail_msg("instance %d: cost %.17g > budget %.17g", instance, sum, budget);
+        assert_true(st.cost == sum);
+        tclod_selector_destroy(sel);
+        helper_fixture_teardown((void **)&f);
+    }
+}
+
+#define FIXTURE_TEST(t) cmocka_unit_test_setup_teardown(t, helper_fixture_setup, helper_fixture_teardown)
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        FIXTURE_TEST(equal_values_get_equal_shares),
+        FIXTURE_TEST(leftover_of_a_simple_instance_reaches_a_complex_one),
+        FIXTURE_TEST(instances_are_visited_simple_to_complex),
+        FIXTURE_TEST(shares_follow_the_values),
+        FIXTURE_TEST(an_instance_whose_simplest_level_exceeds_its_share_is_dropped),
+        FIXTURE_TEST(the_coarsest_policy_draws_a_misfit_the_time_left_covers),
+        FIXTURE_TEST(smooth_objects_take_the_resolution_their_share_buys),
+        FIXTURE_TEST(a_branch_shares_its_time_among_its_children),
+        cmocka_unit_test(value_functions_match_seed_003),
+        FIXTURE_TEST(values_follow_the_view),
+        cmocka_unit_test(budget_holds_on_random_scenes),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
