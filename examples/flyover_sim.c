@@ -20,11 +20,24 @@
  * followed, in the thesis scene, by the means per frame of the smooth variables, line
  * searches and drawn smooth groups (variables=, line_searches=, smooth_groups=).
  *
+ * With --simulate-gpu the program also plays the part of the machine that would draw
+ * the selection, to test frame-time adherence the way seed 003 §7.1 (Table 2) does:
+ * a target frame time T replaces the fixed budget; every frame the budget comes from
+ * the calibration (tclod_calib_budget), a hidden "true" render time and logic time are
+ * made up for what was selected, the frame time follows from them by the paper's
+ * machine model (eq. 5-7), and the measurements go back to the calibration
+ * (tclod_calib_report). The summary line then goes on with
+ *
+ *   target_ms=T mean_ms=M stddev_ms=S avg_err=E p99_overshoot=P
+ *
+ * before the thesis scene's extras; docs/calibration.md explains the hidden model.
+ *
  * Nothing is drawn: the point is what a host's frame loop around libtclod looks like
  * and how long the selection takes.
  */
 #include <errno.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -43,6 +56,30 @@
 #define THESIS_BUDGET_MS 40.0
 /* The table on stdout shows every this many frames. */
 #define PRINT_EVERY 20u
+/* Without --target-ms, --simulate-gpu aims at 25 ms (seed 003 Table 2's 0.025 s). */
+#define DEFAULT_TARGET_MS 25.0
+
+/* The hidden model of --simulate-gpu (docs/calibration.md). True render time =
+ * predicted cost x factor x noise, with
+ *   factor = FACTOR_MEAN + FACTOR_SWING sin(2 pi frame / FACTOR_PERIOD) + walk,
+ *   walk'  = WALK_KEEP walk + WALK_STEP N(0, 1)   (a slow walk that returns to 0),
+ *   noise  = 1 + NOISE N(0, 1);
+ * true logic time = LOGIC_SHARE T (1 + LOGIC_SWING sin(2 pi frame / LOGIC_PERIOD)
+ * + LOGIC_NOISE N(0, 1)). The numbers are deterministic (seed GPU_SEED). */
+#define FACTOR_MEAN 1.3
+#define FACTOR_SWING 0.4
+#define FACTOR_PERIOD 900.0
+#define WALK_KEEP 0.999
+#define WALK_STEP 0.003
+#define NOISE 0.01
+#define LOGIC_SHARE 0.15
+#define LOGIC_SWING 0.1
+#define LOGIC_PERIOD 600.0
+#define LOGIC_NOISE 0.02
+#define GPU_SEED 0x5eed003ull
+#define PI 3.14159265358979323846
+/* The hidden factor never falls below this, whatever the walk does. */
+#define FACTOR_MIN 0.05
 
 typedef enum scene_kind { SCENE_FLYOVER, SCENE_THESIS } scene_kind;
 
@@ -57,13 +94,19 @@ typedef struct options {
     int warm;
     scene_kind scene;
     int split; /* -1: the scene's default */
+    int simulate_gpu;
+    double target_ms;
+    int target_given;
+    double gpu_c; /* the simulated machine's true C of eq. 7 */
+    int gpu_c_given;
 } options;
 
 static void usage(FILE *out) {
     fprintf(out,
             "usage: flyover_sim [--scene flyover|thesis] [--frames N] [--budget-ms X]\n"
             "                   [--solver greedy|mixed|robin_hood] [--split 0|1] [--csv FILE]\n"
-            "                   [--warm 0|1] [--help]\n"
+            "                   [--warm 0|1] [--simulate-gpu [--target-ms T] [--gpu-c C]]\n"
+            "                   [--help]\n"
             "\n"
             "Flies a camera over a terrain with 5000 buildings and trees (or, with --scene\n"
             "thesis, over the thesis's 120 km terrain with 1.4 million trees) and selects\n"
@@ -82,6 +125,15 @@ static void usage(FILE *out) {
             "                  the library's default)\n"
             "  --csv FILE      also write one CSV row per frame to FILE\n"
             "  --warm 0|1      1: start each frame from the previous selection (default 1)\n"
+            "  --simulate-gpu  aim at a frame time instead of a fixed budget: the budget\n"
+            "                  comes from libtclod's calibration, and a simulated machine\n"
+            "                  with a hidden, drifting render-time factor reports render and\n"
+            "                  logic times back (docs/calibration.md); adds frame_ms to the\n"
+            "                  table, frame_ms,target_ms,scale,unconstrained_ms,factor to the\n"
+            "                  CSV and the frame-time figures to the summary line\n"
+            "  --target-ms T   --simulate-gpu: target frame time in ms, T > 0 (default 25)\n"
+            "  --gpu-c C       --simulate-gpu: the simulated machine's constant C of seed 003\n"
+            "                  eq. 7, C > 0 (default 1, what the calibration assumes)\n"
             "  --help          print this text and exit\n");
 }
 
@@ -150,15 +202,23 @@ static int parse_options(int argc, char **argv, options *o) {
     o->warm = 1;
     o->scene = SCENE_FLYOVER;
     o->split = -1;
+    o->simulate_gpu = 0;
+    o->target_ms = DEFAULT_TARGET_MS;
+    o->target_given = 0;
+    o->gpu_c = 1.0;
+    o->gpu_c_given = 0;
     for (i = 1; i < argc; ++i) {
         const char *opt = argv[i];
         const char *val = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0) {
             return 1;
+        } else if (strcmp(opt, "--simulate-gpu") == 0) {
+            o->simulate_gpu = 1;
         } else if (strcmp(opt, "--frames") == 0 || strcmp(opt, "--budget-ms") == 0 ||
                    strcmp(opt, "--solver") == 0 || strcmp(opt, "--csv") == 0 ||
                    strcmp(opt, "--warm") == 0 || strcmp(opt, "--scene") == 0 ||
-                   strcmp(opt, "--split") == 0) {
+                   strcmp(opt, "--split") == 0 || strcmp(opt, "--target-ms") == 0 ||
+                   strcmp(opt, "--gpu-c") == 0) {
             if (!val) {
                 fprintf(stderr, "flyover_sim: option %s needs a value\n", opt);
                 return 2;
@@ -177,6 +237,19 @@ static int parse_options(int argc, char **argv, options *o) {
                     return 2;
                 }
                 o->budget_given = 1;
+            } else if (strcmp(opt, "--target-ms") == 0) {
+                if (!parse_double(val, &o->target_ms) || !(o->target_ms > 0.0)) {
+                    fprintf(stderr, "flyover_sim: --target-ms expects a number > 0, got '%s'\n",
+                            val);
+                    return 2;
+                }
+                o->target_given = 1;
+            } else if (strcmp(opt, "--gpu-c") == 0) {
+                if (!parse_double(val, &o->gpu_c) || !(o->gpu_c > 0.0)) {
+                    fprintf(stderr, "flyover_sim: --gpu-c expects a number > 0, got '%s'\n", val);
+                    return 2;
+                }
+                o->gpu_c_given = 1;
             } else if (strcmp(opt, "--solver") == 0) {
                 if (!solver_from_name(val, &o->solver)) {
                     fprintf(stderr,
@@ -221,6 +294,15 @@ static int parse_options(int argc, char **argv, options *o) {
             return 2;
         }
     }
+    if (!o->simulate_gpu && (o->target_given || o->gpu_c_given)) {
+        fprintf(stderr, "flyover_sim: --target-ms and --gpu-c need --simulate-gpu\n");
+        return 2;
+    }
+    if (o->simulate_gpu && o->budget_given) {
+        fprintf(stderr, "flyover_sim: --simulate-gpu takes its budget from the calibration; "
+                        "give a frame time with --target-ms instead of --budget-ms\n");
+        return 2;
+    }
     if (o->scene == SCENE_THESIS) {
         /* the thesis's budget and solver, unless the command line chose others */
         if (!o->budget_given)
@@ -261,6 +343,81 @@ static double percentile(const double *sorted, size_t n, double p) {
     return sorted[rank - 1];
 }
 
+/* ---- the simulated machine of --simulate-gpu ---------------------------------- */
+
+/* The hidden state: what a real host would not know and the calibration must
+ * find out from the measurements alone. */
+typedef struct gpu_sim {
+    uint64_t rng;  /* splitmix64 state */
+    double walk;   /* the random-walk part of the render-time factor */
+    double true_c; /* the machine's C of eq. 7 */
+} gpu_sim;
+
+/* splitmix64: small, fast and the same sequence on every platform. */
+static uint64_t rng_next(uint64_t *state) {
+    uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+/* Uniform in (0, 1): 53 random bits, never 0 (the logarithm below). */
+static double rng_uniform(uint64_t *state) {
+    return ((double)(rng_next(state) >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+}
+
+/* Standard normal by Box-Muller (one of the pair: simple, and a fixed number
+ * of draws per frame keeps every hidden series independent of the solver). */
+static double rng_normal(uint64_t *state) {
+    double u = rng_uniform(state), v = rng_uniform(state);
+    return sqrt(-2.0 * log(u)) * cos(2.0 * PI * v);
+}
+
+/* One frame of the hidden machine: the factor true render time / predicted
+ * cost, the frame's timing noise (a factor near 1) and the true logic time. */
+static void gpu_frame(gpu_sim *g, unsigned long frame, double target_ms, double *factor,
+                      double *noise, double *logic_ms) {
+    double f, l;
+    f = FACTOR_MEAN + FACTOR_SWING * sin(2.0 * PI * (double)frame / FACTOR_PERIOD) + g->walk;
+    *factor = f > FACTOR_MIN ? f : FACTOR_MIN;
+    g->walk = WALK_KEEP * g->walk + WALK_STEP * rng_normal(&g->rng);
+    *noise = 1.0 + NOISE * rng_normal(&g->rng);
+    l = LOGIC_SHARE * target_ms *
+        (1.0 + LOGIC_SWING * sin(2.0 * PI * (double)frame / LOGIC_PERIOD) +
+         LOGIC_NOISE * rng_normal(&g->rng));
+    *logic_ms = l > 0.0 ? l : 0.0;
+}
+
+/* The render time eq. 5-7 allow a frame of t_f with logic t_l on a machine of
+ * constant c: (1 - min(1, (t_l / t_f)²))² t_f / c. */
+static double eq7_render(double t_f, double t_l, double c) {
+    double l = t_l / t_f;
+    l = l >= 1.0 ? 1.0 : l * l;
+    return (1.0 - l) * (1.0 - l) * t_f / c;
+}
+
+/* The frame time of logic t_l and render t_r on that machine: the t_f >= t_l
+ * for which eq. 5-7 give exactly t_r. eq7_render grows with t_f from 0 at t_l
+ * (its derivative is (1 - a²)(1 + 3a²) / c with a = t_l / t_f), so bisection
+ * finds the one solution. */
+static double frame_time_ms(double t_l, double t_r, double c) {
+    double lo = t_l, hi, guess = t_l > c * t_r ? t_l : c * t_r;
+    int i;
+    if (!(t_r > 0.0))
+        return t_l;
+    hi = 2.0 * guess + 1e-9;
+    while (eq7_render(hi, t_l, c) < t_r)
+        hi *= 2.0;
+    for (i = 0; i < 200 && hi - lo > 1e-12 * hi; ++i) {
+        double mid = 0.5 * (lo + hi);
+        if (eq7_render(mid, t_l, c) < t_r)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
 /* The scene flown over: the result of one of the two builders. */
 typedef struct sim_scene {
     scene_kind kind;
@@ -295,18 +452,30 @@ static void camera_at(const sim_scene *s, unsigned long frame, tclod_view *view)
         world_camera_at(&s->world.path, (double)frame / (double)FRAMES_PER_LOOP, view);
 }
 
+/* Frame-time figures of --simulate-gpu over all frames (seed 003 §7.1 measures
+ * every frame too, the first ones included). */
+typedef struct frame_figures {
+    double sum, sum_sq, sum_err; /* of t_f, t_f², |t_f - T| / T */
+    double *overshoot;           /* per frame: max(0, t_f / T - 1) */
+} frame_figures;
+
 int main(int argc, char **argv) {
     options opt;
     sim_scene sim;
     tclod_selector_desc sd;
-    tclod_selector *sel = NULL;
+    tclod_selector *sel = NULL, *finest = NULL;
+    tclod_calib *calib = NULL;
+    gpu_sim gpu;
+    frame_figures ff;
     tclod_status st;
     FILE *csv = NULL;
+    const tclod_scene *scene;
     double *select_us = NULL, sum_us = 0.0, sum_ratio = 0.0, build_ms;
     double sum_variables = 0.0, sum_line_searches = 0.0, sum_groups = 0.0;
     unsigned long frame, violations = 0, mismatches = 0;
     int rc;
 
+    memset(&ff, 0, sizeof(ff));
     rc = parse_options(argc, argv, &opt);
     if (rc == 1) {
         usage(stdout);
@@ -322,6 +491,7 @@ int main(int argc, char **argv) {
         fprintf(stderr, "flyover_sim: building the scene failed: %s\n", tclod_status_string(st));
         return 1;
     }
+    scene = opt.scene == SCENE_THESIS ? sim.thesis.scene : sim.world.scene;
     tclod_selector_desc_default(&sd);
     sd.solver = opt.solver;
     sd.callbacks =
@@ -329,13 +499,45 @@ int main(int argc, char **argv) {
     sd.warm_start = opt.warm;
     if (opt.split >= 0)
         sd.split_smooth = opt.split;
-    st = tclod_selector_create(opt.scene == SCENE_THESIS ? sim.thesis.scene : sim.world.scene, &sd,
-                               NULL, &sel);
+    st = tclod_selector_create(scene, &sd, NULL, &sel);
     if (st != TCLOD_OK) {
         fprintf(stderr, "flyover_sim: creating the %s selector failed: %s\n", opt.solver_name,
                 tclod_status_string(st));
         free_scene(&sim);
         return 1;
+    }
+    if (opt.simulate_gpu) {
+        tclod_calib_desc cd;
+        tclod_selector_desc fd = sd;
+        /* The calibration starts from the library's defaults: a scale of 1 (the
+         * hidden factor is unknown) and machine_c 1; the simulated machine's C is
+         * opt.gpu_c, 1 unless --gpu-c says otherwise. */
+        tclod_calib_desc_default(&cd);
+        st = tclod_calib_create(&cd, NULL, &calib);
+        /* The unconstrained frame (seed 003 Fig. 3's bold line): every visible
+         * object at its finest, whatever the budget; a second selector with an
+         * unlimited budget finds it. Any solver's unlimited selection is the same,
+         * so the greedy's does for the flyover scene. */
+        if (st == TCLOD_OK) {
+            if (opt.scene == SCENE_FLYOVER)
+                fd.solver = TCLOD_SOLVER_GREEDY;
+            st = tclod_selector_create(scene, &fd, NULL, &finest);
+        }
+        if (st != TCLOD_OK) {
+            fprintf(stderr, "flyover_sim: setting up the simulated GPU failed: %s\n",
+                    tclod_status_string(st));
+            rc = 1;
+            goto done;
+        }
+        memset(&gpu, 0, sizeof(gpu));
+        gpu.rng = GPU_SEED;
+        gpu.true_c = opt.gpu_c;
+        ff.overshoot = (double *)malloc(opt.frames * sizeof(*ff.overshoot));
+        if (!ff.overshoot) {
+            fprintf(stderr, "flyover_sim: out of memory\n");
+            rc = 1;
+            goto done;
+        }
     }
     select_us = (double *)malloc(opt.frames * sizeof(*select_us));
     if (!select_us) {
@@ -350,8 +552,10 @@ int main(int argc, char **argv) {
             rc = 1;
             goto done;
         }
-        fprintf(csv, "frame,select_us,drawn,cost_ms,budget_ms,benefit,iterations,increments,"
-                     "decrements,variables,line_searches,smooth_groups\n");
+        fprintf(csv,
+                "frame,select_us,drawn,cost_ms,budget_ms,benefit,iterations,increments,"
+                "decrements,variables,line_searches,smooth_groups%s\n",
+                opt.simulate_gpu ? ",frame_ms,target_ms,scale,unconstrained_ms,factor" : "");
     }
 
     if (opt.scene == SCENE_THESIS) {
@@ -360,20 +564,31 @@ int main(int argc, char **argv) {
                "built in %.0f ms\n",
                t->node_count, t->terrain_depth, t->tree_count, t->smooth_count,
                THESIS_MAX_GROUP_TREES, build_ms);
-        printf("solver %s, warm start %d, split %d, budget %.3f ms, %lu frames\n\n",
-               opt.solver_name, opt.warm, sd.split_smooth, opt.budget_ms, opt.frames);
-        printf("%7s %10s %7s %9s %10s %12s %7s %9s\n", "frame", "select_us", "drawn", "cost_ms",
-               "budget_ms", "benefit", "groups", "variables");
+        if (opt.simulate_gpu)
+            printf("solver %s, warm start %d, split %d, target %.3f ms (simulated GPU, C %g), "
+                   "%lu frames\n\n",
+                   opt.solver_name, opt.warm, sd.split_smooth, opt.target_ms, opt.gpu_c,
+                   opt.frames);
+        else
+            printf("solver %s, warm start %d, split %d, budget %.3f ms, %lu frames\n\n",
+                   opt.solver_name, opt.warm, sd.split_smooth, opt.budget_ms, opt.frames);
+        printf("%7s %10s %7s %9s %10s %12s %7s %9s%s\n", "frame", "select_us", "drawn", "cost_ms",
+               "budget_ms", "benefit", "groups", "variables", opt.simulate_gpu ? "  frame_ms" : "");
     } else {
         const world_scene *w = &sim.world;
         printf("flyover: %u terrain patches (depth %u), %u objects x %u levels, %u nodes, "
                "%u roots\n",
                w->terrain_count, sim.world_desc.terrain_depth, w->object_count, w->levels,
                w->node_count, w->root_count);
-        printf("solver %s, warm start %d, budget %.3f ms, %lu frames\n\n", opt.solver_name,
-               opt.warm, opt.budget_ms, opt.frames);
-        printf("%7s %10s %7s %9s %10s %12s\n", "frame", "select_us", "drawn", "cost_ms",
-               "budget_ms", "benefit");
+        if (opt.simulate_gpu)
+            printf("solver %s, warm start %d, target %.3f ms (simulated GPU, C %g), %lu "
+                   "frames\n\n",
+                   opt.solver_name, opt.warm, opt.target_ms, opt.gpu_c, opt.frames);
+        else
+            printf("solver %s, warm start %d, budget %.3f ms, %lu frames\n\n", opt.solver_name,
+                   opt.warm, opt.budget_ms, opt.frames);
+        printf("%7s %10s %7s %9s %10s %12s%s\n", "frame", "select_us", "drawn", "cost_ms",
+               "budget_ms", "benefit", opt.simulate_gpu ? "  frame_ms" : "");
     }
 
     for (frame = 0; frame < opt.frames; ++frame) {
@@ -383,12 +598,23 @@ int main(int argc, char **argv) {
         const tclod_id *ids;
         const tclod_smooth_group *groups = NULL;
         size_t drawn, group_count = 0;
-        double t0, t1, own_cost;
+        double t0, t1, own_cost, budget = opt.budget_ms, scale = 0.0;
+        double frame_ms = 0.0, unconstrained_ms = 0.0, factor = 0.0;
 
         camera_at(&sim, frame, &view);
+        if (opt.simulate_gpu) {
+            scale = tclod_calib_scale(calib);
+            st = tclod_calib_budget(calib, opt.target_ms, &budget);
+            if (st != TCLOD_OK) {
+                fprintf(stderr, "flyover_sim: tclod_calib_budget failed at frame %lu: %s\n", frame,
+                        tclod_status_string(st));
+                rc = 1;
+                goto done;
+            }
+        }
         memset(&fr, 0, sizeof(fr));
         fr.view = &view;
-        fr.budget = opt.budget_ms;
+        fr.budget = budget;
 
         t0 = now_us();
         st = tclod_select(sel, &fr, &stats);
@@ -410,7 +636,8 @@ int main(int argc, char **argv) {
         }
         select_us[frame] = t1 - t0;
         sum_us += t1 - t0;
-        sum_ratio += stats.cost / opt.budget_ms;
+        if (budget > 0.0)
+            sum_ratio += stats.cost / budget;
         sum_variables += (double)stats.variables;
         sum_line_searches += (double)stats.line_searches;
         sum_groups += (double)group_count;
@@ -421,26 +648,62 @@ int main(int argc, char **argv) {
         own_cost = opt.scene == SCENE_THESIS
                        ? thesis_sum_cost(&sim.thesis, ids, drawn, groups, group_count)
                        : world_sum_cost(&sim.world, ids, drawn);
-        if (stats.cost > opt.budget_ms || own_cost > opt.budget_ms)
+        if (stats.cost > budget || own_cost > budget)
             ++violations;
         if (own_cost != stats.cost)
             ++mismatches;
 
+        if (opt.simulate_gpu) {
+            /* The machine draws what was selected; the host measures render and
+             * logic time (never the hidden factor) and reports them. */
+            tclod_frame unlimited = fr;
+            tclod_stats finest_stats;
+            double noise, logic_ms, render_ms, t;
+            gpu_frame(&gpu, frame, opt.target_ms, &factor, &noise, &logic_ms);
+            render_ms = stats.cost * factor * noise;
+            frame_ms = frame_time_ms(logic_ms, render_ms, gpu.true_c);
+            unlimited.budget = INFINITY;
+            st = tclod_select(finest, &unlimited, &finest_stats);
+            if (st == TCLOD_OK)
+                st = tclod_calib_report(calib, stats.cost, render_ms, logic_ms);
+            if (st != TCLOD_OK) {
+                fprintf(stderr, "flyover_sim: simulating frame %lu failed: %s\n", frame,
+                        tclod_status_string(st));
+                rc = 1;
+                goto done;
+            }
+            unconstrained_ms =
+                frame_time_ms(logic_ms, finest_stats.cost * factor * noise, gpu.true_c);
+            t = frame_ms / opt.target_ms - 1.0;
+            ff.sum += frame_ms;
+            ff.sum_sq += frame_ms * frame_ms;
+            ff.sum_err += fabs(t);
+            ff.overshoot[frame] = t > 0.0 ? t : 0.0;
+        }
+
         if (frame % PRINT_EVERY == 0 || frame + 1 == opt.frames) {
             if (opt.scene == SCENE_THESIS)
-                printf("%7lu %10.1f %7lu %9.4f %10.4f %12.1f %7lu %9lu\n", frame, t1 - t0,
-                       (unsigned long)drawn, stats.cost, opt.budget_ms, stats.benefit,
+                printf("%7lu %10.1f %7lu %9.4f %10.4f %12.1f %7lu %9lu", frame, t1 - t0,
+                       (unsigned long)drawn, stats.cost, budget, stats.benefit,
                        (unsigned long)group_count, (unsigned long)stats.variables);
             else
-                printf("%7lu %10.1f %7lu %9.4f %10.4f %12.1f\n", frame, t1 - t0,
-                       (unsigned long)drawn, stats.cost, opt.budget_ms, stats.benefit);
+                printf("%7lu %10.1f %7lu %9.4f %10.4f %12.1f", frame, t1 - t0, (unsigned long)drawn,
+                       stats.cost, budget, stats.benefit);
+            if (opt.simulate_gpu)
+                printf(" %9.4f", frame_ms);
+            printf("\n");
         }
-        if (csv)
-            fprintf(csv, "%lu,%.3f,%lu,%.9g,%.9g,%.9g,%lu,%lu,%lu,%lu,%lu,%lu\n", frame, t1 - t0,
-                    (unsigned long)drawn, stats.cost, opt.budget_ms, stats.benefit,
+        if (csv) {
+            fprintf(csv, "%lu,%.3f,%lu,%.9g,%.9g,%.9g,%lu,%lu,%lu,%lu,%lu,%lu", frame, t1 - t0,
+                    (unsigned long)drawn, stats.cost, budget, stats.benefit,
                     (unsigned long)stats.iterations, (unsigned long)stats.increments,
                     (unsigned long)stats.decrements, (unsigned long)stats.variables,
                     (unsigned long)stats.line_searches, (unsigned long)group_count);
+            if (opt.simulate_gpu)
+                fprintf(csv, ",%.9g,%.9g,%.9g,%.9g,%.9g", frame_ms, opt.target_ms, scale,
+                        unconstrained_ms, factor);
+            fprintf(csv, "\n");
+        }
     }
 
     if (mismatches)
@@ -453,6 +716,15 @@ int main(int argc, char **argv) {
            "mean_cost_ratio=%.4f violations=%lu",
            opt.frames, opt.solver_name, sum_us / (double)opt.frames,
            percentile(select_us, opt.frames, 99.0), sum_ratio / (double)opt.frames, violations);
+    if (opt.simulate_gpu) {
+        double n = (double)opt.frames, mean = ff.sum / n;
+        double var = ff.sum_sq / n - mean * mean;
+        qsort(ff.overshoot, opt.frames, sizeof(*ff.overshoot), compare_double);
+        /* population standard deviation over all frames */
+        printf(" target_ms=%.3f mean_ms=%.4f stddev_ms=%.4f avg_err=%.5f p99_overshoot=%.5f",
+               opt.target_ms, mean, sqrt(var > 0.0 ? var : 0.0), ff.sum_err / n,
+               percentile(ff.overshoot, opt.frames, 99.0));
+    }
     if (opt.scene == SCENE_THESIS)
         printf(" variables=%.1f line_searches=%.1f smooth_groups=%.1f",
                sum_variables / (double)opt.frames, sum_line_searches / (double)opt.frames,
@@ -466,6 +738,9 @@ done:
         rc = 1;
     }
     free(select_us);
+    free(ff.overshoot);
+    tclod_calib_destroy(calib);
+    tclod_selector_destroy(finest);
     tclod_selector_destroy(sel);
     free_scene(&sim);
     return rc;

@@ -420,13 +420,26 @@ static int start_warm(tclod_selector *sel) {
 int tclod_out_of_time(tclod_selector *sel) {
     const tclod_frame *f = sel->frame;
     uint32_t it = sel->stats.iterations;
+    int read_clock = it % CLOCK_STRIDE == 0;
+    double now = 0.0;
+    if (sel->stopped) return 1;
     if (f->max_iterations && it >= f->max_iterations) {
         sel->stats.stop_reason = TCLOD_STOP_ITERATIONS;
+        sel->stopped = 1;
         return 1;
     }
-    if (f->solve_seconds > 0.0 && it % CLOCK_STRIDE == 0 &&
-        tclod_now() - sel->start_time >= f->solve_seconds) {
+    if (read_clock && (f->solve_seconds > 0.0 || sel->slice_end > 0.0)) now = tclod_now();
+    if (read_clock && f->solve_seconds > 0.0 &&
+        sel->elapsed + (now - sel->start_time) >= f->solve_seconds) {
         sel->stats.stop_reason = TCLOD_STOP_TIME;
+        sel->stopped = 1;
+        return 1;
+    }
+    /* a step makes at least one iteration, so that steps always progress */
+    if (it != sel->step_start &&
+        ((sel->slice_iterations && it >= sel->slice_iterations) ||
+         (read_clock && sel->slice_end > 0.0 && now >= sel->slice_end))) {
+        sel->paused = 1;
         return 1;
     }
     return 0;
@@ -502,20 +515,16 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
     return 1;
 }
 
-/* Best single skipped increment of a cold solve, with the increments above it. */
-typedef struct alternative {
-    tclod_id node;
-    double benefit;
-    double roots_b, roots_c; /* the roots' benefit and cost */
-} alternative;
-
-static void consider_alternative(tclod_selector *sel, alternative *alt, tclod_id n) {
+/* A cold solve records the best single skipped increment with the increments
+ * above it (sel->resume.alt_*). */
+static void consider_alternative(tclod_selector *sel, tclod_id n) {
+    tclod_resume *R = &sel->resume;
     const double *path = &sel->path[2u * n];
-    double c = alt->roots_c + path[1] + sel->node[n].delta_c;
-    double b = alt->roots_b + path[0] + sel->node[n].delta_b;
-    if (c <= sel->frame->budget && b > alt->benefit) {
-        alt->node = n;
-        alt->benefit = b;
+    double c = R->alt_roots_c + path[1] + sel->node[n].delta_c;
+    double b = R->alt_roots_b + path[0] + sel->node[n].delta_b;
+    if (c <= sel->frame->budget && b > R->alt_benefit) {
+        R->alt_node = n;
+        R->alt_benefit = b;
     }
 }
 
@@ -524,10 +533,9 @@ static void consider_alternative(tclod_selector *sel, alternative *alt, tclod_id
  * the cheapest decrement's (Mason–Blake's balance), and a cold solve records
  * the skipped increments as alternatives. Warm solves also take free
  * collapses first. Stops early at a limit. */
-static int improve(tclod_selector *sel, int warm, alternative *alt) {
-    int skipped = 0, failed = 0;
+static int improve(tclod_selector *sel, int warm, int alt) {
+    int *skipped = &sel->resume.skipped, failed = 0;
     uint32_t i;
-    sel->stats.stop_reason = TCLOD_STOP_FINEST;
     for (;;) {
         tclod_id n;
         if (tclod_out_of_time(sel)) return 0;
@@ -547,11 +555,11 @@ static int improve(tclod_selector *sel, int warm, alternative *alt) {
         if (increment_may_fit(sel)) { /* fill: skip the misfit, try smaller ones */
             pop_increment(sel);
             sel->stats.iterations++;
-            skipped = 1;
-            if (alt) consider_alternative(sel, alt, n);
+            *skipped = 1;
+            if (alt) consider_alternative(sel, n);
             continue;
         }
-        skipped = 1;
+        *skipped = 1;
         if (!warm || !(sel->inc.items[0].key > min_loss_ratio(sel))) break;
         n = pop_increment(sel);
         sel->stats.iterations++;
@@ -559,14 +567,14 @@ static int improve(tclod_selector *sel, int warm, alternative *alt) {
         if (failed) return -1;
     }
     if (alt)
-        for (i = 0; i < sel->inc.count; ++i) consider_alternative(sel, alt, sel->inc.items[i].id);
-    sel->stats.stop_reason = skipped ? TCLOD_STOP_BUDGET : TCLOD_STOP_FINEST;
+        for (i = 0; i < sel->inc.count; ++i) consider_alternative(sel, sel->inc.items[i].id);
+    sel->stats.stop_reason = *skipped ? TCLOD_STOP_BUDGET : TCLOD_STOP_FINEST;
     return 0;
 }
 
 /* Restarts from the roots with node n's increment and all increments above it
- * forced, then improves greedily again. */
-static int solve_forced(tclod_selector *sel, tclod_id n) {
+ * forced; the greedy improvement follows. */
+static int start_forced(tclod_selector *sel, tclod_id n) {
     const tclod_scene *s = sel->scene;
     uint32_t depth = 0;
     tclod_id a;
@@ -578,7 +586,7 @@ static int solve_forced(tclod_selector *sel, tclod_id n) {
         sel->stats.iterations++;
         if (apply_increment(sel, a, 0) != 0) return -1;
     }
-    return improve(sel, 0, NULL);
+    return 0;
 }
 
 /* Exact sum in result order; repairs rounding drift with decrements or, when
@@ -630,30 +638,66 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
     }
 }
 
+/* The stages of a greedy solve (sel->resume.phase). */
+enum { GREEDY_START = 0, GREEDY_IMPROVE, GREEDY_FORCED, GREEDY_IMPROVE_FORCED, GREEDY_END };
+
+/* Starts the solve: a warm start is brought within the budget, a cold one
+ * starts from the roots. Always completes. */
+static int greedy_start(tclod_selector *sel) {
+    tclod_resume *R = &sel->resume;
+    R->warm = sel->desc.warm_start && sel->has_cut;
+    R->skipped = 0;
+    if (R->warm) return start_warm(sel) != 0 ? -1 : restore_budget(sel);
+    if (start_cold(sel) != 0) return -1;
+    R->alt_node = TCLOD_NONE;
+    R->alt_benefit = 0.0;
+    R->alt_roots_b = sel->benefit_sum;
+    R->alt_roots_c = sel->cost_sum;
+    R->use_alt = sel->stats.dropped_roots == 0;
+    return 0;
+}
+
+/* Whether the cold solve's best skipped increment taken alone beats it. */
+static int alternative_wins(const tclod_selector *sel) {
+    const tclod_resume *R = &sel->resume;
+    return !R->warm && R->use_alt && R->alt_node != TCLOD_NONE &&
+           (sel->stats.stop_reason == TCLOD_STOP_BUDGET ||
+            sel->stats.stop_reason == TCLOD_STOP_FINEST) &&
+           R->alt_benefit > sel->benefit_sum * (1.0 + SWAP_MARGIN);
+}
+
 tclod_status tclod_greedy_solve(tclod_selector *sel) {
-    int warm = sel->desc.warm_start && sel->has_cut;
-    int rc;
-    if (warm) {
-        rc = start_warm(sel);
-        if (rc == 0) rc = restore_budget(sel);
-        if (rc == 0) rc = improve(sel, 1, NULL);
-    } else {
-        rc = start_cold(sel);
-        if (rc == 0) {
-            alternative alt = {TCLOD_NONE, 0.0, 0.0, 0.0};
-            alt.roots_b = sel->benefit_sum;
-            alt.roots_c = sel->cost_sum;
-            rc = improve(sel, 0, sel->stats.dropped_roots ? NULL : &alt);
-            if (rc == 0 && alt.node != TCLOD_NONE &&
-                (sel->stats.stop_reason == TCLOD_STOP_BUDGET ||
-                 sel->stats.stop_reason == TCLOD_STOP_FINEST) &&
-                alt.benefit > sel->benefit_sum * (1.0 + SWAP_MARGIN))
-                rc = solve_forced(sel, alt.node);
+    tclod_resume *R = &sel->resume;
+    int rc = 0;
+    while (rc == 0 && !sel->paused) {
+        switch (R->phase) {
+        case GREEDY_START:
+            rc = greedy_start(sel);
+            R->phase = GREEDY_IMPROVE;
+            break;
+        case GREEDY_IMPROVE:
+            rc = improve(sel, R->warm, !R->warm && R->use_alt);
+            if (!sel->paused) R->phase = alternative_wins(sel) ? GREEDY_FORCED : GREEDY_END;
+            break;
+        case GREEDY_FORCED:
+            rc = start_forced(sel, R->alt_node);
+            R->skipped = 0;
+            sel->stats.stop_reason = TCLOD_STOP_FINEST;
+            R->phase = GREEDY_IMPROVE_FORCED;
+            break;
+        case GREEDY_IMPROVE_FORCED:
+            rc = improve(sel, 0, 0);
+            if (!sel->paused) R->phase = GREEDY_END;
+            break;
+        default:
+            rc = enforce_budget(sel, R->warm);
+            clear_heaps(sel);
+            return rc == 0 ? TCLOD_OK : TCLOD_ERR_CALLBACK;
         }
     }
-    if (rc == 0) rc = enforce_budget(sel, warm);
+    if (rc == 0) return TCLOD_OK;
     clear_heaps(sel);
-    return rc == 0 ? TCLOD_OK : TCLOD_ERR_CALLBACK;
+    return TCLOD_ERR_CALLBACK;
 }
 
 /* ---- the steps the mixed solver interleaves with its smooth ones ------------ */

@@ -222,6 +222,26 @@ typedef struct tclod_node_state {
     uint32_t inc_pos, cheap_pos, dec_pos; /* heap slots */
 } tclod_node_state;
 
+/* Where a solve stands between two tclod_select_step calls: the state of the
+ * solver's loops, so that a step resumes exactly where the last one paused. */
+typedef struct tclod_resume {
+    int phase;             /* the solver's stage; 0 = not started */
+    int warm;              /* greedy: the solve started from the previous cut */
+    int skipped;           /* an increment did not fit */
+    int smooth_done;       /* papers' loop: the smooth variables stopped */
+    uint32_t run;          /* smooth steps since the last increment */
+    uint32_t k;            /* steps of a bounded stage, or the next instance */
+    tclod_id matched;      /* papers' loop: the increment whose slope was matched */
+    double guess;          /* preconditioned loop: the last level */
+    /* greedy, cold start: the best skipped increment taken alone */
+    tclod_id alt_node;
+    double alt_benefit, alt_roots_b, alt_roots_c;
+    int use_alt;
+    /* Robin Hood: time not shared out yet, value of the instances left */
+    double pool, value_left;
+    int limited;
+} tclod_resume;
+
 struct tclod_selector {
     tclod_scene *scene; /* read-only except for its lazy child index */
     tclod_allocator alloc;
@@ -270,7 +290,19 @@ struct tclod_selector {
     int has_cut;            /* cut/prev_cut describe a selection of that version */
 
     /* the solve in progress */
-    const tclod_frame *frame;
+    int pending;            /* begun and not finished, cancelled or failed */
+    uint32_t pending_version; /* scene version at its beginning */
+    tclod_frame frame_data; /* the frame it solves, copied at its beginning ... */
+    tclod_view view_data;   /* ... with its view */
+    tclod_resume resume;
+    int paused;             /* the step's slice ran out */
+    int stopped;            /* the frame's limit was reached, or the caller
+                               finished the solve early */
+    double slice_end;       /* clock at which the step's slice ends; 0: none */
+    uint32_t slice_iterations; /* iteration count at which it ends; 0: none */
+    uint32_t step_start;    /* iteration count at the step's beginning */
+    double elapsed;         /* time spent in the solve's earlier steps */
+    const tclod_frame *frame; /* &frame_data while a step runs, else NULL */
     tclod_view_cache view;
     int has_view;
     int failed;             /* strict mode: a bad callback value was seen */
@@ -288,8 +320,11 @@ struct tclod_selector {
  * saw a bad value. */
 int tclod_evaluate_node(tclod_selector *sel, tclod_id n);
 
-/* Runs TCLOD_SOLVER_GREEDY for sel->frame into the working cut. Returns
- * TCLOD_OK or TCLOD_ERR_CALLBACK (strict); the caller commits or rolls back. */
+/* Runs TCLOD_SOLVER_GREEDY for sel->frame into the working cut, from where
+ * sel->resume says it stands. Returns TCLOD_OK or TCLOD_ERR_CALLBACK (strict);
+ * the caller commits or rolls back. With TCLOD_OK and sel->paused set, the
+ * step's slice ran out: the solve is not finished, and the working state is
+ * feasible. */
 tclod_status tclod_greedy_solve(tclod_selector *sel);
 
 /* The greedy's steps, for the mixed solver. Each returns 0, or -1 when strict
@@ -305,7 +340,10 @@ void tclod_greedy_skip(tclod_selector *sel);            /* drops the best candid
 /* Repairs the exact sum of the cut's costs to be within the budget. */
 int tclod_greedy_enforce(tclod_selector *sel);
 void tclod_greedy_end(tclod_selector *sel); /* empties the heaps after a solve */
-int tclod_out_of_time(tclod_selector *sel); /* sets stop_reason when it says 1 */
+/* 1 when the search must stop: the frame's limit (sets stop_reason and
+ * sel->stopped; final) or the step's slice (sets sel->paused; the solver
+ * returns and resumes from sel->resume at the next step). */
+int tclod_out_of_time(tclod_selector *sel);
 
 /* Calls the host's smooth callbacks for the group of smooth order positions
  * first .. first + count at resolution x in (0, 1] (the query carries area and

@@ -50,6 +50,8 @@ static double smooth_limit(double budget) {
 /* Pairwise exchanges at the end of a solve, at most, and the relative gap
  * between slope ratios below which they stop. */
 #define POLISH_STEPS 16u
+/* Plain gradient steps that spend what the models' tolerances left, at most. */
+#define REST_STEPS 4u
 #define POLISH_GAP 0.01
 /* Exponent assumed until a variable has two points of its own: a square-root
  * benefit, the thesis's model (eq. 8.20). */
@@ -647,30 +649,28 @@ static void block_moving(tclod_selector *sel, uint32_t n) {
 static int improve_gradient(tclod_selector *sel) {
     const tclod_selector_desc *d = &sel->desc;
     double keep = 1.0 - d->smooth_tolerance;
-    int skipped = 0, smooth_done = 0;
-    uint32_t run = 0;
-    tclod_id matched = TCLOD_NONE;
+    tclod_resume *R = &sel->resume;
     for (;;) {
         double slope_d = 0.0, slope_c = 0.0, target;
         uint32_t n = 0;
         int moved, budget_bound, at_slope, stalled;
         tclod_id cand;
         if (tclod_out_of_time(sel)) return 0;
-        cand = tclod_greedy_candidate(sel, &slope_d, &skipped);
-        if (cand != TCLOD_NONE && cand == matched) { /* Figure 8.1: Q, then P */
+        cand = tclod_greedy_candidate(sel, &slope_d, &R->skipped);
+        if (cand != TCLOD_NONE && cand == R->matched) { /* Figure 8.1: Q, then P */
             if (tclod_greedy_take(sel, cand) != 0) return -1;
-            matched = TCLOD_NONE;
-            run = 0;
+            R->matched = TCLOD_NONE;
+            R->run = 0;
             continue;
         }
-        if (!smooth_done && ratios(sel) > 0.0) {
+        if (!R->smooth_done && ratios(sel) > 0.0) {
             n = gradient_direction(sel, d->smooth_epsilon, &slope_c);
             if (n == 0 && d->smooth_epsilon > 0.0) n = gradient_direction(sel, 0.0, &slope_c);
         }
         if (cand == TCLOD_NONE && n == 0) break;
         if (cand != TCLOD_NONE && (n == 0 || slope_d >= slope_c)) {
             if (tclod_greedy_take(sel, cand) != 0) return -1;
-            run = 0;
+            R->run = 0;
             continue;
         }
         target = cand != TCLOD_NONE ? keep * slope_d : 0.0;
@@ -679,22 +679,22 @@ static int improve_gradient(tclod_selector *sel) {
         moved = line_search(sel, n, target, &budget_bound, &at_slope, &stalled);
         if (moved < 0) return -1;
         if (budget_bound) {
-            skipped = 1;
-            smooth_done = 1; /* t_max came from the budget: it is spent */
+            R->skipped = 1;
+            R->smooth_done = 1; /* t_max came from the budget: it is spent */
         }
         if (moved && !stalled) {
-            if (++run >= SMOOTH_RUN) smooth_done = 1;
-            if (at_slope && cand != TCLOD_NONE) matched = cand;
+            if (++R->run >= SMOOTH_RUN) R->smooth_done = 1;
+            if (at_slope && cand != TCLOD_NONE) R->matched = cand;
         } else if (cand != TCLOD_NONE) {
             if (tclod_greedy_take(sel, cand) != 0) return -1;
-            run = 0;
+            R->run = 0;
         } else if (moved || budget_bound) {
-            smooth_done = 1;
+            R->smooth_done = 1;
         } else {
             block_moving(sel, n);
         }
     }
-    sel->stats.stop_reason = skipped ? TCLOD_STOP_BUDGET : TCLOD_STOP_FINEST;
+    sel->stats.stop_reason = R->skipped ? TCLOD_STOP_BUDGET : TCLOD_STOP_FINEST;
     return 0;
 }
 
@@ -724,8 +724,8 @@ static int smooth_step(tclod_selector *sel, double target, int *budget_bound) {
  * along the plain gradient, up to t_max (the papers' step without a discrete
  * step to compare with). */
 static int spend_the_rest(tclod_selector *sel) {
-    uint32_t k;
-    for (k = 0; k < 4; ++k) {
+    uint32_t *k = &sel->resume.k;
+    for (; *k < REST_STEPS; ++*k) {
         double slope;
         int moved, budget_bound, at_slope, stalled;
         uint32_t n;
@@ -750,9 +750,8 @@ static int spend_the_rest(tclod_selector *sel) {
 static int improve_modelled(tclod_selector *sel) {
     const double budget = sel->frame->budget;
     const double limit = smooth_limit(budget);
-    double guess = 1.0;
-    int skipped = 0, budget_bound;
-    uint32_t run = 0;
+    tclod_resume *R = &sel->resume;
+    int budget_bound;
     for (;;) {
         double slope_d = 0.0, held = sel->reserved, at;
         tclod_id cand;
@@ -761,7 +760,7 @@ static int improve_modelled(tclod_selector *sel) {
         ratios(sel);
         /* what fits with the smooth variables at nothing; the rest never will */
         sel->reserved = 0.0;
-        cand = tclod_greedy_candidate(sel, &slope_d, &skipped);
+        cand = tclod_greedy_candidate(sel, &slope_d, &R->skipped);
         sel->reserved = held;
         if (cand != TCLOD_NONE) {
             double dc = sel->node[cand].delta_c, left = budget - sel->cost_sum - held;
@@ -771,7 +770,7 @@ static int improve_modelled(tclod_selector *sel) {
             if (!(model_spend(&sel->vars, slope_d) > left)) {
                 if (sel->cost_sum + held + dc <= budget) {
                     if (tclod_greedy_take(sel, cand) != 0) return -1;
-                    run = 0;
+                    R->run = 0;
                     continue;
                 }
                 /* make room: the smooth variables come down to where they
@@ -779,28 +778,34 @@ static int improve_modelled(tclod_selector *sel) {
                 at = level(sel, left - (budget - limit), slope_d);
                 moved = smooth_step(sel, at, &budget_bound);
                 if (moved < 0) return -1;
-                if (!moved || ++run >= SMOOTH_RUN) {
+                if (!moved || ++R->run >= SMOOTH_RUN) {
                     tclod_greedy_skip(sel);
-                    skipped = 1;
+                    R->skipped = 1;
                 }
                 continue;
             }
         }
-        at = level(sel, limit - sel->cost_sum - held, guess);
-        if (isfinite(at) && at > 0.0) guess = at;
+        at = level(sel, limit - sel->cost_sum - held, R->guess);
+        if (isfinite(at) && at > 0.0) R->guess = at;
         moved = smooth_step(sel, at, &budget_bound);
         if (moved < 0) return -1;
-        if (budget_bound) skipped = 1;
-        if (!moved || ++run >= SMOOTH_RUN) break;
+        if (budget_bound) R->skipped = 1;
+        if (!moved || ++R->run >= SMOOTH_RUN) return 0;
     }
-    if (spend_the_rest(sel) != 0) return -1;
-    for (;;) { /* what is left: increments that still fit (fill) */
+}
+
+/* What is left after the smooth variables: the increments that still fit
+ * (fill). */
+static int fill(tclod_selector *sel) {
+    tclod_resume *R = &sel->resume;
+    for (;;) {
         double slope_d;
-        tclod_id cand = tclod_greedy_candidate(sel, &slope_d, &skipped);
+        tclod_id cand = tclod_greedy_candidate(sel, &slope_d, &R->skipped);
         if (cand == TCLOD_NONE || tclod_out_of_time(sel)) break;
         if (tclod_greedy_take(sel, cand) != 0) return -1;
     }
-    sel->stats.stop_reason = skipped ? TCLOD_STOP_BUDGET : TCLOD_STOP_FINEST;
+    if (!sel->paused && !sel->stopped)
+        sel->stats.stop_reason = R->skipped ? TCLOD_STOP_BUDGET : TCLOD_STOP_FINEST;
     return 0;
 }
 
@@ -813,8 +818,8 @@ static int improve_modelled(tclod_selector *sel) {
  * variables' callbacks per step. */
 static int polish(tclod_selector *sel) {
     tclod_vars *V = &sel->vars;
-    uint32_t k;
-    for (k = 0; k < POLISH_STEPS; ++k) {
+    uint32_t *k = &sel->resume.k;
+    for (; *k < POLISH_STEPS; ++*k) {
         uint32_t v, hi = TCLOD_NONE, lo = TCLOD_NONE;
         double scale;
         int moved, budget_bound, at_slope, stalled;
@@ -867,16 +872,68 @@ static int finish(tclod_selector *sel) {
     return tclod_greedy_enforce(sel);
 }
 
-tclod_status tclod_mixed_solve(tclod_selector *sel) {
+/* The stages of a mixed solve (sel->resume.phase). */
+enum {
+    MIXED_START = 0,
+    MIXED_IMPROVE,  /* the preconditioned loop, or the papers' */
+    MIXED_REST,     /* spend_the_rest */
+    MIXED_FILL,
+    MIXED_POLISH,
+    MIXED_FINISH
+};
+
+static int mixed_start(tclod_selector *sel) {
+    tclod_resume *R = &sel->resume;
     int rc;
     sel->reserved = 0.0;
+    R->skipped = R->smooth_done = 0;
+    R->run = R->k = 0;
+    R->matched = TCLOD_NONE;
+    R->guess = 1.0;
     rc = tclod_greedy_start(sel);
     if (rc == 0) rc = tclod_split_variables(sel);
     if (rc == 0) rc = start_variables(sel);
     sel->stats.variables = sel->vars.count;
-    if (rc == 0) rc = sel->desc.smooth_precondition ? improve_modelled(sel) : improve_gradient(sel);
-    if (rc == 0 && sel->desc.smooth_precondition) rc = polish(sel);
-    if (rc == 0) rc = finish(sel);
+    return rc;
+}
+
+tclod_status tclod_mixed_solve(tclod_selector *sel) {
+    tclod_resume *R = &sel->resume;
+    int modelled = sel->desc.smooth_precondition, rc = 0;
+    while (rc == 0 && !sel->paused) {
+        int next;
+        switch (R->phase) {
+        case MIXED_START:
+            rc = mixed_start(sel);
+            next = MIXED_IMPROVE;
+            break;
+        case MIXED_IMPROVE:
+            rc = modelled ? improve_modelled(sel) : improve_gradient(sel);
+            next = modelled ? MIXED_REST : MIXED_FINISH;
+            break;
+        case MIXED_REST:
+            rc = spend_the_rest(sel);
+            next = MIXED_FILL;
+            break;
+        case MIXED_FILL:
+            rc = fill(sel);
+            next = MIXED_POLISH;
+            break;
+        case MIXED_POLISH:
+            rc = polish(sel);
+            next = MIXED_FINISH;
+            break;
+        default:
+            rc = finish(sel);
+            tclod_greedy_end(sel);
+            return rc == 0 ? TCLOD_OK : TCLOD_ERR_CALLBACK;
+        }
+        if (!sel->paused) {
+            R->phase = next;
+            R->k = 0;
+        }
+    }
+    if (rc == 0) return TCLOD_OK;
     tclod_greedy_end(sel);
-    return rc == 0 ? TCLOD_OK : TCLOD_ERR_CALLBACK;
+    return TCLOD_ERR_CALLBACK;
 }

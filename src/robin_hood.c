@@ -82,12 +82,16 @@ static int is_head(const tclod_scene *s, tclod_id n) {
     return s->parent[n] == TCLOD_NONE || child_count(s, s->parent[n]) > 1u;
 }
 
-/* A sanitised complexity: NaN, infinite or negative counts as the most
- * complex (visited last) and is counted. */
-static double complexity_value(tclod_selector *sel, double c) {
-    if (c >= 0.0 && !isinf(c)) return c;
+static int value_bad(double v) { return !(v >= 0.0) || isinf(v); }
+
+/* A sanitised complexity: NaN, infinite or negative (or, when it is a smooth
+ * cost, with such a slope) counts as the most complex (visited last) and is
+ * counted like any bad callback value. */
+static double complexity_value(tclod_selector *sel, double c, double slope) {
+    if (!value_bad(c) && !value_bad(slope)) return c;
     sel->stats.invalid_values++;
-    return HUGE_VAL;
+    if (sel->desc.strict) sel->failed = 1;
+    return value_bad(c) ? HUGE_VAL : c;
 }
 
 /* The complexity of the instance starting at node head (chain end `end`) or
@@ -104,22 +108,24 @@ static double node_complexity(tclod_selector *sel, tclod_id head, tclod_id end) 
     q.members = NULL;
     q.id = cb->complexity ? head : end;
     return complexity_value(sel, cb->complexity ? cb->complexity(cb->user, &q)
-                                                : cb->cost(cb->user, &q));
+                                                : cb->cost(cb->user, &q), 0.0);
 }
 
 static double smooth_complexity(tclod_selector *sel, uint32_t pos) {
     const tclod_callbacks *cb = &sel->desc.callbacks;
     const tclod_scene *s = sel->scene;
     tclod_query q;
-    double d;
+    double c, d;
     q.id = s->smooth_order[pos];
     q.count = 1;
     q.view = NULL;
     q.screen_area = (float)sel->desc.reference_area;
     q.distance = -1.0f;
     q.members = s->smooth_order + pos;
-    return complexity_value(sel, cb->complexity ? cb->complexity(cb->user, &q)
-                                                : cb->smooth_cost(cb->user, &q, 1.0, &d));
+    if (cb->complexity) return complexity_value(sel, cb->complexity(cb->user, &q), 0.0);
+    d = 0.0;
+    c = cb->smooth_cost(cb->user, &q, 1.0, &d);
+    return complexity_value(sel, c, d);
 }
 
 /* Whether smooth objects are instances: the smooth callbacks are set. */
@@ -363,10 +369,8 @@ static int add_group(tclod_selector *sel, uint32_t pos, float area, float distan
                      double cost) {
     tclod_vars *V = &sel->vars;
     const float *b = &sel->scene->smooth_bounds[4u * sel->scene->smooth_order[pos]];
-    uint32_t v = V->count++;
+    uint32_t v = pos; /* variables sit at their position: groups come out in order */
     double db;
-    V->first[v] = pos;
-    V->size[v] = 1;
     V->r[v] = r;
     V->area[v] = area;
     V->distance[v] = distance;
@@ -417,43 +421,75 @@ static int values(tclod_selector *sel, double *total) {
     return 0;
 }
 
-tclod_status tclod_robin_hood_solve(tclod_selector *sel) {
-    const tclod_scene *s = sel->scene;
-    double budget = sel->frame->budget, pool, value_left, total;
-    uint32_t k;
-    int limited = 0, stopped = 0, rc;
-    if (sel->rh_version != s->version) prepare(sel);
+/* One variable per smooth object, at its position in the smooth order, all
+ * at resolution 0 (not drawn) until the object's share comes. */
+static void empty_variables(tclod_selector *sel) {
+    tclod_vars *V = &sel->vars;
+    uint32_t i;
+    V->count = with_smooth(sel) ? sel->scene->smooth_count : 0u;
+    for (i = 0; i < V->count; ++i) {
+        V->first[i] = i;
+        V->size[i] = 1;
+        V->r[i] = V->b[i] = V->c[i] = 0.0;
+    }
+}
+
+/* Cycle 1 and the start of cycle 2. Returns 0 or -1 (strict error). */
+static int robin_hood_start(tclod_selector *sel) {
+    tclod_resume *R = &sel->resume;
+    double budget = sel->frame->budget, total;
+    if (sel->rh_version != sel->scene->version) {
+        prepare(sel);
+        if (sel->failed) {
+            sel->rh_version = 0; /* strict: ask again next time */
+            return -1;
+        }
+    }
     cut_clear(sel);
-    sel->vars.count = 0;
+    empty_variables(sel);
     sel->reserved = 0.0;
-    if (values(sel, &total) != 0) return TCLOD_ERR_CALLBACK;
-    /* cycle 2: least complex first, each share v_i t_r / v_f of what is left
-     * (eq. 2-4), what an instance leaves going on to the next */
-    pool = isinf(budget) ? budget : budget - BUDGET_MARGIN * budget;
-    value_left = total;
-    for (k = 0; k < sel->rh_order_count; ++k) {
-        uint32_t id = sel->rh_order[k];
-        double v = sel->rh_key[k], share, used = 0.0;
-        if (!stopped && tclod_out_of_time(sel)) stopped = 1;
-        share = value_left > 0.0 && !stopped ? (isinf(pool) ? pool : v * pool / value_left) : 0.0;
-        if (share > pool) share = pool;
-        value_left -= v;
+    if (values(sel, &total) != 0) return -1;
+    R->pool = isinf(budget) ? budget : budget - BUDGET_MARGIN * budget;
+    R->value_left = total;
+    R->limited = 0;
+    R->k = 0;
+    return 0;
+}
+
+/* Cycle 2: least complex first, each share v_i t_r / v_f of what is left
+ * (eq. 2-4), what an instance leaves going on to the next. Once the search
+ * is stopped, the instances left get their simplest level while it fits.
+ * Returns 0 (also when the step's slice ran out) or -1 (strict error). */
+static int share_out(tclod_selector *sel) {
+    const tclod_scene *s = sel->scene;
+    tclod_resume *R = &sel->resume;
+    for (; R->k < sel->rh_order_count; ++R->k) {
+        uint32_t id = sel->rh_order[R->k];
+        double v = sel->rh_key[R->k], share, used = 0.0;
+        int stopped;
+        if (!sel->stopped && tclod_out_of_time(sel) && sel->paused) return 0;
+        stopped = sel->stopped;
+        share = R->value_left > 0.0 && !stopped
+                    ? (isinf(R->pool) ? R->pool : v * R->pool / R->value_left)
+                    : 0.0;
+        if (share > R->pool) share = R->pool;
+        R->value_left -= v;
         if (id < s->node_count) {
             if (!visible(sel, id)) {
                 cut_add(sel, id, 0);
                 continue;
             }
             if (sel->node[id].cost <= share) {
-                if (place_node(sel, id, share, &used) != 0) return TCLOD_ERR_CALLBACK;
+                if (place_node(sel, id, share, &used) != 0) return -1;
             } else if ((sel->desc.misfit == TCLOD_MISFIT_COARSEST || stopped) &&
-                       sel->node[id].cost <= pool) {
+                       sel->node[id].cost <= R->pool) {
                 cut_add(sel, id, 0);
                 used = sel->node[id].cost;
-                limited = 1;
+                R->limited = 1;
             } else {
                 cut_add(sel, id, TCLOD_FLAG_DROPPED);
                 sel->stats.dropped_roots++;
-                limited = 1;
+                R->limited = 1;
             }
         } else if (v > 0.0) {
             uint32_t pos = id - s->node_count;
@@ -469,25 +505,36 @@ tclod_status tclod_robin_hood_solve(tclod_selector *sel) {
             else
                 area = distance = -1.0f;
             r = smooth_resolution(sel, pos, area, distance, share, &cost);
-            if (r < 0.0) return TCLOD_ERR_CALLBACK;
+            if (r < 0.0) return -1;
             if (r == 0.0 && sel->desc.misfit == TCLOD_MISFIT_COARSEST) {
                 tclod_smooth_call(sel, pos, 1, area, distance, TCLOD_SLOPE_FLOOR, NULL, NULL,
                                   &cost, &r);
-                r = cost <= pool ? TCLOD_SLOPE_FLOOR : 0.0;
+                r = cost <= R->pool ? TCLOD_SLOPE_FLOOR : 0.0;
             }
-            if (r < 1.0) limited = 1;
+            if (r < 1.0) R->limited = 1;
             if (r > 0.0) {
-                if (add_group(sel, pos, area, distance, r, cost) != 0) return TCLOD_ERR_CALLBACK;
+                if (add_group(sel, pos, area, distance, r, cost) != 0) return -1;
                 used = cost;
             }
         }
-        pool -= used;
-        if (pool < 0.0) pool = 0.0;
+        R->pool -= used;
+        if (R->pool < 0.0) R->pool = 0.0;
     }
-    rc = finish(sel);
+    return 0;
+}
+
+tclod_status tclod_robin_hood_solve(tclod_selector *sel) {
+    tclod_resume *R = &sel->resume;
+    int rc = 0;
+    if (R->phase == 0) {
+        rc = robin_hood_start(sel);
+        R->phase = 1;
+    }
+    if (rc == 0) rc = share_out(sel);
+    if (rc == 0 && sel->paused) return TCLOD_OK;
+    if (rc == 0) rc = finish(sel);
     tclod_greedy_end(sel);
     if (rc != 0) return TCLOD_ERR_CALLBACK;
-    sel->stats.stop_reason = stopped ? sel->stats.stop_reason
-                                     : (limited ? TCLOD_STOP_BUDGET : TCLOD_STOP_FINEST);
+    if (!sel->stopped) sel->stats.stop_reason = R->limited ? TCLOD_STOP_BUDGET : TCLOD_STOP_FINEST;
     return sel->failed ? TCLOD_ERR_CALLBACK : TCLOD_OK;
 }

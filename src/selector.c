@@ -273,20 +273,18 @@ static void commit(tclod_selector *sel) {
     sel->stats.cost = cost;
 }
 
-tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats *st) {
+tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f) {
     tclod_status status;
     if (!sel || !f) return TCLOD_ERR_ARG;
-    if (sel->busy) return TCLOD_ERR_STATE;
+    if (sel->busy || sel->pending) return TCLOD_ERR_STATE;
     status = check_frame(f);
     if (status != TCLOD_OK) return status;
     sel->busy = 1;
     status = tclod_scene_prepare(sel->scene);
     if (status == TCLOD_OK)
         status = reserve(sel, sel->scene->node_count, sel->scene->smooth_count);
-    if (status != TCLOD_OK) {
-        sel->busy = 0;
-        return status;
-    }
+    sel->busy = 0;
+    if (status != TCLOD_OK) return status;
     if (sel->scene_version != sel->scene->version) sel->has_cut = 0;
     if (++sel->solve_id == UINT32_MAX) { /* the fill value of new records */
         uint32_t i;
@@ -294,29 +292,108 @@ tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats
         sel->solve_id = 1;
     }
     memset(&sel->stats, 0, sizeof sel->stats);
-    sel->start_time = tclod_now();
-    sel->frame = f;
-    sel->failed = 0;
+    sel->stats.stop_reason = TCLOD_STOP_FINEST;
+    memset(&sel->resume, 0, sizeof sel->resume);
+    sel->frame_data = *f;
     sel->has_view = f->view != NULL;
-    if (sel->has_view) tclod_view_cache_init(&sel->view, f->view);
-
+    if (sel->has_view) {
+        sel->view_data = *f->view;
+        sel->frame_data.view = &sel->view_data;
+        tclod_view_cache_init(&sel->view, f->view);
+    }
+    sel->failed = 0;
+    sel->stopped = 0;
+    sel->elapsed = 0.0;
     sel->reserved = 0.0;
     sel->vars.count = 0;
+    sel->pending = 1;
+    sel->pending_version = sel->scene->version;
+    return TCLOD_OK;
+}
+
+/* Ends the solve in progress without a result: the working cut goes back to
+ * the committed one. */
+static void abandon(tclod_selector *sel) {
+    tclod_greedy_end(sel);
+    roll_back(sel);
+    sel->pending = 0;
+}
+
+/* Runs the begun solve until it finishes or the slice (slice_end on the
+ * clock, slice_iterations more iterations; 0 = none) runs out. */
+static tclod_status run(tclod_selector *sel, double slice_seconds, uint32_t slice_iterations,
+                        int *done, tclod_stats *st) {
+    tclod_status status;
+    if (!sel->pending || sel->busy) return TCLOD_ERR_STATE;
+    if (sel->pending_version != sel->scene->version) {
+        abandon(sel); /* the scene changed under the solve */
+        return TCLOD_ERR_STATE;
+    }
+    sel->busy = 1;
+    sel->start_time = tclod_now();
+    sel->slice_end = slice_seconds > 0.0 ? sel->start_time + slice_seconds : 0.0;
+    sel->slice_iterations = 0;
+    sel->step_start = sel->stats.iterations;
+    if (slice_iterations) {
+        uint32_t it = sel->stats.iterations;
+        sel->slice_iterations = it > UINT32_MAX - slice_iterations ? UINT32_MAX
+                                                                   : it + slice_iterations;
+    }
+    sel->paused = 0;
+    sel->frame = &sel->frame_data;
     switch (sel->desc.solver) {
     case TCLOD_SOLVER_MIXED: status = tclod_mixed_solve(sel); break;
     case TCLOD_SOLVER_ROBIN_HOOD: status = tclod_robin_hood_solve(sel); break;
     default: status = tclod_greedy_solve(sel); break;
     }
+    sel->elapsed += tclod_now() - sel->start_time;
     if (status != TCLOD_OK) {
-        roll_back(sel);
+        abandon(sel);
+    } else if (sel->paused) {
+        *done = 0;
     } else {
         commit(sel);
-        sel->stats.solve_seconds = tclod_now() - sel->start_time;
+        sel->stats.solve_seconds = sel->elapsed;
+        sel->pending = 0;
+        *done = 1;
         if (st) *st = sel->stats;
     }
     sel->frame = NULL;
     sel->busy = 0;
     return status;
+}
+
+tclod_status tclod_select_step(tclod_selector *sel, double slice_seconds,
+                               uint32_t slice_iterations, int *done, tclod_stats *st) {
+    if (!sel || !done || !(slice_seconds >= 0.0)) return TCLOD_ERR_ARG;
+    return run(sel, slice_seconds, slice_iterations, done, st);
+}
+
+tclod_status tclod_select_finish(tclod_selector *sel, tclod_stats *st) {
+    int done = 0;
+    if (!sel) return TCLOD_ERR_ARG;
+    if (!sel->pending || sel->busy) return TCLOD_ERR_STATE;
+    if (!sel->stopped) {
+        sel->stopped = 1;
+        sel->stats.stop_reason = TCLOD_STOP_FINISHED;
+    }
+    return run(sel, 0.0, 0, &done, st);
+}
+
+tclod_status tclod_select_cancel(tclod_selector *sel) {
+    if (!sel) return TCLOD_ERR_ARG;
+    if (sel->busy) return TCLOD_ERR_STATE;
+    if (sel->pending) abandon(sel);
+    return TCLOD_OK;
+}
+
+int tclod_select_pending(const tclod_selector *sel) { return sel && sel->pending; }
+
+tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats *st) {
+    int done = 0;
+    tclod_status status = tclod_select_begin(sel, f);
+    if (status != TCLOD_OK) return status;
+    return run(sel, 0.0, 0, &done, st);
 }
 
 tclod_status tclod_selector_cut(const tclod_selector *sel, const tclod_id **ids, size_t *n) {

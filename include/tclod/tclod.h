@@ -349,7 +349,8 @@ typedef enum tclod_stop_reason {
     TCLOD_STOP_FINEST = 1,     /* no increment is left: every visible selected node is
                                   at its finest level or refining it gains nothing */
     TCLOD_STOP_ITERATIONS = 2, /* tclod_frame.max_iterations reached */
-    TCLOD_STOP_TIME = 3        /* tclod_frame.solve_seconds reached */
+    TCLOD_STOP_TIME = 3,       /* tclod_frame.solve_seconds reached */
+    TCLOD_STOP_FINISHED = 4    /* ended early by tclod_select_finish */
 } tclod_stop_reason;
 
 /* Figures of one tclod_select, returned by value. */
@@ -402,6 +403,43 @@ TCLOD_API void tclod_selector_destroy(tclod_selector *sel);
  * TCLOD_ERR_STATE (re-entered from a callback). On error the previous result
  * and its stats stay as they were. */
 TCLOD_API tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats *st);
+
+/* Resumable selection: the same solve as tclod_select, spread over several
+ * calls (over several frames, say) while the previous result stays readable.
+ *
+ * tclod_select_begin starts a solve for frame f (copied, with its view): it
+ * checks f, grows the buffers to the scene's size (its only allocation) and
+ * returns. tclod_select_step then runs the solve until it finishes or its
+ * slice runs out: slice_seconds of wall-clock time (checked every few
+ * iterations) or slice_iterations more iterations; 0 means no limit. *done is
+ * set to 1 when the solve finished and its result replaced the previous one
+ * (st, if not NULL, then receives its stats), else to 0. The state between
+ * steps is always feasible: tclod_select_finish ends the search where it
+ * stands and commits it (stop_reason TCLOD_STOP_FINISHED) within the budget.
+ * The frame's own limits (solve_seconds over the summed steps,
+ * max_iterations) still apply. tclod_select_cancel drops the solve; the
+ * previous result stays. Steps never allocate. A step always completes the
+ * solver's starting work (the greedy re-evaluates the previous cut, the mixed
+ * solver splits its variables, the Robin Hood solver values every instance);
+ * the iterations that follow pause at the slice.
+ * A step resumes exactly where the last one stopped: with iteration slices
+ * the result equals tclod_select's for the same frame.
+ * Errors: begin: as tclod_select, and TCLOD_ERR_STATE when a solve is already
+ * pending; step: TCLOD_ERR_ARG (NULL sel or done, slice_seconds NaN or < 0),
+ * TCLOD_ERR_STATE (no solve pending, re-entered from a callback, or the scene
+ * changed since begin: the solve is then cancelled), TCLOD_ERR_CALLBACK
+ * (strict mode: the solve is cancelled). tclod_select while a solve is
+ * pending returns TCLOD_ERR_STATE. */
+TCLOD_API tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f);
+TCLOD_API tclod_status tclod_select_step(tclod_selector *sel, double slice_seconds,
+                                         uint32_t slice_iterations, int *done, tclod_stats *st);
+/* Ends the pending solve now and commits its state. Errors as step's. */
+TCLOD_API tclod_status tclod_select_finish(tclod_selector *sel, tclod_stats *st);
+/* Drops the pending solve, if any. TCLOD_ERR_ARG for NULL, TCLOD_ERR_STATE
+ * from a callback. */
+TCLOD_API tclod_status tclod_select_cancel(tclod_selector *sel);
+/* 1 while a begun solve has neither finished nor been cancelled, else 0. */
+TCLOD_API int tclod_select_pending(const tclod_selector *sel);
 
 /* The visible nodes of the current cut (culled and dropped nodes are not
  * listed), in result order. *ids points into the selector: valid until the
