@@ -56,6 +56,10 @@
 #define THESIS_BUDGET_MS 40.0
 /* The table on stdout shows every this many frames. */
 #define PRINT_EVERY 20u
+/* --scheduler: frames per second of the simulated host, and the margin on the
+ * camera's measured speed and turn rate it gives the scheduler as bounds. */
+#define SCHEDULER_HZ 60.0
+#define SCHEDULER_MARGIN 1.25
 /* Without --target-ms, --simulate-gpu aims at 25 ms (seed 003 Table 2's 0.025 s). */
 #define DEFAULT_TARGET_MS 25.0
 
@@ -99,6 +103,13 @@ typedef struct options {
     int target_given;
     double gpu_c; /* the simulated machine's true C of eq. 7 */
     int gpu_c_given;
+    int scheduler;    /* --scheduler: the predictive geomorph scheduler */
+    double tau;       /* its interval, s */
+    int tau_given;
+    int morph;        /* its three-stage pipeline with geomorphs */
+    int morph_given;
+    double slice_us;  /* its selection time per frame */
+    int slice_given;
 } options;
 
 static void usage(FILE *out) {
@@ -106,7 +117,7 @@ static void usage(FILE *out) {
             "usage: flyover_sim [--scene flyover|thesis] [--frames N] [--budget-ms X]\n"
             "                   [--solver greedy|mixed|robin_hood] [--split 0|1] [--csv FILE]\n"
             "                   [--warm 0|1] [--simulate-gpu [--target-ms T] [--gpu-c C]]\n"
-            "                   [--help]\n"
+            "                   [--scheduler [--tau T] [--morph 0|1] [--slice-us X]] [--help]\n"
             "\n"
             "Flies a camera over a terrain with 5000 buildings and trees (or, with --scene\n"
             "thesis, over the thesis's 120 km terrain with 1.4 million trees) and selects\n"
@@ -134,6 +145,16 @@ static void usage(FILE *out) {
             "  --target-ms T   --simulate-gpu: target frame time in ms, T > 0 (default 25)\n"
             "  --gpu-c C       --simulate-gpu: the simulated machine's constant C of seed 003\n"
             "                  eq. 7, C > 0 (default 1, what the calibration assumes)\n"
+            "  --scheduler     flyover scene: select through the predictive geomorph\n"
+            "                  scheduler (docs/scheduler.md): each selection is for an\n"
+            "                  interval ahead, spread over the frames before it, and levels\n"
+            "                  change by geomorphs; the frames run at 60 Hz; adds\n"
+            "                  draw_violations, morph_coverage, pops_per_frame and\n"
+            "                  select_us_per_frame to the summary\n"
+            "  --tau T         --scheduler: interval and morph time in s, T > 0 (default 0.5)\n"
+            "  --morph 0|1     --scheduler: 1 = three stages with geomorphs (default), 0 = two\n"
+            "                  stages, selections switch at interval boundaries\n"
+            "  --slice-us X    --scheduler: selection time per frame in us, X > 0 (default 500)\n"
             "  --help          print this text and exit\n");
 }
 
@@ -207,6 +228,13 @@ static int parse_options(int argc, char **argv, options *o) {
     o->target_given = 0;
     o->gpu_c = 1.0;
     o->gpu_c_given = 0;
+    o->scheduler = 0;
+    o->tau = 0.5;
+    o->tau_given = 0;
+    o->morph = 1;
+    o->morph_given = 0;
+    o->slice_us = 500.0;
+    o->slice_given = 0;
     for (i = 1; i < argc; ++i) {
         const char *opt = argv[i];
         const char *val = i + 1 < argc ? argv[i + 1] : NULL;
@@ -214,6 +242,35 @@ static int parse_options(int argc, char **argv, options *o) {
             return 1;
         } else if (strcmp(opt, "--simulate-gpu") == 0) {
             o->simulate_gpu = 1;
+        } else if (strcmp(opt, "--scheduler") == 0) {
+            o->scheduler = 1;
+        } else if (strcmp(opt, "--tau") == 0 || strcmp(opt, "--morph") == 0 ||
+                   strcmp(opt, "--slice-us") == 0) {
+            if (!val) {
+                fprintf(stderr, "flyover_sim: option %s needs a value\n", opt);
+                return 2;
+            }
+            ++i;
+            if (strcmp(opt, "--tau") == 0) {
+                if (!parse_double(val, &o->tau) || !(o->tau > 0.0)) {
+                    fprintf(stderr, "flyover_sim: --tau expects a number > 0, got '%s'\n", val);
+                    return 2;
+                }
+                o->tau_given = 1;
+            } else if (strcmp(opt, "--morph") == 0) {
+                if (!parse_flag(val, &o->morph)) {
+                    fprintf(stderr, "flyover_sim: --morph expects 0 or 1, got '%s'\n", val);
+                    return 2;
+                }
+                o->morph_given = 1;
+            } else {
+                if (!parse_double(val, &o->slice_us) || !(o->slice_us > 0.0)) {
+                    fprintf(stderr, "flyover_sim: --slice-us expects a number > 0, got '%s'\n",
+                            val);
+                    return 2;
+                }
+                o->slice_given = 1;
+            }
         } else if (strcmp(opt, "--frames") == 0 || strcmp(opt, "--budget-ms") == 0 ||
                    strcmp(opt, "--solver") == 0 || strcmp(opt, "--csv") == 0 ||
                    strcmp(opt, "--warm") == 0 || strcmp(opt, "--scene") == 0 ||
@@ -296,6 +353,15 @@ static int parse_options(int argc, char **argv, options *o) {
     }
     if (!o->simulate_gpu && (o->target_given || o->gpu_c_given)) {
         fprintf(stderr, "flyover_sim: --target-ms and --gpu-c need --simulate-gpu\n");
+        return 2;
+    }
+    if (!o->scheduler && (o->tau_given || o->morph_given || o->slice_given)) {
+        fprintf(stderr, "flyover_sim: --tau, --morph and --slice-us need --scheduler\n");
+        return 2;
+    }
+    if (o->scheduler && (o->scene != SCENE_FLYOVER || o->simulate_gpu)) {
+        fprintf(stderr, "flyover_sim: --scheduler runs on the flyover scene with a fixed "
+                        "budget (no --scene thesis, no --simulate-gpu)\n");
         return 2;
     }
     if (o->simulate_gpu && o->budget_given) {
@@ -452,6 +518,194 @@ static void camera_at(const sim_scene *s, unsigned long frame, tclod_view *view)
         world_camera_at(&s->world.path, (double)frame / (double)FRAMES_PER_LOOP, view);
 }
 
+/* Level changes between consecutive selections, counted as the scheduler's
+ * statistics count them: a node drawn in one selection whose drawn
+ * descendants replace it in the other, or the reverse, counts once. */
+typedef struct change_counter {
+    uint32_t *in_prev, *in_cur, *counted; /* per node: the stamp of the call */
+    tclod_id *prev;
+    size_t prev_count;
+    uint32_t stamp;
+} change_counter;
+
+static int change_counter_init(change_counter *c, uint32_t nodes) {
+    memset(c, 0, sizeof(*c));
+    c->in_prev = (uint32_t *)calloc(nodes ? nodes : 1u, sizeof(uint32_t));
+    c->in_cur = (uint32_t *)calloc(nodes ? nodes : 1u, sizeof(uint32_t));
+    c->counted = (uint32_t *)calloc(nodes ? nodes : 1u, sizeof(uint32_t));
+    c->prev = (tclod_id *)malloc((nodes ? nodes : 1u) * sizeof(tclod_id));
+    return c->in_prev && c->in_cur && c->counted && c->prev;
+}
+
+static void change_counter_free(change_counter *c) {
+    free(c->in_prev);
+    free(c->in_cur);
+    free(c->counted);
+    free(c->prev);
+}
+
+/* The level changes from the last selection passed to the next, cur. */
+static unsigned long count_changes(change_counter *c, const tclod_scene *s, const tclod_id *cur,
+                                   size_t n) {
+    unsigned long changes = 0;
+    uint32_t st = ++c->stamp;
+    size_t i;
+    int pass;
+    for (i = 0; i < c->prev_count; ++i) c->in_prev[c->prev[i]] = st;
+    for (i = 0; i < n; ++i) c->in_cur[cur[i]] = st;
+    for (pass = 0; pass < 2; ++pass) {
+        const tclod_id *list = pass == 0 ? cur : c->prev;
+        const uint32_t *own = pass == 0 ? c->in_prev : c->in_cur;
+        size_t count = pass == 0 ? n : c->prev_count;
+        for (i = 0; i < count; ++i) {
+            tclod_id a;
+            if (own[list[i]] == st) continue; /* drawn in both */
+            for (a = tclod_scene_parent(s, list[i]); a != TCLOD_NONE;
+                 a = tclod_scene_parent(s, a)) {
+                if (own[a] != st) continue;
+                if (c->counted[a] != st) {
+                    c->counted[a] = st;
+                    ++changes;
+                }
+                break;
+            }
+        }
+    }
+    if (n) memcpy(c->prev, cur, n * sizeof(*cur));
+    c->prev_count = n;
+    return changes;
+}
+
+/* The camera's largest speed (m/s) and turn rate (rad/s) over the loop at 60
+ * frames per second: the bounds theta and omega the scheduler needs, which a
+ * host knows from its camera controller. */
+static void camera_bounds(const sim_scene *s, double *speed, double *turn) {
+    tclod_view a, b;
+    unsigned long f;
+    *speed = *turn = 0.0;
+    camera_at(s, 0, &a);
+    for (f = 1; f <= FRAMES_PER_LOOP; ++f) {
+        double d[3], fa, fb, dot = 0.0, len;
+        int k;
+        camera_at(s, f, &b);
+        for (k = 0; k < 3; ++k) d[k] = (double)b.eye[k] - (double)a.eye[k];
+        len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) * SCHEDULER_HZ;
+        if (len > *speed) *speed = len;
+        fa = sqrt((double)a.forward[0] * a.forward[0] + (double)a.forward[1] * a.forward[1] +
+                  (double)a.forward[2] * a.forward[2]);
+        fb = sqrt((double)b.forward[0] * b.forward[0] + (double)b.forward[1] * b.forward[1] +
+                  (double)b.forward[2] * b.forward[2]);
+        for (k = 0; k < 3; ++k) dot += (double)a.forward[k] * (double)b.forward[k];
+        dot /= fa * fb;
+        len = acos(dot > 1.0 ? 1.0 : dot) * SCHEDULER_HZ;
+        if (len > *turn) *turn = len;
+        a = b;
+    }
+}
+
+/* --scheduler: the frame loop of a host that draws through the scheduler. */
+static int run_scheduler(const options *opt, sim_scene *sim, const tclod_selector_desc *sd) {
+    const world_scene *w = &sim->world;
+    tclod_scheduler_desc d;
+    tclod_scheduler *sch = NULL;
+    tclod_scheduler_stats st;
+    tclod_status status;
+    FILE *csv = NULL;
+    double *update_us = NULL, sum_us = 0.0, sum_ratio = 0.0, speed, turn;
+    unsigned long frame, violations = 0;
+    int rc = 1;
+
+    camera_bounds(sim, &speed, &turn);
+    tclod_scheduler_desc_default(&d);
+    d.tau = opt->tau;
+    d.morph = opt->morph;
+    d.max_speed = SCHEDULER_MARGIN * speed;
+    d.max_turn_rate = SCHEDULER_MARGIN * turn;
+    status = tclod_scheduler_create(w->scene, sd, &d, NULL, &sch);
+    if (status != TCLOD_OK) {
+        fprintf(stderr, "flyover_sim: creating the scheduler failed: %s\n",
+                tclod_status_string(status));
+        return 1;
+    }
+    update_us = (double *)malloc(opt->frames * sizeof(*update_us));
+    if (!update_us) {
+        fprintf(stderr, "flyover_sim: out of memory\n");
+        goto done;
+    }
+    if (opt->csv_path) {
+        csv = fopen(opt->csv_path, "w");
+        if (!csv) {
+            fprintf(stderr, "flyover_sim: cannot write %s: %s\n", opt->csv_path, strerror(errno));
+            goto done;
+        }
+        fprintf(csv, "frame,time_s,select_us,drawn,morphing,cost_ms,budget_ms,selections,"
+                     "unfinished,emergencies,changes,morphs,pops\n");
+    }
+    printf("flyover: %u terrain patches (depth %u), %u objects x %u levels, %u nodes, %u roots\n",
+           w->terrain_count, sim->world_desc.terrain_depth, w->object_count, w->levels,
+           w->node_count, w->root_count);
+    printf("scheduler over solver %s, warm start %d, tau %.3f s, morph %d, slice %.0f us, "
+           "%.0f Hz, max speed %.1f m/s, max turn %.3f rad/s, budget %.3f ms, %lu frames\n\n",
+           opt->solver_name, sd->warm_start, d.tau, d.morph, opt->slice_us, SCHEDULER_HZ,
+           d.max_speed, d.max_turn_rate, opt->budget_ms, opt->frames);
+    printf("%7s %10s %7s %9s %9s %10s %10s\n", "frame", "update_us", "drawn", "morphing",
+           "cost_ms", "budget_ms", "selections");
+
+    for (frame = 0; frame < opt->frames; ++frame) {
+        tclod_view view;
+        const tclod_draw *items;
+        size_t n, i;
+        double t0, t1, own_cost = 0.0, now = (double)frame / SCHEDULER_HZ;
+        camera_at(sim, frame, &view);
+        t0 = now_us();
+        status = tclod_scheduler_update(sch, now, &view, opt->budget_ms, opt->slice_us * 1e-6);
+        t1 = now_us();
+        if (status == TCLOD_OK) status = tclod_scheduler_draws(sch, &items, &n);
+        if (status == TCLOD_OK) status = tclod_scheduler_get_stats(sch, &st);
+        if (status != TCLOD_OK) {
+            fprintf(stderr, "flyover_sim: the scheduler failed at frame %lu: %s\n", frame,
+                    tclod_status_string(status));
+            goto done;
+        }
+        /* the invariant, checked from outside: a morph costs its finer side */
+        for (i = 0; i < n; ++i) own_cost += (double)w->cost_ms[items[i].fine];
+        if (own_cost > opt->budget_ms || st.draw_cost > st.budget) ++violations;
+        update_us[frame] = t1 - t0;
+        sum_us += t1 - t0;
+        sum_ratio += own_cost / opt->budget_ms;
+        if (frame % PRINT_EVERY == 0 || frame + 1 == opt->frames)
+            printf("%7lu %10.1f %7lu %9lu %9.4f %10.4f %10lu\n", frame, t1 - t0,
+                   (unsigned long)n, (unsigned long)st.morphing, own_cost, opt->budget_ms,
+                   (unsigned long)st.selections);
+        if (csv)
+            fprintf(csv, "%lu,%.6f,%.3f,%lu,%lu,%.9g,%.9g,%lu,%lu,%lu,%llu,%llu,%llu\n", frame,
+                    now, t1 - t0, (unsigned long)n, (unsigned long)st.morphing, own_cost,
+                    opt->budget_ms, (unsigned long)st.selections, (unsigned long)st.unfinished,
+                    (unsigned long)st.emergencies, (unsigned long long)st.changes,
+                    (unsigned long long)st.morphs, (unsigned long long)st.pops);
+    }
+    qsort(update_us, opt->frames, sizeof(*update_us), compare_double);
+    printf("\nsummary: frames=%lu solver=%s mean_select_us=%.1f p99_select_us=%.1f "
+           "mean_cost_ratio=%.4f violations=%lu draw_violations=%lu morph_coverage=%.4f "
+           "pops_per_frame=%.4f select_us_per_frame=%.1f tau=%.3f morph=%d changes_per_frame=%.4f "
+           "selections=%lu unfinished=%lu emergencies=%lu\n",
+           opt->frames, opt->solver_name, sum_us / (double)opt->frames,
+           percentile(update_us, opt->frames, 99.0), sum_ratio / (double)opt->frames, violations,
+           violations, st.changes ? (double)st.morphs / (double)st.changes : 1.0,
+           (double)st.pops / (double)opt->frames, sum_us / (double)opt->frames, d.tau, d.morph,
+           (double)st.changes / (double)opt->frames, (unsigned long)st.selections,
+           (unsigned long)st.unfinished, (unsigned long)st.emergencies);
+    rc = 0;
+done:
+    if (csv && fclose(csv) != 0 && rc == 0) {
+        fprintf(stderr, "flyover_sim: writing %s failed\n", opt->csv_path);
+        rc = 1;
+    }
+    free(update_us);
+    tclod_scheduler_destroy(sch);
+    return rc;
+}
+
 /* Frame-time figures of --simulate-gpu over all frames (seed 003 §7.1 measures
  * every frame too, the first ones included). */
 typedef struct frame_figures {
@@ -472,10 +726,12 @@ int main(int argc, char **argv) {
     const tclod_scene *scene;
     double *select_us = NULL, sum_us = 0.0, sum_ratio = 0.0, build_ms;
     double sum_variables = 0.0, sum_line_searches = 0.0, sum_groups = 0.0;
-    unsigned long frame, violations = 0, mismatches = 0;
+    unsigned long frame, violations = 0, mismatches = 0, changes = 0;
+    change_counter cc;
     int rc;
 
     memset(&ff, 0, sizeof(ff));
+    memset(&cc, 0, sizeof(cc));
     rc = parse_options(argc, argv, &opt);
     if (rc == 1) {
         usage(stdout);
@@ -499,6 +755,11 @@ int main(int argc, char **argv) {
     sd.warm_start = opt.warm;
     if (opt.split >= 0)
         sd.split_smooth = opt.split;
+    if (opt.scheduler) {
+        rc = run_scheduler(&opt, &sim, &sd);
+        free_scene(&sim);
+        return rc;
+    }
     st = tclod_selector_create(scene, &sd, NULL, &sel);
     if (st != TCLOD_OK) {
         fprintf(stderr, "flyover_sim: creating the %s selector failed: %s\n", opt.solver_name,
@@ -540,7 +801,7 @@ int main(int argc, char **argv) {
         }
     }
     select_us = (double *)malloc(opt.frames * sizeof(*select_us));
-    if (!select_us) {
+    if (!select_us || !change_counter_init(&cc, tclod_scene_node_count(scene))) {
         fprintf(stderr, "flyover_sim: out of memory\n");
         rc = 1;
         goto done;
@@ -652,6 +913,11 @@ int main(int argc, char **argv) {
             ++violations;
         if (own_cost != stats.cost)
             ++mismatches;
+        /* every level change of a per-frame selection is a switch (a pop) */
+        if (frame > 0)
+            changes += count_changes(&cc, scene, ids, drawn);
+        else
+            count_changes(&cc, scene, ids, drawn);
 
         if (opt.simulate_gpu) {
             /* The machine draws what was selected; the host measures render and
@@ -716,6 +982,8 @@ int main(int argc, char **argv) {
            "mean_cost_ratio=%.4f violations=%lu",
            opt.frames, opt.solver_name, sum_us / (double)opt.frames,
            percentile(select_us, opt.frames, 99.0), sum_ratio / (double)opt.frames, violations);
+    printf(" changes_per_frame=%.4f pops_per_frame=%.4f", (double)changes / (double)opt.frames,
+           (double)changes / (double)opt.frames);
     if (opt.simulate_gpu) {
         double n = (double)opt.frames, mean = ff.sum / n;
         double var = ff.sum_sq / n - mean * mean;
@@ -738,6 +1006,7 @@ done:
         rc = 1;
     }
     free(select_us);
+    change_counter_free(&cc);
     free(ff.overshoot);
     tclod_calib_destroy(calib);
     tclod_selector_destroy(finest);

@@ -43,7 +43,8 @@ int tclod_evaluate_node(tclod_selector *sel, tclod_id n) {
     q.screen_area = -1.0f;
     q.distance = -1.0f;
     q.members = NULL;
-    if (sel->has_view && s->bounds[4u * n + 3u] >= 0.0f)
+    q.bounds = s->bounds[4u * n + 3u] >= 0.0f ? &s->bounds[4u * n] : NULL;
+    if (sel->has_view && q.bounds)
         tclod_view_cache_measure(&sel->view, &s->bounds[4u * n], &q.screen_area, &q.distance);
     sel->stats.evaluations++;
     b = cb->benefit(cb->user, &q);

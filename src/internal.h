@@ -347,14 +347,16 @@ int tclod_out_of_time(tclod_selector *sel);
 
 /* Calls the host's smooth callbacks for the group of smooth order positions
  * first .. first + count at resolution x in (0, 1] (the query carries area and
- * distance) and sanitises what they return: a bad benefit gives *b = *db = 0,
+ * distance, measured on bounds: the group's sphere, or NULL for a single
+ * object's own bounds) and sanitises what they return: a bad benefit gives *b = *db = 0,
  * a bad benefit slope *db = 0, a bad cost *c = +inf, a bad cost slope
  * *dc = +inf; each is counted, and sets sel->failed in strict mode. Slopes are
  * asked at max(x, TCLOD_SLOPE_FLOOR). c and dc may be NULL: no cost asked;
  * b and db may be NULL: no benefit asked. Returns 1 when the benefit was bad,
  * else 0. */
-int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, float area,
-                      float distance, double x, double *b, double *db, double *c, double *dc);
+int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, const float *bounds,
+                      float area, float distance, double x, double *b, double *db, double *c,
+                      double *dc);
 
 /* split.c: the variables of this frame: the smooth quadtree is culled against
  * the view and, with desc.split_smooth, split while the predicted loss of a

@@ -67,8 +67,9 @@ static void bad_value(tclod_selector *sel) {
     if (sel->desc.strict) sel->failed = 1;
 }
 
-int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, float area,
-                      float distance, double x, double *b, double *db, double *c, double *dc) {
+int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, const float *bounds,
+                      float area, float distance, double x, double *b, double *db, double *c,
+                      double *dc) {
     const tclod_callbacks *cb = &sel->desc.callbacks;
     const tclod_scene *s = sel->scene;
     double xs = x > TCLOD_SLOPE_FLOOR ? x : TCLOD_SLOPE_FLOOR;
@@ -80,6 +81,7 @@ int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, float
     q.screen_area = area;
     q.distance = distance;
     q.members = s->smooth_order + first;
+    q.bounds = bounds ? bounds : &s->smooth_bounds[4u * q.id];
     sel->stats.evaluations++;
     if (b) {
         *db = 0.0;
@@ -110,7 +112,8 @@ int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, float
 static int var_call(tclod_selector *sel, uint32_t v, double x, double *b, double *db, double *c,
                     double *dc) {
     const tclod_vars *V = &sel->vars;
-    return tclod_smooth_call(sel, V->first[v], V->size[v], V->area[v], V->distance[v], x, b, db,
+    return tclod_smooth_call(sel, V->first[v], V->size[v], &V->bounds[4u * v], V->area[v],
+                             V->distance[v], x, b, db,
                              c, dc);
 }
 

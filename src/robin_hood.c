@@ -107,6 +107,7 @@ static double node_complexity(tclod_selector *sel, tclod_id head, tclod_id end) 
     q.distance = -1.0f;
     q.members = NULL;
     q.id = cb->complexity ? head : end;
+    q.bounds = sel->scene->bounds[4u * q.id + 3u] >= 0.0f ? &sel->scene->bounds[4u * q.id] : NULL;
     return complexity_value(sel, cb->complexity ? cb->complexity(cb->user, &q)
                                                 : cb->cost(cb->user, &q), 0.0);
 }
@@ -122,6 +123,7 @@ static double smooth_complexity(tclod_selector *sel, uint32_t pos) {
     q.screen_area = (float)sel->desc.reference_area;
     q.distance = -1.0f;
     q.members = s->smooth_order + pos;
+    q.bounds = &s->smooth_bounds[4u * q.id];
     if (cb->complexity) return complexity_value(sel, cb->complexity(cb->user, &q), 0.0);
     d = 0.0;
     c = cb->smooth_cost(cb->user, &q, 1.0, &d);
@@ -316,7 +318,7 @@ static double smooth_value(tclod_selector *sel, uint32_t pos, float *area, float
         tclod_view_cache_measure(&sel->view, b, area, distance);
         if (!(*area > 0.0f) || (double)*area < sel->desc.smooth_cull_area) return 0.0;
     }
-    tclod_smooth_call(sel, pos, 1, *area, *distance, 1.0, &importance, &db, NULL, NULL);
+    tclod_smooth_call(sel, pos, 1, NULL, *area, *distance, 1.0, &importance, &db, NULL, NULL);
     if (sel->failed) return -1.0;
     return importance > 0.0 ? instance_value(sel, b, importance) : 0.0;
 }
@@ -331,20 +333,20 @@ static double smooth_resolution(tclod_selector *sel, uint32_t pos, float area, f
     int side = 0;
     uint32_t k;
     *cost = 0.0;
-    tclod_smooth_call(sel, pos, 1, area, distance, 1.0, NULL, NULL, &chi, &dc);
+    tclod_smooth_call(sel, pos, 1, NULL, area, distance, 1.0, NULL, NULL, &chi, &dc);
     if (sel->failed) return -1.0;
     if (chi <= time) {
         *cost = chi;
         return 1.0;
     }
-    tclod_smooth_call(sel, pos, 1, area, distance, lo, NULL, NULL, &clo, &dc);
+    tclod_smooth_call(sel, pos, 1, NULL, area, distance, lo, NULL, NULL, &clo, &dc);
     if (sel->failed) return -1.0;
     if (!(clo <= time)) return 0.0;
     for (k = 0; k < INVERSE_STEPS && hi - lo > 1e-12 && clo < time * (1.0 - 1e-9); ++k) {
         double x = isfinite(chi) ? lo + (hi - lo) * (time - clo) / (chi - clo) : 0.5 * (lo + hi);
         double c;
         if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);
-        tclod_smooth_call(sel, pos, 1, area, distance, x, NULL, NULL, &c, &dc);
+        tclod_smooth_call(sel, pos, 1, NULL, area, distance, x, NULL, NULL, &c, &dc);
         if (sel->failed) return -1.0;
         if (c <= time) {
             lo = x;
@@ -359,7 +361,7 @@ static double smooth_resolution(tclod_selector *sel, uint32_t pos, float area, f
         }
     }
     /* the Illinois correction moved the bracket's values: ask the cost of lo */
-    tclod_smooth_call(sel, pos, 1, area, distance, lo, NULL, NULL, cost, &dc);
+    tclod_smooth_call(sel, pos, 1, NULL, area, distance, lo, NULL, NULL, cost, &dc);
     if (sel->failed) return -1.0;
     return *cost <= time ? lo : 0.0;
 }
@@ -375,7 +377,7 @@ static int add_group(tclod_selector *sel, uint32_t pos, float area, float distan
     V->area[v] = area;
     V->distance[v] = distance;
     memcpy(&V->bounds[4u * v], b, 4 * sizeof(float));
-    tclod_smooth_call(sel, pos, 1, area, distance, r, &V->b[v], &db, NULL, NULL);
+    tclod_smooth_call(sel, pos, 1, NULL, area, distance, r, &V->b[v], &db, NULL, NULL);
     V->c[v] = cost;
     return sel->failed ? -1 : 0;
 }
@@ -507,7 +509,7 @@ static int share_out(tclod_selector *sel) {
             r = smooth_resolution(sel, pos, area, distance, share, &cost);
             if (r < 0.0) return -1;
             if (r == 0.0 && sel->desc.misfit == TCLOD_MISFIT_COARSEST) {
-                tclod_smooth_call(sel, pos, 1, area, distance, TCLOD_SLOPE_FLOOR, NULL, NULL,
+                tclod_smooth_call(sel, pos, 1, NULL, area, distance, TCLOD_SLOPE_FLOOR, NULL, NULL,
                                   &cost, &r);
                 r = cost <= R->pool ? TCLOD_SLOPE_FLOOR : 0.0;
             }

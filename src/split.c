@@ -96,7 +96,7 @@ static int scale_of(tclod_selector *sel, uint32_t first, uint32_t count, const f
     *scale = 0.0;
     measure(sel, bounds, &area, &distance);
     if (culled(sel, area)) return 0;
-    tclod_smooth_call(sel, first, count, area, distance, 1.0, scale, &db, NULL, NULL);
+    tclod_smooth_call(sel, first, count, bounds, area, distance, 1.0, scale, &db, NULL, NULL);
     return sel->failed ? -1 : 0;
 }
 
@@ -185,8 +185,8 @@ static int split_tree(tclod_selector *sel) {
     uint32_t top = 0;
     measure(sel, root->bounds, &area, &distance);
     if (culled(sel, area)) return 0;
-    tclod_smooth_call(sel, root->first, root->count, area, distance, 1.0, &scale, &db, &cost,
-                      &dc);
+    tclod_smooth_call(sel, root->first, root->count, root->bounds, area, distance, 1.0, &scale,
+                      &db, &cost, &dc);
     if (sel->failed) return -1;
     if (!(scale > 0.0)) return 0;
     if (cost > 0.0 && budget < cost) x = n * budget / cost;

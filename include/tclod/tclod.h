@@ -140,6 +140,10 @@ typedef struct tclod_query {
     const tclod_id *members; /* smooth queries: the count member ids of the group, in
                                 the scene's smooth order (members[0] == id); the
                                 array belongs to the scene. NULL for nodes */
+    const float *bounds;   /* the sphere screen_area and distance were measured on
+                              (x, y, z, radius): the node's or object's bounds, or
+                              the sphere around a group's members; NULL for a node
+                              without bounds */
 } tclod_query;
 
 /* The host's model of quality and render time. Callbacks may read anything but
@@ -587,6 +591,172 @@ TCLOD_API double tclod_calib_logic(const tclod_calib *c);
  * inf), and *budget is not written. */
 TCLOD_API tclod_status tclod_calib_budget(const tclod_calib *c, double frame_time,
                                           double *budget);
+
+/* ------------------------------------------------------------------------- */
+/* Predictive geomorph scheduler                                             */
+/* ------------------------------------------------------------------------- */
+
+/* Selection for a future interval, amortised over the frames before it, with
+ * geomorphs between the selections (seed 004 §3.3-3.4, §4.2-4.5;
+ * docs/scheduler.md). Time is cut into intervals of tau seconds. During an
+ * interval the frames draw the selections that have landed while the next
+ * selection runs in per-frame slices; it lands at the next boundary (ended
+ * early, with a feasible result, if its slices were too short) and is drawn
+ * from the interval after that:
+ *  - with morphing (3 stages), the selection begun at t is for [t+2τ, t+3τ):
+ *    a representation coarser than the one drawn before morphs down during
+ *    [t+τ, t+2τ), so that the coarse level is there when its interval begins;
+ *    a finer one morphs up during [t+2τ, t+3τ), so that it is reached at its
+ *    end; an up-morph overridden by the next selection's down-morph collapses
+ *    into one transition from the level at the start of the interval to the
+ *    level required at its end; a jump of d levels is d adjacent morphs in
+ *    turn; a node split into its children morphs each child from the parent;
+ *    smooth resolutions move linearly with the same asymmetry;
+ *  - without (2 stages), the selection begun at t is for [t+τ, t+2τ) and
+ *    replaces the previous one at its start.
+ * Benefit for the target interval is the sum over `samples` views predicted
+ * by linear extrapolation of the recorded camera path, plus `confidence` times
+ * the benefit under a conservative camera that sees everything the camera can
+ * reach (tclod_conservative_view); cost is the maximum over the predicted
+ * views. Invariant: at every frame the predicted cost of the draw list (a
+ * morph costs its finer side, smooth objects their selection's cost) is <= the
+ * budget in force; when it is not (the budget fell, or the calibration
+ * raised the cost of what is drawn), the scheduler selects again at once for
+ * the current view and draws that without morphs. */
+typedef struct tclod_scheduler tclod_scheduler;
+
+/* Most predicted views per selection. */
+#define TCLOD_MAX_SAMPLES 8u
+
+typedef struct tclod_scheduler_desc {
+    double tau;            /* seconds, > 0: the interval, horizon unit and morph
+                              duration. Default 0.5 (seed 004 §4.5: 10 frames at
+                              20 Hz) */
+    uint32_t samples;      /* predicted views per selection, 1 .. TCLOD_MAX_SAMPLES,
+                              at the middles of equal parts of the target
+                              interval. Default 3 */
+    double confidence;     /* lambda >= 0: weight of the conservative camera's
+                              benefit (0: it only culls). Default 1 */
+    double max_speed;      /* theta >= 0, world units per second: the camera's
+                              speed bound; predictions are clamped to it and the
+                              conservative camera steps back for it. 0 = the
+                              camera does not move. Default 0 */
+    double max_turn_rate;  /* omega >= 0, radians per second: the bound on turning;
+                              predictions turn no faster and the conservative
+                              camera widens by it. Default 0 */
+    int morph;             /* 1: three stages with geomorphs; 0: two stages,
+                              selections switch at boundaries. Default 1 */
+    tclod_calib_desc calib; /* the cost feedback of tclod_scheduler_report.
+                              Default: tclod_calib_desc_default */
+} tclod_scheduler_desc;
+
+/* Fills d with the defaults above. */
+TCLOD_API void tclod_scheduler_desc_default(tclod_scheduler_desc *d);
+
+/* One item of a frame's draw list: node `fine` geomorphed towards its parent
+ * `coarse` with `weight` in [0, 1] (1 = exactly fine, 0 = looks like coarse).
+ * fine == coarse (weight 1) when the node does not morph. The fine nodes of a
+ * draw list are disjoint: none is an ancestor of another. */
+typedef struct tclod_draw {
+    tclod_id fine, coarse;
+    float weight;
+} tclod_draw;
+
+/* Figures of the scheduler, running totals since its creation except where
+ * said. */
+typedef struct tclod_scheduler_stats {
+    double draw_cost;      /* this frame: predicted cost of the draw list */
+    double budget;         /* this frame: the budget in cost units (the update's
+                              budget divided by the calibration's scale) */
+    double select_seconds; /* this frame: time spent selecting in the update */
+    uint32_t draws;        /* this frame: items in the draw list */
+    uint32_t morphing;     /* this frame: items with fine != coarse */
+    uint32_t selections;   /* selections landed at boundaries */
+    uint32_t unfinished;   /* of those, ended early because their slices were
+                              too short */
+    uint32_t emergencies;  /* immediate selections because the draw list would
+                              have exceeded the budget (and restarts after a
+                              gap of more than 3 tau between updates) */
+    uint64_t changes;      /* level changes of drawn objects: a drawn node
+                              replaced by drawn descendants, or the reverse */
+    uint64_t morphs;       /* of those, the ones drawn as geomorphs */
+    uint64_t pops;         /* of those, the ones that switched at once */
+} tclod_scheduler_stats;
+
+/* Creates a scheduler over scene s (which must outlive it) with a selector
+ * described by sd (its callbacks are the host's; the scheduler calls them for
+ * the predicted views, and from tclod_scheduler_update itself) and the
+ * scheduling desc d; both are copied. a may be NULL (malloc/free). Errors:
+ * TCLOD_ERR_ARG (NULL argument, sd rejected as tclod_selector_create rejects
+ * it, a field of d out of range or NaN), TCLOD_ERR_NOMEM. */
+TCLOD_API tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_desc *sd,
+                                              const tclod_scheduler_desc *d,
+                                              const tclod_allocator *a, tclod_scheduler **out);
+
+/* Frees the scheduler. NULL is allowed. */
+TCLOD_API void tclod_scheduler_destroy(tclod_scheduler *sch);
+
+/* Once per frame, before drawing: records the camera at time `now` (seconds,
+ * any origin, never decreasing), lands and begins selections at interval
+ * boundaries, runs the pending selection for at most slice_seconds (0 = to
+ * its end), and makes this frame's draw list. budget is in the unit of
+ * tclod_scheduler_report's render times (the callbacks' cost unit as long as
+ * nothing is reported). The first update selects at once for its view.
+ * Allocates only when the scene grew (and on the first update). Errors:
+ * TCLOD_ERR_ARG (NULL sch or view, an invalid view, now NaN or earlier than
+ * the last update's, budget NaN or < 0, slice_seconds NaN or < 0),
+ * TCLOD_ERR_CALLBACK (strict mode), TCLOD_ERR_NOMEM, TCLOD_ERR_STATE (called
+ * from a callback); on error the last draw list stays. */
+TCLOD_API tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now,
+                                             const tclod_view *view, double budget,
+                                             double slice_seconds);
+
+/* This frame's draw list. *items points into the scheduler: valid until the
+ * next update or destroy. Before the first update *n = 0. Errors:
+ * TCLOD_ERR_ARG (NULL argument). */
+TCLOD_API tclod_status tclod_scheduler_draws(const tclod_scheduler *sch, const tclod_draw **items,
+                                             size_t *n);
+
+/* This frame's resolution of smooth object `smooth` in [0, 1] (0 = not
+ * drawn; also for unknown ids, NULL, before the first update and with a solver
+ * that ignores smooth objects). O(1). */
+TCLOD_API double tclod_scheduler_resolution(const tclod_scheduler *sch, tclod_id smooth);
+
+/* Reports the measured render time of the frame drawn from the last update's
+ * draw list (>= 0, the budget's unit): the calibration compares it with the
+ * list's predicted cost and rescales the budget of the frames that follow.
+ * Errors: TCLOD_ERR_ARG (NULL sch, render_time NaN, inf or < 0),
+ * TCLOD_ERR_STATE (before the first update). */
+TCLOD_API tclod_status tclod_scheduler_report(tclod_scheduler *sch, double render_time);
+
+/* The scheduler's figures (tclod_scheduler_stats). Errors: TCLOD_ERR_ARG. */
+TCLOD_API tclod_status tclod_scheduler_get_stats(const tclod_scheduler *sch,
+                                                 tclod_scheduler_stats *st);
+
+/* The camera predicted for time t from the recorded path: eye, forward and
+ * up extrapolated linearly (least squares over the views of the last tau
+ * seconds, at least the last two), the motion clamped to max_speed and
+ * max_turn_rate when they are > 0; the other fields are the last view's.
+ * Errors: TCLOD_ERR_ARG (NULL argument, t NaN), TCLOD_ERR_STATE (no view
+ * recorded yet). */
+TCLOD_API tclod_status tclod_scheduler_predict(const tclod_scheduler *sch, double t,
+                                               tclod_view *out);
+
+/* The conservative camera of seed 004 §3.3: a view that contains every view
+ * the camera can reach within `horizon` seconds when it moves at most
+ * max_speed (theta) and turns at most max_turn_rate (omega). Its fields of
+ * view widen by 2 * horizon * omega (vertical, and horizontal through the
+ * aspect) and its eye steps back along forward by
+ * horizon * theta / sin(fov / 2 + horizon * omega), fov the smaller of the
+ * two fields of view, so that the cone holds every reachable eye; far_z
+ * grows by that step and by horizon * theta. With morphing the scheduler
+ * uses horizon = 3 tau (fov + 6 tau omega), without it 2 tau. Fields of view
+ * stop at 179 degrees (the cone then holds less than promised). Errors:
+ * TCLOD_ERR_ARG (NULL argument, invalid view, horizon, max_speed or
+ * max_turn_rate NaN, inf or < 0), and *out is not written. */
+TCLOD_API tclod_status tclod_conservative_view(const tclod_view *view, double horizon,
+                                               double max_speed, double max_turn_rate,
+                                               tclod_view *out);
 
 #ifdef __cplusplus
 }

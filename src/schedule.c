@@ -1,0 +1,1232 @@
+/*
+ * The predictive geomorph scheduler (seed 004 §3.3-3.4, §4.2-4.5; DESIGN.md
+ * §3; docs/scheduler.md).
+ *
+ * Time is cut into intervals I_j = [b_j, b_j + tau). The selection begun at
+ * b_j runs in slices during I_j for the target interval I_{j+L} (L = 2 with
+ * morphing, 1 without) and lands at b_{j+1} as S_{j+L}. Its benefit is the
+ * host's, summed over views predicted for the target interval, plus lambda
+ * times the host's under the conservative camera, which is also the solve's
+ * frame view (so it culls); its cost is the host's maximum over the predicted
+ * views that saw the node.
+ *
+ * With morphing, the frames of I_j go from X_j = meet(S_{j-1}, S_j) to
+ * Y_j = meet(S_j, S_{j+1}), meet taking per part of the hierarchies the
+ * coarser of two cuts: an object coarser in S_{j+1} morphs down during I_j
+ * (reached when I_{j+1} begins), one finer in S_j than in S_{j-1} morphs up
+ * during I_j (reached at its end), and when both happen in I_j (an up-morph
+ * overridden by a down-morph) the two collapse into X_j -> Y_j. Since X_j and
+ * Y_j are both no finer than S_j, the frames of I_j cost no more than S_j as
+ * long as a node costs no more than its descendants. Each region of
+ * meet(X_j, Y_j) -- a node q with the finer side's nodes below it -- morphs
+ * level by level: d levels take d equal parts of the interval, each drawing
+ * the nodes at the next depth geomorphed from their parents. The predicted
+ * cost of every state a region passes through is checked against the cost of
+ * S_j in that region when the plan is made; a region that would exceed it
+ * draws S_j's nodes as they are (a switch, counted as a pop). Each frame the
+ * draw list's cost is checked against the budget in force; should it exceed
+ * it (the budget fell, or the calibration raised it), the scheduler selects
+ * at once for the current view and draws that.
+ *
+ * Node relations are found with epoch marks on per-node arrays: the members
+ * of a cut are marked black, and a node belongs to the meet of two cuts when
+ * no proper ancestor of it is marked (seed 004 §4.4's black and grey nodes).
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Views kept for the prediction. */
+#define HISTORY 16u
+/* Largest field of view of the conservative camera, radians (179 degrees). */
+#define MAX_FOV 3.12413936106985
+/* A gap between updates longer than this many intervals restarts the pipeline. */
+#define MAX_GAP 3.0
+
+/* The kinds of region of a plan. */
+enum { REGION_STATIC = 0, REGION_UP = 1, REGION_DOWN = 2 };
+
+/* One part of the hierarchies in the current interval: a node q and the
+ * nodes below it that the interval starts or ends with. */
+typedef struct region {
+    tclod_id root;       /* q: the coarse side of a morph */
+    uint32_t kind;       /* REGION_* */
+    uint32_t first, count; /* the nodes drawn (static) or the fine side (morph) in
+                            sch->nodes */
+    uint32_t depth;      /* morph: levels between q and its deepest fine node */
+} region;
+
+/* A landed selection: its visible cut with the costs of this selection, the
+ * resolution of every smooth object and the costs of its smooth groups. */
+typedef struct generation {
+    tclod_id *ids;
+    double *cost;
+    uint32_t count;
+    double *res;
+    double *group_cost;
+    uint32_t groups;
+} generation;
+
+struct tclod_scheduler {
+    tclod_allocator alloc;
+    tclod_scheduler_desc desc;
+    tclod_callbacks host;      /* the host's callbacks */
+    tclod_scene *scene;
+    tclod_selector *sel;       /* solves with the callbacks below */
+    tclod_calib *calib;
+    int busy;
+
+    /* the views the callbacks answer for */
+    int current_only;          /* pass the host's values through */
+    uint32_t view_count;
+    tclod_view views[TCLOD_MAX_SAMPLES];
+    tclod_view_cache caches[TCLOD_MAX_SAMPLES];
+    tclod_view conservative;   /* the solve's frame view */
+    tclod_view_cache conservative_cache;
+    tclod_id asked;            /* the node of the last benefit call ... */
+    uint32_t asked_mask;       /* ... and the views that saw it (benefit > 0) */
+
+    /* the recorded camera path, a ring */
+    double hist_t[HISTORY];
+    tclod_view hist_v[HISTORY];
+    uint32_t hist_count, hist_next;
+
+    /* the pipeline */
+    int started;
+    double boundary;           /* b_j, the start of the current interval */
+    double now, budget;        /* of the last update; budget in cost units */
+    uint32_t scene_version;    /* of the landed selections */
+    generation gen[3];
+    uint32_t prev, cur, next;  /* S_{j-1}, S_j, S_{j+1} in gen[] */
+    int ready;                 /* the pending selection finished: it lands next */
+    double u;                  /* position in the current interval, [0, 1) */
+
+    /* per node, node_cap elements */
+    uint32_t node_cap;
+    uint32_t *depth;
+    uint32_t depth_version;    /* scene version depth[] describes, +1; 0 none */
+    uint32_t *mark_a, *mark_b, *mark_c, *done; /* epoch marks */
+    uint32_t *region_of, *region_mark;
+    double *memo_cost;         /* predicted cost of a node for the plan */
+    uint32_t *memo_mark;
+    uint8_t *memo_visible;
+    uint32_t epoch;
+    tclod_id *list_x, *list_y; /* X_j and Y_j, or other pairs of cuts */
+    tclod_id *list_r;          /* the region roots */
+    uint32_t memo_epoch;       /* of the current plan's predicted costs */
+    region *regions;
+    uint32_t region_count;
+    tclod_id *nodes;           /* 3 per node: the regions' node lists */
+    uint32_t node_total;
+    uint32_t *counts;          /* 3 per node: per-region counts while bucketing */
+    tclod_draw *items;         /* 3 per node */
+    uint32_t item_count;
+
+    /* per smooth object, smooth_cap elements */
+    uint32_t smooth_cap;
+
+    tclod_scheduler_stats stats;
+};
+
+/* ---- desc ------------------------------------------------------------------- */
+
+void tclod_scheduler_desc_default(tclod_scheduler_desc *d) {
+    if (!d) return;
+    memset(d, 0, sizeof *d);
+    d->tau = 0.5;
+    d->samples = 3;
+    d->confidence = 1.0;
+    d->max_speed = 0.0;
+    d->max_turn_rate = 0.0;
+    d->morph = 1;
+    tclod_calib_desc_default(&d->calib);
+}
+
+static int finite_nonnegative(double x) { return x >= 0.0 && !isinf(x); }
+
+static int desc_valid(const tclod_scheduler_desc *d) {
+    return d->tau > 0.0 && !isinf(d->tau) && d->samples >= 1u &&
+           d->samples <= TCLOD_MAX_SAMPLES && finite_nonnegative(d->confidence) &&
+           finite_nonnegative(d->max_speed) && finite_nonnegative(d->max_turn_rate) &&
+           (d->morph == 0 || d->morph == 1);
+}
+
+/* ---- vectors ------------------------------------------------------------------- */
+
+static double dot3(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static double length3(const double a[3]) { return sqrt(dot3(a, a)); }
+
+static void load3(const float in[3], double out[3]) {
+    out[0] = (double)in[0];
+    out[1] = (double)in[1];
+    out[2] = (double)in[2];
+}
+
+static void store3(const double in[3], float out[3]) {
+    out[0] = (float)in[0];
+    out[1] = (float)in[1];
+    out[2] = (float)in[2];
+}
+
+/* ---- the conservative camera ------------------------------------------------------- */
+
+tclod_status tclod_conservative_view(const tclod_view *view, double horizon, double max_speed,
+                                     double max_turn_rate, tclod_view *out) {
+    double turn, fov_y, fov_x, half, back, f[3], reach;
+    tclod_view v;
+    if (!view || !out || tclod_view_validate(view) != TCLOD_OK) return TCLOD_ERR_ARG;
+    if (!finite_nonnegative(horizon) || !finite_nonnegative(max_speed) ||
+        !finite_nonnegative(max_turn_rate))
+        return TCLOD_ERR_ARG;
+    v = *view;
+    turn = horizon * max_turn_rate;
+    reach = horizon * max_speed;
+    fov_y = (double)view->fov_y;
+    fov_x = 2.0 * atan((double)view->aspect * tan(0.5 * fov_y));
+    fov_y = fov_y + 2.0 * turn < MAX_FOV ? fov_y + 2.0 * turn : MAX_FOV;
+    fov_x = fov_x + 2.0 * turn < MAX_FOV ? fov_x + 2.0 * turn : MAX_FOV;
+    half = 0.5 * (fov_y < fov_x ? fov_y : fov_x);
+    /* every eye within `reach` of the current one lies inside the cone of
+     * half-angle `half` whose apex is `back` behind it */
+    back = reach > 0.0 ? reach / sin(half) : 0.0;
+    load3(view->forward, f);
+    {
+        double len = length3(f), e[3];
+        load3(view->eye, e);
+        e[0] -= back * f[0] / len;
+        e[1] -= back * f[1] / len;
+        e[2] -= back * f[2] / len;
+        store3(e, v.eye);
+    }
+    v.fov_y = (float)fov_y;
+    v.aspect = (float)(tan(0.5 * fov_x) / tan(0.5 * fov_y));
+    v.far_z = (float)((double)view->far_z + back + reach);
+    if (tclod_view_validate(&v) != TCLOD_OK) return TCLOD_ERR_ARG; /* overflowed */
+    *out = v;
+    return TCLOD_OK;
+}
+
+/* ---- prediction ---------------------------------------------------------------------- */
+
+/* Rotates unit vector a towards unit vector b by at most angle (radians),
+ * in their common plane; out unit length. */
+static void turn_towards(const double a[3], const double b[3], double angle, double out[3]) {
+    double c = dot3(a, b), s, w[3], len;
+    int k;
+    if (c > 1.0) c = 1.0;
+    if (c < -1.0) c = -1.0;
+    if (acos(c) <= angle) {
+        for (k = 0; k < 3; ++k) out[k] = b[k];
+        return;
+    }
+    for (k = 0; k < 3; ++k) w[k] = b[k] - c * a[k];
+    len = length3(w);
+    if (!(len > 0.0)) { /* opposite: no plane, stay */
+        for (k = 0; k < 3; ++k) out[k] = a[k];
+        return;
+    }
+    s = sin(angle);
+    c = cos(angle);
+    for (k = 0; k < 3; ++k) out[k] = c * a[k] + s * w[k] / len;
+}
+
+/* The recorded views used for the prediction: those of the last tau seconds,
+ * and at least the last two. Returns their count; index 0 is the newest. */
+static uint32_t history_window(const tclod_scheduler *sch, uint32_t *slots) {
+    uint32_t n = 0, k;
+    for (k = 0; k < sch->hist_count; ++k) {
+        uint32_t slot = (sch->hist_next + HISTORY - 1u - k) % HISTORY;
+        if (n >= 2u && sch->hist_t[slot] < sch->now - sch->desc.tau) break;
+        slots[n++] = slot;
+    }
+    return n;
+}
+
+/* Least-squares line through (t_k, x_k): the value at t. */
+static double fit(const double *t, const double *x, uint32_t n, double at) {
+    double mt = 0.0, mx = 0.0, stt = 0.0, stx = 0.0;
+    uint32_t k;
+    for (k = 0; k < n; ++k) {
+        mt += t[k];
+        mx += x[k];
+    }
+    mt /= (double)n;
+    mx /= (double)n;
+    for (k = 0; k < n; ++k) {
+        stt += (t[k] - mt) * (t[k] - mt);
+        stx += (t[k] - mt) * (x[k] - mx);
+    }
+    return stt > 0.0 ? mx + stx / stt * (at - mt) : mx;
+}
+
+/* The predicted view at time t (see tclod_scheduler_predict). */
+static void predict(const tclod_scheduler *sch, double t, tclod_view *out) {
+    uint32_t slots[HISTORY] = {0}, n = history_window(sch, slots), k, c;
+    const tclod_view *last = &sch->hist_v[slots[0]];
+    double times[HISTORY], x[HISTORY], p[3][3], now[3][3], dt = t - sch->hist_t[slots[0]];
+    double limit;
+    tclod_view v = *last;
+    int field;
+    for (k = 0; k < n; ++k) times[k] = sch->hist_t[slots[k]] - sch->hist_t[slots[0]];
+    for (field = 0; field < 3; ++field) {
+        for (c = 0; c < 3; ++c) {
+            for (k = 0; k < n; ++k) {
+                const tclod_view *h = &sch->hist_v[slots[k]];
+                const float *src = field == 0 ? h->eye : field == 1 ? h->forward : h->up;
+                x[k] = (double)src[c];
+            }
+            p[field][c] = fit(times, x, n, dt);
+            now[field][c] = fit(times, x, n, 0.0);
+        }
+    }
+    if (dt < 0.0) dt = 0.0;
+    /* the eye moves no faster than max_speed from where the line is now */
+    limit = sch->desc.max_speed * dt;
+    if (sch->desc.max_speed > 0.0) {
+        double d[3], len;
+        for (c = 0; c < 3; ++c) d[c] = p[0][c] - now[0][c];
+        len = length3(d);
+        if (len > limit)
+            for (c = 0; c < 3; ++c) p[0][c] = now[0][c] + d[c] * limit / len;
+    }
+    /* directions: unit length, turned no faster than max_turn_rate */
+    for (field = 1; field < 3; ++field) {
+        double a[3], b[3], la, lb;
+        for (c = 0; c < 3; ++c) {
+            a[c] = now[field][c];
+            b[c] = p[field][c];
+        }
+        la = length3(a);
+        lb = length3(b);
+        if (!(la > 0.0) || !(lb > 0.0)) { /* degenerate: keep the last view's */
+            load3(field == 1 ? last->forward : last->up, p[field]);
+            continue;
+        }
+        for (c = 0; c < 3; ++c) {
+            a[c] /= la;
+            b[c] /= lb;
+        }
+        if (sch->desc.max_turn_rate > 0.0)
+            turn_towards(a, b, sch->desc.max_turn_rate * dt, p[field]);
+        else
+            for (c = 0; c < 3; ++c) p[field][c] = b[c];
+    }
+    store3(p[0], v.eye);
+    store3(p[1], v.forward);
+    store3(p[2], v.up);
+    if (tclod_view_validate(&v) != TCLOD_OK) v = *last; /* e.g. forward parallel to up */
+    *out = v;
+}
+
+static void record(tclod_scheduler *sch, double now, const tclod_view *view) {
+    sch->hist_t[sch->hist_next] = now;
+    sch->hist_v[sch->hist_next] = *view;
+    sch->hist_next = (sch->hist_next + 1u) % HISTORY;
+    if (sch->hist_count < HISTORY) sch->hist_count++;
+}
+
+tclod_status tclod_scheduler_predict(const tclod_scheduler *sch, double t, tclod_view *out) {
+    if (!sch || !out || isnan(t)) return TCLOD_ERR_ARG;
+    if (sch->hist_count == 0) return TCLOD_ERR_STATE;
+    predict(sch, t, out);
+    return TCLOD_OK;
+}
+
+/* ---- the callbacks the selector calls ------------------------------------------------- */
+
+static int value_bad(double v) { return !(v >= 0.0) || isinf(v); }
+
+/* q re-measured for view k. */
+static tclod_query query_for(const tclod_scheduler *sch, const tclod_query *q, uint32_t k) {
+    tclod_query r = *q;
+    r.view = &sch->views[k];
+    if (q->bounds)
+        tclod_view_cache_measure(&sch->caches[k], q->bounds, &r.screen_area, &r.distance);
+    return r;
+}
+
+/* Whether the conservative camera's benefit is asked. */
+static int uses_conservative(const tclod_scheduler *sch) {
+    return sch->desc.confidence > 0.0;
+}
+
+static double wrap_benefit(void *user, const tclod_query *q) {
+    tclod_scheduler *sch = (tclod_scheduler *)user;
+    double sum = 0.0, v;
+    uint32_t k;
+    if (sch->current_only || !q->view) return sch->host.benefit(sch->host.user, q);
+    sch->asked = q->id;
+    sch->asked_mask = 0;
+    for (k = 0; k < sch->view_count; ++k) {
+        tclod_query r = query_for(sch, q, k);
+        v = sch->host.benefit(sch->host.user, &r);
+        if (value_bad(v)) return v;
+        if (v > 0.0) sch->asked_mask |= 1u << k;
+        sum += v;
+    }
+    if (uses_conservative(sch)) {
+        v = sch->host.benefit(sch->host.user, q);
+        if (value_bad(v)) return v;
+        sum += sch->desc.confidence * v;
+    }
+    return sum;
+}
+
+static double wrap_cost(void *user, const tclod_query *q) {
+    tclod_scheduler *sch = (tclod_scheduler *)user;
+    double worst = 0.0, v;
+    uint32_t k, mask;
+    int any = 0;
+    if (sch->current_only || !q->view) return sch->host.cost(sch->host.user, q);
+    /* the views in which the benefit was > 0 (all, if that is not known) */
+    mask = sch->asked == q->id ? sch->asked_mask : (1u << sch->view_count) - 1u;
+    for (k = 0; k < sch->view_count; ++k) {
+        tclod_query r;
+        if (!(mask & (1u << k))) continue;
+        r = query_for(sch, q, k);
+        v = sch->host.cost(sch->host.user, &r);
+        if (value_bad(v)) return v;
+        if (!any || v > worst) worst = v;
+        any = 1;
+    }
+    /* seen by the conservative camera only: its cost */
+    return any ? worst : sch->host.cost(sch->host.user, q);
+}
+
+static double wrap_smooth_benefit(void *user, const tclod_query *q, double r, double *d_dr) {
+    tclod_scheduler *sch = (tclod_scheduler *)user;
+    double sum = 0.0, slope = 0.0, v, d;
+    uint32_t k;
+    if (sch->current_only || !q->view) return sch->host.smooth_benefit(sch->host.user, q, r, d_dr);
+    for (k = 0; k < sch->view_count; ++k) {
+        tclod_query s = query_for(sch, q, k);
+        d = 0.0;
+        v = sch->host.smooth_benefit(sch->host.user, &s, r, &d);
+        if (value_bad(v) || value_bad(d)) {
+            *d_dr = d;
+            return v;
+        }
+        sum += v;
+        slope += d;
+    }
+    if (uses_conservative(sch)) {
+        d = 0.0;
+        v = sch->host.smooth_benefit(sch->host.user, q, r, &d);
+        if (value_bad(v) || value_bad(d)) {
+            *d_dr = d;
+            return v;
+        }
+        sum += sch->desc.confidence * v;
+        slope += sch->desc.confidence * d;
+    }
+    *d_dr = slope;
+    return sum;
+}
+
+static double wrap_smooth_cost(void *user, const tclod_query *q, double r, double *d_dr) {
+    tclod_scheduler *sch = (tclod_scheduler *)user;
+    double worst = 0.0, slope = 0.0, v, d;
+    uint32_t k;
+    int any = 0;
+    if (sch->current_only || !q->view) return sch->host.smooth_cost(sch->host.user, q, r, d_dr);
+    /* the views whose frustum holds the group */
+    for (k = 0; k < sch->view_count; ++k) {
+        tclod_query s = query_for(sch, q, k);
+        if (q->bounds && !(s.screen_area > 0.0f)) continue;
+        d = 0.0;
+        v = sch->host.smooth_cost(sch->host.user, &s, r, &d);
+        if (value_bad(v) || value_bad(d)) {
+            *d_dr = d;
+            return v;
+        }
+        if (!any || v > worst) {
+            worst = v;
+            slope = d;
+        }
+        any = 1;
+    }
+    if (!any) return sch->host.smooth_cost(sch->host.user, q, r, d_dr);
+    *d_dr = slope;
+    return worst;
+}
+
+static double wrap_complexity(void *user, const tclod_query *q) {
+    tclod_scheduler *sch = (tclod_scheduler *)user;
+    return sch->host.complexity(sch->host.user, q);
+}
+
+/* ---- buffers ---------------------------------------------------------------------------- */
+
+static size_t node_arrays(tclod_scheduler *sch, tclod_array out[TCLOD_MAX_ARRAYS]) {
+    size_t n = 0;
+    uint32_t g;
+    out[n++] = (tclod_array){(void **)&sch->depth, sizeof(uint32_t), 0};
+    out[n++] = (tclod_array){(void **)&sch->mark_a, sizeof(uint32_t), 0};
+    out[n++] = (tclod_array){(void **)&sch->mark_b, sizeof(uint32_t), 0};
+    out[n++] = (tclod_array){(void **)&sch->mark_c, sizeof(uint32_t), 0};
+    out[n++] = (tclod_array){(void **)&sch->done, sizeof(uint32_t), 0};
+    out[n++] = (tclod_array){(void **)&sch->region_of, sizeof(uint32_t), 0};
+    out[n++] = (tclod_array){(void **)&sch->region_mark, sizeof(uint32_t), 0};
+    out[n++] = (tclod_array){(void **)&sch->memo_cost, sizeof(double), 0};
+    out[n++] = (tclod_array){(void **)&sch->memo_mark, sizeof(uint32_t), 0};
+    out[n++] = (tclod_array){(void **)&sch->memo_visible, sizeof(uint8_t), 0};
+    out[n++] = (tclod_array){(void **)&sch->list_x, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&sch->list_y, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&sch->list_r, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&sch->regions, sizeof(region), -1};
+    out[n++] = (tclod_array){(void **)&sch->nodes, 3 * sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&sch->counts, 3 * sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&sch->items, 3 * sizeof(tclod_draw), -1};
+    for (g = 0; g < 3u; ++g) {
+        out[n++] = (tclod_array){(void **)&sch->gen[g].ids, sizeof(tclod_id), -1};
+        out[n++] = (tclod_array){(void **)&sch->gen[g].cost, sizeof(double), -1};
+    }
+    return n;
+}
+
+static size_t smooth_arrays(tclod_scheduler *sch, tclod_array out[TCLOD_MAX_ARRAYS]) {
+    size_t n = 0;
+    uint32_t g;
+    for (g = 0; g < 3u; ++g) {
+        out[n++] = (tclod_array){(void **)&sch->gen[g].res, sizeof(double), 0};
+        out[n++] = (tclod_array){(void **)&sch->gen[g].group_cost, sizeof(double), -1};
+    }
+    return n;
+}
+
+static uint32_t grown(uint32_t cap, uint32_t need) {
+    while (cap < need) cap = cap < 64u ? 64u : (cap > UINT32_MAX / 4u ? need : cap * 2u);
+    return cap;
+}
+
+/* Grows the per-node and per-smooth-object buffers to the scene's size, all
+ * or nothing. */
+static tclod_status reserve(tclod_scheduler *sch) {
+    tclod_array nodes[TCLOD_MAX_ARRAYS], smooth[TCLOD_MAX_ARRAYS];
+    void *fresh_n[TCLOD_MAX_ARRAYS], *fresh_s[TCLOD_MAX_ARRAYS];
+    size_t nn = node_arrays(sch, nodes), ns = smooth_arrays(sch, smooth);
+    uint32_t need_n = sch->scene->node_count, need_s = sch->scene->smooth_count;
+    uint32_t cap_n = need_n > sch->node_cap ? grown(sch->node_cap, need_n) : sch->node_cap;
+    uint32_t cap_s = need_s > sch->smooth_cap ? grown(sch->smooth_cap, need_s) : sch->smooth_cap;
+    if (need_n > UINT32_MAX / 3u) return TCLOD_ERR_NOMEM;
+    if (cap_n != sch->node_cap &&
+        tclod_arrays_alloc(&sch->alloc, nodes, nn, cap_n, fresh_n) != TCLOD_OK)
+        return TCLOD_ERR_NOMEM;
+    if (cap_s != sch->smooth_cap &&
+        tclod_arrays_alloc(&sch->alloc, smooth, ns, cap_s, fresh_s) != TCLOD_OK) {
+        if (cap_n != sch->node_cap) tclod_arrays_discard(&sch->alloc, nodes, nn, cap_n, fresh_n);
+        return TCLOD_ERR_NOMEM;
+    }
+    if (cap_n != sch->node_cap) {
+        tclod_arrays_commit(&sch->alloc, nodes, nn, sch->node_cap, cap_n, fresh_n);
+        sch->node_cap = cap_n;
+    }
+    if (cap_s != sch->smooth_cap) {
+        tclod_arrays_commit(&sch->alloc, smooth, ns, sch->smooth_cap, cap_s, fresh_s);
+        sch->smooth_cap = cap_s;
+    }
+    return TCLOD_OK;
+}
+
+/* ---- create / destroy ---------------------------------------------------------------------- */
+
+tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_desc *sd,
+                                    const tclod_scheduler_desc *d, const tclod_allocator *a,
+                                    tclod_scheduler **out) {
+    tclod_allocator alloc;
+    tclod_scheduler *sch;
+    tclod_selector_desc inner;
+    tclod_status st;
+    if (!s || !sd || !d || !out || !tclod_allocator_init(&alloc, a) || !desc_valid(d))
+        return TCLOD_ERR_ARG;
+    sch = (tclod_scheduler *)tclod_mem_alloc(&alloc, sizeof *sch);
+    if (!sch) return TCLOD_ERR_NOMEM;
+    memset(sch, 0, sizeof *sch);
+    sch->alloc = alloc;
+    sch->desc = *d;
+    sch->host = sd->callbacks;
+    sch->scene = (tclod_scene *)(uintptr_t)s;
+    sch->prev = 0;
+    sch->cur = 1;
+    sch->next = 2;
+    inner = *sd;
+    inner.callbacks.user = sch;
+    inner.callbacks.benefit = sd->callbacks.benefit ? wrap_benefit : NULL;
+    inner.callbacks.cost = sd->callbacks.cost ? wrap_cost : NULL;
+    inner.callbacks.smooth_benefit = sd->callbacks.smooth_benefit ? wrap_smooth_benefit : NULL;
+    inner.callbacks.smooth_cost = sd->callbacks.smooth_cost ? wrap_smooth_cost : NULL;
+    inner.callbacks.complexity = sd->callbacks.complexity ? wrap_complexity : NULL;
+    st = tclod_calib_create(&d->calib, &alloc, &sch->calib);
+    if (st == TCLOD_OK) st = tclod_selector_create(s, &inner, &alloc, &sch->sel);
+    if (st != TCLOD_OK) {
+        tclod_calib_destroy(sch->calib);
+        tclod_mem_free(&alloc, sch, sizeof *sch);
+        return st;
+    }
+    *out = sch;
+    return TCLOD_OK;
+}
+
+void tclod_scheduler_destroy(tclod_scheduler *sch) {
+    tclod_array arrays[TCLOD_MAX_ARRAYS];
+    tclod_allocator alloc;
+    if (!sch || sch->busy) return;
+    alloc = sch->alloc;
+    tclod_selector_destroy(sch->sel);
+    tclod_calib_destroy(sch->calib);
+    tclod_arrays_free(&alloc, arrays, node_arrays(sch, arrays), sch->node_cap);
+    tclod_arrays_free(&alloc, arrays, smooth_arrays(sch, arrays), sch->smooth_cap);
+    tclod_mem_free(&alloc, sch, sizeof *sch);
+}
+
+/* ---- selections ---------------------------------------------------------------------------- */
+
+/* A fresh epoch for the relation marks; they are cleared when it wraps. */
+static uint32_t next_epoch(tclod_scheduler *sch) {
+    if (++sch->epoch == 0u) {
+        uint32_t *marks[5];
+        int i;
+        marks[0] = sch->mark_a;
+        marks[1] = sch->mark_b;
+        marks[2] = sch->mark_c;
+        marks[3] = sch->done;
+        marks[4] = sch->region_mark;
+        for (i = 0; i < 5; ++i) memset(marks[i], 0, sizeof(uint32_t) * sch->node_cap);
+        sch->epoch = 1;
+    }
+    return sch->epoch;
+}
+
+/* A fresh epoch for the predicted costs of a plan. */
+static uint32_t next_memo_epoch(tclod_scheduler *sch) {
+    if (++sch->memo_epoch == 0u) {
+        memset(sch->memo_mark, 0, sizeof(uint32_t) * sch->node_cap);
+        sch->memo_epoch = 1;
+    }
+    return sch->memo_epoch;
+}
+
+/* The depth of every node, when the scene changed. */
+static void update_depths(tclod_scheduler *sch) {
+    const tclod_scene *s = sch->scene;
+    uint32_t n;
+    if (sch->depth_version == s->version + 1u) return;
+    for (n = 0; n < s->node_count; ++n)
+        sch->depth[n] = s->parent[n] == TCLOD_NONE ? 0u : sch->depth[s->parent[n]] + 1u;
+    sch->depth_version = s->version + 1u;
+}
+
+/* Sets the callbacks' views for a selection begun now: samples of the target
+ * interval, and the conservative camera as the frame's view. */
+static void set_views(tclod_scheduler *sch, const tclod_view *view) {
+    const tclod_scheduler_desc *d = &sch->desc;
+    double lag = d->morph ? 2.0 : 1.0, start = sch->boundary + lag * d->tau;
+    uint32_t k;
+    sch->current_only = 0;
+    sch->view_count = d->samples;
+    for (k = 0; k < d->samples; ++k) {
+        predict(sch, start + ((double)k + 0.5) * d->tau / (double)d->samples, &sch->views[k]);
+        tclod_view_cache_init(&sch->caches[k], &sch->views[k]);
+    }
+    if (tclod_conservative_view(view, (lag + 1.0) * d->tau, d->max_speed, d->max_turn_rate,
+                                &sch->conservative) != TCLOD_OK)
+        sch->conservative = *view;
+    tclod_view_cache_init(&sch->conservative_cache, &sch->conservative);
+    sch->asked = TCLOD_NONE;
+}
+
+/* Begins the selection for the target interval of the current boundary. */
+static tclod_status begin(tclod_scheduler *sch, const tclod_view *view) {
+    tclod_frame f;
+    set_views(sch, view);
+    memset(&f, 0, sizeof f);
+    f.view = &sch->conservative;
+    f.budget = sch->budget;
+    return tclod_select_begin(sch->sel, &f);
+}
+
+/* Copies the selector's result into generation g, with its costs. */
+static void store(tclod_scheduler *sch, uint32_t g) {
+    generation *G = &sch->gen[g];
+    const tclod_id *ids = NULL, *order = NULL;
+    const tclod_smooth_group *groups = NULL;
+    size_t n = 0, ng = 0, i;
+    uint32_t order_count = 0, k;
+    tclod_selector_cut(sch->sel, &ids, &n);
+    for (i = 0; i < n; ++i) {
+        G->ids[i] = ids[i];
+        G->cost[i] = sch->sel->node[ids[i]].cost;
+    }
+    G->count = (uint32_t)n;
+    for (k = 0; k < sch->scene->smooth_count; ++k) G->res[k] = 0.0;
+    tclod_selector_smooth_groups(sch->sel, &groups, &ng);
+    G->groups = (uint32_t)ng;
+    if (ng == 0) return;
+    tclod_scene_smooth_order(sch->scene, &order, &order_count); /* prepared: cannot fail */
+    for (i = 0; i < ng; ++i) {
+        for (k = 0; k < groups[i].count; ++k)
+            G->res[order[groups[i].first + k]] = groups[i].resolution;
+        G->group_cost[i] = groups[i].cost;
+    }
+}
+
+/* Copies generation `from` into `to`. */
+static void copy_generation(tclod_scheduler *sch, uint32_t to, uint32_t from) {
+    generation *T = &sch->gen[to];
+    const generation *F = &sch->gen[from];
+    if (to == from) return;
+    if (F->count) {
+        memcpy(T->ids, F->ids, sizeof(tclod_id) * F->count);
+        memcpy(T->cost, F->cost, sizeof(double) * F->count);
+    }
+    T->count = F->count;
+    if (sch->scene->smooth_count)
+        memcpy(T->res, F->res, sizeof(double) * sch->scene->smooth_count);
+    if (F->groups) memcpy(T->group_cost, F->group_cost, sizeof(double) * F->groups);
+    T->groups = F->groups;
+}
+
+/* ---- relations between cuts ---------------------------------------------------------------- */
+
+/* Whether a proper ancestor of n carries mark e. */
+static int below_mark(const tclod_scheduler *sch, const uint32_t *mark, uint32_t e, tclod_id n) {
+    const tclod_id *parent = sch->scene->parent;
+    for (n = parent[n]; n != TCLOD_NONE; n = parent[n])
+        if (mark[n] == e) return 1;
+    return 0;
+}
+
+/* out = meet(a, b): the nodes of a and b with no proper ancestor in a or b;
+ * per part of the hierarchies the coarser of the two cuts. Returns the
+ * count. */
+static uint32_t meet(tclod_scheduler *sch, const tclod_id *a, uint32_t na, const tclod_id *b,
+                     uint32_t nb, tclod_id *out) {
+    uint32_t e = next_epoch(sch), i, n = 0;
+    for (i = 0; i < na; ++i) sch->mark_a[a[i]] = e;
+    for (i = 0; i < nb; ++i) sch->mark_a[b[i]] = e;
+    for (i = 0; i < na + nb; ++i) {
+        tclod_id v = i < na ? a[i] : b[i - na];
+        if (sch->done[v] == e) continue;
+        sch->done[v] = e;
+        if (!below_mark(sch, sch->mark_a, e, v)) out[n++] = v;
+    }
+    return n;
+}
+
+/* The region of node v: the region of its nearest ancestor-or-self that is a
+ * region root (marked e), or TCLOD_NONE. */
+static uint32_t region_at(const tclod_scheduler *sch, uint32_t e, tclod_id v) {
+    const tclod_id *parent = sch->scene->parent;
+    for (; v != TCLOD_NONE; v = parent[v])
+        if (sch->region_mark[v] == e) return sch->region_of[v];
+    return TCLOD_NONE;
+}
+
+/* Cuts the hierarchies into the regions of meet(lists 0 and 1), each rooted
+ * at a node of that meet, and buckets the nodes of the three lists by region
+ * (region_list() gives them back). Marks the members of list 0 with mark_b and
+ * those of list 1 with mark_c, epoch returned. */
+static uint32_t partition(tclod_scheduler *sch, const tclod_id *const lists[3],
+                          const uint32_t sizes[3]) {
+    uint32_t roots = meet(sch, lists[0], sizes[0], lists[1], sizes[1], sch->list_r);
+    uint32_t e = next_epoch(sch), r, l, i, total = 0;
+    for (i = 0; i < sizes[0]; ++i) sch->mark_b[lists[0][i]] = e;
+    for (i = 0; i < sizes[1]; ++i) sch->mark_c[lists[1][i]] = e;
+    for (r = 0; r < roots; ++r) {
+        tclod_id q = sch->list_r[r];
+        sch->region_mark[q] = e;
+        sch->region_of[q] = r;
+        sch->regions[r].root = q;
+        sch->regions[r].kind = REGION_STATIC;
+        sch->regions[r].depth = 0;
+        sch->counts[3u * r] = sch->counts[3u * r + 1u] = sch->counts[3u * r + 2u] = 0;
+    }
+    for (l = 0; l < 3u; ++l)
+        for (i = 0; i < sizes[l]; ++i) {
+            r = region_at(sch, e, lists[l][i]);
+            if (r != TCLOD_NONE) sch->counts[3u * r + l]++;
+        }
+    for (r = 0; r < roots; ++r) { /* counts become each list's write position */
+        uint32_t c0 = sch->counts[3u * r], c1 = sch->counts[3u * r + 1u];
+        uint32_t c2 = sch->counts[3u * r + 2u];
+        sch->regions[r].first = total;
+        sch->regions[r].count = c0 + c1 + c2;
+        sch->counts[3u * r] = total;
+        sch->counts[3u * r + 1u] = total + c0;
+        sch->counts[3u * r + 2u] = total + c0 + c1;
+        total += c0 + c1 + c2;
+    }
+    for (l = 0; l < 3u; ++l)
+        for (i = 0; i < sizes[l]; ++i) {
+            r = region_at(sch, e, lists[l][i]);
+            if (r != TCLOD_NONE) sch->nodes[sch->counts[3u * r + l]++] = lists[l][i];
+        }
+    sch->region_count = roots;
+    return e;
+}
+
+/* The nodes of list l in region r after partition(): sch->nodes[*first ..
+ * *first + *count). */
+static void region_list(const tclod_scheduler *sch, uint32_t r, uint32_t l, uint32_t *first,
+                        uint32_t *count) {
+    uint32_t start = l == 0u ? sch->regions[r].first : sch->counts[3u * r + l - 1u];
+    *first = start;
+    *count = sch->counts[3u * r + l] - start;
+}
+
+/* Whether two node lists hold the same set. */
+static int same_nodes(tclod_scheduler *sch, const tclod_id *a, uint32_t na, const tclod_id *b,
+                      uint32_t nb) {
+    uint32_t e, i;
+    if (na != nb) return 0;
+    e = next_epoch(sch);
+    for (i = 0; i < na; ++i) sch->done[a[i]] = e;
+    for (i = 0; i < nb; ++i)
+        if (sch->done[b[i]] != e) return 0;
+    return 1;
+}
+
+/* Counts one level change, morphed or switched. */
+static void count_change(tclod_scheduler *sch, int morphed) {
+    sch->stats.changes++;
+    if (morphed)
+        sch->stats.morphs++;
+    else
+        sch->stats.pops++;
+}
+
+/* Counts the level changes of a switch from cut a to cut b: the regions in
+ * which a drawn node gives way to drawn nodes below it, or the reverse.
+ * Overwrites the plan's regions. */
+static void count_switches(tclod_scheduler *sch, const tclod_id *a, uint32_t na, const tclod_id *b,
+                           uint32_t nb) {
+    const tclod_id *lists[3];
+    uint32_t sizes[3], e, r;
+    lists[0] = a;
+    lists[1] = lists[2] = b;
+    sizes[0] = na;
+    sizes[1] = sizes[2] = nb;
+    e = partition(sch, lists, sizes);
+    for (r = 0; r < sch->region_count; ++r) {
+        tclod_id q = sch->regions[r].root;
+        uint32_t f, n0, n1;
+        int in_a = sch->mark_b[q] == e, in_b = sch->mark_c[q] == e;
+        region_list(sch, r, 0, &f, &n0);
+        region_list(sch, r, 1, &f, &n1);
+        if ((in_a && !in_b && n1 > 0) || (in_b && !in_a && n0 > 0)) count_change(sch, 0);
+    }
+}
+
+/* ---- predicted costs ------------------------------------------------------------------------- */
+
+static void memo_set(tclod_scheduler *sch, tclod_id n, double cost) {
+    sch->memo_mark[n] = sch->memo_epoch;
+    sch->memo_cost[n] = cost;
+    sch->memo_visible[n] = 1;
+}
+
+/* The predicted cost of node n for the current plan: the cost a landed
+ * selection drew it with, else the callbacks' for the latest selection's
+ * views; *visible is 0 (and the cost 0) when those views do not see it. */
+static double memo(tclod_scheduler *sch, tclod_id n, int *visible) {
+    if (sch->memo_mark[n] != sch->memo_epoch) {
+        const float *b = &sch->scene->bounds[4u * n];
+        tclod_query q;
+        double benefit, cost = 0.0;
+        memset(&q, 0, sizeof q);
+        q.id = n;
+        q.count = 1;
+        q.view = &sch->conservative;
+        q.screen_area = q.distance = -1.0f;
+        q.bounds = b[3] >= 0.0f ? b : NULL;
+        if (q.bounds)
+            tclod_view_cache_measure(&sch->conservative_cache, b, &q.screen_area, &q.distance);
+        benefit = wrap_benefit(sch, &q);
+        if (value_bad(benefit)) benefit = 0.0;
+        if (benefit > 0.0) {
+            cost = wrap_cost(sch, &q);
+            if (value_bad(cost)) cost = HUGE_VAL;
+        }
+        sch->memo_mark[n] = sch->memo_epoch;
+        sch->memo_cost[n] = cost;
+        sch->memo_visible[n] = benefit > 0.0;
+    }
+    *visible = sch->memo_visible[n];
+    return sch->memo_cost[n];
+}
+
+/* The ancestor of v at depth `depth` (<= v's). */
+static tclod_id ancestor_at(const tclod_scheduler *sch, tclod_id v, uint32_t depth) {
+    while (sch->depth[v] > depth) v = sch->scene->parent[v];
+    return v;
+}
+
+/* The nodes a morph region draws at level position s in [0, depth]: the
+ * coarse node at 0, the fine side at depth, and in between, with
+ * k = floor(s), the fine nodes at relative depth <= k and the distinct
+ * ancestors at relative depth k + 1 of the others, those geomorphed from their
+ * parents with weight s - k. Calls emit(sch, fine, coarse, weight, ctx) for
+ * each visible one. */
+typedef void (*emit_fn)(tclod_scheduler *sch, tclod_id fine, tclod_id coarse, float weight,
+                        void *ctx);
+
+static void morph_state(tclod_scheduler *sch, const region *R, double s, emit_fn emit, void *ctx) {
+    uint32_t base = sch->depth[R->root], k, i, stamp;
+    float w;
+    int vis;
+    if (s <= 0.0) {
+        memo(sch, R->root, &vis);
+        if (vis) emit(sch, R->root, R->root, 1.0f, ctx);
+        return;
+    }
+    if (s >= (double)R->depth) {
+        k = R->depth;
+        w = 1.0f;
+    } else {
+        k = (uint32_t)s;
+        w = (float)(s - (double)k);
+    }
+    stamp = next_epoch(sch);
+    for (i = 0; i < R->count; ++i) {
+        tclod_id leaf = sch->nodes[R->first + i], m;
+        if (sch->depth[leaf] - base <= k) {
+            memo(sch, leaf, &vis);
+            if (vis) emit(sch, leaf, leaf, 1.0f, ctx);
+            continue;
+        }
+        m = ancestor_at(sch, leaf, base + k + 1u);
+        if (sch->done[m] == stamp) continue;
+        sch->done[m] = stamp;
+        memo(sch, m, &vis);
+        if (vis) emit(sch, m, sch->scene->parent[m], w, ctx);
+    }
+}
+
+static void add_cost(tclod_scheduler *sch, tclod_id fine, tclod_id coarse, float weight,
+                     void *ctx) {
+    int vis;
+    (void)coarse;
+    (void)weight;
+    *(double *)ctx += memo(sch, fine, &vis);
+}
+
+/* ---- plans ----------------------------------------------------------------------------------- */
+
+/* Makes region r of the plan: q alone, or a morph from its X side (list 0) to
+ * its Y side (list 1) -- when every state it passes through costs no more
+ * than S_j's nodes in it (list 2); else S_j's nodes as they are. */
+static void plan_region(tclod_scheduler *sch, uint32_t r, uint32_t e) {
+    region *R = &sch->regions[r], plan = *R;
+    tclod_id q = R->root;
+    uint32_t fx, nx, fy, ny, fc, nc, i;
+    int in_x = sch->mark_b[q] == e, in_y = sch->mark_c[q] == e, vis;
+    double allowed = 0.0, worst = 0.0;
+    region_list(sch, r, 0, &fx, &nx);
+    region_list(sch, r, 1, &fy, &ny);
+    region_list(sch, r, 2, &fc, &nc);
+    for (i = 0; i < nc; ++i) allowed += memo(sch, sch->nodes[fc + i], &vis);
+    if (in_x && !in_y && ny > 0) {
+        plan.kind = REGION_UP;
+        plan.first = fy;
+        plan.count = ny;
+    } else if (in_y && !in_x && nx > 0) {
+        plan.kind = REGION_DOWN;
+        plan.first = fx;
+        plan.count = nx;
+    } else { /* q alone: in both, or appearing, or disappearing */
+        plan.kind = REGION_STATIC;
+        plan.first = in_x ? fx : fy;
+        plan.count = 1;
+    }
+    if (plan.kind == REGION_STATIC) {
+        worst = memo(sch, q, &vis);
+    } else {
+        uint32_t k;
+        plan.depth = 0;
+        for (i = 0; i < plan.count; ++i) {
+            uint32_t rel = sch->depth[sch->nodes[plan.first + i]] - sch->depth[q];
+            if (rel > plan.depth) plan.depth = rel;
+        }
+        /* the states: q, each level's morph, the fine side */
+        for (k = 0; k <= plan.depth + 1u && worst <= allowed; ++k) {
+            double c = 0.0;
+            morph_state(sch, &plan,
+                        k == 0u ? 0.0 : k <= plan.depth ? (double)k - 0.5 : (double)plan.depth,
+                        add_cost, &c);
+            if (c > worst) worst = c;
+        }
+    }
+    if (worst <= allowed) {
+        *R = plan;
+        if (plan.kind != REGION_STATIC) count_change(sch, 1);
+        return;
+    }
+    /* too dear somewhere: S_j's nodes, switched to at the start and from at
+     * the end */
+    if (nx > 0 && nc > 0 && !same_nodes(sch, sch->nodes + fx, nx, sch->nodes + fc, nc))
+        count_change(sch, 0);
+    if (ny > 0 && nc > 0 && !same_nodes(sch, sch->nodes + fc, nc, sch->nodes + fy, ny))
+        count_change(sch, 0);
+    R->kind = REGION_STATIC;
+    R->first = fc;
+    R->count = nc;
+    R->depth = 0;
+}
+
+/* The plan of the current interval: with morphing from
+ * X_j = meet(S_{j-1}, S_j) to Y_j = meet(S_j, S_{j+1}); without, S_j. */
+static void make_plan(tclod_scheduler *sch) {
+    const generation *P = &sch->gen[sch->prev], *C = &sch->gen[sch->cur];
+    const generation *N = &sch->gen[sch->next];
+    const generation *by_priority[3];
+    const tclod_id *lists[3];
+    uint32_t sizes[3], e, r, i;
+    int g;
+    update_depths(sch);
+    next_memo_epoch(sch);
+    /* predicted costs: S_j's where it drew the node, else the newest's */
+    by_priority[0] = P;
+    by_priority[1] = N;
+    by_priority[2] = C;
+    for (g = 0; g < 3; ++g)
+        for (i = 0; i < by_priority[g]->count; ++i)
+            memo_set(sch, by_priority[g]->ids[i], by_priority[g]->cost[i]);
+    if (sch->desc.morph) {
+        sizes[0] = meet(sch, P->ids, P->count, C->ids, C->count, sch->list_x);
+        sizes[1] = meet(sch, C->ids, C->count, N->ids, N->count, sch->list_y);
+        lists[0] = sch->list_x;
+        lists[1] = sch->list_y;
+    } else {
+        lists[0] = lists[1] = C->ids;
+        sizes[0] = sizes[1] = C->count;
+    }
+    lists[2] = C->ids;
+    sizes[2] = C->count;
+    e = partition(sch, lists, sizes);
+    for (r = 0; r < sch->region_count; ++r) plan_region(sch, r, e);
+}
+
+/* ---- the draw list ----------------------------------------------------------------------------- */
+
+static void emit_item(tclod_scheduler *sch, tclod_id fine, tclod_id coarse, float weight,
+                      void *ctx) {
+    tclod_draw *d = &sch->items[sch->item_count++];
+    int vis;
+    d->fine = fine;
+    d->coarse = coarse;
+    d->weight = weight;
+    *(double *)ctx += memo(sch, fine, &vis);
+}
+
+/* This frame's draw list at position u of the interval, and its predicted
+ * cost: the items' in order, then S_j's smooth groups' (an object's
+ * resolution never exceeds S_j's in the interval), summed as the selector
+ * sums its result. */
+static void make_draws(tclod_scheduler *sch) {
+    double cost = 0.0;
+    uint32_t r, i, morphing = 0;
+    sch->item_count = 0;
+    for (r = 0; r < sch->region_count; ++r) {
+        const region *R = &sch->regions[r];
+        if (R->kind == REGION_STATIC) {
+            for (i = 0; i < R->count; ++i) {
+                tclod_id n = sch->nodes[R->first + i];
+                emit_item(sch, n, n, 1.0f, &cost);
+            }
+            continue;
+        }
+        morph_state(sch, R, (double)R->depth * (R->kind == REGION_UP ? sch->u : 1.0 - sch->u),
+                    emit_item, &cost);
+    }
+    for (i = 0; i < sch->item_count; ++i) morphing += sch->items[i].fine != sch->items[i].coarse;
+    for (i = 0; i < sch->gen[sch->cur].groups; ++i) cost += sch->gen[sch->cur].group_cost[i];
+    sch->stats.draw_cost = cost;
+    sch->stats.draws = sch->item_count;
+    sch->stats.morphing = morphing;
+}
+
+/* ---- the pipeline ------------------------------------------------------------------------------- */
+
+/* Selection time of an update: clock_in before a selector call, clock_out
+ * after it. */
+static double clock_in(void) { return tclod_now(); }
+
+static void clock_out(tclod_scheduler *sch, double start) {
+    sch->stats.select_seconds += tclod_now() - start;
+}
+
+/* Selects at once for the current view alone and draws that from now on,
+ * without morphs: the first update, after a gap, a changed scene, or a draw
+ * list over the budget. The pending selection is dropped and begun again. */
+static tclod_status select_now(tclod_scheduler *sch, const tclod_view *view, int count_pops) {
+    tclod_frame f;
+    tclod_status st;
+    uint32_t i, n;
+    double start = clock_in();
+    tclod_select_cancel(sch->sel);
+    memset(&f, 0, sizeof f);
+    f.view = view;
+    f.budget = sch->budget;
+    sch->current_only = 1;
+    st = tclod_select(sch->sel, &f, NULL);
+    sch->current_only = 0;
+    clock_out(sch, start);
+    if (st != TCLOD_OK) return st;
+    sch->stats.emergencies++;
+    if (count_pops) { /* from what this frame would have drawn */
+        n = sch->item_count;
+        for (i = 0; i < n; ++i) sch->list_x[i] = sch->items[i].fine;
+        store(sch, sch->cur);
+        count_switches(sch, sch->list_x, n, sch->gen[sch->cur].ids, sch->gen[sch->cur].count);
+    } else {
+        store(sch, sch->cur);
+    }
+    copy_generation(sch, sch->prev, sch->cur);
+    copy_generation(sch, sch->next, sch->cur);
+    sch->scene_version = sch->scene->version;
+    sch->ready = 0;
+    make_plan(sch);
+    start = clock_in();
+    st = begin(sch, view);
+    clock_out(sch, start);
+    return st;
+}
+
+/* At a boundary: the pending selection ends (early if need be) and joins the
+ * landed ones; the plan of the new interval is made. */
+static void land(tclod_scheduler *sch) {
+    uint32_t fresh = sch->prev;
+    if (tclod_select_pending(sch->sel)) {
+        tclod_stats st;
+        double start = clock_in();
+        if (tclod_select_finish(sch->sel, &st) == TCLOD_OK) sch->ready = 1;
+        clock_out(sch, start);
+        if (sch->ready && st.stop_reason == TCLOD_STOP_FINISHED) sch->stats.unfinished++;
+    }
+    if (sch->desc.morph) {
+        /* S_{j-1}, S_j, S_{j+1} <- S_j, S_{j+1}, the new one */
+        sch->prev = sch->cur;
+        sch->cur = sch->next;
+        sch->next = fresh;
+        if (sch->ready)
+            store(sch, fresh);
+        else /* the selection failed: the newest stays */
+            copy_generation(sch, fresh, sch->cur);
+    } else {
+        sch->prev = sch->cur;
+        sch->cur = fresh;
+        sch->next = fresh;
+        if (sch->ready)
+            store(sch, fresh);
+        else
+            copy_generation(sch, fresh, sch->prev);
+        count_switches(sch, sch->gen[sch->prev].ids, sch->gen[sch->prev].count,
+                       sch->gen[sch->cur].ids, sch->gen[sch->cur].count);
+    }
+    sch->ready = 0;
+    sch->stats.selections++;
+    make_plan(sch);
+}
+
+static int arguments_valid(const tclod_scheduler *sch, double now, const tclod_view *view,
+                           double budget, double slice) {
+    if (!view || tclod_view_validate(view) != TCLOD_OK) return 0;
+    if (isnan(now) || isinf(now) || (sch->started && now < sch->now)) return 0;
+    return budget >= 0.0 && slice >= 0.0 && !isinf(slice);
+}
+
+tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclod_view *view,
+                                    double budget, double slice_seconds) {
+    const double tau = sch ? sch->desc.tau : 0.0;
+    tclod_status st;
+    double scale;
+    if (!sch || !arguments_valid(sch, now, view, budget, slice_seconds)) return TCLOD_ERR_ARG;
+    if (sch->busy) return TCLOD_ERR_STATE;
+    sch->busy = 1;
+    st = tclod_scene_prepare(sch->scene);
+    if (st == TCLOD_OK) st = reserve(sch);
+    if (st != TCLOD_OK) {
+        sch->busy = 0;
+        return st;
+    }
+    sch->stats.select_seconds = 0.0;
+    scale = tclod_calib_scale(sch->calib);
+    sch->budget = budget / scale;
+    sch->now = now;
+    record(sch, now, view);
+    if (!sch->started || sch->scene_version != sch->scene->version ||
+        now - sch->boundary > (MAX_GAP + 1.0) * tau) {
+        sch->boundary = now;
+        sch->u = 0.0;
+        sch->item_count = 0;
+        st = select_now(sch, view, 0);
+        if (st == TCLOD_OK) sch->started = 1;
+    } else {
+        while (now >= sch->boundary + tau) {
+            sch->boundary += tau;
+            land(sch);
+            {
+                double start = clock_in();
+                st = begin(sch, view);
+                clock_out(sch, start);
+            }
+        }
+    }
+    if (sch->started) {
+        sch->u = (now - sch->boundary) / tau;
+        if (sch->u < 0.0) sch->u = 0.0;
+        if (sch->u >= 1.0) sch->u = 1.0;
+        make_draws(sch);
+        if (sch->stats.draw_cost > sch->budget) {
+            st = select_now(sch, view, 1);
+            make_draws(sch);
+        }
+        if (st == TCLOD_OK && tclod_select_pending(sch->sel)) {
+            int done = 0;
+            double start = clock_in();
+            st = tclod_select_step(sch->sel, slice_seconds, 0, &done, NULL);
+            clock_out(sch, start);
+            if (st == TCLOD_OK && done) sch->ready = 1;
+        }
+    }
+    sch->stats.budget = sch->budget;
+    sch->busy = 0;
+    return st;
+}
+
+tclod_status tclod_scheduler_draws(const tclod_scheduler *sch, const tclod_draw **items,
+                                   size_t *n) {
+    if (!sch || !items || !n) return TCLOD_ERR_ARG;
+    *items = sch->items;
+    *n = sch->item_count;
+    return TCLOD_OK;
+}
+
+double tclod_scheduler_resolution(const tclod_scheduler *sch, tclod_id smooth) {
+    double p, c, n, from, to;
+    if (!sch || !sch->started || smooth >= sch->scene->smooth_count || smooth >= sch->smooth_cap)
+        return 0.0;
+    c = sch->gen[sch->cur].res[smooth];
+    if (!sch->desc.morph) return c;
+    p = sch->gen[sch->prev].res[smooth];
+    n = sch->gen[sch->next].res[smooth];
+    from = p < c ? p : c;
+    to = c < n ? c : n;
+    return from + (to - from) * sch->u;
+}
+
+tclod_status tclod_scheduler_report(tclod_scheduler *sch, double render_time) {
+    if (!sch || !finite_nonnegative(render_time)) return TCLOD_ERR_ARG;
+    if (!sch->started) return TCLOD_ERR_STATE;
+    return tclod_calib_report(sch->calib, sch->stats.draw_cost, render_time, 0.0);
+}
+
+tclod_status tclod_scheduler_get_stats(const tclod_scheduler *sch, tclod_scheduler_stats *st) {
+    if (!sch || !st) return TCLOD_ERR_ARG;
+    *st = sch->stats;
+    return TCLOD_OK;
+}
