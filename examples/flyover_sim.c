@@ -145,7 +145,7 @@ static void usage(FILE *out) {
             "  --target-ms T   --simulate-gpu: target frame time in ms, T > 0 (default 25)\n"
             "  --gpu-c C       --simulate-gpu: the simulated machine's constant C of seed 003\n"
             "                  eq. 7, C > 0 (default 1, what the calibration assumes)\n"
-            "  --scheduler     flyover scene: select through the predictive geomorph\n"
+            "  --scheduler     select through the predictive geomorph\n"
             "                  scheduler (docs/scheduler.md): each selection is for an\n"
             "                  interval ahead, spread over the frames before it, and levels\n"
             "                  change by geomorphs; the frames run at 60 Hz; adds\n"
@@ -359,9 +359,8 @@ static int parse_options(int argc, char **argv, options *o) {
         fprintf(stderr, "flyover_sim: --tau, --morph and --slice-us need --scheduler\n");
         return 2;
     }
-    if (o->scheduler && (o->scene != SCENE_FLYOVER || o->simulate_gpu)) {
-        fprintf(stderr, "flyover_sim: --scheduler runs on the flyover scene with a fixed "
-                        "budget (no --scene thesis, no --simulate-gpu)\n");
+    if (o->scheduler && o->simulate_gpu) {
+        fprintf(stderr, "flyover_sim: --scheduler runs with a fixed budget (no --simulate-gpu)\n");
         return 2;
     }
     if (o->simulate_gpu && o->budget_given) {
@@ -580,11 +579,11 @@ static unsigned long count_changes(change_counter *c, const tclod_scene *s, cons
  * frames per second: the bounds theta and omega the scheduler needs, which a
  * host knows from its camera controller. */
 static void camera_bounds(const sim_scene *s, double *speed, double *turn) {
+    unsigned long loop = s->kind == SCENE_THESIS ? THESIS_FRAMES_PER_LOOP : FRAMES_PER_LOOP, f;
     tclod_view a, b;
-    unsigned long f;
     *speed = *turn = 0.0;
     camera_at(s, 0, &a);
-    for (f = 1; f <= FRAMES_PER_LOOP; ++f) {
+    for (f = 1; f <= loop; ++f) {
         double d[3], fa, fb, dot = 0.0, len;
         int k;
         camera_at(s, f, &b);
@@ -603,32 +602,87 @@ static void camera_bounds(const sim_scene *s, double *speed, double *turn) {
     }
 }
 
+/* What run_scheduler needs to check a draw list from outside: room for its
+ * fine nodes and, in the thesis scene, for one group per drawn smooth object
+ * and each object's place in the smooth order. */
+typedef struct draw_check {
+    tclod_id *fine;
+    tclod_smooth_group *groups;
+    uint32_t *position;
+} draw_check;
+
+static int draw_check_init(draw_check *c, const tclod_scene *scene) {
+    uint32_t nodes = tclod_scene_node_count(scene), smooth = tclod_scene_smooth_count(scene), i;
+    const tclod_id *order;
+    uint32_t count;
+    memset(c, 0, sizeof(*c));
+    c->fine = (tclod_id *)malloc(((size_t)nodes * 3u + 1u) * sizeof(tclod_id));
+    c->groups = (tclod_smooth_group *)malloc(((size_t)smooth + 1u) * sizeof(tclod_smooth_group));
+    c->position = (uint32_t *)malloc(((size_t)smooth + 1u) * sizeof(uint32_t));
+    if (!c->fine || !c->groups || !c->position ||
+        tclod_scene_smooth_order((tclod_scene *)(uintptr_t)scene, &order, &count) != TCLOD_OK)
+        return 0;
+    for (i = 0; i < count; ++i) c->position[order[i]] = i;
+    return 1;
+}
+
+static void draw_check_free(draw_check *c) {
+    free(c->fine);
+    free(c->groups);
+    free(c->position);
+}
+
+/* The predicted cost of a frame drawn through the scheduler, from the scene's
+ * own formulas: every item at its fine node (a morph costs its finer side),
+ * and in the thesis scene every smooth object at this frame's resolution, as
+ * a group of its own. */
+static double draw_cost(const sim_scene *sim, draw_check *c, const tclod_scheduler *sch,
+                        const tclod_draw *items, size_t n) {
+    const tclod_scene *scene = sim->kind == SCENE_THESIS ? sim->thesis.scene : sim->world.scene;
+    uint32_t smooth = tclod_scene_smooth_count(scene), i;
+    size_t groups = 0, k;
+    for (k = 0; k < n; ++k) c->fine[k] = items[k].fine;
+    if (sim->kind != SCENE_THESIS) return world_sum_cost(&sim->world, c->fine, n);
+    for (i = 0; i < smooth; ++i) {
+        double r = tclod_scheduler_resolution(sch, i);
+        if (!(r > 0.0)) continue;
+        c->groups[groups].first = c->position[i];
+        c->groups[groups].count = 1;
+        c->groups[groups].resolution = r;
+        c->groups[groups].benefit = c->groups[groups].cost = 0.0;
+        ++groups;
+    }
+    return thesis_sum_cost(&sim->thesis, c->fine, n, c->groups, groups);
+}
+
 /* --scheduler: the frame loop of a host that draws through the scheduler. */
 static int run_scheduler(const options *opt, sim_scene *sim, const tclod_selector_desc *sd) {
-    const world_scene *w = &sim->world;
+    const tclod_scene *scene = sim->kind == SCENE_THESIS ? sim->thesis.scene : sim->world.scene;
     tclod_scheduler_desc d;
     tclod_scheduler *sch = NULL;
     tclod_scheduler_stats st;
     tclod_status status;
+    draw_check check;
     FILE *csv = NULL;
     double *update_us = NULL, sum_us = 0.0, sum_ratio = 0.0, speed, turn;
     unsigned long frame, violations = 0;
     int rc = 1;
 
+    memset(&check, 0, sizeof(check));
     camera_bounds(sim, &speed, &turn);
     tclod_scheduler_desc_default(&d);
     d.tau = opt->tau;
     d.morph = opt->morph;
     d.max_speed = SCHEDULER_MARGIN * speed;
     d.max_turn_rate = SCHEDULER_MARGIN * turn;
-    status = tclod_scheduler_create(w->scene, sd, &d, NULL, &sch);
+    status = tclod_scheduler_create(scene, sd, &d, NULL, &sch);
     if (status != TCLOD_OK) {
-        fprintf(stderr, "flyover_sim: creating the scheduler failed: %s\n",
-                tclod_status_string(status));
+        fprintf(stderr, "flyover_sim: creating the scheduler over the %s solver failed: %s\n",
+                opt->solver_name, tclod_status_string(status));
         return 1;
     }
     update_us = (double *)malloc(opt->frames * sizeof(*update_us));
-    if (!update_us) {
+    if (!update_us || !draw_check_init(&check, scene)) {
         fprintf(stderr, "flyover_sim: out of memory\n");
         goto done;
     }
@@ -641,9 +695,15 @@ static int run_scheduler(const options *opt, sim_scene *sim, const tclod_selecto
         fprintf(csv, "frame,time_s,select_us,drawn,morphing,cost_ms,budget_ms,selections,"
                      "unfinished,emergencies,changes,morphs,pops\n");
     }
-    printf("flyover: %u terrain patches (depth %u), %u objects x %u levels, %u nodes, %u roots\n",
-           w->terrain_count, sim->world_desc.terrain_depth, w->object_count, w->levels,
-           w->node_count, w->root_count);
+    if (sim->kind == SCENE_THESIS)
+        printf("thesis: %u terrain patches (depth %u), %u trees in %u smooth groups\n",
+               sim->thesis.node_count, sim->thesis.terrain_depth, sim->thesis.tree_count,
+               sim->thesis.smooth_count);
+    else
+        printf("flyover: %u terrain patches (depth %u), %u objects x %u levels, %u nodes, "
+               "%u roots\n",
+               sim->world.terrain_count, sim->world_desc.terrain_depth, sim->world.object_count,
+               sim->world.levels, sim->world.node_count, sim->world.root_count);
     printf("scheduler over solver %s, warm start %d, tau %.3f s, morph %d, slice %.0f us, "
            "%.0f Hz, max speed %.1f m/s, max turn %.3f rad/s, budget %.3f ms, %lu frames\n\n",
            opt->solver_name, sd->warm_start, d.tau, d.morph, opt->slice_us, SCHEDULER_HZ,
@@ -654,8 +714,8 @@ static int run_scheduler(const options *opt, sim_scene *sim, const tclod_selecto
     for (frame = 0; frame < opt->frames; ++frame) {
         tclod_view view;
         const tclod_draw *items;
-        size_t n, i;
-        double t0, t1, own_cost = 0.0, now = (double)frame / SCHEDULER_HZ;
+        size_t n;
+        double t0, t1, own_cost, now = (double)frame / SCHEDULER_HZ;
         camera_at(sim, frame, &view);
         t0 = now_us();
         status = tclod_scheduler_update(sch, now, &view, opt->budget_ms, opt->slice_us * 1e-6);
@@ -667,19 +727,19 @@ static int run_scheduler(const options *opt, sim_scene *sim, const tclod_selecto
                     tclod_status_string(status));
             goto done;
         }
-        /* the invariant, checked from outside: a morph costs its finer side */
-        for (i = 0; i < n; ++i) own_cost += (double)w->cost_ms[items[i].fine];
+        /* the invariant, checked from outside */
+        own_cost = draw_cost(sim, &check, sch, items, n);
         if (own_cost > opt->budget_ms || st.draw_cost > st.budget) ++violations;
         update_us[frame] = t1 - t0;
         sum_us += t1 - t0;
-        sum_ratio += own_cost / opt->budget_ms;
+        sum_ratio += st.draw_cost / opt->budget_ms;
         if (frame % PRINT_EVERY == 0 || frame + 1 == opt->frames)
             printf("%7lu %10.1f %7lu %9lu %9.4f %10.4f %10lu\n", frame, t1 - t0,
-                   (unsigned long)n, (unsigned long)st.morphing, own_cost, opt->budget_ms,
+                   (unsigned long)n, (unsigned long)st.morphing, st.draw_cost, opt->budget_ms,
                    (unsigned long)st.selections);
         if (csv)
             fprintf(csv, "%lu,%.6f,%.3f,%lu,%lu,%.9g,%.9g,%lu,%lu,%lu,%llu,%llu,%llu\n", frame,
-                    now, t1 - t0, (unsigned long)n, (unsigned long)st.morphing, own_cost,
+                    now, t1 - t0, (unsigned long)n, (unsigned long)st.morphing, st.draw_cost,
                     opt->budget_ms, (unsigned long)st.selections, (unsigned long)st.unfinished,
                     (unsigned long)st.emergencies, (unsigned long long)st.changes,
                     (unsigned long long)st.morphs, (unsigned long long)st.pops);
@@ -702,6 +762,7 @@ done:
         rc = 1;
     }
     free(update_us);
+    draw_check_free(&check);
     tclod_scheduler_destroy(sch);
     return rc;
 }

@@ -326,6 +326,36 @@ static void a_scene_changed_under_a_pending_solve_cancels_it(void **state) {
     tclod_selector_destroy(twin);
 }
 
+static void a_solve_after_a_budget_that_fits_nothing_recovers(void **state) {
+    world *w = (world *)*state;
+    int m;
+    for (m = 0; m < MODE_COUNT; ++m) {
+        tclod_selector *sel = make_selector(w, (mode)m), *fresh = make_selector(w, (mode)m);
+        tclod_frame big = helper_frame(&w->view, 50.0), none = helper_frame(&w->view, 0.0);
+        tclod_stats a, b;
+        size_t n = 1;
+        const tclod_id *ids;
+        assert_int_equal(tclod_select(sel, &big, NULL), TCLOD_OK);
+        /* nothing fits: every visible root is left out */
+        assert_int_equal(tclod_select(sel, &none, &a), TCLOD_OK);
+        assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+        assert_int_equal(n, 0);
+        assert_true(a.cost == 0.0);
+        assert_true(a.dropped_roots > 0u);
+        /* then the full budget again: as much as a fresh selector gets, with
+         * no root left out that it keeps */
+        assert_int_equal(tclod_select(sel, &big, &a), TCLOD_OK);
+        assert_int_equal(tclod_select(fresh, &big, &b), TCLOD_OK);
+        /* (the Robin Hood solver drops an instance whose share is too small
+         * for its simplest level, fresh or not) */
+        if (a.dropped_roots != b.dropped_roots || !(a.benefit >= b.benefit * (1.0 - 1e-9)))
+            fail_msg("mode %d: dropped %u, benefit %.17g, fresh %.17g (dropped %u)", m,
+                     a.dropped_roots, a.benefit, b.benefit, b.dropped_roots);
+        tclod_selector_destroy(sel);
+        tclod_selector_destroy(fresh);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(stepped_solve_equals_one_shot_for_every_solver),
@@ -334,6 +364,7 @@ int main(void) {
         cmocka_unit_test(frame_limits_count_over_all_steps),
         cmocka_unit_test(time_slices_pause_and_resume),
         cmocka_unit_test(calls_out_of_order_are_refused),
+        cmocka_unit_test(a_solve_after_a_budget_that_fits_nothing_recovers),
         /* last: it grows the scene */
         cmocka_unit_test(a_scene_changed_under_a_pending_solve_cancels_it),
     };

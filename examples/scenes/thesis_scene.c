@@ -13,7 +13,8 @@
  *     threshold that puts forest_cover of the cells in forest regions;
  *  3. the tree grid again, block by block: each forest cell gets one tree
  *     (jitter and height from a hash of the cell, no random state), and each
- *     non-empty block becomes a smooth object bounding its trees.
+ *     non-empty block becomes a smooth object bounding its trees; with
+ *     desc.keep_trees the trees themselves are kept too, for a host that draws them.
  * Finally the scene's smooth order is copied and prefix sums of tree counts and
  * nominal areas over it make every group query O(1).
  */
@@ -36,8 +37,6 @@
 /* Jitter of a tree in its cell, as a fraction of the spacing either way: keeps
  * neighbouring trees at least 0.2 spacing apart. */
 #define THESIS_JITTER 0.4
-/* Crown half-width over tree height: a conifer's crown (4–8 m for 20–40 m trees). */
-#define THESIS_CROWN 0.2
 
 /* ------------------------------------------------------------------------- */
 /* Terrain and forest functions                                              */
@@ -110,6 +109,17 @@ float thesis_terrain_height(float x, float z, float side, float height) {
     for (k = 0; k < TERRAIN_TERMS; ++k)
         h += term_u(&terrain_terms[k], u) * term_v(&terrain_terms[k], v);
     return (float)(h * (double)height);
+}
+
+float thesis_forest_mask(const thesis_scene *t, float x, float z) {
+    double u = (double)x / (double)t->side, v = (double)z / (double)t->side, m = 0.0;
+    double rel = t->height > 0.0f
+                     ? (double)thesis_terrain_height(x, z, t->side, t->height) / (double)t->height
+                     : 0.45;
+    size_t k;
+    for (k = 0; k < FOREST_TERMS; ++k)
+        m += term_u(&forest_terms[k], u) * term_v(&forest_terms[k], v);
+    return (float)(m + height_preference(rel) - t->forest_threshold);
 }
 
 /* An upper bound of the terrain height near (x, z) without its short wavelengths:
@@ -204,6 +214,8 @@ void thesis_scene_free(thesis_scene *t) {
     free(t->smooth_pos);
     free(t->tree_prefix);
     free(t->area_prefix);
+    free(t->tree_first);
+    free(t->tree_xyzh);
     memset(t, 0, sizeof(*t));
 }
 
@@ -399,10 +411,31 @@ static tclod_status find_threshold(const thesis_desc *d, tree_grid *g) {
     return TCLOD_OK;
 }
 
+/* Appends one tree to t->tree_xyzh (desc.keep_trees), growing it by half as needed;
+ * *cap counts trees. */
+static tclod_status keep_tree(thesis_scene *t, size_t *cap, size_t index, double x, double y,
+                              double z, double tall) {
+    float *p;
+    if (index == *cap) {
+        size_t grown = *cap + *cap / 2u + 4096u;
+        p = (float *)realloc(t->tree_xyzh, 4u * grown * sizeof(float));
+        if (!p)
+            return TCLOD_ERR_NOMEM;
+        t->tree_xyzh = p;
+        *cap = grown;
+    }
+    p = t->tree_xyzh + 4u * index;
+    p[0] = (float)x;
+    p[1] = (float)y;
+    p[2] = (float)z;
+    p[3] = (float)tall;
+    return TCLOD_OK;
+}
+
 /* Sweep 3: one smooth object per non-empty block of block_cells² cells. */
 static tclod_status place_trees(const thesis_desc *d, const tree_grid *g, thesis_scene *t) {
     uint32_t bc = d->block_cells, blocks = (g->n + bc - 1u) / bc, bx, bz;
-    size_t cap = (size_t)blocks * blocks;
+    size_t cap = (size_t)blocks * blocks, kept_cap = 0;
     double cell = (double)d->side / (double)g->n;
     double hmin = (double)d->tree_height_min,
            hspan = (double)(d->tree_height_max - d->tree_height_min);
@@ -411,6 +444,12 @@ static tclod_status place_trees(const thesis_desc *d, const tree_grid *g, thesis
     t->smooth_bounds = (float *)malloc(4u * cap * sizeof(float));
     if (!t->trees || !t->smooth_bounds)
         return TCLOD_ERR_NOMEM;
+    if (d->keep_trees) {
+        t->tree_first = (uint32_t *)malloc((cap + 1u) * sizeof(uint32_t));
+        if (!t->tree_first)
+            return TCLOD_ERR_NOMEM;
+        t->tree_first[0] = 0;
+    }
     for (bz = 0; bz < blocks; ++bz) {
         for (bx = 0; bx < blocks; ++bx) {
             double lo[3] = {INFINITY, INFINITY, INFINITY},
@@ -428,7 +467,7 @@ static tclod_status place_trees(const thesis_desc *d, const tree_grid *g, thesis
                     x = ((double)ix + 0.5 + THESIS_JITTER * (2.0 * hash_unit(h, 0) - 1.0)) * cell;
                     z = ((double)iz + 0.5 + THESIS_JITTER * (2.0 * hash_unit(h, 21) - 1.0)) * cell;
                     tall = hmin + hspan * hash_unit(h, 42);
-                    crown = THESIS_CROWN * tall;
+                    crown = THESIS_CROWN_RATIO * tall;
                     /* the tree stands at its cell centre's height: the jitter moves it by
                      * at most 0.4 spacing, a few metres of height on these slopes, which
                      * the bounding sphere's slack around a block of trees absorbs */
@@ -445,6 +484,12 @@ static tclod_status place_trees(const thesis_desc *d, const tree_grid *g, thesis
                         lo[2] = z - crown;
                     if (z + crown > hi[2])
                         hi[2] = z + crown;
+                    if (d->keep_trees) {
+                        tclod_status st =
+                            keep_tree(t, &kept_cap, (size_t)t->tree_count + n, x, ground, z, tall);
+                        if (st != TCLOD_OK)
+                            return st;
+                    }
                     ++n;
                 }
             }
@@ -467,6 +512,8 @@ static tclod_status place_trees(const thesis_desc *d, const tree_grid *g, thesis
                 memcpy(t->smooth_bounds + 4u * (size_t)id, bounds, sizeof(bounds));
                 t->smooth_count = id + 1u;
                 t->tree_count += n;
+                if (t->tree_first)
+                    t->tree_first[t->smooth_count] = t->tree_count;
             }
         }
     }
@@ -489,6 +536,10 @@ static tclod_status build_trees(const thesis_desc *d, thesis_scene *t) {
         fill_tables(terrain_terms, TERRAIN_TERMS, n, 0.5, step, g.hu, g.hv);
         fill_tables(forest_terms, FOREST_TERMS, n, 0.5, step, g.fu, g.fv);
         st = find_threshold(d, &g);
+        /* bin b holds the masks in [LO + b·w, LO + (b + 1)·w) */
+        t->forest_threshold =
+            THESIS_MASK_LO +
+            (double)g.threshold_bin * ((THESIS_MASK_HI - THESIS_MASK_LO) / THESIS_MASK_BINS);
         if (st == TCLOD_OK)
             st = place_trees(d, &g, t);
     }

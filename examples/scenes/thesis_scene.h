@@ -65,6 +65,9 @@ extern "C" {
 #define THESIS_PATCH_CELLS 32u
 /* Vertices sent per patch: 32 triangle strips of 2 × 33 vertices. */
 #define THESIS_PATCH_VERTICES (THESIS_PATCH_CELLS * 2u * (THESIS_PATCH_CELLS + 1u))
+/* Crown half-width over tree height: a conifer's crown (4–8 m for 20–40 m trees).
+ * Tree bounds and drawn trees both use it. */
+#define THESIS_CROWN_RATIO 0.2
 /* Trees per smooth object at most: the thesis's sets of at most 64 trees. */
 #define THESIS_MAX_GROUP_TREES 64u
 
@@ -86,6 +89,9 @@ typedef struct thesis_desc {
     double c_splat_ms;      /* time per splat, ms, > 0; default 0.0775e-3 (0.0775 us) */
     double c_tree_ms;       /* setup time per drawn tree, ms, >= 0; default 1.385e-3 */
     double c_vertex_ms;     /* time per strip vertex, ms, > 0; default 0.06e-3 (0.06 us) */
+    int keep_trees;         /* 1: also keep every tree (thesis_scene.tree_xyzh, 16 bytes a
+                               tree) for hosts that draw them; 0: only the groups, as the
+                               selection needs; default 0 */
 } thesis_desc;
 
 /* Fills d with the defaults above (the thesis's scene and constants). */
@@ -113,11 +119,19 @@ typedef struct thesis_scene {
     uint32_t *tree_prefix;  /* smooth_count + 1: trees at positions [0, p) */
     double *area_prefix;    /* smooth_count + 1: sum of pi·radius² over positions [0, p),
                                the nominal screen area used when a query has no view */
+    /* the individual trees, only with desc.keep_trees (else both NULL): smooth object
+     * id's trees are tree_first[id] .. tree_first[id + 1] − 1, in grid order (row by
+     * row within its block) */
+    uint32_t *tree_first; /* smooth_count + 1, by smooth id */
+    float *tree_xyzh;     /* 4 per tree: x, ground height y, z (m) of its foot, and its
+                             height (m); its crown is THESIS_CROWN_RATIO × height wide
+                             on either side */
     /* model */
     double k, c_splat_ms, c_tree_ms, c_vertex_ms;
     /* world */
-    float side, height;  /* m */
-    uint32_t grid_cells; /* tree grid cells per side */
+    float side, height;      /* m */
+    uint32_t grid_cells;     /* tree grid cells per side */
+    double forest_threshold; /* forest mask value from which a grid cell has a tree */
     /* The camera loop. Its x/z track, direction and optics are those of
      * world_camera_at; altitude and altitude_swing are heights above the terrain's
      * smooth upper envelope (thesis_camera_at), not above sea level. */
@@ -137,6 +151,13 @@ void thesis_scene_free(thesis_scene *t);
  * rougher towards x = z = 0 (the Alpine corner), rolling hills elsewhere. Smooth
  * and deterministic. */
 float thesis_terrain_height(float x, float z, float side, float height);
+
+/* How far (x, z) lies inside the forest regions: the forest mask that placed the
+ * trees, minus its threshold; > 0 where the tree grid's cells have trees (at the
+ * cell centres exactly), < 0 outside. Smooth: within about [−1.2, 1] over the
+ * whole terrain, changing by at most about 0.6 per km. For hosts that shade the
+ * ground under the forest where they draw no trees. */
+float thesis_forest_mask(const thesis_scene *t, float x, float z);
 
 /* The view at parameter t of the loop (only its fraction matters): the track of
  * world_camera_at(&t->path, ...), raised onto the terrain's smooth upper envelope
