@@ -9,10 +9,18 @@
  *   thesis   the thesis's test scene (seed 001 §8.4): a 5461-patch terrain quadtree and
  *            1.4 million trees in about 25 000 smooth objects (groups of <= 64 trees),
  *            budget 40 ms, solved by the mixed solver.
- * random and flyover have no smooth objects, so they run the solvers made for discrete
- * hierarchies only (greedy, and robin_hood once the library provides it), in two modes:
- * cold (warm_start 0: every frame starts from the roots) and warm (warm_start 1: from
- * the previous frame's cut, with the camera a little further along the loop).
+ * random and flyover have no smooth objects. They run the greedy in two modes: cold
+ * (warm_start 0: every frame starts from the roots) and warm (warm_start 1: from the
+ * previous frame's cut, with the camera a little further along the loop); robin_hood
+ * and mixed, which keep nothing from frame to frame, in one (cold); and, on the same
+ * frames and budget, the baselines of bench/baselines.h (mode cold: they recompute every
+ * frame): threshold_tuned (threshold LOD, one global bias bisected to the budget every
+ * frame), threshold_fixed (the bias tuned on the first warm-up frame's view, then kept),
+ * pq_stop (priority queue, largest on screen first, stopping at the first refinement
+ * that does not fit) and, on the random world only (the flyover's terrain is not a
+ * chain), flat (per-object greedy without the hierarchy of group impostors). Within a
+ * scene and size the rows come greedy cold, greedy warm, robin_hood, then mixed and the
+ * baselines.
  * thesis runs the mixed solver cold, in three modes: split (split_smooth 1: quadtree
  * variable splitting lets nearby smooth objects share a variable), flat
  * (split_smooth 0: one variable per visible smooth object, up to about two thousand),
@@ -43,19 +51,29 @@
  * bounds (thesis_selection_benefit). The library's benefit column values a group with
  * the group's bounds, so it changes with the grouping; object_benefit does not, which
  * is what lets split and flat be compared. variables, line_searches and object_benefit
- * are 0 where they do not apply (object_benefit: rows other than thesis). Every frame's
- * selection is checked against the budget by summing its nodes' (and smooth groups')
- * costs with the callbacks' formulas.
+ * are 0 where they do not apply (object_benefit: rows other than thesis). Then
+ * ns_per_evaluation (mean_us over the mean evaluations: the time per node a solve looked
+ * at), violations (timed frames whose selection cost more than the budget) and
+ * max_cost_ratio (the largest cost / budget of a timed frame). Every frame's selection
+ * is checked against the budget by summing its nodes' (and smooth groups') costs with
+ * the callbacks' formulas: a library solver that exceeds it stops the program with an
+ * error; a baseline's violations are counted (only threshold_fixed, which ignores the
+ * budget, has any).
+ *
+ * The timed call of every frame goes through bench_solve, a function of its own, so
+ * that callgrind can count the instructions of the timed solves alone
+ * (bench/callgrind.sh).
  */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <tclod/tclod.h>
 
+#include "baselines.h"
+#include "bench_util.h"
 #include "thesis_scene.h"
 #include "world_scene.h"
 
@@ -79,28 +97,9 @@ typedef struct bench_row {
     double benefit, cost, cut, refined, evaluations, iterations, increments, decrements;
     double variables, line_searches, object_benefit;
     unsigned long frames;
+    unsigned long violations; /* timed frames whose selection cost more than the budget */
+    double max_cost_ratio;    /* largest cost / budget over the timed frames */
 } bench_row;
-
-static double now_us(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e6 + (double)ts.tv_nsec * 1e-3;
-}
-
-static int compare_double(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Nearest-rank percentile (p in (0, 100]) of n sorted values. */
-static double percentile(const double *sorted, size_t n, double p) {
-    size_t rank = (size_t)ceil(p / 100.0 * (double)n);
-    if (rank < 1)
-        rank = 1;
-    if (rank > n)
-        rank = n;
-    return sorted[rank - 1];
-}
 
 static const char *solver_name(tclod_solver s) {
     switch (s) {
@@ -112,6 +111,79 @@ static const char *solver_name(tclod_solver s) {
         return "robin_hood";
     }
     return "unknown";
+}
+
+/* What a random or flyover row runs: one of the library's solvers, or a baseline of
+ * bench/baselines.h. */
+typedef enum bench_method {
+    METHOD_GREEDY,
+    METHOD_MIXED,
+    METHOD_ROBIN_HOOD,
+    METHOD_THRESHOLD_TUNED,
+    METHOD_THRESHOLD_FIXED,
+    METHOD_PQ_STOP,
+    METHOD_FLAT,
+    METHOD_COUNT
+} bench_method;
+
+static const char *const method_names[METHOD_COUNT] = {
+    "greedy", "mixed", "robin_hood", "threshold_tuned", "threshold_fixed", "pq_stop", "flat"};
+
+static const tclod_solver method_solvers[3] = {TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_MIXED,
+                                               TCLOD_SOLVER_ROBIN_HOOD};
+
+/* Row filters of --solver and --mode (NULL: every row). */
+static const char *only_solver, *only_mode;
+
+static int row_wanted(const char *solver, const char *mode) {
+    return (only_solver == NULL || strcmp(only_solver, solver) == 0) &&
+           (only_mode == NULL || strcmp(only_mode, mode) == 0);
+}
+
+/* One frame's solve, as bench_solve runs it. */
+typedef struct solve_call {
+    bench_method method;
+    tclod_selector *sel;     /* the library's solvers */
+    baseline_selector *base; /* the baselines */
+    tclod_frame frame;       /* view and budget */
+    double bias;             /* threshold_fixed: the bias it keeps */
+    tclod_stats stats;       /* out, library */
+    baseline_result result;  /* out, baselines */
+    tclod_status status;     /* out, library */
+} solve_call;
+
+static void solve_once(solve_call *c) {
+    switch (c->method) {
+    case METHOD_GREEDY:
+    case METHOD_MIXED:
+    case METHOD_ROBIN_HOOD:
+        c->status = tclod_select(c->sel, &c->frame, &c->stats);
+        break;
+    case METHOD_THRESHOLD_TUNED:
+        baseline_threshold_tuned(c->base, c->frame.view, c->frame.budget, &c->result);
+        break;
+    case METHOD_THRESHOLD_FIXED:
+        baseline_threshold(c->base, c->frame.view, c->bias, &c->result);
+        break;
+    case METHOD_PQ_STOP:
+        baseline_pq_stop(c->base, c->frame.view, c->frame.budget, &c->result);
+        break;
+    case METHOD_FLAT:
+    case METHOD_COUNT:
+        baseline_flat(c->base, c->frame.view, c->frame.budget, &c->result);
+        break;
+    }
+}
+
+/* The timed solve. Out of line, so that callgrind can count the instructions of the
+ * timed frames alone: bench/callgrind.sh runs valgrind with
+ * --toggle-collect='bench_solve*' (the star also catches a compiler's clones). */
+void bench_solve(solve_call *c);
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((noinline))
+#endif
+void bench_solve(solve_call *c) {
+    solve_once(c);
 }
 
 /* Objects drawn finer than their level 0, out of the n cut nodes ids. */
@@ -126,11 +198,10 @@ static unsigned long refined_objects(const world_scene *w, const tclod_id *ids, 
 /* Turns the sums of the timed frames in row (and their times) into the row's figures. */
 static void finish_row(bench_row *row, double *times, unsigned long frames, double sum_us) {
     double n = (double)frames;
-    qsort(times, frames, sizeof(*times), compare_double);
+    bench_sort(times, frames);
     row->frames = frames;
-    row->median_us =
-        frames % 2 ? times[frames / 2] : 0.5 * (times[frames / 2 - 1] + times[frames / 2]);
-    row->p99_us = percentile(times, frames, 99.0);
+    row->median_us = bench_median(times, frames);
+    row->p99_us = bench_percentile(times, frames, 99.0);
     row->mean_us = sum_us / n;
     row->benefit /= n;
     row->cost /= n;
@@ -158,63 +229,106 @@ static void add_stats(bench_row *row, const tclod_stats *stats, size_t cut) {
     row->line_searches += (double)stats->line_searches;
 }
 
-/* Runs warm-up plus `frames` timed frames along the world's loop. Returns 0 on
- * success; a budget violation or a library error is reported and returns 1. */
-static int run_config(world_scene *w, tclod_solver solver, int warm, double budget,
-                      unsigned long frames, double *times, bench_row *row) {
-    tclod_selector_desc sd;
-    tclod_selector *sel = NULL;
-    tclod_status st;
+/* Runs warm-up plus `frames` timed frames along the world's loop with one method: a
+ * library solver (warm or cold) or a baseline over base. Returns 0 on success; a library
+ * error or a library solver's budget violation is reported and returns 1 (baselines'
+ * violations are counted in the row). */
+static int run_config(world_scene *w, bench_method method, int warm, double budget,
+                      unsigned long frames, double *times, baseline_selector *base,
+                      bench_row *row) {
+    solve_call call;
     unsigned long f, total = frames + WARMUP_FRAMES;
     double sum_us = 0.0;
+    int library = method <= METHOD_ROBIN_HOOD;
 
     memset(row, 0, sizeof(*row));
-    tclod_selector_desc_default(&sd);
-    sd.solver = solver;
-    sd.callbacks = world_callbacks(w);
-    sd.warm_start = warm;
-    st = tclod_selector_create(w->scene, &sd, NULL, &sel);
-    if (st != TCLOD_OK) {
-        fprintf(stderr, "tclod_bench: creating a %s selector failed: %s\n", solver_name(solver),
-                tclod_status_string(st));
-        return 1;
+    memset(&call, 0, sizeof(call));
+    call.method = method;
+    call.base = base;
+    if (library) {
+        tclod_selector_desc sd;
+        tclod_status st;
+        tclod_selector_desc_default(&sd);
+        sd.solver = method_solvers[method];
+        sd.callbacks = world_callbacks(w);
+        if (method == METHOD_MIXED) {
+            /* the worlds have no smooth objects; the mixed solver requires the callbacks */
+            sd.callbacks.smooth_benefit = bench_no_smooth;
+            sd.callbacks.smooth_cost = bench_no_smooth;
+        }
+        sd.warm_start = warm;
+        st = tclod_selector_create(w->scene, &sd, NULL, &call.sel);
+        if (st != TCLOD_OK) {
+            fprintf(stderr, "tclod_bench: creating a %s selector failed: %s\n",
+                    solver_name(sd.solver), tclod_status_string(st));
+            return 1;
+        }
     }
     for (f = 0; f < total; ++f) {
         tclod_view view;
-        tclod_frame fr;
-        tclod_stats stats;
         const tclod_id *ids;
         size_t n;
-        double t0, t1;
+        double t0, t1, cost;
 
         world_camera_at(&w->path, (double)f / (double)FRAMES_PER_LOOP, &view);
-        memset(&fr, 0, sizeof(fr));
-        fr.view = &view;
-        fr.budget = budget;
-        t0 = now_us();
-        st = tclod_select(sel, &fr, &stats);
-        t1 = now_us();
-        if (st == TCLOD_OK)
-            st = tclod_selector_cut(sel, &ids, &n);
-        if (st != TCLOD_OK) {
-            fprintf(stderr, "tclod_bench: tclod_select failed: %s\n", tclod_status_string(st));
-            tclod_selector_destroy(sel);
-            return 1;
+        memset(&call.frame, 0, sizeof(call.frame));
+        call.frame.view = &view;
+        call.frame.budget = budget;
+        if (method == METHOD_THRESHOLD_FIXED && f == 0) {
+            /* tuned once, on the first view, then kept whatever the view */
+            baseline_threshold_tuned(base, &view, budget, &call.result);
+            call.bias = call.result.bias;
         }
-        if (stats.cost > budget || world_sum_cost(w, ids, n) > budget) {
-            fprintf(stderr, "tclod_bench: budget exceeded: cost %.17g > budget %.17g\n",
-                    world_sum_cost(w, ids, n), budget);
-            tclod_selector_destroy(sel);
-            return 1;
+        if (f < WARMUP_FRAMES) {
+            t0 = bench_now_us();
+            solve_once(&call);
+            t1 = bench_now_us();
+        } else {
+            t0 = bench_now_us();
+            bench_solve(&call);
+            t1 = bench_now_us();
+        }
+        if (library) {
+            tclod_status st = call.status;
+            if (st == TCLOD_OK)
+                st = tclod_selector_cut(call.sel, &ids, &n);
+            if (st != TCLOD_OK) {
+                fprintf(stderr, "tclod_bench: tclod_select failed: %s\n", tclod_status_string(st));
+                tclod_selector_destroy(call.sel);
+                return 1;
+            }
+            cost = world_sum_cost(w, ids, n);
+            if (call.stats.cost > budget || cost > budget) {
+                fprintf(stderr, "tclod_bench: budget exceeded: cost %.17g > budget %.17g\n", cost,
+                        budget);
+                tclod_selector_destroy(call.sel);
+                return 1;
+            }
+        } else {
+            ids = call.result.ids;
+            n = call.result.n;
+            cost = world_sum_cost(w, ids, n);
         }
         if (f < WARMUP_FRAMES)
             continue;
         times[f - WARMUP_FRAMES] = t1 - t0;
         sum_us += t1 - t0;
-        add_stats(row, &stats, n);
+        if (library) {
+            add_stats(row, &call.stats, n);
+        } else {
+            row->benefit += call.result.benefit;
+            row->cost += call.result.cost;
+            row->cut += (double)n;
+            row->evaluations += (double)call.result.evaluations;
+            row->iterations += (double)call.result.iterations;
+            row->increments += (double)call.result.refinements;
+        }
+        row->violations += cost > budget;
+        if (budget > 0.0 && cost / budget > row->max_cost_ratio)
+            row->max_cost_ratio = cost / budget;
         row->refined += (double)refined_objects(w, ids, n);
     }
-    tclod_selector_destroy(sel);
+    tclod_selector_destroy(call.sel);
     finish_row(row, times, frames, sum_us);
     return 0;
 }
@@ -223,9 +337,8 @@ static int run_config(world_scene *w, tclod_solver solver, int warm, double budg
  * variable splitting, over warm-up plus `frames` timed frames that cycle through
  * `views` views spread evenly over the camera loop. Returns 0 on success; a budget
  * violation or a library error is reported and returns 1. */
-static int run_thesis(thesis_scene *t, int split, int precondition, double theta,
-                      double budget, unsigned long frames, unsigned long views, double *times,
-                      bench_row *row) {
+static int run_thesis(thesis_scene *t, int split, int precondition, double theta, double budget,
+                      unsigned long frames, unsigned long views, double *times, bench_row *row) {
     tclod_selector_desc sd;
     tclod_selector *sel = NULL;
     tclod_status st;
@@ -262,9 +375,21 @@ static int run_thesis(thesis_scene *t, int split, int precondition, double theta
         memset(&fr, 0, sizeof(fr));
         fr.view = &view;
         fr.budget = budget;
-        t0 = now_us();
-        st = tclod_select(sel, &fr, &stats);
-        t1 = now_us();
+        {
+            solve_call call;
+            memset(&call, 0, sizeof(call));
+            call.method = METHOD_MIXED;
+            call.sel = sel;
+            call.frame = fr;
+            t0 = bench_now_us();
+            if (f < WARMUP_FRAMES)
+                solve_once(&call);
+            else
+                bench_solve(&call);
+            t1 = bench_now_us();
+            st = call.status;
+            stats = call.stats;
+        }
         if (st == TCLOD_OK)
             st = tclod_selector_cut(sel, &ids, &n);
         if (st == TCLOD_OK)
@@ -286,6 +411,8 @@ static int run_thesis(thesis_scene *t, int split, int precondition, double theta
         times[f - WARMUP_FRAMES] = t1 - t0;
         sum_us += t1 - t0;
         add_stats(row, &stats, n);
+        if (budget > 0.0 && own_cost / budget > row->max_cost_ratio)
+            row->max_cost_ratio = own_cost / budget;
         for (g = 0; g < group_count; ++g)
             row->refined += (double)groups[g].count;
         row->object_benefit += thesis_selection_benefit(t, &view, ids, n, groups, group_count);
@@ -298,72 +425,76 @@ static int run_thesis(thesis_scene *t, int split, int precondition, double theta
 static void print_header(void) {
     printf("scene,solver,mode,objects,nodes,median_us,p99_us,benefit,cost,budget,mean_us,"
            "visible,cut,refined,evaluations,iterations,increments,decrements,frames,"
-           "variables,line_searches,object_benefit\n");
+           "variables,line_searches,object_benefit,ns_per_evaluation,violations,"
+           "max_cost_ratio\n");
 }
 
 static void print_row(const char *scene, const char *solver, const char *mode,
                       unsigned long objects, unsigned long nodes, double budget,
                       unsigned long visible, const bench_row *r) {
+    /* mean time over mean evaluations: the time per node the solve looked at */
+    double ns_per_evaluation = r->evaluations > 0.0 ? r->mean_us * 1000.0 / r->evaluations : 0.0;
     printf("%s,%s,%s,%lu,%lu,%.2f,%.2f,%.6g,%.6g,%.6g,%.2f,%lu,%.0f,%.0f,%.0f,%.0f,%.0f,%.0f,%lu,"
-           "%.1f,%.1f,%.6g\n",
+           "%.1f,%.1f,%.6g,%.1f,%lu,%.4f\n",
            scene, solver, mode, objects, nodes, r->median_us, r->p99_us, r->benefit, r->cost,
            budget, r->mean_us, visible, r->cut, r->refined, r->evaluations, r->iterations,
            r->increments, r->decrements, r->frames, r->variables, r->line_searches,
-           r->object_benefit);
+           r->object_benefit, ns_per_evaluation, r->violations, r->max_cost_ratio);
     fflush(stdout);
 }
 
-/* Mean number of objects in view over 16 points of the loop. */
-static unsigned long mean_visible(const world_scene *w) {
-    double sum = 0.0;
-    int i;
-    for (i = 0; i < 16; ++i) {
-        tclod_view view;
-        world_camera_at(&w->path, (double)i / 16.0, &view);
-        sum += (double)world_visible_objects(w, &view);
-    }
-    return (unsigned long)(sum / 16.0 + 0.5);
-}
-
-/* Mean cost of the objects' level 1 (level 0 when objects have one level). */
-static double mean_level1_cost(const world_scene *w) {
-    double sum = 0.0;
-    uint32_t i;
-    for (i = 0; i < w->object_count; ++i) {
-        tclod_id id = w->object_root[i] + (w->levels > 1 ? 1u : 0u);
-        sum += (double)w->cost_ms[id];
-    }
-    return w->object_count ? sum / (double)w->object_count : 0.0;
-}
-
-/* The random and flyover rows: every solver for discrete hierarchies, cold and warm. */
+/* The random and flyover rows: the library's solvers for discrete hierarchies, cold and
+ * warm (greedy first, then robin_hood, the rows this program has always printed), then
+ * the mixed solver and the baselines on the same frames and budget. The mixed and Robin
+ * Hood solvers keep nothing from frame to frame (warm_start is the greedy's option) and
+ * the baselines recompute every frame: one row each. flat needs objects that are chains
+ * (objects may be NULL: no flat row). */
 static int bench_scene(const char *scene, world_scene *w, double budget, unsigned long visible,
-                       unsigned long frames) {
-    static const tclod_solver solvers[] = {TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_ROBIN_HOOD};
+                       unsigned long frames, const tclod_id *objects, uint32_t object_count) {
+    static const bench_method order[] = {
+        METHOD_GREEDY,          METHOD_ROBIN_HOOD, METHOD_MIXED, METHOD_THRESHOLD_TUNED,
+        METHOD_THRESHOLD_FIXED, METHOD_PQ_STOP,    METHOD_FLAT};
     double *times = (double *)malloc(frames * sizeof(*times));
+    baseline_scene bs;
+    baseline_selector *base = NULL;
+    tclod_callbacks cb = world_callbacks(w);
     size_t s;
-    int warm;
+    int warm, rc = 0;
     if (!times) {
         fprintf(stderr, "tclod_bench: out of memory\n");
         return 1;
     }
-    for (s = 0; s < sizeof(solvers) / sizeof(solvers[0]); ++s) {
-        if (!tclod_solver_available(solvers[s]))
+    if (baseline_scene_init(&bs, w->scene, w->bounds, w->triangles, objects, object_count) !=
+            TCLOD_OK ||
+        baseline_create(&bs, &cb, &base) != TCLOD_OK) {
+        fprintf(stderr, "tclod_bench: out of memory\n");
+        baseline_scene_free(&bs);
+        free(times);
+        return 1;
+    }
+    for (s = 0; s < sizeof(order) / sizeof(order[0]) && rc == 0; ++s) {
+        bench_method m = order[s];
+        if (m <= METHOD_ROBIN_HOOD && !tclod_solver_available(method_solvers[m]))
             continue;
-        /* Robin Hood keeps nothing from frame to frame: one row */
-        for (warm = 0; warm <= (solvers[s] == TCLOD_SOLVER_GREEDY); ++warm) {
+        if (m == METHOD_FLAT && bs.object_count == 0)
+            continue;
+        for (warm = 0; warm <= (m == METHOD_GREEDY) && rc == 0; ++warm) {
             bench_row row;
-            if (run_config(w, solvers[s], warm, budget, frames, times, &row) != 0) {
-                free(times);
-                return 1;
+            const char *mode = warm ? "warm" : "cold";
+            if (!row_wanted(method_names[m], mode))
+                continue;
+            if (run_config(w, m, warm, budget, frames, times, base, &row) != 0) {
+                rc = 1;
+                break;
             }
-            print_row(scene, solver_name(solvers[s]), warm ? "warm" : "cold",
-                      (unsigned long)w->object_count, (unsigned long)w->node_count, budget, visible,
-                      &row);
+            print_row(scene, method_names[m], mode, (unsigned long)w->object_count,
+                      (unsigned long)w->node_count, budget, visible, &row);
         }
     }
+    baseline_destroy(base);
+    baseline_scene_free(&bs);
     free(times);
-    return 0;
+    return rc;
 }
 
 /* Mean number of smooth objects in view over 16 points of the thesis loop. */
@@ -385,7 +516,7 @@ static int bench_thesis(int quick, unsigned long frames, double theta) {
     thesis_scene t;
     tclod_status st;
     unsigned long visible, views, split_frames;
-    double *times, t0 = now_us();
+    double *times, t0 = bench_now_us();
     int mode, rc = 0;
 
     if (!tclod_solver_available(TCLOD_SOLVER_MIXED)) {
@@ -414,15 +545,17 @@ static int bench_thesis(int quick, unsigned long frames, double theta) {
     fprintf(stderr,
             "tclod_bench: thesis: %u terrain nodes, %u trees in %u smooth objects, built in "
             "%.0f ms; %lu smooth objects in view, budget %.3f ms\n",
-            t.node_count, t.tree_count, t.smooth_count, (now_us() - t0) / 1000.0, visible,
+            t.node_count, t.tree_count, t.smooth_count, (bench_now_us() - t0) / 1000.0, visible,
             THESIS_BUDGET_MS);
     for (mode = 0; mode < 3; ++mode) {
         static const char *const names[3] = {"split", "flat", "split_gradient"};
         bench_row row;
         int split = mode != 1, precondition = mode != 2;
         unsigned long n = split ? split_frames : views;
-        if (run_thesis(&t, split, precondition, theta, THESIS_BUDGET_MS, n, views, times,
-                       &row) != 0) {
+        if (!row_wanted(solver_name(TCLOD_SOLVER_MIXED), names[mode]))
+            continue;
+        if (run_thesis(&t, split, precondition, theta, THESIS_BUDGET_MS, n, views, times, &row) !=
+            0) {
             rc = 1;
             break;
         }
@@ -438,21 +571,29 @@ static int bench_thesis(int quick, unsigned long frames, double theta) {
 static void usage(FILE *out) {
     fprintf(out,
             "usage: tclod_bench [--quick] [--scene NAME] [--theta X] [--objects N] [--frames N]\n"
-            "                   [--help]\n"
+            "                   [--solver NAME] [--mode NAME] [--help]\n"
             "\n"
             "Times tclod_select on random worlds of 10^3 ... 10^6 objects x 4 levels and on\n"
             "the flyover scene, cold (from the roots) and warm (from the previous frame), and\n"
             "the mixed solver on the thesis scene (1.4 million trees) with and without\n"
-            "variable splitting, and prints CSV on stdout (progress on stderr).\n"
+            "variable splitting, and prints CSV on stdout (progress on stderr). The random and\n"
+            "flyover rows also time the baselines engines use (threshold LOD with a tuned or a\n"
+            "fixed bias, a priority queue that stops at the first misfit, a flat per-object\n"
+            "greedy) on the same frames and budgets.\n"
             "\n"
-            "  --quick       10^3, 10^4 and 10^5 objects only, fewer thesis frames (under a\n"
-            "                minute)\n"
+            "  --quick       10^3, 10^4 and 10^5 objects only (10^5 with a quarter of the\n"
+            "                frames), fewer thesis frames (under a minute)\n"
             "  --scene NAME  one scene only: random, flyover or thesis\n"
             "  --theta X     thesis rows: split_threshold X (default: the library's)\n"
             "  --objects N   one random world of N objects (and the other scenes) instead\n"
-            "  --frames N    timed frames per configuration (default 200; 10^6 objects: N/4;\n"
+            "  --frames N    timed frames per configuration (default 200; 10^6 objects, and\n"
+            "                10^5 with --quick: N/4;\n"
             "                thesis: 20 views (--quick 10), flat times each once, split\n"
             "                cycles through them, at most 40 frames with --quick)\n"
+            "  --solver NAME only the rows of one solver or baseline: greedy, mixed,\n"
+            "                robin_hood, threshold_tuned, threshold_fixed, pq_stop, flat\n"
+            "  --mode NAME   only the rows of one mode: cold, warm (thesis: split, flat,\n"
+            "                split_gradient)\n"
             "  --help        print this text and exit\n");
 }
 
@@ -464,7 +605,7 @@ int main(int argc, char **argv) {
     double theta = -1.0;
     int quick = 0, i;
     size_t k;
-    double t_start = now_us();
+    double t_start = bench_now_us();
 
     for (i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--quick") == 0) {
@@ -502,6 +643,28 @@ int main(int argc, char **argv) {
                 return 2;
             }
             only_objects = (uint32_t)v;
+        } else if (strcmp(argv[i], "--solver") == 0 || strcmp(argv[i], "--mode") == 0) {
+            static const char *const modes[] = {"cold", "warm", "split", "flat", "split_gradient"};
+            int is_solver = strcmp(argv[i], "--solver") == 0, known = 0, k2;
+            if (i + 1 >= argc) {
+                fprintf(stderr, "tclod_bench: %s needs a value\n", argv[i]);
+                return 2;
+            }
+            ++i;
+            if (is_solver) {
+                for (k2 = 0; k2 < METHOD_COUNT; ++k2)
+                    known |= strcmp(argv[i], method_names[k2]) == 0;
+                only_solver = argv[i];
+            } else {
+                for (k2 = 0; k2 < 5; ++k2)
+                    known |= strcmp(argv[i], modes[k2]) == 0;
+                only_mode = argv[i];
+            }
+            if (!known) {
+                fprintf(stderr, "tclod_bench: unknown %s '%s' (try --help)\n",
+                        is_solver ? "solver" : "mode", argv[i]);
+                return 2;
+            }
         } else if (strcmp(argv[i], "--theta") == 0) {
             char *end;
             if (i + 1 >= argc) {
@@ -511,8 +674,7 @@ int main(int argc, char **argv) {
             errno = 0;
             theta = strtod(argv[++i], &end);
             if (errno != 0 || *end != '\0' || !(theta >= 0.0) || isinf(theta)) {
-                fprintf(stderr, "tclod_bench: --theta expects a number >= 0, got '%s'\n",
-                        argv[i]);
+                fprintf(stderr, "tclod_bench: --theta expects a number >= 0, got '%s'\n", argv[i]);
                 return 2;
             }
         } else if (strcmp(argv[i], "--frames") == 0) {
@@ -546,8 +708,10 @@ int main(int argc, char **argv) {
         world_scene w;
         tclod_status st;
         uint32_t objects = only_objects ? only_objects : sizes[k];
-        unsigned long visible, n_frames = objects >= 1000000u ? frames / 4 : frames;
-        double budget, t0 = now_us();
+        /* the largest worlds get a quarter of the frames: 10^6 objects, and 10^5 with --quick */
+        unsigned long visible,
+            n_frames = objects >= 1000000u || (quick && objects >= 100000u) ? frames / 4 : frames;
+        double budget, t0 = bench_now_us();
         if (only_scene && strcmp(only_scene, "random") != 0)
             break;
         if (only_objects && k > 0)
@@ -562,13 +726,15 @@ int main(int argc, char **argv) {
                     tclod_status_string(st));
             return 1;
         }
-        visible = mean_visible(&w);
-        budget = (double)visible * mean_level1_cost(&w);
+        visible = bench_world_visible(&w);
+        budget = (double)visible * bench_world_level1_cost(&w);
         fprintf(stderr,
                 "tclod_bench: random %u objects: %u nodes (%u groups), built in %.0f ms; "
                 "%lu objects in view, budget %.3f ms\n",
-                objects, w.node_count, w.group_count, (now_us() - t0) / 1000.0, visible, budget);
-        if (bench_scene("random", &w, budget, visible, n_frames) != 0) {
+                objects, w.node_count, w.group_count, (bench_now_us() - t0) / 1000.0, visible,
+                budget);
+        if (bench_scene("random", &w, budget, visible, n_frames, w.object_root, w.object_count) !=
+            0) {
             world_scene_free(&w);
             return 1;
         }
@@ -587,16 +753,18 @@ int main(int argc, char **argv) {
                     tclod_status_string(st));
             return 1;
         }
-        visible = mean_visible(&w);
-        if (bench_scene("flyover", &w, FLYOVER_BUDGET_MS, visible, frames) != 0) {
+        visible = bench_world_visible(&w);
+        if (bench_scene("flyover", &w, FLYOVER_BUDGET_MS, visible, frames, NULL, 0) != 0) {
             world_scene_free(&w);
             return 1;
         }
         world_scene_free(&w);
     }
 
-    if ((!only_scene || strcmp(only_scene, "thesis") == 0) && bench_thesis(quick, frames, theta) != 0)
+    if ((!only_scene || strcmp(only_scene, "thesis") == 0) &&
+        (!only_solver || strcmp(only_solver, "mixed") == 0) &&
+        bench_thesis(quick, frames, theta) != 0)
         return 1;
-    fprintf(stderr, "tclod_bench: done in %.1f s\n", (now_us() - t_start) / 1e6);
+    fprintf(stderr, "tclod_bench: done in %.1f s\n", (bench_now_us() - t_start) / 1e6);
     return 0;
 }
