@@ -226,6 +226,7 @@ typedef struct tclod_node_state {
  * solver's loops, so that a step resumes exactly where the last one paused. */
 typedef struct tclod_resume {
     int phase;             /* the solver's stage; 0 = not started */
+    int as_greedy;         /* mixed solver: no smooth variable, the greedy solves */
     int warm;              /* greedy: the solve started from the previous cut */
     int skipped;           /* an increment did not fit */
     int smooth_done;       /* papers' loop: the smooth variables stopped */

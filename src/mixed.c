@@ -893,21 +893,33 @@ static int mixed_start(tclod_selector *sel) {
     R->run = R->k = 0;
     R->matched = TCLOD_NONE;
     R->guess = 1.0;
-    rc = tclod_greedy_start(sel);
-    if (rc == 0) rc = tclod_split_variables(sel);
-    if (rc == 0) rc = start_variables(sel);
+    rc = tclod_split_variables(sel);
     sel->stats.variables = sel->vars.count;
+    /* no smooth variable this frame: the discrete problem alone, which the
+     * greedy solves with its safeguards (the best skipped increment, warm
+     * starts) */
+    if (rc == 0 && sel->vars.count == 0) {
+        R->as_greedy = 1;
+        return 0;
+    }
+    if (rc == 0) rc = tclod_greedy_start(sel);
+    if (rc == 0) rc = start_variables(sel);
     return rc;
 }
 
 tclod_status tclod_mixed_solve(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     int modelled = sel->desc.smooth_precondition, rc = 0;
+    if (R->as_greedy) return tclod_greedy_solve(sel);
     while (rc == 0 && !sel->paused) {
         int next;
         switch (R->phase) {
         case MIXED_START:
             rc = mixed_start(sel);
+            if (rc == 0 && R->as_greedy) {
+                R->phase = 0; /* the greedy's start */
+                return tclod_greedy_solve(sel);
+            }
             next = MIXED_IMPROVE;
             break;
         case MIXED_IMPROVE:

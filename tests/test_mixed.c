@@ -433,6 +433,36 @@ static void iteration_limits_stop_with_a_feasible_selection(void **state) {
     }
 }
 
+static void without_smooth_objects_the_mixed_solver_keeps_the_greedys_safeguard(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* Two roots: A (benefit 19, cost 29) with children (59.018, 61) and
+     * (48.982, 53), an increment of +89 benefit for +85 cost (ratio 1.047);
+     * B (50, 60) with children (32.4828, 21) and (33.5172, 51), +16 for +12
+     * (ratio 1.333). Budget 176, roots 89. Best ratio first takes B's
+     * increment (101), after which A's (+85) no longer fits: benefit 85. The
+     * optimum refines A alone: 61 + 53 + 60 = 174 <= 176, benefit
+     * 59.018 + 48.982 + 50 = 158; both increments cost 186. The greedy's
+     * safeguard (the best skipped increment taken alone) finds it. */
+    tclod_id a = helper_add(f, TCLOD_NONE, 19.0, 29.0), b = helper_add(f, TCLOD_NONE, 50.0, 60.0);
+    tclod_id a1 = helper_add(f, a, 59.018, 61.0), a2 = helper_add(f, a, 48.982, 53.0);
+    tclod_id expected[3];
+    int precondition;
+    helper_add(f, b, 32.4828, 21.0);
+    helper_add(f, b, 33.5172, 51.0);
+    expected[0] = b;
+    expected[1] = a1;
+    expected[2] = a2;
+    for (precondition = 0; precondition <= 1; ++precondition) {
+        tclod_selector *sel = mixed_selector(f, precondition, 1e-3);
+        tclod_stats st;
+        select_mixed(sel, 176.0, 0, &st);
+        helper_assert_cut(sel, expected, 3);
+        assert_near(st.benefit, 158.0, 1e-12, "benefit");
+        assert_int_equal(st.variables, 0);
+        tclod_selector_destroy(sel);
+    }
+}
+
 #define FIXTURE_TEST(t) cmocka_unit_test_setup_teardown(t, helper_fixture_setup, helper_fixture_teardown)
 
 int main(void) {
@@ -448,6 +478,7 @@ int main(void) {
         FIXTURE_TEST(unlimited_budget_draws_everything_at_full_resolution),
         FIXTURE_TEST(zero_budget_draws_no_smooth_object),
         FIXTURE_TEST(iteration_limits_stop_with_a_feasible_selection),
+        FIXTURE_TEST(without_smooth_objects_the_mixed_solver_keeps_the_greedys_safeguard),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
