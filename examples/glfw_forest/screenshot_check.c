@@ -18,11 +18,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-/* Shares of the image. The test's view shows about 65 % terrain and 2-5 % trees
- * (fewer when a slow or busy machine gets a small budget); without trees (the
- * greedy solver draws none) the tree share is 0.000, the forest floor included. */
+/* Shares of the image. The test's view shows about 65 % terrain and 0.3-5 % trees:
+ * fewer when a slow or busy machine (or a sanitizer build) gets a small budget, and
+ * with --morph, whose selections also cover what the camera may see next. Without
+ * trees (the greedy solver draws none) the tree share is 0.000, the forest floor
+ * included, so 0.1 % (about 900 pixels at 1280 x 720) still tells the two apart. */
 #define MIN_TERRAIN 0.20
-#define MIN_TREES 0.003
+#define MIN_TREES 0.001
 
 static int read_header_number(FILE *f, int *out) {
     int c = fgetc(f);
