@@ -305,6 +305,15 @@ static void up_morph_ends_with_its_interval_and_down_morph_before_its_interval(v
 
 /* ---- successive morphs (Fig. 7) ------------------------------------------- */
 
+/* Runs to t = 4: the host wishes for depth `first` from t = 3 (the selection
+ * begun then is for [5, 6)) and for `second` from t = 4 (for [6, 7)). */
+static void two_wishes(tclod_scheduler *sch, wish_host *h, uint32_t first, uint32_t second) {
+    run_frames(sch, 0, 30);
+    h->target = first;
+    run_frames(sch, 30, 40);
+    h->target = second;
+}
+
 static void successive_monotone_up_morphs_follow_each_other(void **state) {
     wish_host h;
     tclod_scene *s;
@@ -315,10 +324,7 @@ static void successive_monotone_up_morphs_follow_each_other(void **state) {
     sch = wish_scheduler(s, &h, 1, 0);
     /* B wished at 3 (for [5, 6)), C at 4 (for [6, 7)): A -> B during [5, 6),
      * then B -> C during [6, 7) */
-    run_frames(sch, 0, 30);
-    h.target = 1;
-    run_frames(sch, 30, 40);
-    h.target = 2;
+    two_wishes(sch, &h, 1, 2);
     run_frames(sch, 40, 55);
     expect_one(sch, 55, 1, 0, 0.5);
     expect_one(sch, 56, 1, 0, 0.6);
@@ -343,10 +349,7 @@ static void an_up_morph_overridden_by_a_down_morph_collapses(void **state) {
      * 4 (for [6, 7): a down-morph C -> B, also during [5, 6)). The two
      * collapse into one transition from A, the level at the start of
      * [5, 6), to B, the level required at its end */
-    run_frames(sch, 0, 30);
-    h.target = 2;
-    run_frames(sch, 30, 40);
-    h.target = 1;
+    two_wishes(sch, &h, 2, 1);
     run_frames(sch, 40, 50);
     expect_one(sch, 50, 0, 0, 1.0);
     run_frames(sch, 51, 55);
