@@ -28,24 +28,25 @@
 
 /* ---- evaluation ------------------------------------------------------------ */
 
-static int value_bad(double v) { return !(v >= 0.0) || isinf(v); }
+/* A callback value that is NaN, infinite or negative. */
+static int value_bad(double v) { return !(v >= 0.0 && v < HUGE_VAL); }
 
-int tclod_evaluate_node(tclod_selector *sel, tclod_id n) {
-    const tclod_scene *s = sel->scene;
+/* The callbacks of node n, not evaluated in this solve yet. */
+static int evaluate_fresh(tclod_selector *sel, tclod_id n) {
     const tclod_callbacks *cb = &sel->desc.callbacks;
+    const float *bounds = &sel->scene->bounds[4u * n];
+    tclod_node_state *st = &sel->node[n];
     tclod_query q;
     double b, c = 0.0;
-    if (sel->node[n].stamp == sel->solve_id) return 0;
-    sel->node[n].stamp = sel->solve_id;
+    st->stamp = sel->solve_id;
     q.id = n;
     q.count = 1;
     q.view = sel->frame->view;
     q.screen_area = -1.0f;
     q.distance = -1.0f;
     q.members = NULL;
-    q.bounds = s->bounds[4u * n + 3u] >= 0.0f ? &s->bounds[4u * n] : NULL;
-    if (sel->has_view && q.bounds)
-        tclod_view_cache_measure(&sel->view, &s->bounds[4u * n], &q.screen_area, &q.distance);
+    q.bounds = bounds[3] >= 0.0f ? bounds : NULL;
+    if (sel->has_view && q.bounds) tclod_view_measure(&sel->view, bounds, &q.screen_area, &q.distance);
     sel->stats.evaluations++;
     b = cb->benefit(cb->user, &q);
     if (value_bad(b)) {
@@ -61,10 +62,17 @@ int tclod_evaluate_node(tclod_selector *sel, tclod_id n) {
             if (sel->desc.strict) sel->failed = 1;
         }
     }
-    sel->node[n].benefit = b;
-    sel->node[n].cost = c;
+    st->benefit = b;
+    st->cost = c;
     return sel->failed ? -1 : 0;
 }
+
+/* Values are cached for the solve: stamp == solve_id. */
+static int evaluate(tclod_selector *sel, tclod_id n) {
+    return sel->node[n].stamp == sel->solve_id ? 0 : evaluate_fresh(sel, n);
+}
+
+int tclod_evaluate_node(tclod_selector *sel, tclod_id n) { return evaluate(sel, n); }
 
 /* ---- the cut and its running sums ------------------------------------------ */
 
@@ -72,16 +80,20 @@ static int counts(const tclod_selector *sel, tclod_id n) {
     return sel->node[n].benefit > 0.0 && !(sel->flags[n] & TCLOD_FLAG_DROPPED);
 }
 
+/* Costs are >= 0 or +inf (unaffordable): never NaN, never -inf. */
+static int unaffordable(double cost) { return cost == HUGE_VAL; }
+
 static void account(tclod_selector *sel, tclod_id n, double sign) {
+    const tclod_node_state *st = &sel->node[n];
     if (!counts(sel, n)) return;
-    sel->benefit_sum += sign * sel->node[n].benefit;
-    if (isinf(sel->node[n].cost)) {
+    sel->benefit_sum += sign * st->benefit;
+    if (unaffordable(st->cost)) {
         if (sign > 0.0)
             sel->unaffordable++;
         else
             sel->unaffordable--;
     } else {
-        sel->cost_sum += sign * sel->node[n].cost;
+        sel->cost_sum += sign * st->cost;
     }
 }
 
@@ -122,27 +134,29 @@ static const tclod_id *children_of(const tclod_selector *sel, tclod_id n, uint32
  * Returns the heap key, or NaN when it is no candidate (no children, no gain,
  * an unaffordable child); -1 in *failed on a strict error. */
 static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
-    uint32_t count, i;
-    const tclod_id *ch = children_of(sel, n, &count);
+    const tclod_scene *s = sel->scene;
+    tclod_node_state *node = sel->node;
+    uint32_t i = s->child_first[n], end = s->child_first[n + 1u];
     double sum_b = 0.0, sum_c = 0.0, db, dc;
     int affordable = 1;
     *failed = 0;
-    if (count == 0 || !counts(sel, n)) return (double)NAN;
-    for (i = 0; i < count; ++i) {
-        if (tclod_evaluate_node(sel, ch[i]) != 0) {
+    if (i == end || !counts(sel, n)) return (double)NAN;
+    for (; i < end; ++i) {
+        tclod_id c = s->children[i];
+        double cost;
+        if (node[c].stamp != sel->solve_id && evaluate_fresh(sel, c) != 0) {
             *failed = 1;
             return (double)NAN;
         }
-        sum_b += sel->node[ch[i]].benefit;
-        if (isinf(sel->node[ch[i]].cost))
-            affordable = 0;
-        else
-            sum_c += sel->node[ch[i]].cost;
+        sum_b += node[c].benefit;
+        cost = node[c].cost;
+        affordable &= !unaffordable(cost);
+        sum_c += unaffordable(cost) ? 0.0 : cost; /* sum_c >= +0: adding +0 changes no bit */
     }
-    db = sum_b - sel->node[n].benefit;
-    dc = sum_c - sel->node[n].cost; /* -inf when n itself is unaffordable */
-    sel->node[n].delta_b = db;
-    sel->node[n].delta_c = dc;
+    db = sum_b - node[n].benefit;
+    dc = sum_c - node[n].cost; /* -inf when n itself is unaffordable */
+    node[n].delta_b = db;
+    node[n].delta_c = dc;
     if (!affordable || !isfinite(sum_c) || !(db > 0.0)) return (double)NAN;
     return dc > 0.0 ? db / dc : HUGE_VAL;
 }
@@ -247,7 +261,7 @@ static double decrement_key(tclod_selector *sel, tclod_id p) {
 static int queue_decrement(tclod_selector *sel, tclod_id p, int append) {
     double key;
     if (p == TCLOD_NONE || tclod_heap_contains(&sel->dec, p) || !collapsible(sel, p)) return 0;
-    if (tclod_evaluate_node(sel, p) != 0) return -1;
+    if (evaluate(sel, p) != 0) return -1;
     key = decrement_key(sel, p);
     if (append)
         tclod_heap_append(&sel->dec, p, key);
@@ -379,7 +393,7 @@ static int start_cold(tclod_selector *sel) {
     clear_cut(sel);
     for (i = 0; i < s->root_count; ++i) {
         tclod_id r = s->roots[i];
-        if (tclod_evaluate_node(sel, r) != 0) return -1;
+        if (evaluate(sel, r) != 0) return -1;
         sel->path[2u * r] = sel->path[2u * r + 1u] = 0.0;
         cut_add(sel, r);
     }
@@ -399,7 +413,7 @@ static int start_warm(tclod_selector *sel) {
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id n = sel->cut[i];
         sel->flags[n] = 0;
-        if (tclod_evaluate_node(sel, n) != 0) return -1;
+        if (evaluate(sel, n) != 0) return -1;
         account(sel, n, 1.0);
     }
     for (i = 0; i < sel->cut_count; ++i) {
@@ -539,6 +553,7 @@ static int improve(tclod_selector *sel, int warm, int alt) {
     uint32_t i;
     for (;;) {
         tclod_id n;
+        int swapped;
         if (tclod_out_of_time(sel)) return 0;
         if (warm && sel->dec.count > 0 && sel->dec.items[0].key == HUGE_VAL) {
             sel->stats.iterations++;
@@ -564,8 +579,9 @@ static int improve(tclod_selector *sel, int warm, int alt) {
         if (!warm || !(sel->inc.items[0].key > min_loss_ratio(sel))) break;
         n = pop_increment(sel);
         sel->stats.iterations++;
-        if (try_swap(sel, n, &failed)) continue;
+        swapped = try_swap(sel, n, &failed);
         if (failed) return -1;
+        if (swapped) continue;
     }
     if (alt)
         for (i = 0; i < sel->inc.count; ++i) consider_alternative(sel, sel->inc.items[i].id);

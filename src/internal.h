@@ -8,6 +8,7 @@
 #include "tclod/tclod.h"
 
 #include <assert.h>
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -111,6 +112,40 @@ void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v);
 void tclod_view_cache_measure(const tclod_view_cache *c, const float bounds[4], float *area,
                               float *distance);
 
+/* The sphere of radius r centred at p (relative to the eye) meets the frustum
+ * (view.c explains the planes). */
+static inline int tclod_view_cache_visible(const tclod_view_cache *c, const double p[3], double r) {
+    double z = p[0] * c->forward[0] + p[1] * c->forward[1] + p[2] * c->forward[2];
+    if (z < c->near_z - r || z > c->far_z + r) return 0;
+    if (fabs(p[0] * c->up[0] + p[1] * c->up[1] + p[2] * c->up[2]) * c->cos_y - z * c->sin_y > r)
+        return 0;
+    return fabs(p[0] * c->right[0] + p[1] * c->right[1] + p[2] * c->right[2]) * c->cos_x -
+               z * c->sin_x <=
+           r;
+}
+
+/* Projected area in px² of a sphere of radius r whose centre is d2 away from
+ * the eye, squared; clamped to the viewport. */
+static inline double tclod_view_cache_area(const tclod_view_cache *c, double d2, double r) {
+    double r2 = r * r, rpx, area;
+    if (d2 <= r2) return c->viewport_area;
+    rpx = c->focal_px * r / sqrt(d2 - r2);
+    area = 3.14159265358979323846 * rpx * rpx;
+    return area < c->viewport_area ? area : c->viewport_area;
+}
+
+/* tclod_view_cache_measure, inline for the solvers' inner loops. */
+static inline void tclod_view_measure(const tclod_view_cache *c, const float bounds[4],
+                                      float *area, float *distance) {
+    double p[3], r = (double)bounds[3], d2;
+    p[0] = (double)bounds[0] - c->eye[0];
+    p[1] = (double)bounds[1] - c->eye[1];
+    p[2] = (double)bounds[2] - c->eye[2];
+    d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+    *distance = (float)sqrt(d2);
+    *area = tclod_view_cache_visible(c, p, r) ? (float)tclod_view_cache_area(c, d2, r) : 0.0f;
+}
+
 /* ---- heap.c: indexed 4-ary max-heap ------------------------------------------- */
 
 typedef struct tclod_heap_entry {
@@ -212,14 +247,16 @@ enum {
 enum { TCLOD_FLAG_DROPPED = 1u };
 
 /* What a selector knows of one node, packed in one record because the solver
- * touches these fields together at random ids. */
+ * touches these fields together at random ids; what an evaluation writes
+ * comes first. */
 typedef struct tclod_node_state {
     double benefit, cost;      /* callback values of this solve (stamp == solve_id);
                                   cost 0 when invisible, +inf when unaffordable */
-    double delta_b, delta_c;   /* increment of the node: its children replace it */
     uint32_t stamp;
     uint32_t cut_pos;          /* slot in cut[], or TCLOD_NONE */
-    uint32_t inc_pos, cheap_pos, dec_pos; /* heap slots */
+    double delta_b, delta_c;   /* increment of the node: its children replace it */
+    uint32_t inc_pos;          /* slot in inc (Robin Hood; the greedy's heaps keep
+                                  their slots in inc_slot, cheap_slot, dec_slot) */
 } tclod_node_state;
 
 /* Where a solve stands between two tclod_select_step calls: the state of the
@@ -240,7 +277,17 @@ typedef struct tclod_resume {
     int use_alt;
     /* Robin Hood: time not shared out yet, value of the instances left */
     double pool, value_left;
-    int limited;
+    int limited;           /* an instance could refine further */
+    /* Robin Hood's third cycle: the candidates' ring (robin_hood.c), the value
+     * in it and the smallest step it holds (or a lower bound) ... */
+    uint32_t ring_first, ring_count;
+    double ring_value, min_step;
+    double smooth_value;   /* ... the value and number of the smooth objects */
+    uint32_t smooth_open;  /* below resolution 1 ... */
+    uint32_t pass_left;    /* ... the ring entries left in this pass */
+    int refined;           /* ... whether it refined an instance, */
+    uint32_t passes;       /* ... the passes begun and the pool at the */
+    double pass_pool;      /* start of the last one */
 } tclod_resume;
 
 struct tclod_selector {
@@ -259,6 +306,11 @@ struct tclod_selector {
     tclod_heap cheap;          /* the same increments, smallest Δc first */
     int cheap_live;            /* cheap holds every queued increment */
     tclod_heap dec;            /* decrements, least loss per saved cost first */
+    uint32_t *inc_slot, *cheap_slot, *dec_slot; /* the greedy's heap slots, in dense
+                                  arrays: moving heap entries touches few lines */
+    tclod_heap_entry *inc_block, *cheap_block, *dec_block; /* the heaps' entries start
+                                  inside these, where a slot's four children share
+                                  one cache line (cap >= nodes + 3) */
     tclod_id *cut, *prev_cut, *result, *scratch;
     double *scratch_key;
 
@@ -282,8 +334,14 @@ struct tclod_selector {
     uint32_t *rh_order;       /* the instances, least complex first: root ids, and smooth
                                  ids + node count */
     double *rh_key;           /* 2 per element: complexities and order keys while
-                                 sorting, then this frame's values */
+                                 sorting; then this frame's values by order position
+                                 (first half) and the cost of each cut slot (second
+                                 half) */
     tclod_rh_frame *rh_stack; /* the branches being shared out */
+    /* The Robin Hood solver also keeps, in the per-node buffers it does not
+     * otherwise use: the level each chain took last in the delta_b of the
+     * chain's first node; the values of a branch's children in scratch_key, by
+     * id; the ring of its third cycle's candidates in scratch and path. */
 
     uint32_t cut_count, prev_count, result_count;
     uint32_t solve_id;

@@ -301,11 +301,13 @@ static int start_variables(tclod_selector *sel) {
     tclod_vars *V = &sel->vars;
     uint32_t v;
     for (v = 0; v < V->count; ++v) {
-        double b, c, db, dc;
+        double b, c = 0.0, db = 0.0, dc = 0.0;
         tclod_var_model *m = &V->model[v];
         if (var_call(sel, v, 0.0, &b, &V->db[v], &c, &V->dc[v]) ||
-            var_call(sel, v, 1.0, &b, &db, &c, &dc))
-            V->state[v] = TCLOD_VAR_DEAD;
+            var_call(sel, v, 1.0, &b, &db, &c, &dc)) {
+            V->state[v] = TCLOD_VAR_DEAD; /* a model of no gain, from no value it was not given */
+            c = db = dc = 0.0;
+        }
         if (sel->failed) return -1;
         m->beta = BETA_PRIOR;
         cost_model(m, V->dc[v], c, dc);

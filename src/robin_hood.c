@@ -9,16 +9,21 @@
  * cost of the finest representation at a reference area, found once per scene
  * change): each takes the finest representation its share affords and hands
  * what it leaves back for the instances after it, so simple objects' surplus
- * reaches complex ones. One pass, no iteration.
+ * reaches complex ones (cycles 1 and 2: values, then shares). What the last
+ * ones cannot use goes, in a third and last cycle (seed 003 §7.2: spend the
+ * remaining time on the quality of the instances), to the instances that can
+ * still refine: shared out again in proportion to value, pass after pass,
+ * while a pass refines something and a step fits what is left.
  *
  * Instances are chains of single children (an object's levels; the finest
- * affordable level is found by binary search over their monotone costs) and
- * smooth objects (the resolution whose cost matches the share, by a monotone
- * inverse). Where a chain ends in a node with several children (a terrain
- * quadtree, a group impostor) libtclod goes on the same way below it: when the
- * instance's share covers all the children's simplest levels, they become
- * instances of their own, each guaranteed its simplest level and sharing the
- * rest by value, so the cut never has a hole.
+ * affordable level is found by a search over their monotone costs that starts
+ * at the level the chain took in the last frame) and smooth objects (the
+ * resolution whose cost matches the share, by a monotone inverse). Where a
+ * chain ends in a node with several children (a terrain quadtree, a group
+ * impostor) libtclod goes on the same way below it: when the instance's share
+ * covers all the children's simplest levels, they become instances of their
+ * own, each guaranteed its simplest level and sharing the rest by value, so
+ * the cut never has a hole.
  */
 #include "internal.h"
 
@@ -30,46 +35,61 @@
 #define BUDGET_MARGIN 1e-9
 /* Regula falsi steps of a smooth object's inverse cost. */
 #define INVERSE_STEPS 60u
+/* The leftover is shared out again only while it is at least this share of
+ * the budget: below it another pass over the candidates buys next to nothing. */
+#define REFILL_MIN 1e-4
+/* At most this many passes share the leftover out again: each takes most of
+ * what is left, the smooth objects whatever the nodes' whole steps leave. */
+#define REFILL_PASSES 16u
 
 /* ---- value functions (eq. 8-11) ------------------------------------------------- */
 
+/* v / I of value function f, for valid arguments. */
+static double value_scale(tclod_value f, double area, double depth, double distance) {
+    switch (f) {
+    case TCLOD_VALUE_AREA_SQRT_DEPTH: return area / sqrt(depth);
+    case TCLOD_VALUE_AREA_DEPTH: return area / depth;
+    case TCLOD_VALUE_AREA_DEPTH2: return area / (depth * depth);
+    case TCLOD_VALUE_SQRT_AREA_DISTANCE2: return sqrt(area) / (distance * distance);
+    default: return 1.0; /* TCLOD_VALUE_BENEFIT */
+    }
+}
+
 double tclod_value_of(tclod_value f, double area, double depth, double distance,
                       double importance) {
-    double v;
     if (!(area >= 0.0) || !(depth > 0.0) || !(distance > 0.0) || !(importance >= 0.0) ||
-        isinf(area) || isinf(depth) || isinf(distance) || isinf(importance))
+        isinf(area) || isinf(depth) || isinf(distance) || isinf(importance) ||
+        (unsigned)f > (unsigned)TCLOD_VALUE_BENEFIT)
         return 0.0;
-    switch (f) {
-    case TCLOD_VALUE_AREA_SQRT_DEPTH: v = area / sqrt(depth); break;
-    case TCLOD_VALUE_AREA_DEPTH: v = area / depth; break;
-    case TCLOD_VALUE_AREA_DEPTH2: v = area / (depth * depth); break;
-    case TCLOD_VALUE_SQRT_AREA_DISTANCE2: v = sqrt(area) / (distance * distance); break;
-    case TCLOD_VALUE_BENEFIT: v = 1.0; break;
-    default: return 0.0;
-    }
-    return v * importance;
+    return value_scale(f, area, depth, distance) * importance;
 }
 
 /* The value of an instance with bounds b (NULL or radius < 0: none) and
- * importance I under this frame's view: a = pi r², z the depth of the centre
- * along the view direction and d its distance, both at least the near plane.
- * Without bounds a = 1; without a view z = d = 1. */
-static double instance_value(const tclod_selector *sel, const float *b, double importance) {
+ * importance I > 0 under this frame's view: a = pi r², z the depth of the
+ * centre along the view direction and d its distance, both at least the near
+ * plane. Without bounds a = 1; without a view z = d = 1. Bounds and view are
+ * finite (the scene and the frame check them) and the importance is a
+ * sanitised callback value, so tclod_value_of's checks would all pass: only
+ * what the value function uses is computed. */
+static inline double instance_value(const tclod_selector *sel, const float *b, double importance) {
+    tclod_value f = sel->desc.value;
     double area = 1.0, depth = 1.0, distance = 1.0;
+    if (f == TCLOD_VALUE_BENEFIT) return importance;
     if (b && b[3] >= 0.0f) {
         area = 3.14159265358979323846 * (double)b[3] * (double)b[3];
         if (sel->has_view) {
             const tclod_view_cache *c = &sel->view;
-            double p[3];
-            int k;
-            for (k = 0; k < 3; ++k) p[k] = (double)b[k] - c->eye[k];
-            depth = p[0] * c->forward[0] + p[1] * c->forward[1] + p[2] * c->forward[2];
-            distance = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+            double p0 = (double)b[0] - c->eye[0], p1 = (double)b[1] - c->eye[1],
+                   p2 = (double)b[2] - c->eye[2];
+            depth = p0 * c->forward[0] + p1 * c->forward[1] + p2 * c->forward[2];
             if (depth < c->near_z) depth = c->near_z;
-            if (distance < c->near_z) distance = c->near_z;
+            if (f == TCLOD_VALUE_SQRT_AREA_DISTANCE2) {
+                distance = sqrt(p0 * p0 + p1 * p1 + p2 * p2);
+                if (distance < c->near_z) distance = c->near_z;
+            }
         }
     }
-    return tclod_value_of(sel->desc.value, area, depth, distance, importance);
+    return value_scale(f, area, depth, distance) * importance;
 }
 
 /* ---- instances and their order (once per scene change) -------------------------- */
@@ -166,8 +186,8 @@ static void prepare(tclod_selector *sel) {
         }
         tclod_sort_by_key(sel->rh_child + first, sel->scratch_key + first, k);
     }
-    /* the second half of rh_key holds the order's keys */
-    keys = sel->rh_key + sel->rh_cap;
+    /* the second half of rh_key holds the order's keys (none: an empty scene) */
+    keys = sel->rh_key ? sel->rh_key + sel->rh_cap : NULL;
     for (i = 0; i < s->root_count; ++i) {
         sel->rh_order[count] = s->roots[i];
         keys[count++] = -sel->rh_key[s->roots[i]];
@@ -179,15 +199,39 @@ static void prepare(tclod_selector *sel) {
         }
     tclod_sort_by_key(sel->rh_order, keys, count);
     sel->rh_order_count = count;
+    /* no chain has taken a level yet: their searches start at the first */
+    for (id = 0; id < n; ++id) sel->node[id].delta_b = 0.0;
     sel->rh_version = s->version;
 }
 
-/* ---- the pass -------------------------------------------------------------------- */
+/* ---- the cut -------------------------------------------------------------------- */
+
+/* The cost each cut slot adds to the total (0 for a culled or dropped node),
+ * kept in slot order so that the exact total is a sequential sum: the second
+ * half of rh_key. */
+static double *cut_costs(tclod_selector *sel) {
+    return sel->rh_key ? sel->rh_key + sel->rh_cap : NULL; /* NULL: an empty scene */
+}
+
+static int visible(const tclod_selector *sel, tclod_id n) { return sel->node[n].benefit > 0.0; }
 
 static void cut_add(tclod_selector *sel, tclod_id n, uint8_t flags) {
-    sel->node[n].cut_pos = sel->cut_count;
-    sel->cut[sel->cut_count++] = n;
+    uint32_t pos = sel->cut_count++;
+    sel->node[n].cut_pos = pos;
+    sel->cut[pos] = n;
     sel->flags[n] = flags;
+    cut_costs(sel)[pos] = visible(sel, n) && !(flags & TCLOD_FLAG_DROPPED) ? sel->node[n].cost : 0.0;
+}
+
+/* Takes n out of the cut; the last slot fills its place. */
+static void cut_remove(tclod_selector *sel, tclod_id n) {
+    uint32_t pos = sel->node[n].cut_pos, last = --sel->cut_count;
+    sel->node[n].cut_pos = TCLOD_NONE;
+    sel->flags[n] = 0;
+    if (pos == last) return;
+    sel->cut[pos] = sel->cut[last];
+    sel->node[sel->cut[pos]].cut_pos = pos;
+    cut_costs(sel)[pos] = cut_costs(sel)[last];
 }
 
 static void cut_clear(tclod_selector *sel) {
@@ -199,77 +243,179 @@ static void cut_clear(tclod_selector *sel) {
     sel->cut_count = 0;
 }
 
-static int visible(const tclod_selector *sel, tclod_id n) { return sel->node[n].benefit > 0.0; }
+/* ---- candidates of the second cycle --------------------------------------------------- */
 
-/* The finest level of head's chain whose cost is at most `time`, by binary
- * search over the chain's costs (which grow level by level); TCLOD_NONE when
- * not even the first fits. Returns -1 on a strict error. */
-static int finest_level(tclod_selector *sel, tclod_id head, double time, tclod_id *out) {
-    const tclod_id *chain = sel->rh_chain + sel->rh_chain_at[head];
-    uint32_t lo = 0, hi = sel->rh_chain_len[head];
-    *out = TCLOD_NONE;
-    if (tclod_evaluate_node(sel, chain[0]) != 0) return -1;
-    if (!(sel->node[chain[0]].cost <= time)) return 0;
-    while (hi - lo > 1u) { /* chain[lo] fits; chain[hi] does not, or is past the end */
+/* The node instances that can still refine, in the order they were placed: a
+ * ring of their chains' first nodes in scratch[], with each one's value and
+ * what its next step adds (or a lower bound of it) in path[]. Entries go in at
+ * the back while the front is being shared out; a chain is in the ring at
+ * most once, so node capacity suffices. */
+static void push_candidate(tclod_selector *sel, uint32_t id, double value, double step) {
+    tclod_resume *R = &sel->resume;
+    uint32_t at = R->ring_first < sel->cap - R->ring_count ? R->ring_first + R->ring_count
+                                                             : R->ring_first - (sel->cap - R->ring_count);
+    sel->scratch[at] = id;
+    sel->path[2u * at] = value;
+    sel->path[2u * at + 1u] = step;
+    R->ring_count++;
+    R->ring_value += value;
+    if (step < R->min_step) R->min_step = step;
+}
+
+static uint32_t pop_candidate(tclod_selector *sel, double *value, double *step) {
+    tclod_resume *R = &sel->resume;
+    uint32_t at = R->ring_first;
+    R->ring_first = at + 1u < sel->cap ? at + 1u : 0u;
+    R->ring_count--;
+    *value = sel->path[2u * at];
+    *step = sel->path[2u * at + 1u];
+    return sel->scratch[at];
+}
+
+/* The instance starting at `head`, of value `value`, now drawn at node n (or
+ * dropped): a candidate when it can refine (a finer level in its chain, or
+ * children below its end) and the next step is affordable at all. */
+static void node_candidate(tclod_selector *sel, tclod_id head, tclod_id n, double value,
+                           double step) {
+    if (!(step < HUGE_VAL) ||
+        (child_count(sel->scene, n) == 0u && !(sel->flags[n] & TCLOD_FLAG_DROPPED)))
+        return;
+    push_candidate(sel, head, value, step);
+}
+
+/* ---- the first cycle: shares ------------------------------------------------------ */
+
+/* Node n's callbacks, asked once per solve. Returns -1 on a strict error. */
+static int evaluate(tclod_selector *sel, tclod_id n) {
+    return sel->node[n].stamp == sel->solve_id ? 0 : tclod_evaluate_node(sel, n);
+}
+
+/* 1 when node n's cost is at most `time`, 0 when not, -1 on a strict error. */
+static int fits(tclod_selector *sel, tclod_id n, double time) {
+    if (evaluate(sel, n) != 0) return -1;
+    return sel->node[n].cost <= time;
+}
+
+/* The level head's chain took last (kept in the delta_b of its first node). */
+static uint32_t last_level(const tclod_selector *sel, tclod_id head) {
+    double l = sel->node[head].delta_b;
+    return l > 0.0 && l < (double)sel->rh_chain_len[head] ? (uint32_t)l : 0u;
+}
+
+/* The finest level of head's chain (chain[0 .. len)) whose cost is at most
+ * `time`, which must cover the first (evaluated) level. The costs grow level by level, so the
+ * levels that fit are a prefix of the chain. The search starts at the level
+ * the chain took last, gallops away from it and ends by bisection: two
+ * evaluations when the level has not changed (one at either end of the
+ * chain), about 2 log2 of the distance when it has. *step is what the next
+ * level adds to the cost (HUGE_VAL at the chain's end). Returns -1 on a
+ * strict error. */
+static int finest_level(tclod_selector *sel, tclod_id head, const tclod_id *chain, uint32_t len,
+                        double time, tclod_id *out, double *step) {
+    uint32_t lo = 0, hi = len, d = 1, guess;
+    int f;
+    assert(sel->node[head].stamp == sel->solve_id && sel->node[head].cost <= time);
+    /* from here on chain[lo] fits; chain[hi] does not, or is past the end */
+    guess = last_level(sel, head);
+    if (guess > 0u) {
+        if ((f = fits(sel, chain[guess], time)) < 0) return -1;
+        if (f)
+            lo = guess;
+        else
+            hi = guess;
+    }
+    if (hi == len) { /* up from lo */
+        for (; d < hi - lo; d *= 2u) {
+            if ((f = fits(sel, chain[lo + d], time)) < 0) return -1;
+            if (!f) {
+                hi = lo + d;
+                break;
+            }
+            lo += d;
+        }
+    } else { /* down from hi */
+        for (; d < hi - lo; d *= 2u) {
+            if ((f = fits(sel, chain[hi - d], time)) < 0) return -1;
+            if (f) {
+                lo = hi - d;
+                break;
+            }
+            hi -= d;
+        }
+    }
+    while (hi - lo > 1u) {
         uint32_t mid = lo + (hi - lo) / 2u;
-        if (tclod_evaluate_node(sel, chain[mid]) != 0) return -1;
-        if (sel->node[chain[mid]].cost <= time)
+        if ((f = fits(sel, chain[mid], time)) < 0) return -1;
+        if (f)
             lo = mid;
         else
             hi = mid;
     }
     *out = chain[lo];
+    sel->node[head].delta_b = (double)lo;
+    *step = hi < len ? sel->node[chain[hi]].cost - sel->node[chain[lo]].cost : HUGE_VAL;
     return 0;
 }
 
-/* The children of branching node b: evaluated, their simplest levels' summed
- * cost in *reserve and their values in *value (invisible children: none).
- * Returns -1 on a strict error. */
-static int branch_children(tclod_selector *sel, tclod_id b, double *reserve, double *value) {
+/* The children of branching node b, evaluated in id order while the summed
+ * cost of their simplest levels, *reserve, is at most `time` (invisible
+ * children: none). Returns 1 when all of them fit, with each visible child's
+ * value in scratch_key[child] and their sum in *value; 0 when they do not
+ * (*reserve is then a lower bound of their cost); -1 on a strict error. */
+static int branch_children(tclod_selector *sel, tclod_id b, double time, double *reserve,
+                           double *value) {
     const tclod_scene *s = sel->scene;
     uint32_t j, first = s->child_first[b], k = child_count(s, b);
     *reserve = *value = 0.0;
     for (j = 0; j < k; ++j) {
         tclod_id c = s->children[first + j];
-        if (tclod_evaluate_node(sel, c) != 0) return -1;
+        double v;
+        if (evaluate(sel, c) != 0) return -1;
         if (!visible(sel, c)) continue;
         *reserve += sel->node[c].cost;
-        *value += instance_value(sel, &s->bounds[4u * c], sel->node[c].benefit);
+        if (!(*reserve <= time)) return 0;
+        v = instance_value(sel, &s->bounds[4u * c], sel->node[c].benefit);
+        sel->scratch_key[c] = v;
+        *value += v;
     }
-    return 0;
+    return isfinite(*reserve);
 }
 
-/* Places the instance starting at visible node `head` with `time` (which
- * covers its first level) and, below it, the instances of every branch its
- * share reaches, depth first with an explicit stack. Returns the time used in
- * *used; -1 on a strict error. */
-static int place_node(tclod_selector *sel, tclod_id head, double time, double *used) {
+/* Places the instance of value `value` starting at visible node `head` with
+ * `time` (which covers its first level) and, below it, the instances of every
+ * branch its share reaches, depth first with an explicit stack. Returns the
+ * time used in *used; -1 on a strict error. */
+static int place_node(tclod_selector *sel, tclod_id head, double value, double time,
+                      double *used) {
     const tclod_scene *s = sel->scene;
     tclod_rh_frame *stack = sel->rh_stack;
     uint32_t top = 0;
     double base = 0.0; /* the cost of head's first level, as its branch counts it */
     for (;;) {
-        tclod_id level, end = sel->rh_chain[sel->rh_chain_at[head] + sel->rh_chain_len[head] - 1u];
-        double reserve, value;
+        const tclod_id *chain = sel->rh_chain + sel->rh_chain_at[head];
+        uint32_t len = sel->rh_chain_len[head];
+        tclod_id level, end = chain[len - 1u];
+        double reserve, children, step;
         int refine = 0;
-        if (finest_level(sel, head, time, &level) != 0) return -1;
-        assert(level != TCLOD_NONE);
+        if (finest_level(sel, head, chain, len, time, &level, &step) != 0) return -1;
         sel->stats.iterations++;
         if (level == end && child_count(s, end) > 1u) {
-            if (branch_children(sel, end, &reserve, &value) != 0) return -1;
-            refine = isfinite(reserve) && reserve <= time;
+            refine = branch_children(sel, end, time, &reserve, &children);
+            if (refine < 0) return -1;
+            step = reserve - sel->node[end].cost;
         }
         if (refine) { /* the children become instances sharing this one's time */
             tclod_rh_frame *f = &stack[top++];
             f->branch = end;
             f->next = 0;
             f->extra = time - reserve;
-            f->value_left = value;
+            f->value_left = children;
             f->alloc = time;
             f->base = base;
         } else {
             double u = sel->node[level].cost;
             cut_add(sel, level, 0);
+            node_candidate(sel, head, level, value, step);
             if (top == 0) {
                 *used = u;
                 return 0;
@@ -281,15 +427,15 @@ static int place_node(tclod_selector *sel, tclod_id head, double time, double *u
             tclod_rh_frame *f = &stack[top - 1u];
             if (f->next < child_count(s, f->branch)) {
                 tclod_id c = sel->rh_child[s->child_first[f->branch] + f->next++];
-                double v, share;
+                double share;
                 if (!visible(sel, c)) {
                     cut_add(sel, c, 0); /* culled: in the cut, not drawn */
                     continue;
                 }
-                v = instance_value(sel, &s->bounds[4u * c], sel->node[c].benefit);
-                share = f->value_left > 0.0 ? v * f->extra / f->value_left : 0.0;
+                value = sel->scratch_key[c];
+                share = f->value_left > 0.0 ? value * f->extra / f->value_left : 0.0;
                 share = share > f->extra ? f->extra : (share > 0.0 ? share : 0.0);
-                f->value_left -= v;
+                f->value_left -= value;
                 head = c;
                 base = sel->node[c].cost;
                 time = base + share;
@@ -306,19 +452,25 @@ static int place_node(tclod_selector *sel, tclod_id head, double time, double *u
     }
 }
 
+/* The projected area and distance of smooth object pos (-1 without a view). */
+static void smooth_measure(const tclod_selector *sel, uint32_t pos, float *area,
+                           float *distance) {
+    const float *b = &sel->scene->smooth_bounds[4u * sel->scene->smooth_order[pos]];
+    *area = *distance = -1.0f;
+    if (sel->has_view) tclod_view_cache_measure(&sel->view, b, area, distance);
+}
+
 /* The smooth object at sorted position pos: culled like the mixed solver's,
- * its importance the benefit at full resolution. Writes its bounds' projected
- * area and distance. Returns the value (0: not drawn), or -1 on a strict
- * error. */
-static double smooth_value(tclod_selector *sel, uint32_t pos, float *area, float *distance) {
+ * its importance the benefit at full resolution. Returns the value (0: not
+ * drawn), or -1 on a strict error. */
+static double smooth_value(tclod_selector *sel, uint32_t pos) {
     const float *b = &sel->scene->smooth_bounds[4u * sel->scene->smooth_order[pos]];
     double importance, db;
-    *area = *distance = -1.0f;
-    if (sel->has_view) {
-        tclod_view_cache_measure(&sel->view, b, area, distance);
-        if (!(*area > 0.0f) || (double)*area < sel->desc.smooth_cull_area) return 0.0;
-    }
-    tclod_smooth_call(sel, pos, 1, NULL, *area, *distance, 1.0, &importance, &db, NULL, NULL);
+    float area, distance;
+    smooth_measure(sel, pos, &area, &distance);
+    if (sel->has_view && (!(area > 0.0f) || (double)area < sel->desc.smooth_cull_area))
+        return 0.0;
+    tclod_smooth_call(sel, pos, 1, NULL, area, distance, 1.0, &importance, &db, NULL, NULL);
     if (sel->failed) return -1.0;
     return importance > 0.0 ? instance_value(sel, b, importance) : 0.0;
 }
@@ -382,16 +534,44 @@ static int add_group(tclod_selector *sel, uint32_t pos, float area, float distan
     return sel->failed ? -1 : 0;
 }
 
+/* Smooth object pos gets `time`: it takes the largest resolution that costs
+ * no more (under TCLOD_MISFIT_COARSEST, when not even the smallest does, the
+ * smallest while `pool` covers it) if that is above the one it has. Returns
+ * the cost it then holds in *used (0 when not drawn) and whether the
+ * resolution rose; -1 on a strict error. */
+static int place_smooth(tclod_selector *sel, uint32_t pos, double time, double pool,
+                        double *used) {
+    tclod_vars *V = &sel->vars;
+    float area, distance;
+    double r, cost;
+    int rose = 0;
+    /* the culling and importance were worked out in cycle 1; the measures are
+     * cheap and the callbacks cached nothing */
+    smooth_measure(sel, pos, &area, &distance);
+    r = smooth_resolution(sel, pos, area, distance, time, &cost);
+    if (r < 0.0) return -1;
+    if (r == 0.0 && V->r[pos] == 0.0 && sel->desc.misfit == TCLOD_MISFIT_COARSEST) {
+        tclod_smooth_call(sel, pos, 1, NULL, area, distance, TCLOD_SLOPE_FLOOR, NULL, NULL, &cost,
+                          &r);
+        r = cost <= pool ? TCLOD_SLOPE_FLOOR : 0.0;
+    }
+    *used = V->c[pos];
+    if (r > V->r[pos]) {
+        if (add_group(sel, pos, area, distance, r, cost) != 0) return -1;
+        *used = cost;
+        rose = 1;
+    }
+    return rose;
+}
+
 /* The exact total in result order; should the pool's drift ever carry it
  * over the budget, smooth objects go first, then the cut is repaired as the
  * greedy repairs its own. */
 static int finish(tclod_selector *sel) {
+    const double *costs = cut_costs(sel);
     double sum = 0.0;
     uint32_t i;
-    for (i = 0; i < sel->cut_count; ++i) {
-        tclod_id n = sel->cut[i];
-        if (visible(sel, n) && !(sel->flags[n] & TCLOD_FLAG_DROPPED)) sum += sel->node[n].cost;
-    }
+    for (i = 0; i < sel->cut_count; ++i) sum += costs[i];
     sel->cost_sum = sum;
     for (i = 0; i < sel->vars.count; ++i) sum += sel->vars.c[i];
     if (!isinf(sum) && sum <= sel->frame->budget) return 0;
@@ -413,8 +593,7 @@ static int values(tclod_selector *sel, double *total) {
             v = visible(sel, id) ? instance_value(sel, &s->bounds[4u * id], sel->node[id].benefit)
                                  : 0.0;
         } else {
-            float area, distance;
-            v = smooth_value(sel, id - s->node_count, &area, &distance);
+            v = smooth_value(sel, id - s->node_count);
             if (v < 0.0) return -1;
         }
         sel->rh_key[k] = v;
@@ -455,7 +634,19 @@ static int robin_hood_start(tclod_selector *sel) {
     R->value_left = total;
     R->limited = 0;
     R->k = 0;
+    R->ring_first = R->ring_count = 0;
+    R->ring_value = R->smooth_value = 0.0;
+    R->smooth_open = 0;
+    R->min_step = HUGE_VAL;
     return 0;
+}
+
+/* The share of the next instance, of value v: v t_r / v_f of what is left
+ * (eq. 2), and never more than that. */
+static double share_for(const tclod_resume *R, double v) {
+    double share = R->value_left > 0.0 ? (isinf(R->pool) ? R->pool : v * R->pool / R->value_left)
+                                       : 0.0;
+    return share > R->pool ? R->pool : share;
 }
 
 /* Cycle 2: least complex first, each share v_i t_r / v_f of what is left
@@ -471,58 +662,167 @@ static int share_out(tclod_selector *sel) {
         int stopped;
         if (!sel->stopped && tclod_out_of_time(sel) && sel->paused) return 0;
         stopped = sel->stopped;
-        share = R->value_left > 0.0 && !stopped
-                    ? (isinf(R->pool) ? R->pool : v * R->pool / R->value_left)
-                    : 0.0;
-        if (share > R->pool) share = R->pool;
+        share = share_for(R, v);
         R->value_left -= v;
+        if (stopped) share = 0.0;
         if (id < s->node_count) {
             if (!visible(sel, id)) {
                 cut_add(sel, id, 0);
                 continue;
             }
             if (sel->node[id].cost <= share) {
-                if (place_node(sel, id, share, &used) != 0) return -1;
-            } else if ((sel->desc.misfit == TCLOD_MISFIT_COARSEST || stopped) &&
-                       sel->node[id].cost <= R->pool) {
-                cut_add(sel, id, 0);
-                used = sel->node[id].cost;
-                R->limited = 1;
+                if (place_node(sel, id, v, share, &used) != 0) return -1;
             } else {
-                cut_add(sel, id, TCLOD_FLAG_DROPPED);
-                sel->stats.dropped_roots++;
-                R->limited = 1;
+                sel->node[id].delta_b = 0.0; /* drawn, if at all, at its first level */
+                if ((sel->desc.misfit == TCLOD_MISFIT_COARSEST || stopped) &&
+                    sel->node[id].cost <= R->pool) {
+                    cut_add(sel, id, 0);
+                    used = sel->node[id].cost;
+                    node_candidate(sel, id, id, v, 0.0); /* its next step is not known */
+                } else {
+                    cut_add(sel, id, TCLOD_FLAG_DROPPED);
+                    sel->stats.dropped_roots++;
+                    node_candidate(sel, id, id, v, sel->node[id].cost);
+                }
             }
         } else if (v > 0.0) {
             uint32_t pos = id - s->node_count;
-            float area, distance;
-            double r, cost;
             sel->stats.variables++;
             sel->stats.iterations++;
-            /* the culling and importance were worked out in cycle 1; the
-             * measures are cheap and the callbacks cached nothing */
-            if (sel->has_view)
-                tclod_view_cache_measure(&sel->view, &s->smooth_bounds[4u * s->smooth_order[pos]],
-                                         &area, &distance);
-            else
-                area = distance = -1.0f;
-            r = smooth_resolution(sel, pos, area, distance, share, &cost);
-            if (r < 0.0) return -1;
-            if (r == 0.0 && sel->desc.misfit == TCLOD_MISFIT_COARSEST) {
-                tclod_smooth_call(sel, pos, 1, NULL, area, distance, TCLOD_SLOPE_FLOOR, NULL, NULL,
-                                  &cost, &r);
-                r = cost <= R->pool ? TCLOD_SLOPE_FLOOR : 0.0;
-            }
-            if (r < 1.0) R->limited = 1;
-            if (r > 0.0) {
-                if (add_group(sel, pos, area, distance, r, cost) != 0) return -1;
-                used = cost;
+            if (place_smooth(sel, pos, share, R->pool, &used) < 0) return -1;
+            if (sel->vars.r[pos] < 1.0) { /* a candidate of cycle 3 */
+                R->smooth_value += v;
+                R->smooth_open++;
             }
         }
         R->pool -= used;
         if (R->pool < 0.0) R->pool = 0.0;
     }
     return 0;
+}
+
+/* ---- the third cycle: the leftover ----------------------------------------------- */
+
+/* Candidate `head` of value v (next step `step`), which gets `share`, is
+ * placed again with the time it holds plus its share: it refines as far as
+ * that reaches, its branches included, and leaves the rest. Returns whether
+ * it refined; -1 on a strict error. */
+static int refine_node(tclod_selector *sel, tclod_id head, double v, double step, double share) {
+    tclod_resume *R = &sel->resume;
+    tclod_id n = sel->rh_chain[sel->rh_chain_at[head] + last_level(sel, head)];
+    int dropped = (sel->flags[n] & TCLOD_FLAG_DROPPED) != 0;
+    double held = dropped ? 0.0 : sel->node[n].cost, used;
+    uint32_t at;
+    if (!(sel->node[head].cost <= held + share)) { /* costs that do not grow by level */
+        push_candidate(sel, head, v, step);
+        return 0;
+    }
+    cut_remove(sel, n);
+    if (dropped) sel->stats.dropped_roots--;
+    at = sel->cut_count;
+    if (place_node(sel, head, v, held + share, &used) != 0) return -1;
+    R->pool -= used - held;
+    if (R->pool < 0.0) R->pool = 0.0;
+    return dropped || sel->cut_count > at + 1u || sel->cut[at] != n;
+}
+
+/* Smooth object pos of value v, at a resolution below 1, gets `share`. */
+static int refine_smooth(tclod_selector *sel, uint32_t pos, double v, double share) {
+    tclod_resume *R = &sel->resume;
+    double held = sel->vars.c[pos], used;
+    int rose = place_smooth(sel, pos, held + share, R->pool, &used);
+    if (rose > 0) {
+        R->pool -= used - held;
+        if (R->pool < 0.0) R->pool = 0.0;
+        if (!(sel->vars.r[pos] < 1.0)) {
+            R->smooth_value -= v;
+            R->smooth_open--;
+        }
+    }
+    return rose;
+}
+
+/* Cycle 3 (seed 003 §7.2: what the instances cannot use is better spent on
+ * their quality): what is left is shared out again, pass after pass, among
+ * the instances that can still refine, in proportion to value and with what
+ * each leaves going on to the next, as in cycle 2: first the nodes' instances
+ * in the order they were placed, then the smooth objects below resolution 1,
+ * least complex first, which can take any share and so take what the nodes'
+ * whole steps leave. Each refines as far as the time it holds plus its share
+ * reaches. An instance whose next step exceeds its share waits for the next
+ * pass; one whose step exceeds all that is left is done. The passes end when
+ * one refines nothing or uses less than REFILL_MIN of the budget (refining a
+ * smooth object by less than the pool's rounding would go on for ever), after
+ * REFILL_PASSES, or when what is left is below every step or below REFILL_MIN
+ * of the budget. Returns 0 (also when the step's slice ran out or
+ * the search was stopped) or -1 (strict error). */
+static int refill(tclod_selector *sel) {
+    const tclod_scene *s = sel->scene;
+    tclod_resume *R = &sel->resume;
+    for (;;) {
+        int rose;
+        if (R->pass_left == 0u && R->k >= sel->rh_order_count) { /* a pass is over */
+            double least = REFILL_MIN * sel->frame->budget;
+            if (!R->refined || (R->ring_count == 0u && R->smooth_open == 0u) ||
+                R->pool < least || R->passes == REFILL_PASSES ||
+                (R->passes > 0u && !(R->pass_pool - R->pool >= least)) ||
+                (R->smooth_open == 0u && !(R->pool >= R->min_step)))
+                return 0;
+            R->pass_left = R->ring_count;
+            R->value_left = R->ring_value + R->smooth_value;
+            R->ring_value = 0.0;
+            R->min_step = HUGE_VAL;
+            R->refined = 0;
+            R->pass_pool = R->pool;
+            R->passes++;
+            R->k = R->smooth_open > 0u ? 0u : sel->rh_order_count;
+        }
+        if (R->pass_left > 0u) {
+            uint32_t at = R->ring_first, id = sel->scratch[at];
+            double v = sel->path[2u * at], step = sel->path[2u * at + 1u];
+            double share = share_for(R, v);
+            int tries = step <= R->pool && step <= share;
+            if (tries && tclod_out_of_time(sel)) return 0;
+            pop_candidate(sel, &v, &step);
+            R->pass_left--;
+            R->value_left -= v;
+            if (!(step <= R->pool)) {
+                R->limited = 1;
+                continue;
+            }
+            if (!tries) {
+                push_candidate(sel, id, v, step);
+                continue;
+            }
+            rose = refine_node(sel, id, v, step, share);
+        } else {
+            uint32_t id = sel->rh_order[R->k];
+            double v = sel->rh_key[R->k];
+            if (id < s->node_count || !(v > 0.0) || !(sel->vars.r[id - s->node_count] < 1.0)) {
+                R->k++;
+                continue;
+            }
+            if (tclod_out_of_time(sel)) return 0;
+            sel->stats.iterations++;
+            rose = refine_smooth(sel, id - s->node_count, v, share_for(R, v));
+            R->value_left -= v;
+            R->k++;
+        }
+        if (rose < 0) return -1;
+        if (rose) {
+            sel->stats.increments++;
+            R->refined = 1;
+        }
+    }
+}
+
+/* Cycle 3 begins, unless the search was stopped. */
+static void refill_start(tclod_selector *sel) {
+    tclod_resume *R = &sel->resume;
+    R->pass_left = 0;
+    R->k = sel->rh_order_count;
+    R->refined = !sel->stopped;
+    R->passes = 0;
 }
 
 tclod_status tclod_robin_hood_solve(tclod_selector *sel) {
@@ -532,11 +832,22 @@ tclod_status tclod_robin_hood_solve(tclod_selector *sel) {
         rc = robin_hood_start(sel);
         R->phase = 1;
     }
-    if (rc == 0) rc = share_out(sel);
+    if (rc == 0 && R->phase == 1) {
+        rc = share_out(sel);
+        if (rc == 0 && !sel->paused) {
+            refill_start(sel);
+            R->phase = 2;
+        }
+    }
+    if (rc == 0 && R->phase == 2 && !sel->paused) rc = refill(sel);
     if (rc == 0 && sel->paused) return TCLOD_OK;
     if (rc == 0) rc = finish(sel);
     tclod_greedy_end(sel);
     if (rc != 0) return TCLOD_ERR_CALLBACK;
-    if (!sel->stopped) sel->stats.stop_reason = R->limited ? TCLOD_STOP_BUDGET : TCLOD_STOP_FINEST;
+    if (!sel->stopped)
+        sel->stats.stop_reason = R->limited || R->ring_count > 0u || R->smooth_open > 0u ||
+                                         sel->stats.dropped_roots > 0u
+                                     ? TCLOD_STOP_BUDGET
+                                     : TCLOD_STOP_FINEST;
     return sel->failed ? TCLOD_ERR_CALLBACK : TCLOD_OK;
 }

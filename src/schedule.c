@@ -34,6 +34,7 @@
  */
 #include "internal.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -56,6 +57,10 @@ typedef struct region {
                             sch->nodes */
     uint32_t depth;      /* morph: levels between q and its deepest fine node */
 } region;
+
+/* Generations kept: the three the pipeline works with, the three the outputs
+ * show (the same unless an update failed), and one to land into. */
+#define GEN_SLOTS 7u
 
 /* A landed selection: its visible cut with the costs of this selection, the
  * resolution of every smooth object and the costs of its smooth groups. */
@@ -97,10 +102,21 @@ struct tclod_scheduler {
     double boundary;           /* b_j, the start of the current interval */
     double now, budget;        /* of the last update; budget in cost units */
     uint32_t scene_version;    /* of the landed selections */
-    generation gen[3];
-    uint32_t prev, cur, next;  /* S_{j-1}, S_j, S_{j+1} in gen[] */
+    generation gen[GEN_SLOTS];
+    uint32_t prev, cur, next;  /* S_{j-1}, S_j, S_{j+1} in gen[] (may coincide) */
     int ready;                 /* the pending selection finished: it lands next */
-    double u;                  /* position in the current interval, [0, 1) */
+    uint32_t landed_invalid;   /* the bad values it saw */
+    double u;                  /* position in the current interval, [0, 1] */
+    int failed;                /* strict mode: the scheduler's own evaluations saw a
+                                  bad value during this update */
+    /* what the outputs show: the last successful update's */
+    struct {
+        int started;
+        uint32_t prev, cur, next;
+        double u;
+        uint32_t items;        /* which of items[] */
+        tclod_scheduler_stats stats;
+    } shown;
 
     /* per node, node_cap elements */
     uint32_t node_cap;
@@ -120,8 +136,9 @@ struct tclod_scheduler {
     tclod_id *nodes;           /* 3 per node: the regions' node lists */
     uint32_t node_total;
     uint32_t *counts;          /* 3 per node: per-region counts while bucketing */
-    tclod_draw *items;         /* 3 per node */
-    uint32_t item_count;
+    tclod_draw *items[2];      /* 3 per node each: the shown draw list, and the next */
+    uint32_t item_count[2];
+    uint32_t back;             /* the one being made */
 
     /* per smooth object, smooth_cap elements */
     uint32_t smooth_cap;
@@ -340,6 +357,9 @@ tclod_status tclod_scheduler_predict(const tclod_scheduler *sch, double t, tclod
 
 static int value_bad(double v) { return !(v >= 0.0) || isinf(v); }
 
+/* A sum of good values, which may overflow: the largest good value instead. */
+static double saturate(double sum) { return sum < HUGE_VAL ? sum : DBL_MAX; }
+
 /* q re-measured for view k. */
 static tclod_query query_for(const tclod_scheduler *sch, const tclod_query *q, uint32_t k) {
     tclod_query r = *q;
@@ -373,7 +393,7 @@ static double wrap_benefit(void *user, const tclod_query *q) {
         if (value_bad(v)) return v;
         sum += sch->desc.confidence * v;
     }
-    return sum;
+    return saturate(sum);
 }
 
 static double wrap_cost(void *user, const tclod_query *q) {
@@ -423,8 +443,8 @@ static double wrap_smooth_benefit(void *user, const tclod_query *q, double r, do
         sum += sch->desc.confidence * v;
         slope += sch->desc.confidence * d;
     }
-    *d_dr = slope;
-    return sum;
+    *d_dr = saturate(slope);
+    return saturate(sum);
 }
 
 static double wrap_smooth_cost(void *user, const tclod_query *q, double r, double *d_dr) {
@@ -480,18 +500,20 @@ static size_t node_arrays(tclod_scheduler *sch, tclod_array out[TCLOD_MAX_ARRAYS
     out[n++] = (tclod_array){(void **)&sch->regions, sizeof(region), -1};
     out[n++] = (tclod_array){(void **)&sch->nodes, 3 * sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sch->counts, 3 * sizeof(uint32_t), -1};
-    out[n++] = (tclod_array){(void **)&sch->items, 3 * sizeof(tclod_draw), -1};
-    for (g = 0; g < 3u; ++g) {
+    out[n++] = (tclod_array){(void **)&sch->items[0], 3 * sizeof(tclod_draw), -1};
+    out[n++] = (tclod_array){(void **)&sch->items[1], 3 * sizeof(tclod_draw), -1};
+    for (g = 0; g < GEN_SLOTS; ++g) {
         out[n++] = (tclod_array){(void **)&sch->gen[g].ids, sizeof(tclod_id), -1};
         out[n++] = (tclod_array){(void **)&sch->gen[g].cost, sizeof(double), -1};
     }
+    assert(n <= TCLOD_MAX_ARRAYS);
     return n;
 }
 
 static size_t smooth_arrays(tclod_scheduler *sch, tclod_array out[TCLOD_MAX_ARRAYS]) {
     size_t n = 0;
     uint32_t g;
-    for (g = 0; g < 3u; ++g) {
+    for (g = 0; g < GEN_SLOTS; ++g) {
         out[n++] = (tclod_array){(void **)&sch->gen[g].res, sizeof(double), 0};
         out[n++] = (tclod_array){(void **)&sch->gen[g].group_cost, sizeof(double), -1};
     }
@@ -550,9 +572,8 @@ tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_d
     sch->desc = *d;
     sch->host = sd->callbacks;
     sch->scene = (tclod_scene *)(uintptr_t)s;
-    sch->prev = 0;
-    sch->cur = 1;
-    sch->next = 2;
+    sch->prev = sch->cur = sch->next = 0;
+    sch->back = 1;
     inner = *sd;
     inner.callbacks.user = sch;
     inner.callbacks.benefit = sd->callbacks.benefit ? wrap_benefit : NULL;
@@ -674,20 +695,15 @@ static void store(tclod_scheduler *sch, uint32_t g) {
     }
 }
 
-/* Copies generation `from` into `to`. */
-static void copy_generation(tclod_scheduler *sch, uint32_t to, uint32_t from) {
-    generation *T = &sch->gen[to];
-    const generation *F = &sch->gen[from];
-    if (to == from) return;
-    if (F->count) {
-        memcpy(T->ids, F->ids, sizeof(tclod_id) * F->count);
-        memcpy(T->cost, F->cost, sizeof(double) * F->count);
-    }
-    T->count = F->count;
-    if (sch->scene->smooth_count)
-        memcpy(T->res, F->res, sizeof(double) * sch->scene->smooth_count);
-    if (F->groups) memcpy(T->group_cost, F->group_cost, sizeof(double) * F->groups);
-    T->groups = F->groups;
+/* A generation slot neither the pipeline nor the outputs use. */
+static uint32_t fresh_slot(const tclod_scheduler *sch) {
+    uint32_t g;
+    for (g = 0; g < GEN_SLOTS; ++g)
+        if (g != sch->prev && g != sch->cur && g != sch->next && g != sch->shown.prev &&
+            g != sch->shown.cur && g != sch->shown.next)
+            return g;
+    assert(0);
+    return 0;
 }
 
 /* ---- relations between cuts ---------------------------------------------------------------- */
@@ -829,6 +845,13 @@ static void memo_set(tclod_scheduler *sch, tclod_id n, double cost) {
     sch->memo_visible[n] = 1;
 }
 
+/* Counts a bad value from the scheduler's own evaluations; strict mode fails
+ * the update. */
+static void bad_value(tclod_scheduler *sch) {
+    sch->stats.invalid_values++;
+    if (sch->sel->desc.strict) sch->failed = 1;
+}
+
 /* The predicted cost of node n for the current plan: the cost a landed
  * selection drew it with, else the callbacks' for the latest selection's
  * views; *visible is 0 (and the cost 0) when those views do not see it. */
@@ -846,10 +869,16 @@ static double memo(tclod_scheduler *sch, tclod_id n, int *visible) {
         if (q.bounds)
             tclod_view_cache_measure(&sch->conservative_cache, b, &q.screen_area, &q.distance);
         benefit = wrap_benefit(sch, &q);
-        if (value_bad(benefit)) benefit = 0.0;
+        if (value_bad(benefit)) {
+            bad_value(sch);
+            benefit = 0.0;
+        }
         if (benefit > 0.0) {
             cost = wrap_cost(sch, &q);
-            if (value_bad(cost)) cost = HUGE_VAL;
+            if (value_bad(cost)) {
+                bad_value(sch);
+                cost = HUGE_VAL;
+            }
         }
         sch->memo_mark[n] = sch->memo_epoch;
         sch->memo_cost[n] = cost;
@@ -1014,7 +1043,7 @@ static void make_plan(tclod_scheduler *sch) {
 
 static void emit_item(tclod_scheduler *sch, tclod_id fine, tclod_id coarse, float weight,
                       void *ctx) {
-    tclod_draw *d = &sch->items[sch->item_count++];
+    tclod_draw *d = &sch->items[sch->back][sch->item_count[sch->back]++];
     int vis;
     d->fine = fine;
     d->coarse = coarse;
@@ -1027,9 +1056,10 @@ static void emit_item(tclod_scheduler *sch, tclod_id fine, tclod_id coarse, floa
  * resolution never exceeds S_j's in the interval), summed as the selector
  * sums its result. */
 static void make_draws(tclod_scheduler *sch) {
+    const tclod_draw *items = sch->items[sch->back];
     double cost = 0.0;
     uint32_t r, i, morphing = 0;
-    sch->item_count = 0;
+    sch->item_count[sch->back] = 0;
     for (r = 0; r < sch->region_count; ++r) {
         const region *R = &sch->regions[r];
         if (R->kind == REGION_STATIC) {
@@ -1042,10 +1072,10 @@ static void make_draws(tclod_scheduler *sch) {
         morph_state(sch, R, (double)R->depth * (R->kind == REGION_UP ? sch->u : 1.0 - sch->u),
                     emit_item, &cost);
     }
-    for (i = 0; i < sch->item_count; ++i) morphing += sch->items[i].fine != sch->items[i].coarse;
+    for (i = 0; i < sch->item_count[sch->back]; ++i) morphing += items[i].fine != items[i].coarse;
     for (i = 0; i < sch->gen[sch->cur].groups; ++i) cost += sch->gen[sch->cur].group_cost[i];
     sch->stats.draw_cost = cost;
-    sch->stats.draws = sch->item_count;
+    sch->stats.draws = sch->item_count[sch->back];
     sch->stats.morphing = morphing;
 }
 
@@ -1064,31 +1094,30 @@ static void clock_out(tclod_scheduler *sch, double start) {
  * list over the budget. The pending selection is dropped and begun again. */
 static tclod_status select_now(tclod_scheduler *sch, const tclod_view *view, int count_pops) {
     tclod_frame f;
+    tclod_stats stats;
     tclod_status st;
-    uint32_t i, n;
+    uint32_t i, n, g = fresh_slot(sch);
     double start = clock_in();
     tclod_select_cancel(sch->sel);
+    sch->ready = 0;
     memset(&f, 0, sizeof f);
     f.view = view;
     f.budget = sch->budget;
     sch->current_only = 1;
-    st = tclod_select(sch->sel, &f, NULL);
+    st = tclod_select(sch->sel, &f, &stats);
     sch->current_only = 0;
     clock_out(sch, start);
     if (st != TCLOD_OK) return st;
+    sch->stats.invalid_values += stats.invalid_values;
     sch->stats.emergencies++;
+    store(sch, g);
     if (count_pops) { /* from what this frame would have drawn */
-        n = sch->item_count;
-        for (i = 0; i < n; ++i) sch->list_x[i] = sch->items[i].fine;
-        store(sch, sch->cur);
-        count_switches(sch, sch->list_x, n, sch->gen[sch->cur].ids, sch->gen[sch->cur].count);
-    } else {
-        store(sch, sch->cur);
+        n = sch->item_count[sch->back];
+        for (i = 0; i < n; ++i) sch->list_x[i] = sch->items[sch->back][i].fine;
+        count_switches(sch, sch->list_x, n, sch->gen[g].ids, sch->gen[g].count);
     }
-    copy_generation(sch, sch->prev, sch->cur);
-    copy_generation(sch, sch->next, sch->cur);
+    sch->prev = sch->cur = sch->next = g;
     sch->scene_version = sch->scene->version;
-    sch->ready = 0;
     make_plan(sch);
     start = clock_in();
     st = begin(sch, view);
@@ -1099,31 +1128,30 @@ static tclod_status select_now(tclod_scheduler *sch, const tclod_view *view, int
 /* At a boundary: the pending selection ends (early if need be) and joins the
  * landed ones; the plan of the new interval is made. */
 static void land(tclod_scheduler *sch) {
-    uint32_t fresh = sch->prev;
+    uint32_t fresh = sch->next;
     if (tclod_select_pending(sch->sel)) {
         tclod_stats st;
         double start = clock_in();
-        if (tclod_select_finish(sch->sel, &st) == TCLOD_OK) sch->ready = 1;
+        if (tclod_select_finish(sch->sel, &st) == TCLOD_OK) {
+            sch->ready = 1;
+            sch->landed_invalid = st.invalid_values;
+            if (st.stop_reason == TCLOD_STOP_FINISHED) sch->stats.unfinished++;
+        }
         clock_out(sch, start);
-        if (sch->ready && st.stop_reason == TCLOD_STOP_FINISHED) sch->stats.unfinished++;
+    }
+    if (sch->ready) { /* else the selection failed: the newest stays */
+        fresh = fresh_slot(sch);
+        store(sch, fresh);
+        sch->stats.invalid_values += sch->landed_invalid;
     }
     if (sch->desc.morph) {
         /* S_{j-1}, S_j, S_{j+1} <- S_j, S_{j+1}, the new one */
         sch->prev = sch->cur;
         sch->cur = sch->next;
         sch->next = fresh;
-        if (sch->ready)
-            store(sch, fresh);
-        else /* the selection failed: the newest stays */
-            copy_generation(sch, fresh, sch->cur);
     } else {
         sch->prev = sch->cur;
-        sch->cur = fresh;
-        sch->next = fresh;
-        if (sch->ready)
-            store(sch, fresh);
-        else
-            copy_generation(sch, fresh, sch->prev);
+        sch->cur = sch->next = fresh;
         count_switches(sch, sch->gen[sch->prev].ids, sch->gen[sch->prev].count,
                        sch->gen[sch->cur].ids, sch->gen[sch->cur].count);
     }
@@ -1135,17 +1163,77 @@ static void land(tclod_scheduler *sch) {
 static int arguments_valid(const tclod_scheduler *sch, double now, const tclod_view *view,
                            double budget, double slice) {
     if (!view || tclod_view_validate(view) != TCLOD_OK) return 0;
-    if (isnan(now) || isinf(now) || (sch->started && now < sch->now)) return 0;
+    if (isnan(now) || isinf(now) || (sch->shown.started && now < sch->now)) return 0;
     return budget >= 0.0 && slice >= 0.0 && !isinf(slice);
+}
+
+/* Undoes record(): a failed update leaves the path as it was. */
+static void unrecord(tclod_scheduler *sch) {
+    sch->hist_next = (sch->hist_next + HISTORY - 1u) % HISTORY;
+    sch->hist_count--;
+}
+
+/* The pipeline's work of one update; the outputs are made in the back
+ * buffers. */
+static tclod_status advance(tclod_scheduler *sch, double now, const tclod_view *view,
+                            double slice_seconds) {
+    const double tau = sch->desc.tau;
+    tclod_status st = TCLOD_OK;
+    /* a restart: the first update, a changed scene, a long gap, or times so
+     * large that tau no longer moves the boundary (checked at every step:
+     * rounding to even can move it once and then not again) */
+    int restart = !sch->started || sch->scene_version != sch->scene->version ||
+                  now - sch->boundary > (MAX_GAP + 1.0) * tau;
+    while (!restart && now >= sch->boundary + tau) {
+        double start;
+        if (!(sch->boundary + tau > sch->boundary)) {
+            restart = 1;
+            break;
+        }
+        sch->boundary += tau;
+        land(sch);
+        start = clock_in();
+        st = begin(sch, view);
+        clock_out(sch, start);
+        if (st != TCLOD_OK) return st;
+    }
+    if (restart) {
+        sch->boundary = now;
+        sch->item_count[sch->back] = 0;
+        st = select_now(sch, view, 0);
+        if (st != TCLOD_OK) return st;
+        sch->started = 1;
+    }
+    sch->u = (now - sch->boundary) / tau;
+    if (!(sch->u >= 0.0)) sch->u = 0.0;
+    if (sch->u > 1.0) sch->u = 1.0;
+    make_draws(sch);
+    if (sch->stats.draw_cost > sch->budget) {
+        st = select_now(sch, view, 1);
+        if (st != TCLOD_OK) return st;
+        make_draws(sch);
+    }
+    if (tclod_select_pending(sch->sel)) {
+        tclod_stats stats;
+        int done = 0;
+        double start = clock_in();
+        st = tclod_select_step(sch->sel, slice_seconds, 0, &done, &stats);
+        clock_out(sch, start);
+        if (st == TCLOD_OK && done) {
+            sch->ready = 1;
+            sch->landed_invalid = stats.invalid_values;
+        }
+    }
+    return st;
 }
 
 tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclod_view *view,
                                     double budget, double slice_seconds) {
-    const double tau = sch ? sch->desc.tau : 0.0;
     tclod_status st;
-    double scale;
+    double last_now;
     if (!sch || !arguments_valid(sch, now, view, budget, slice_seconds)) return TCLOD_ERR_ARG;
     if (sch->busy) return TCLOD_ERR_STATE;
+    last_now = sch->now;
     sch->busy = 1;
     st = tclod_scene_prepare(sch->scene);
     if (st == TCLOD_OK) st = reserve(sch);
@@ -1154,46 +1242,26 @@ tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclo
         return st;
     }
     sch->stats.select_seconds = 0.0;
-    scale = tclod_calib_scale(sch->calib);
-    sch->budget = budget / scale;
-    sch->now = now;
-    record(sch, now, view);
-    if (!sch->started || sch->scene_version != sch->scene->version ||
-        now - sch->boundary > (MAX_GAP + 1.0) * tau) {
-        sch->boundary = now;
-        sch->u = 0.0;
-        sch->item_count = 0;
-        st = select_now(sch, view, 0);
-        if (st == TCLOD_OK) sch->started = 1;
-    } else {
-        while (now >= sch->boundary + tau) {
-            sch->boundary += tau;
-            land(sch);
-            {
-                double start = clock_in();
-                st = begin(sch, view);
-                clock_out(sch, start);
-            }
-        }
-    }
-    if (sch->started) {
-        sch->u = (now - sch->boundary) / tau;
-        if (sch->u < 0.0) sch->u = 0.0;
-        if (sch->u >= 1.0) sch->u = 1.0;
-        make_draws(sch);
-        if (sch->stats.draw_cost > sch->budget) {
-            st = select_now(sch, view, 1);
-            make_draws(sch);
-        }
-        if (st == TCLOD_OK && tclod_select_pending(sch->sel)) {
-            int done = 0;
-            double start = clock_in();
-            st = tclod_select_step(sch->sel, slice_seconds, 0, &done, NULL);
-            clock_out(sch, start);
-            if (st == TCLOD_OK && done) sch->ready = 1;
-        }
-    }
+    sch->budget = budget / tclod_calib_scale(sch->calib);
     sch->stats.budget = sch->budget;
+    sch->now = now;
+    sch->failed = 0;
+    record(sch, now, view);
+    st = advance(sch, now, view, slice_seconds);
+    if (st == TCLOD_OK && sch->failed) st = TCLOD_ERR_CALLBACK;
+    if (st == TCLOD_OK) { /* the outputs show this update */
+        sch->shown.started = 1;
+        sch->shown.prev = sch->prev;
+        sch->shown.cur = sch->cur;
+        sch->shown.next = sch->next;
+        sch->shown.u = sch->u;
+        sch->shown.items = sch->back;
+        sch->shown.stats = sch->stats;
+        sch->back = 1u - sch->back;
+    } else {
+        unrecord(sch);
+        sch->now = last_now;
+    }
     sch->busy = 0;
     return st;
 }
@@ -1201,32 +1269,33 @@ tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclo
 tclod_status tclod_scheduler_draws(const tclod_scheduler *sch, const tclod_draw **items,
                                    size_t *n) {
     if (!sch || !items || !n) return TCLOD_ERR_ARG;
-    *items = sch->items;
-    *n = sch->item_count;
+    *items = sch->shown.started ? sch->items[sch->shown.items] : NULL;
+    *n = sch->shown.started ? sch->item_count[sch->shown.items] : 0u;
     return TCLOD_OK;
 }
 
 double tclod_scheduler_resolution(const tclod_scheduler *sch, tclod_id smooth) {
     double p, c, n, from, to;
-    if (!sch || !sch->started || smooth >= sch->scene->smooth_count || smooth >= sch->smooth_cap)
+    if (!sch || !sch->shown.started || smooth >= sch->scene->smooth_count ||
+        smooth >= sch->smooth_cap)
         return 0.0;
-    c = sch->gen[sch->cur].res[smooth];
+    c = sch->gen[sch->shown.cur].res[smooth];
     if (!sch->desc.morph) return c;
-    p = sch->gen[sch->prev].res[smooth];
-    n = sch->gen[sch->next].res[smooth];
+    p = sch->gen[sch->shown.prev].res[smooth];
+    n = sch->gen[sch->shown.next].res[smooth];
     from = p < c ? p : c;
     to = c < n ? c : n;
-    return from + (to - from) * sch->u;
+    return from + (to - from) * sch->shown.u;
 }
 
 tclod_status tclod_scheduler_report(tclod_scheduler *sch, double render_time) {
     if (!sch || !finite_nonnegative(render_time)) return TCLOD_ERR_ARG;
-    if (!sch->started) return TCLOD_ERR_STATE;
-    return tclod_calib_report(sch->calib, sch->stats.draw_cost, render_time, 0.0);
+    if (!sch->shown.started) return TCLOD_ERR_STATE;
+    return tclod_calib_report(sch->calib, sch->shown.stats.draw_cost, render_time, 0.0);
 }
 
 tclod_status tclod_scheduler_get_stats(const tclod_scheduler *sch, tclod_scheduler_stats *st) {
     if (!sch || !st) return TCLOD_ERR_ARG;
-    *st = sch->stats;
+    *st = sch->shown.stats;
     return TCLOD_OK;
 }

@@ -65,9 +65,12 @@ static size_t node_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS
     out[n++] = (tclod_array){(void **)&sel->node, sizeof(tclod_node_state), 0xff};
     out[n++] = (tclod_array){(void **)&sel->path, 2 * sizeof(double), 0};
     out[n++] = (tclod_array){(void **)&sel->flags, sizeof(uint8_t), 0};
-    out[n++] = (tclod_array){(void **)&sel->inc.items, sizeof(tclod_heap_entry), -1};
-    out[n++] = (tclod_array){(void **)&sel->cheap.items, sizeof(tclod_heap_entry), -1};
-    out[n++] = (tclod_array){(void **)&sel->dec.items, sizeof(tclod_heap_entry), -1};
+    out[n++] = (tclod_array){(void **)&sel->inc_slot, sizeof(uint32_t), 0xff};
+    out[n++] = (tclod_array){(void **)&sel->cheap_slot, sizeof(uint32_t), 0xff};
+    out[n++] = (tclod_array){(void **)&sel->dec_slot, sizeof(uint32_t), 0xff};
+    out[n++] = (tclod_array){(void **)&sel->inc_block, sizeof(tclod_heap_entry), -1};
+    out[n++] = (tclod_array){(void **)&sel->cheap_block, sizeof(tclod_heap_entry), -1};
+    out[n++] = (tclod_array){(void **)&sel->dec_block, sizeof(tclod_heap_entry), -1};
     out[n++] = (tclod_array){(void **)&sel->cut, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->prev_cut, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->result, sizeof(tclod_id), -1};
@@ -117,13 +120,30 @@ static size_t rh_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS])
     return n;
 }
 
-/* The heaps find their slots inside the node records. */
+/* Where a heap's entries start in its block: entry 1 on a 64-byte boundary,
+ * so that every slot's four children lie in one cache line. Up to three
+ * entries are skipped. */
+static tclod_heap_entry *heap_items(tclod_heap_entry *block) {
+    uintptr_t a = (uintptr_t)(void *)block;
+    if (a % sizeof(tclod_heap_entry) != 0) return block;
+    return block + (64u + 48u - a % 64u) % 64u / sizeof(tclod_heap_entry);
+}
+
+/* The heaps find their entries in their blocks and their slots in dense
+ * arrays, except Robin Hood's inc, which keeps its slots inside the node
+ * records. */
 static void bind_heaps(tclod_selector *sel) {
-    uint32_t stride = (uint32_t)(sizeof(tclod_node_state) / sizeof(uint32_t));
-    sel->inc.pos = &sel->node[0].inc_pos;
-    sel->cheap.pos = &sel->node[0].cheap_pos;
-    sel->dec.pos = &sel->node[0].dec_pos;
-    sel->inc.pos_stride = sel->cheap.pos_stride = sel->dec.pos_stride = stride;
+    sel->inc.items = heap_items(sel->inc_block);
+    sel->cheap.items = heap_items(sel->cheap_block);
+    sel->dec.items = heap_items(sel->dec_block);
+    sel->inc.pos = sel->inc_slot;
+    sel->cheap.pos = sel->cheap_slot;
+    sel->dec.pos = sel->dec_slot;
+    sel->inc.pos_stride = sel->cheap.pos_stride = sel->dec.pos_stride = 1;
+    if (sel->desc.solver == TCLOD_SOLVER_ROBIN_HOOD) {
+        sel->inc.pos = &sel->node[0].inc_pos;
+        sel->inc.pos_stride = (uint32_t)(sizeof(tclod_node_state) / sizeof(uint32_t));
+    }
 }
 
 tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_desc *d,
@@ -186,10 +206,12 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
     growth g[3];
     int uses_smooth = sel->desc.solver != TCLOD_SOLVER_GREEDY;
     int i, k;
-    if (nodes + smooth < nodes) return TCLOD_ERR_NOMEM; /* ids beyond 32 bits */
+    if (nodes + smooth < nodes || nodes > UINT32_MAX - 3u)
+        return TCLOD_ERR_NOMEM; /* ids beyond 32 bits */
     g[0].count = node_buffers(sel, g[0].arrays);
     g[0].cap = &sel->cap;
-    g[0].new_cap = nodes > sel->cap ? grown(sel->cap, nodes) : sel->cap;
+    /* three more entries than nodes: the heaps' alignment (heap_items) */
+    g[0].new_cap = nodes + 3u > sel->cap ? grown(sel->cap, nodes + 3u) : sel->cap;
     g[1].count = smooth_buffers(sel, g[1].arrays);
     g[1].cap = &sel->smooth_cap;
     g[1].new_cap = uses_smooth && smooth > sel->smooth_cap ? grown(sel->smooth_cap, smooth)

@@ -84,30 +84,9 @@ void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v) {
     c->viewport_area = (double)v->viewport_height * (double)v->viewport_height * (double)v->aspect;
 }
 
-static int cache_sphere_visible(const tclod_view_cache *c, const double p[3], double r) {
-    double z = dot3(p, c->forward);
-    if (z < c->near_z - r || z > c->far_z + r) return 0;
-    if (fabs(dot3(p, c->up)) * c->cos_y - z * c->sin_y > r) return 0;
-    return fabs(dot3(p, c->right)) * c->cos_x - z * c->sin_x <= r;
-}
-
-static double cache_screen_area(const tclod_view_cache *c, double d2, double r) {
-    double r2 = r * r, rpx, area;
-    if (d2 <= r2) return c->viewport_area;
-    rpx = c->focal_px * r / sqrt(d2 - r2);
-    area = 3.14159265358979323846 * rpx * rpx;
-    return area < c->viewport_area ? area : c->viewport_area;
-}
-
 void tclod_view_cache_measure(const tclod_view_cache *c, const float bounds[4], float *area,
                               float *distance) {
-    double p[3], r = (double)bounds[3], d2;
-    p[0] = (double)bounds[0] - c->eye[0];
-    p[1] = (double)bounds[1] - c->eye[1];
-    p[2] = (double)bounds[2] - c->eye[2];
-    d2 = dot3(p, p);
-    *distance = (float)sqrt(d2);
-    *area = cache_sphere_visible(c, p, r) ? (float)cache_screen_area(c, d2, r) : 0.0f;
+    tclod_view_measure(c, bounds, area, distance);
 }
 
 int tclod_view_sphere_visible(const tclod_view *view, const float bounds[4]) {
@@ -118,7 +97,7 @@ int tclod_view_sphere_visible(const tclod_view *view, const float bounds[4]) {
     p[0] = (double)bounds[0] - c.eye[0];
     p[1] = (double)bounds[1] - c.eye[1];
     p[2] = (double)bounds[2] - c.eye[2];
-    return cache_sphere_visible(&c, p, (double)bounds[3]);
+    return tclod_view_cache_visible(&c, p, (double)bounds[3]);
 }
 
 float tclod_view_screen_area(const tclod_view *view, const float bounds[4]) {
@@ -129,7 +108,7 @@ float tclod_view_screen_area(const tclod_view *view, const float bounds[4]) {
     p[0] = (double)bounds[0] - c.eye[0];
     p[1] = (double)bounds[1] - c.eye[1];
     p[2] = (double)bounds[2] - c.eye[2];
-    return (float)cache_screen_area(&c, dot3(p, p), (double)bounds[3]);
+    return (float)tclod_view_cache_area(&c, dot3(p, p), (double)bounds[3]);
 }
 
 float tclod_view_distance(const tclod_view *view, const float bounds[4]) {

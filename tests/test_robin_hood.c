@@ -105,10 +105,12 @@ static void leftover_of_a_simple_instance_reaches_a_complex_one(void **state) {
     tclod_selector_destroy(sel);
 }
 
-/* Equal values, budget 10: K (levels 2, 9), created first, and S (one level
- * costing 1). Simple first: S's share 5 leaves 4, K's share 9 takes its level
- * 1. In creation order K would have had 5 and taken 2. A complexity callback
- * that calls S the more complex turns the order round. */
+/* Equal values, budget 10: K (levels 2, 9), created first, and S (levels 1,
+ * 8; finest 8 < 9, so the simpler). Simple first: S's share 5 affords only
+ * its level 0 and leaves 4, so K's share 9 takes its level 1: total 10, no
+ * leftover for the second cycle. In creation order K's share 5 would take its
+ * level 0 and S's 8 its level 1: also total 10. A complexity callback that
+ * calls S the more complex turns the order round. */
 static double reversed_complexity(void *user, const tclod_query *q) {
     (void)user;
     return q->id == 0 ? 1.0 : 100.0; /* K (id 0) least complex */
@@ -116,8 +118,8 @@ static double reversed_complexity(void *user, const tclod_query *q) {
 
 static void instances_are_visited_simple_to_complex(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
-    static const double ck[2] = {2.0, 9.0}, cs[1] = {1.0};
-    tclod_id k = add_chain(f, 1.0, ck, 2), s = add_chain(f, 1.0, cs, 1);
+    static const double ck[2] = {2.0, 9.0}, cs[2] = {1.0, 8.0};
+    tclod_id k = add_chain(f, 1.0, ck, 2), s = add_chain(f, 1.0, cs, 2);
     tclod_selector_desc d;
     tclod_selector *sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
     tclod_stats st;
@@ -134,7 +136,33 @@ static void instances_are_visited_simple_to_complex(void **state) {
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
     select_rh(sel, NULL, 10.0 * (1.0 + 1e-6), &st);
     assert_true(listed(sel, k));
+    assert_true(listed(sel, s + 1u));
+    tclod_selector_destroy(sel);
+}
+
+/* The second cycle (seed 003 §7.2): K (levels 2, 9) and S (one level costing
+ * 1), equal values, budget 10, K visited first. K's share 5 takes its level
+ * 0, S's share 8 takes 1 and leaves 7: K's next step (9 - 2 = 7) fits the
+ * leftover, so K ends at its level 1 and the frame uses all of its 10. */
+static void the_leftover_refines_the_instances_that_can_refine(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double ck[2] = {2.0, 9.0}, cs[1] = {1.0};
+    tclod_id k = add_chain(f, 1.0, ck, 2), s = add_chain(f, 1.0, cs, 1);
+    tclod_selector_desc d;
+    tclod_selector *sel;
+    tclod_stats st;
+    tclod_selector_desc_default(&d);
+    d.solver = TCLOD_SOLVER_ROBIN_HOOD;
+    table_mixed_callbacks(&f->model, &d.callbacks);
+    d.callbacks.complexity = reversed_complexity;
+    d.value = TCLOD_VALUE_BENEFIT;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    select_rh(sel, NULL, 10.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, k + 1u));
     assert_true(listed(sel, s));
+    assert_false(listed(sel, k));
+    assert_true(st.cost == 10.0);
+    assert_int_equal(st.stop_reason, TCLOD_STOP_FINEST);
     tclod_selector_destroy(sel);
 }
 
@@ -386,6 +414,7 @@ int main(void) {
         FIXTURE_TEST(equal_values_get_equal_shares),
         FIXTURE_TEST(leftover_of_a_simple_instance_reaches_a_complex_one),
         FIXTURE_TEST(instances_are_visited_simple_to_complex),
+        FIXTURE_TEST(the_leftover_refines_the_instances_that_can_refine),
         FIXTURE_TEST(shares_follow_the_values),
         FIXTURE_TEST(an_instance_whose_simplest_level_exceeds_its_share_is_dropped),
         FIXTURE_TEST(the_coarsest_policy_draws_a_misfit_the_time_left_covers),

@@ -681,6 +681,9 @@ typedef struct tclod_scheduler_stats {
                               replaced by drawn descendants, or the reverse */
     uint64_t morphs;       /* of those, the ones drawn as geomorphs */
     uint64_t pops;         /* of those, the ones that switched at once */
+    uint32_t invalid_values; /* callback values that were NaN, inf or negative, in
+                              the landed selections and the scheduler's own
+                              evaluations */
 } tclod_scheduler_stats;
 
 /* Creates a scheduler over scene s (which must outlive it) with a selector
@@ -701,12 +704,17 @@ TCLOD_API void tclod_scheduler_destroy(tclod_scheduler *sch);
  * boundaries, runs the pending selection for at most slice_seconds (0 = to
  * its end), and makes this frame's draw list. budget is in the unit of
  * tclod_scheduler_report's render times (the callbacks' cost unit as long as
- * nothing is reported). The first update selects at once for its view.
- * Allocates only when the scene grew (and on the first update). Errors:
- * TCLOD_ERR_ARG (NULL sch or view, an invalid view, now NaN or earlier than
- * the last update's, budget NaN or < 0, slice_seconds NaN or < 0),
- * TCLOD_ERR_CALLBACK (strict mode), TCLOD_ERR_NOMEM, TCLOD_ERR_STATE (called
- * from a callback); on error the last draw list stays. */
+ * nothing is reported). The first update selects at once for its view; so
+ * does an update after a changed scene or a gap of more than 3 tau. The
+ * scheduler also calls the host's callbacks itself, for the nodes a morph
+ * passes through. Allocates only when the scene grew (and on the first
+ * update). Errors: TCLOD_ERR_ARG (NULL sch or view, an invalid view, now NaN,
+ * inf or earlier than the last successful update's, budget NaN or < 0,
+ * slice_seconds NaN, inf or < 0), TCLOD_ERR_CALLBACK (strict mode: a callback
+ * returned a bad value; the selection that saw it is dropped), TCLOD_ERR_NOMEM,
+ * TCLOD_ERR_STATE (called from a callback). On error the outputs stay as the
+ * last successful update left them: draw list, resolutions, stats and the
+ * recorded path. */
 TCLOD_API tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now,
                                              const tclod_view *view, double budget,
                                              double slice_seconds);
