@@ -28,6 +28,13 @@ void test_alloc_init(test_alloc *t) {
 
 void test_alloc_fail_at(test_alloc *t, size_t k) {
     t->fail_at = k;
+    t->fail_from = 0;
+    t->calls = 0;
+}
+
+void test_alloc_fail_from(test_alloc *t, size_t k) {
+    t->fail_at = 0;
+    t->fail_from = k;
     t->calls = 0;
 }
 
@@ -35,7 +42,8 @@ static void *test_alloc_alloc(size_t size, void *ctx) {
     test_alloc *t = (test_alloc *)ctx;
     test_alloc_header *h;
     t->calls++;
-    if (t->fail_at != 0 && t->calls == t->fail_at) {
+    if ((t->fail_at != 0 && t->calls == t->fail_at) ||
+        (t->fail_from != 0 && t->calls >= t->fail_from)) {
         t->failures++;
         return NULL;
     }

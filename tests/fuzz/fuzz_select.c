@@ -1,0 +1,407 @@
+/*
+ * fuzz_select — libFuzzer target over scene building and selection with every
+ * solver (DESIGN.md §5, the guarantees every part keeps).
+ *
+ * The input's bytes choose a selector description (solver, flags, option
+ * values valid or not), a scene (parents valid or not, bounds with NaN or
+ * infinities, smooth objects), the callbacks' values (NaN, infinities,
+ * negatives, denormals, huge values, honest or dishonest slopes), and up to
+ * four frames (budget, view, limits; values may change and the scene may grow
+ * between frames). Two selectors with the same description see the same
+ * frames: the first through tclod_select, the second through tclod_select or
+ * the resumable calls (tclod_select_begin, then tclod_select_step with
+ * byte-chosen iteration slices, possibly ended early by tclod_select_finish
+ * or dropped by tclod_select_cancel). After every call the target checks what
+ * the header promises:
+ *  - scene calls fail exactly when their arguments are bad, and then change
+ *    nothing;
+ *  - selector creation fails with TCLOD_ERR_ARG exactly for bad descriptions;
+ *  - a select fails with TCLOD_ERR_ARG for a bad frame (asking no callback),
+ *    with TCLOD_ERR_CALLBACK in strict mode exactly when a callback returned
+ *    a bad value, and otherwise succeeds; a failed select leaves result and
+ *    stats as they were;
+ *  - each node's benefit and cost are asked at most once per select, cost
+ *    only after a benefit > 0;
+ *  - a result is an antichain of visible nodes whose costs, then the smooth
+ *    groups' costs, summed in result order, are <= the budget; stats carry
+ *    exactly those sums and count every bad value; smooth groups are disjoint
+ *    ranges of the smooth order with resolutions in (0, 1] and the callbacks'
+ *    values at those resolutions; every smooth resolution is in [0, 1];
+ *  - the two selectors agree bit for bit (no time limit involved), also when
+ *    the second selects in iteration slices; while a resumable solve is
+ *    pending, other selects are refused; a cancelled solve keeps the result;
+ *  - the view helpers return areas in [0, viewport area] for valid views.
+ * The callbacks are the host: they read tables, never the library.
+ */
+#include <tclod/tclod.h>
+
+#include "fuzz_host.h"
+
+#define MAX_FRAMES 4u
+/* The first nodes and smooth objects; more may be added between frames. */
+#define FIRST_NODES 128u
+#define FIRST_SMOOTH 32u
+
+/* ---- results ------------------------------------------------------------------ */
+
+typedef struct result {
+    tclod_id ids[MAX_NODES];
+    size_t n;
+    tclod_smooth_group groups[MAX_SMOOTH];
+    size_t groups_n;
+} result;
+
+static void take_result(const tclod_selector *sel, result *r) {
+    const tclod_id *ids = NULL;
+    const tclod_smooth_group *groups = NULL;
+    FUZZ_CHECK(tclod_selector_cut(sel, &ids, &r->n) == TCLOD_OK, "cut");
+    FUZZ_CHECK(r->n <= MAX_NODES, "cut of %lu nodes", (unsigned long)r->n);
+    if (r->n)
+        memcpy(r->ids, ids, r->n * sizeof *ids);
+    FUZZ_CHECK(tclod_selector_smooth_groups(sel, &groups, &r->groups_n) == TCLOD_OK, "groups");
+    FUZZ_CHECK(r->groups_n <= MAX_SMOOTH, "%lu groups", (unsigned long)r->groups_n);
+    if (r->groups_n)
+        memcpy(r->groups, groups, r->groups_n * sizeof *groups);
+}
+
+static int same_result(const result *a, const result *b) {
+    return a->n == b->n && a->groups_n == b->groups_n &&
+           (a->n == 0 || memcmp(a->ids, b->ids, a->n * sizeof a->ids[0]) == 0) &&
+           (a->groups_n == 0 ||
+            memcmp(a->groups, b->groups, a->groups_n * sizeof a->groups[0]) == 0);
+}
+
+static int same_stats(const tclod_stats *a, const tclod_stats *b) {
+    return memcmp(&a->benefit, &b->benefit, sizeof a->benefit) == 0 &&
+           memcmp(&a->cost, &b->cost, sizeof a->cost) == 0 && a->iterations == b->iterations &&
+           a->increments == b->increments && a->decrements == b->decrements &&
+           a->line_searches == b->line_searches && a->variables == b->variables &&
+           a->dropped_roots == b->dropped_roots && a->invalid_values == b->invalid_values &&
+           a->evaluations == b->evaluations && a->stop_reason == b->stop_reason;
+}
+
+/* Everything a successful select promises about its result. */
+static void check_result(const tclod_selector *sel, tclod_scene *s, const probe *p,
+                         const tclod_selector_desc *d, const tclod_frame *f, const tclod_stats *st,
+                         const result *r) {
+    const host_model *m = p->m;
+    unsigned char listed[MAX_NODES];
+    const tclod_id *order = NULL;
+    uint32_t order_n = 0, pos[MAX_SMOOTH], roots = 0;
+    double cost = 0.0, benefit = 0.0;
+    size_t i;
+    memset(listed, 0, sizeof listed);
+    for (i = 0; i < r->n; ++i) {
+        tclod_id id = r->ids[i];
+        FUZZ_CHECK(id < m->nodes && !listed[id], "cut lists %u twice or unknown", (unsigned)id);
+        listed[id] = 1;
+        FUZZ_CHECK(p->benefit_calls[id] == 1 && p->cost_calls[id] == 1,
+                   "cut node %u was asked benefit %u and cost %u times this select", (unsigned)id,
+                   (unsigned)p->benefit_calls[id], (unsigned)p->cost_calls[id]);
+        FUZZ_CHECK(p->benefit_seen[id] > 0.0 && !fuzz_bad(p->benefit_seen[id]) &&
+                       !fuzz_bad(p->cost_seen[id]),
+                   "cut node %u has benefit %g cost %g", (unsigned)id, p->benefit_seen[id],
+                   p->cost_seen[id]);
+        cost += p->cost_seen[id];
+        benefit += p->benefit_seen[id];
+    }
+    for (i = 0; i < r->n; ++i) {
+        tclod_id a;
+        for (a = m->parent[r->ids[i]]; a != TCLOD_NONE; a = m->parent[a])
+            FUZZ_CHECK(!listed[a], "cut lists %u and its ancestor %u", (unsigned)r->ids[i],
+                       (unsigned)a);
+    }
+    for (i = 0; i < m->nodes; ++i) {
+        FUZZ_CHECK(p->benefit_calls[i] <= 1 && p->cost_calls[i] <= 1,
+                   "node %u asked %u and %u times in one select", (unsigned)i,
+                   (unsigned)p->benefit_calls[i], (unsigned)p->cost_calls[i]);
+        roots += m->parent[i] == TCLOD_NONE;
+    }
+
+    FUZZ_CHECK(tclod_scene_smooth_order(s, &order, &order_n) == TCLOD_OK && order_n == m->smooth,
+               "smooth order of %u objects", (unsigned)order_n);
+    memset(pos, 0xff, sizeof pos);
+    for (i = 0; i < order_n; ++i) {
+        FUZZ_CHECK(order[i] < order_n && pos[order[i]] == 0xffffffffu, "order not a permutation");
+        pos[order[i]] = (uint32_t)i;
+    }
+    if (d->solver == TCLOD_SOLVER_GREEDY)
+        FUZZ_CHECK(r->groups_n == 0, "the greedy solver drew %lu smooth groups",
+                   (unsigned long)r->groups_n);
+    for (i = 0; i < r->groups_n; ++i) {
+        const tclod_smooth_group *g = &r->groups[i];
+        tclod_query q;
+        double res, b, c, slope;
+        FUZZ_CHECK((uint64_t)g->first + g->count <= order_n && g->count > 0, "group %u + %u of %u",
+                   (unsigned)g->first, (unsigned)g->count, (unsigned)order_n);
+        if (i > 0)
+            FUZZ_CHECK(g->first >= r->groups[i - 1].first + r->groups[i - 1].count,
+                       "groups overlap or are out of order");
+        FUZZ_CHECK(g->resolution > 0.0 && g->resolution <= 1.0, "resolution %.17g", g->resolution);
+        memset(&q, 0, sizeof q);
+        q.id = order[g->first];
+        q.count = g->count;
+        q.members = order + g->first;
+        res = g->resolution > 1e-9 ? g->resolution : 1e-9;
+        b = smooth_value(m, &q, res, &slope, 0);
+        c = smooth_value(m, &q, res, &slope, 1);
+        FUZZ_CHECK(memcmp(&b, &g->benefit, sizeof b) == 0 && memcmp(&c, &g->cost, sizeof c) == 0,
+                   "group at %.17g has benefit %.17g cost %.17g, the callbacks say %.17g %.17g",
+                   g->resolution, g->benefit, g->cost, b, c);
+        FUZZ_CHECK(!fuzz_bad(b) && !fuzz_bad(c), "drawn group with benefit %g cost %g", b, c);
+        cost += c;
+        benefit += b;
+    }
+    for (i = 0; i < order_n + 2u; ++i) {
+        double x = tclod_selector_resolution(sel, (tclod_id)i), expect = 0.0;
+        size_t k;
+        if (i < order_n)
+            for (k = 0; k < r->groups_n; ++k)
+                if (pos[i] >= r->groups[k].first &&
+                    pos[i] < r->groups[k].first + r->groups[k].count)
+                    expect = r->groups[k].resolution;
+        FUZZ_CHECK(x >= 0.0 && x <= 1.0 && x == expect,
+                   "resolution of smooth %u is %.17g, its group says %.17g", (unsigned)i, x,
+                   expect);
+    }
+
+    FUZZ_CHECK(cost <= f->budget, "selection costs %.17g, budget %.17g", cost, f->budget);
+    FUZZ_CHECK(st->cost == cost && st->benefit == benefit,
+               "stats say benefit %.17g cost %.17g, the result sums to %.17g and %.17g",
+               st->benefit, st->cost, benefit, cost);
+    FUZZ_CHECK(st->invalid_values == p->bad, "%u invalid values counted, %u returned",
+               (unsigned)st->invalid_values, (unsigned)p->bad);
+    FUZZ_CHECK(st->stop_reason >= TCLOD_STOP_BUDGET && st->stop_reason <= TCLOD_STOP_FINISHED,
+               "stop reason %d", st->stop_reason);
+    FUZZ_CHECK(st->variables <= m->smooth, "%u variables", (unsigned)st->variables);
+    FUZZ_CHECK(st->dropped_roots <= roots + m->smooth, "%u roots dropped",
+               (unsigned)st->dropped_roots);
+}
+
+/* ---- resumable selection ---------------------------------------------------------- */
+
+/* The selection of a frame through tclod_select_begin and tclod_select_step
+ * with slices of slice iterations (how / 4 % 16 + 1); by how % 4: 0, 2 to the
+ * end (the result must then equal tclod_select's), 1 ended early by
+ * tclod_select_finish after a few steps, 3 cancelled after a few steps
+ * (*dropped = 1: the previous result must stay). Checks the pending state
+ * and that other selects are refused meanwhile. */
+static tclod_status select_resumable(tclod_selector *sel, const tclod_frame *f, tclod_stats *st,
+                                     uint8_t how, int *dropped) {
+    uint32_t slice = (uint32_t)(how / 4u % 16u) + 1u, steps = 0, stop_after = how / 64u;
+    tclod_stats other;
+    tclod_status status;
+    int done = 0;
+    *dropped = 0;
+    FUZZ_CHECK(!tclod_select_pending(sel), "a solve is pending before begin");
+    status = tclod_select_begin(sel, f);
+    if (status != TCLOD_OK) {
+        FUZZ_CHECK(!tclod_select_pending(sel), "a failed begin left a solve pending");
+        return status;
+    }
+    FUZZ_CHECK(tclod_select_pending(sel), "no solve pending after begin");
+    FUZZ_CHECK(tclod_select(sel, f, &other) == TCLOD_ERR_STATE &&
+                   tclod_select_begin(sel, f) == TCLOD_ERR_STATE,
+               "select or begin while a solve is pending");
+    for (;;) {
+        if (how % 4u == 1u && steps == stop_after) {
+            status = tclod_select_finish(sel, st);
+            break;
+        }
+        if (how % 4u == 3u && steps == stop_after) {
+            FUZZ_CHECK(tclod_select_cancel(sel) == TCLOD_OK, "cancel");
+            *dropped = 1;
+            status = TCLOD_OK;
+            break;
+        }
+        status = tclod_select_step(sel, 0.0, slice, &done, st);
+        steps++;
+        if (status != TCLOD_OK || done)
+            break;
+        FUZZ_CHECK(steps < 1000000u, "no end after %u steps of %u iterations", (unsigned)steps,
+                   (unsigned)slice);
+    }
+    FUZZ_CHECK(!tclod_select_pending(sel), "a solve is still pending (status %d)", (int)status);
+    return status;
+}
+
+/* ---- the run ------------------------------------------------------------------- */
+
+typedef struct run_state {
+    host_model model;
+    probe probes[2];
+    result before, after, other;
+} run_state;
+
+static run_state state;
+
+static void poison(tclod_stats *st) {
+    memset(st, 0xa5, sizeof *st);
+}
+
+static int untouched(const tclod_stats *st) {
+    tclod_stats pattern;
+    poison(&pattern);
+    return memcmp(st, &pattern, sizeof pattern) == 0;
+}
+
+static void run(fuzz_reader *in) {
+    host_model *m = &state.model;
+    tclod_selector_desc d;
+    tclod_selector *sel[2] = {NULL, NULL};
+    tclod_scene *s = NULL;
+    uint32_t n, i, frames, f;
+    int invalid, compare = 1;
+    tclod_status st;
+
+    memset(&state, 0, sizeof state);
+    FUZZ_CHECK(tclod_scene_create(NULL, &s) == TCLOD_OK, "scene_create");
+    read_desc(in, &d, m);
+    n = fuzz_u8(in) % (FIRST_NODES + 1u);
+    for (i = 0; i < n; ++i)
+        add_node(in, s, m);
+    n = fuzz_u8(in) % (FIRST_SMOOTH + 1u);
+    for (i = 0; i < n; ++i)
+        add_smooth(in, s, m);
+
+    invalid = desc_invalid(&d);
+    for (i = 0; i < 2; ++i) {
+        tclod_selector *const sentinel = (tclod_selector *)(void *)&state;
+        sel[i] = sentinel;
+        state.probes[i].m = m;
+        d.callbacks.user = &state.probes[i];
+        st = tclod_selector_create(s, &d, NULL, &sel[i]);
+        if (invalid == 1 || (invalid == -1 && st == TCLOD_ERR_ARG)) {
+            FUZZ_CHECK(st == TCLOD_ERR_ARG && sel[i] == sentinel,
+                       "selector_create accepted a bad description (%d)", (int)st);
+            tclod_scene_destroy(s);
+            return;
+        }
+        FUZZ_CHECK(st == TCLOD_OK && sel[i] != sentinel, "selector_create gave %d", (int)st);
+    }
+    if (fuzz_u8(in) & 1) /* otherwise the first select prepares the scene */
+        FUZZ_CHECK(tclod_scene_prepare(s) == TCLOD_OK, "prepare");
+
+    frames = 1u + fuzz_u8(in) % MAX_FRAMES;
+    for (f = 0; f < frames; ++f) {
+        tclod_view view;
+        tclod_frame fr;
+        tclod_stats stats[2];
+        tclod_status got[2];
+        double scale = 0.0;
+        uint8_t b, limit, how;
+        int bad_frame, valid;
+
+        /* between frames: changed values, a grown scene */
+        for (b = fuzz_u8(in) % 8u; b > 0 && m->nodes > 0; --b) {
+            uint32_t id = fuzz_u8(in) % m->nodes;
+            if (fuzz_u8(in) & 1)
+                m->cost[id] = fuzz_double(in);
+            else
+                m->benefit[id] = fuzz_double(in);
+        }
+        for (b = fuzz_u8(in) % 4u; b > 0; --b) {
+            if (m->nodes < MAX_NODES)
+                add_node(in, s, m);
+            if (m->smooth < MAX_SMOOTH && (fuzz_u8(in) & 1))
+                add_smooth(in, s, m);
+        }
+
+        memset(&fr, 0, sizeof fr);
+        fr.view = read_view(in, &view);
+        for (i = 0; i < m->nodes; ++i)
+            if (!fuzz_bad(m->cost[i]))
+                scale += m->cost[i];
+        b = fuzz_u8(in);
+        fr.budget = b < 32 ? fuzz_special_double(b) : scale * (double)(b - 32) / 128.0;
+        limit = fuzz_u8(in);
+        fr.max_iterations = limit < 128 ? 0u : (uint32_t)(limit - 127);
+        switch (fuzz_u8(in) % 8u) {
+        case 1:
+            fr.solve_seconds = (double)INFINITY;
+            break;
+        case 2:
+            fr.solve_seconds = (double)NAN;
+            break;
+        case 3:
+            fr.solve_seconds = -1.0;
+            break;
+        case 4:
+            fr.solve_seconds = 1e300;
+            break;
+        case 5: /* stops at the first look at the clock: results may differ */
+            fr.solve_seconds = 1e-300;
+            compare = 0;
+            break;
+        default:
+            fr.solve_seconds = 0.0;
+            break;
+        }
+        valid = fr.view ? view_valid(fr.view) : 1;
+        if (fr.view && valid != -1)
+            FUZZ_CHECK((tclod_view_validate(fr.view) == TCLOD_OK) == (valid == 1),
+                       "view_validate disagrees with the header (%d)", valid);
+        if (fr.view && tclod_view_validate(fr.view) == TCLOD_OK)
+            check_view_helpers(fr.view, m);
+        bad_frame = !(fr.budget >= 0.0) || !(fr.solve_seconds >= 0.0) ||
+                    (fr.view && tclod_view_validate(fr.view) != TCLOD_OK);
+
+        how = fuzz_u8(in);
+        for (i = 0; i < 2; ++i) {
+            probe *p = &state.probes[i];
+            result *after = i == 0 ? &state.after : &state.other;
+            int dropped = 0;
+            take_result(sel[i], &state.before);
+            probe_reset(p, fr.view);
+            poison(&stats[i]);
+            if (i == 0 || how < 64)
+                got[i] = tclod_select(sel[i], &fr, &stats[i]);
+            else
+                got[i] = select_resumable(sel[i], &fr, &stats[i], how, &dropped);
+            take_result(sel[i], after);
+            if (bad_frame) {
+                FUZZ_CHECK(got[i] == TCLOD_ERR_ARG && p->calls == 0,
+                           "a bad frame gave %d after %u callback calls", (int)got[i],
+                           (unsigned)p->calls);
+            } else if (dropped) {
+                FUZZ_CHECK(same_result(&state.before, after),
+                           "a cancelled solve changed the result");
+                compare = 0; /* the other selector moved on */
+                continue;
+            } else if (d.strict && p->bad > 0) {
+                FUZZ_CHECK(got[i] == TCLOD_ERR_CALLBACK,
+                           "strict select gave %d after %u bad callback values", (int)got[i],
+                           (unsigned)p->bad);
+            } else {
+                FUZZ_CHECK(got[i] == TCLOD_OK, "select gave %d (strict %d, %u bad values)",
+                           (int)got[i], d.strict, (unsigned)p->bad);
+            }
+            if (got[i] != TCLOD_OK) {
+                FUZZ_CHECK(untouched(&stats[i]), "a failed select wrote the stats");
+                FUZZ_CHECK(same_result(&state.before, after), "a failed select changed the result");
+            } else {
+                check_result(sel[i], s, p, &d, &fr, &stats[i], after);
+            }
+            if (i == 1 && how >= 64 && how % 4u == 1u)
+                compare = 0; /* finished early: a different, still feasible, result */
+        }
+        if (compare) {
+            FUZZ_CHECK(got[0] == got[1] && same_result(&state.after, &state.other) &&
+                           (got[0] != TCLOD_OK || same_stats(&stats[0], &stats[1])),
+                       "two selectors given the same frames disagree (frame %u, %s)", (unsigned)f,
+                       how < 64 ? "tclod_select" : "resumable, iteration slices");
+        }
+    }
+    tclod_selector_destroy(sel[1]);
+    tclod_selector_destroy(sel[0]);
+    tclod_scene_destroy(s);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    fuzz_reader in;
+    fuzz_reader_init(&in, data, size);
+    run(&in);
+    return 0;
+}
