@@ -12,11 +12,8 @@
  * tclod_scene_add_smooth, tclod_scene_prepare, tclod_scene_smooth_order,
  * tclod_selector_create, tclod_select and tclod_select_begin (each solver),
  * tclod_scheduler_create, tclod_scheduler_update and tclod_calib_create.
- * test_guarantees.c already fails single allocations of the scene calls and
- * of greedy and mixed selects; this file adds the persistent failures of all
- * of them, the transient ones of the Robin Hood solver, of mixed and Robin
- * Hood selector creation and of calibration, and checks that a selector that
- * saw failures goes on exactly like one that never did.
+ * A selector that saw failures must then go on exactly like one that never
+ * did.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -49,6 +46,17 @@ static void arm(test_alloc *t, failure_mode mode, size_t k) {
         test_alloc_fail_at(t, k);
     else
         test_alloc_fail_from(t, k);
+}
+
+/* A test run once per failure mode (MODE_TEST below). */
+typedef struct mode_test {
+    void (*run)(failure_mode mode);
+} mode_test;
+
+static void in_both_modes(void **state) {
+    const mode_test *m = (const mode_test *)*state;
+    m->run(TRANSIENT);
+    m->run(PERSISTENT);
 }
 
 static void assert_nothing_left(const test_alloc *t) {
@@ -204,18 +212,19 @@ static void side_view(tclod_view *v, int frame) {
 
 /* ---- scene calls ----------------------------------------------------------------- */
 
-static void scene_create_reports_nomem_when_every_allocation_from_the_kth_fails(void **state) {
+/* tclod_scene_create with its k-th allocation failing (mode), k = 1, 2, ...:
+ * NOMEM, *out untouched and nothing held until it succeeds. */
+static void scene_create_under_failure(failure_mode mode) {
     test_alloc t;
     tclod_allocator hooks;
     tclod_scene *const sentinel = (tclod_scene *)(void *)&t;
     size_t k;
-    (void)state;
     test_alloc_init(&t);
     hooks = test_alloc_hooks(&t);
     for (k = 1; k <= MAX_ALLOCATIONS_PER_CALL; ++k) {
         tclod_scene *s = sentinel;
         tclod_status st;
-        test_alloc_fail_from(&t, k);
+        arm(&t, mode, k);
         st = tclod_scene_create(&hooks, &s);
         if (st == TCLOD_OK) {
             tclod_scene_destroy(s);
@@ -229,10 +238,10 @@ static void scene_create_reports_nomem_when_every_allocation_from_the_kth_fails(
     assert_nothing_left(&t);
 }
 
-static void adding_nodes_and_smooth_objects_under_persistent_failure_adds_nothing(void **state) {
+static void add_under_failure(failure_mode mode) {
     /* 700 nodes (roots, and children of random earlier nodes, with and
      * without bounds) and 300 smooth objects, each add retried until it
-     * succeeds with every allocation from the k-th on failing. A failed add
+     * succeeds with its k-th allocation failing (mode). A failed add
      * leaves the counts, the memory and the out id as they were; an add that
      * needs no memory succeeds at once. At the end the parents are those
      * asked for, and the scene selects within its budget. */
@@ -248,7 +257,6 @@ static void adding_nodes_and_smooth_objects_under_persistent_failure_adds_nothin
     tclod_id parents[700];
     size_t failures = 0, first_try = 0;
     uint32_t i;
-    (void)state;
     test_alloc_init(&t);
     hooks = test_alloc_hooks(&t);
     table_init(&m);
@@ -262,7 +270,7 @@ static void adding_nodes_and_smooth_objects_under_persistent_failure_adds_nothin
             size_t bytes = t.outstanding_bytes;
             tclod_id id = 777777;
             tclod_status status;
-            test_alloc_fail_from(&t, k);
+            arm(&t, mode, k);
             status = table_add_node(&m, s, parents[i], (i % 3u) ? bounds : NULL, 1.0, 1.0, &id);
             if (status == TCLOD_OK) {
                 assert_int_equal(id, i);
@@ -287,7 +295,7 @@ static void adding_nodes_and_smooth_objects_under_persistent_failure_adds_nothin
             size_t bytes = t.outstanding_bytes;
             tclod_id id = 777777;
             tclod_status status;
-            test_alloc_fail_from(&t, k);
+            arm(&t, mode, k);
             status = table_add_smooth(&m, s, bounds, TABLE_POWER, 2.0, 0.5, 1.0, 1.0, 0.0, &id);
             if (status == TCLOD_OK) {
                 assert_int_equal(id, i);
@@ -321,11 +329,11 @@ static void adding_nodes_and_smooth_objects_under_persistent_failure_adds_nothin
     table_free(&m);
 }
 
-static void prepare_and_smooth_order_under_persistent_failure_change_nothing(void **state) {
+static void prepare_under_failure(failure_mode mode) {
     /* A scene of 400 nodes and 250 smooth objects, never prepared: first
      * tclod_scene_smooth_order, then (after 100 more of each)
-     * tclod_scene_prepare, each retried with every allocation from the k-th
-     * on failing. Failures write nothing and hold no memory; afterwards the
+     * tclod_scene_prepare, each retried with its k-th allocation failing
+     * (mode). Failures write nothing and hold no memory; afterwards the
      * order is a permutation and a prepared scene needs no allocation to be
      * prepared again. */
     test_alloc t;
@@ -337,7 +345,6 @@ static void prepare_and_smooth_order_under_persistent_failure_change_nothing(voi
     unsigned char seen[350];
     uint32_t count = 0, i;
     size_t k;
-    (void)state;
     test_alloc_init(&t);
     hooks = test_alloc_hooks(&t);
     table_init(&m);
@@ -349,7 +356,7 @@ static void prepare_and_smooth_order_under_persistent_failure_change_nothing(voi
         tclod_status status;
         order = sentinel;
         count = 77;
-        test_alloc_fail_from(&t, k);
+        arm(&t, mode, k);
         status = tclod_scene_smooth_order(s, &order, &count);
         if (status == TCLOD_OK)
             break;
@@ -368,7 +375,7 @@ static void prepare_and_smooth_order_under_persistent_failure_change_nothing(voi
     for (k = 1; k <= MAX_ALLOCATIONS_PER_CALL; ++k) {
         size_t bytes = t.outstanding_bytes;
         tclod_status status;
-        test_alloc_fail_from(&t, k);
+        arm(&t, mode, k);
         status = tclod_scene_prepare(s);
         if (status == TCLOD_OK)
             break;
@@ -477,6 +484,48 @@ static size_t select_through_failures(tclod_selector *sel, test_alloc *t, failur
     return k - 1;
 }
 
+/* A selector whose buffers come from a failing allocator beside a reference
+ * selector that never fails, over a scene of malloc'd memory, and copies of
+ * their outcomes. */
+typedef struct rig {
+    test_alloc t;
+    tclod_allocator hooks;
+    tclod_scene *s;
+    tclod_selector *sel, *ref;
+    table_model m;
+    outcome before, after, expect;
+} rig;
+
+static void rig_open(rig *r, tclod_solver solver, int split, uint64_t seed, uint32_t chains,
+                     uint32_t random_nodes, uint32_t smooth) {
+    tclod_selector_desc d;
+    memset(r, 0, sizeof *r);
+    test_alloc_init(&r->t);
+    r->hooks = test_alloc_hooks(&r->t);
+    table_init(&r->m);
+    assert_int_equal(tclod_scene_create(NULL, &r->s), TCLOD_OK);
+    build_scene(&r->m, r->s, seed, chains, random_nodes, smooth);
+    selector_desc(&d, solver, &r->m);
+    d.split_smooth = split;
+    assert_int_equal(tclod_selector_create(r->s, &d, &r->hooks, &r->sel), TCLOD_OK);
+    assert_int_equal(tclod_selector_create(r->s, &d, NULL, &r->ref), TCLOD_OK);
+    outcome_init(&r->before, 1000, 200);
+    outcome_init(&r->after, 1000, 200);
+    outcome_init(&r->expect, 1000, 200);
+}
+
+/* Frees the rig; the failing allocator must hold nothing. */
+static void rig_close(rig *r) {
+    outcome_free(&r->expect);
+    outcome_free(&r->after);
+    outcome_free(&r->before);
+    tclod_selector_destroy(r->ref);
+    tclod_selector_destroy(r->sel);
+    assert_nothing_left(&r->t);
+    tclod_scene_destroy(r->s);
+    table_free(&r->m);
+}
+
 static void selects_that_run_out_of_memory_change_nothing_for_every_solver(void **state) {
     /* The scene uses malloc; only the selector's buffers come from the
      * failing allocator. Four frames per solver and failure mode, with a
@@ -493,27 +542,10 @@ static void selects_that_run_out_of_memory_change_nothing_for_every_solver(void 
     (void)state;
     for (solver = 0; solver < 3; ++solver)
         for (mode = TRANSIENT; mode <= PERSISTENT; ++mode) {
-            test_alloc t;
-            tclod_allocator hooks;
-            tclod_scene *s = NULL;
-            tclod_selector *sel = NULL, *ref = NULL;
-            tclod_selector_desc d;
-            table_model m;
+            rig r;
             table_rng rng;
-            outcome before, after, expect;
             int frame;
-            test_alloc_init(&t);
-            hooks = test_alloc_hooks(&t);
-            table_init(&m);
-            assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
-            build_scene(&m, s, 85, 40, 100, 40);
-            selector_desc(&d, solvers[solver], &m);
-            d.split_smooth = solver == 1;
-            assert_int_equal(tclod_selector_create(s, &d, &hooks, &sel), TCLOD_OK);
-            assert_int_equal(tclod_selector_create(s, &d, NULL, &ref), TCLOD_OK);
-            outcome_init(&before, 1000, 200);
-            outcome_init(&after, 1000, 200);
-            outcome_init(&expect, 1000, 200);
+            rig_open(&r, solvers[solver], solver == 1, 85, 40, 100, 40);
             for (frame = 0; frame < 4; ++frame) {
                 tclod_view v;
                 tclod_frame f;
@@ -521,36 +553,29 @@ static void selects_that_run_out_of_memory_change_nothing_for_every_solver(void 
                 size_t failures;
                 if (frame == 1) {
                     table_rng_seed(&rng, 86);
-                    assert_int_equal(table_chains(&m, s, &rng, 60, 4, 40.0f), TCLOD_OK);
+                    assert_int_equal(table_chains(&r.m, r.s, &rng, 60, 4, 40.0f), TCLOD_OK);
                     assert_int_equal(
-                        table_random_hierarchy(&m, s, &rng, 200, 10, TABLE_DIMINISHING), TCLOD_OK);
-                    add_smooth_objects(&m, s, &rng, 100, 40.0f);
+                        table_random_hierarchy(&r.m, r.s, &rng, 200, 10, TABLE_DIMINISHING), TCLOD_OK);
+                    add_smooth_objects(&r.m, r.s, &rng, 100, 40.0f);
                 }
                 side_view(&v, frame);
                 f.view = frame == 0 ? NULL : &v;
-                f.budget = (0.2 + 0.1 * frame) * total_cost(&m);
+                f.budget = (0.2 + 0.1 * frame) * total_cost(&r.m);
                 f.solve_seconds = 0.0;
                 f.max_iterations = 0;
-                failures = select_through_failures(sel, &t, (failure_mode)mode, &f, m.smooth.count,
-                                                   &before, &after, &st);
+                failures = select_through_failures(r.sel, &r.t, (failure_mode)mode, &f,
+                                                   r.m.smooth.count, &r.before, &r.after, &st);
                 if ((frame < 2) != (failures > 0))
                     fail_msg("solver %d, %s, frame %d: %lu failures", solver, mode_name[mode],
                              frame, (unsigned long)failures);
-                assert_int_equal(tclod_select(ref, &f, &ref_st), TCLOD_OK);
-                take_outcome(sel, m.smooth.count, &after);
-                take_outcome(ref, m.smooth.count, &expect);
-                assert_same_outcome(&after, &expect, "after failures, against the reference");
+                assert_int_equal(tclod_select(r.ref, &f, &ref_st), TCLOD_OK);
+                take_outcome(r.sel, r.m.smooth.count, &r.after);
+                take_outcome(r.ref, r.m.smooth.count, &r.expect);
+                assert_same_outcome(&r.after, &r.expect, "after failures, against the reference");
                 assert_same_stats(&st, &ref_st);
                 assert_true(st.cost <= f.budget);
             }
-            outcome_free(&expect);
-            outcome_free(&after);
-            outcome_free(&before);
-            tclod_selector_destroy(ref);
-            tclod_selector_destroy(sel);
-            assert_nothing_left(&t);
-            tclod_scene_destroy(s);
-            table_free(&m);
+            rig_close(&r);
         }
 }
 
@@ -627,26 +652,10 @@ static void select_begin_reports_nomem_and_steps_allocate_nothing_for_every_solv
     (void)state;
     for (solver = 0; solver < 3; ++solver)
         for (mode = TRANSIENT; mode <= PERSISTENT; ++mode) {
-            test_alloc t;
-            tclod_allocator hooks;
-            tclod_scene *s = NULL;
-            tclod_selector *sel = NULL, *ref = NULL;
-            tclod_selector_desc d;
-            table_model m;
+            rig r;
             table_rng rng;
-            outcome before, after, expect;
             int frame;
-            test_alloc_init(&t);
-            hooks = test_alloc_hooks(&t);
-            table_init(&m);
-            assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
-            build_scene(&m, s, 89, 30, 80, 30);
-            selector_desc(&d, solvers[solver], &m);
-            assert_int_equal(tclod_selector_create(s, &d, &hooks, &sel), TCLOD_OK);
-            assert_int_equal(tclod_selector_create(s, &d, NULL, &ref), TCLOD_OK);
-            outcome_init(&before, 1000, 200);
-            outcome_init(&after, 1000, 200);
-            outcome_init(&expect, 1000, 200);
+            rig_open(&r, solvers[solver], 0, 89, 30, 80, 30);
             for (frame = 0; frame < 2; ++frame) {
                 tclod_frame f;
                 tclod_stats st, ref_st;
@@ -654,51 +663,44 @@ static void select_begin_reports_nomem_and_steps_allocate_nothing_for_every_solv
                 int done = 0, steps = 0;
                 if (frame == 1) {
                     table_rng_seed(&rng, 90);
-                    assert_int_equal(table_chains(&m, s, &rng, 200, 4, 40.0f), TCLOD_OK);
-                    add_smooth_objects(&m, s, &rng, 100, 40.0f);
+                    assert_int_equal(table_chains(&r.m, r.s, &rng, 200, 4, 40.0f), TCLOD_OK);
+                    add_smooth_objects(&r.m, r.s, &rng, 100, 40.0f);
                 }
                 f.view = NULL;
-                f.budget = 0.3 * total_cost(&m);
+                f.budget = 0.3 * total_cost(&r.m);
                 f.solve_seconds = 0.0;
                 f.max_iterations = 0;
-                take_outcome(sel, m.smooth.count, &before);
+                take_outcome(r.sel, r.m.smooth.count, &r.before);
                 for (k = 1; k <= MAX_ALLOCATIONS_PER_CALL; ++k) {
-                    size_t bytes = t.outstanding_bytes;
+                    size_t bytes = r.t.outstanding_bytes;
                     tclod_status status;
-                    arm(&t, (failure_mode)mode, k);
-                    status = tclod_select_begin(sel, &f);
+                    arm(&r.t, (failure_mode)mode, k);
+                    status = tclod_select_begin(r.sel, &f);
                     if (status == TCLOD_OK)
                         break;
                     assert_int_equal(status, TCLOD_ERR_NOMEM);
-                    assert_int_equal(tclod_select_pending(sel), 0);
-                    take_outcome(sel, m.smooth.count, &after);
-                    assert_same_outcome(&before, &after, "a begin that ran out of memory");
-                    assert_int_equal(t.outstanding_bytes, bytes);
+                    assert_int_equal(tclod_select_pending(r.sel), 0);
+                    take_outcome(r.sel, r.m.smooth.count, &r.after);
+                    assert_same_outcome(&r.before, &r.after, "a begin that ran out of memory");
+                    assert_int_equal(r.t.outstanding_bytes, bytes);
                 }
                 if (k == 1 || k > MAX_ALLOCATIONS_PER_CALL)
                     fail_msg("solver %d, %s, frame %d: began after %lu tries", solver,
                              mode_name[mode], frame, (unsigned long)k);
-                test_alloc_fail_from(&t, 1);
+                test_alloc_fail_from(&r.t, 1);
                 while (!done) {
-                    assert_int_equal(tclod_select_step(sel, 0.0, 7, &done, &st), TCLOD_OK);
+                    assert_int_equal(tclod_select_step(r.sel, 0.0, 7, &done, &st), TCLOD_OK);
                     assert_true(++steps < 100000);
                 }
-                test_alloc_fail_from(&t, 0);
-                assert_int_equal(tclod_select(ref, &f, &ref_st), TCLOD_OK);
-                take_outcome(sel, m.smooth.count, &after);
-                take_outcome(ref, m.smooth.count, &expect);
-                assert_same_outcome(&after, &expect,
+                test_alloc_fail_from(&r.t, 0);
+                assert_int_equal(tclod_select(r.ref, &f, &ref_st), TCLOD_OK);
+                take_outcome(r.sel, r.m.smooth.count, &r.after);
+                take_outcome(r.ref, r.m.smooth.count, &r.expect);
+                assert_same_outcome(&r.after, &r.expect,
                                     "resumed after failures, against tclod_select");
                 assert_true(st.cost <= f.budget);
             }
-            outcome_free(&expect);
-            outcome_free(&after);
-            outcome_free(&before);
-            tclod_selector_destroy(ref);
-            tclod_selector_destroy(sel);
-            assert_nothing_left(&t);
-            tclod_scene_destroy(s);
-            table_free(&m);
+            rig_close(&r);
         }
 }
 
@@ -929,11 +931,18 @@ static void calib_create_reports_nomem_transient_and_persistent(void **state) {
     }
 }
 
+static mode_test scene_create = {scene_create_under_failure};
+static mode_test add = {add_under_failure};
+static mode_test prepare = {prepare_under_failure};
+
+/* A cmocka test named `name` that runs mode_test m in both modes. */
+#define MODE_TEST(name, m) {name, in_both_modes, NULL, NULL, m}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(scene_create_reports_nomem_when_every_allocation_from_the_kth_fails),
-        cmocka_unit_test(adding_nodes_and_smooth_objects_under_persistent_failure_adds_nothing),
-        cmocka_unit_test(prepare_and_smooth_order_under_persistent_failure_change_nothing),
+        MODE_TEST("scene_create_reports_nomem_and_holds_nothing", &scene_create),
+        MODE_TEST("adding_nodes_and_smooth_objects_under_failure_adds_nothing", &add),
+        MODE_TEST("prepare_and_smooth_order_under_failure_change_nothing", &prepare),
         cmocka_unit_test(selector_create_reports_nomem_for_every_solver),
         cmocka_unit_test(selects_that_run_out_of_memory_change_nothing_for_every_solver),
         cmocka_unit_test(selects_sharing_the_scene_allocator_leak_nothing_for_every_solver),

@@ -213,24 +213,39 @@ static tclod_view straight_view(void) {
     return v;
 }
 
+/* A scheduler over a new scene *s of a chain of `nodes` nodes, all of cost 1
+ * and of the given benefit, with the default scheduling description but
+ * max_turn_rate. */
+static tclod_scheduler *chain_scheduler(tclod_scene **s, tclod_id nodes,
+                                        double (*benefit)(void *, const tclod_query *), int strict,
+                                        double max_turn_rate) {
+    tclod_scheduler *sch = NULL;
+    tclod_selector_desc sd;
+    tclod_scheduler_desc d;
+    tclod_id k, id, parent = TCLOD_NONE;
+    assert_int_equal(tclod_scene_create(NULL, s), TCLOD_OK);
+    for (k = 0; k < nodes; ++k) {
+        assert_int_equal(tclod_scene_add_node(*s, parent, NULL, &id), TCLOD_OK);
+        parent = id;
+    }
+    tclod_selector_desc_default(&sd);
+    sd.callbacks.benefit = benefit;
+    sd.callbacks.cost = one;
+    sd.strict = strict;
+    tclod_scheduler_desc_default(&d);
+    d.max_turn_rate = max_turn_rate;
+    assert_int_equal(tclod_scheduler_create(*s, &sd, &d, NULL, &sch), TCLOD_OK);
+    return sch;
+}
+
 static void scheduler_updates_return_whatever_the_clock_origin(void **state) {
     /* "now (seconds, any origin, never decreasing)": a clock that reads 1e17 s
      * (where adding tau = 0.5 s changes nothing) still gives updates that
      * return (the test gives up after 10 s). */
     tclod_scene *s = NULL;
-    tclod_scheduler *sch = NULL;
-    tclod_selector_desc sd;
-    tclod_scheduler_desc d;
+    tclod_scheduler *sch = chain_scheduler(&s, 1, one, 0, 0.0);
     tclod_view v = straight_view();
-    tclod_id id;
     (void)state;
-    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
-    assert_int_equal(tclod_scene_add_node(s, TCLOD_NONE, NULL, &id), TCLOD_OK);
-    tclod_selector_desc_default(&sd);
-    sd.callbacks.benefit = one;
-    sd.callbacks.cost = one;
-    tclod_scheduler_desc_default(&d);
-    assert_int_equal(tclod_scheduler_create(s, &sd, &d, NULL, &sch), TCLOD_OK);
 #if HAVE_ALARM
     if (sigsetjmp(too_long, 1) != 0) /* the scheduler is left busy: not destroyed */
         fail_msg("tclod_scheduler_update at now = 1e17 did not return within 10 s");
@@ -259,22 +274,11 @@ static void scheduler_takes_huge_finite_benefits_for_good_values(void **state) {
      * than DBL_MAX, yet no callback returned a bad value, so the update
      * succeeds and draws the node. */
     tclod_scene *s = NULL;
-    tclod_scheduler *sch = NULL;
-    tclod_selector_desc sd;
-    tclod_scheduler_desc d;
+    tclod_scheduler *sch = chain_scheduler(&s, 1, huge, 1, 0.0);
     tclod_view v = straight_view();
     const tclod_draw *items = NULL;
     size_t n = 0;
-    tclod_id id;
     (void)state;
-    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
-    assert_int_equal(tclod_scene_add_node(s, TCLOD_NONE, NULL, &id), TCLOD_OK);
-    tclod_selector_desc_default(&sd);
-    sd.callbacks.benefit = huge;
-    sd.callbacks.cost = one;
-    sd.strict = 1;
-    tclod_scheduler_desc_default(&d);
-    assert_int_equal(tclod_scheduler_create(s, &sd, &d, NULL, &sch), TCLOD_OK);
     assert_int_equal(tclod_scheduler_update(sch, 0.0, &v, 10.0, 0.0), TCLOD_OK);
     assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
     assert_int_equal(n, 1);
@@ -295,24 +299,11 @@ static void a_failed_first_update_keeps_the_empty_draw_list(void **state) {
      * camera is NaN, so the first update fails with TCLOD_ERR_CALLBACK, and
      * "on error the last draw list stays": the empty one. */
     tclod_scene *s = NULL;
-    tclod_scheduler *sch = NULL;
-    tclod_selector_desc sd;
-    tclod_scheduler_desc d;
+    tclod_scheduler *sch = chain_scheduler(&s, 2, bad_when_wide, 1, 0.5);
     tclod_view v = straight_view();
     const tclod_draw *items = NULL;
     size_t n = 7;
-    tclod_id id;
     (void)state;
-    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
-    assert_int_equal(tclod_scene_add_node(s, TCLOD_NONE, NULL, &id), TCLOD_OK);
-    assert_int_equal(tclod_scene_add_node(s, 0, NULL, &id), TCLOD_OK);
-    tclod_selector_desc_default(&sd);
-    sd.callbacks.benefit = bad_when_wide;
-    sd.callbacks.cost = one;
-    sd.strict = 1;
-    tclod_scheduler_desc_default(&d);
-    d.max_turn_rate = 0.5;
-    assert_int_equal(tclod_scheduler_create(s, &sd, &d, NULL, &sch), TCLOD_OK);
     assert_int_equal(tclod_scheduler_update(sch, 0.0, &v, 10.0, 0.0), TCLOD_ERR_CALLBACK);
     assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
     assert_int_equal(n, 0);

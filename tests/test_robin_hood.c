@@ -116,11 +116,24 @@ static double reversed_complexity(void *user, const tclod_query *q) {
     return q->id == 0 ? 1.0 : 100.0; /* K (id 0) least complex */
 }
 
+/* A Robin Hood selector (values: the benefits) whose order is set by
+ * reversed_complexity. */
+static tclod_selector *reversed_selector(helper_fixture *f) {
+    tclod_selector_desc d;
+    tclod_selector *sel = NULL;
+    tclod_selector_desc_default(&d);
+    d.solver = TCLOD_SOLVER_ROBIN_HOOD;
+    table_mixed_callbacks(&f->model, &d.callbacks);
+    d.callbacks.complexity = reversed_complexity;
+    d.value = TCLOD_VALUE_BENEFIT;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    return sel;
+}
+
 static void instances_are_visited_simple_to_complex(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
     static const double ck[2] = {2.0, 9.0}, cs[2] = {1.0, 8.0};
     tclod_id k = add_chain(f, 1.0, ck, 2), s = add_chain(f, 1.0, cs, 2);
-    tclod_selector_desc d;
     tclod_selector *sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
     tclod_stats st;
     select_rh(sel, NULL, 10.0 * (1.0 + 1e-6), &st);
@@ -128,19 +141,14 @@ static void instances_are_visited_simple_to_complex(void **state) {
     assert_true(listed(sel, k + 1u));
     tclod_selector_destroy(sel);
 
-    tclod_selector_desc_default(&d);
-    d.solver = TCLOD_SOLVER_ROBIN_HOOD;
-    table_mixed_callbacks(&f->model, &d.callbacks);
-    d.callbacks.complexity = reversed_complexity;
-    d.value = TCLOD_VALUE_BENEFIT;
-    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    sel = reversed_selector(f);
     select_rh(sel, NULL, 10.0 * (1.0 + 1e-6), &st);
     assert_true(listed(sel, k));
     assert_true(listed(sel, s + 1u));
     tclod_selector_destroy(sel);
 }
 
-/* The second cycle (seed 003 §7.2): K (levels 2, 9) and S (one level costing
+/* The leftover cycle (seed 003 §7.2): K (levels 2, 9) and S (one level costing
  * 1), equal values, budget 10, K visited first. K's share 5 takes its level
  * 0, S's share 8 takes 1 and leaves 7: K's next step (9 - 2 = 7) fits the
  * leftover, so K ends at its level 1 and the frame uses all of its 10. */
@@ -148,15 +156,9 @@ static void the_leftover_refines_the_instances_that_can_refine(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
     static const double ck[2] = {2.0, 9.0}, cs[1] = {1.0};
     tclod_id k = add_chain(f, 1.0, ck, 2), s = add_chain(f, 1.0, cs, 1);
-    tclod_selector_desc d;
     tclod_selector *sel;
     tclod_stats st;
-    tclod_selector_desc_default(&d);
-    d.solver = TCLOD_SOLVER_ROBIN_HOOD;
-    table_mixed_callbacks(&f->model, &d.callbacks);
-    d.callbacks.complexity = reversed_complexity;
-    d.value = TCLOD_VALUE_BENEFIT;
-    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    sel = reversed_selector(f);
     select_rh(sel, NULL, 10.0 * (1.0 + 1e-6), &st);
     assert_true(listed(sel, k + 1u));
     assert_true(listed(sel, s));
