@@ -252,7 +252,8 @@ TCLOD_API tclod_id tclod_scene_parent(const tclod_scene *s, tclod_id node);
 typedef enum tclod_solver {
     TCLOD_SOLVER_GREEDY = 0,    /* Mason–Blake increments with fill, decrements, coherence */
     TCLOD_SOLVER_MIXED = 1,     /* discrete increments + gradient ascent on smooth objects */
-    TCLOD_SOLVER_ROBIN_HOOD = 2 /* proportional time distribution, non-iterative */
+    TCLOD_SOLVER_ROBIN_HOOD = 2 /* proportional time distribution: one pass of shares, then a
+                                  few bounded passes over what they leave */
 } tclod_solver;
 
 /* Whether a solver is provided by this build of the library (1) or not (0);
