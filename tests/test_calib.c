@@ -60,6 +60,12 @@ static void report_frame(tclod_calib *c, int frame, double factor) {
     assert_int_equal(tclod_calib_report(c, p, factor * p, 1.0), TCLOD_OK);
 }
 
+/* report_frame for frames from .. to - 1. */
+static void report_frames(tclod_calib *c, int from, int to, double factor) {
+    int k;
+    for (k = from; k < to; ++k) report_frame(c, k, factor);
+}
+
 static double relative_error(const tclod_calib *c, double factor) {
     return fabs(tclod_calib_scale(c) - factor) / factor;
 }
@@ -353,19 +359,16 @@ static void scale_converges_on_a_factor_of_1_3_within_1_percent_in_5_frames(void
      * scale stays at 1.290625 afterwards. */
     tclod_calib_desc d;
     tclod_calib *c;
-    int k;
     (void)state;
     tclod_calib_desc_default(&d);
     c = make_calib(&d);
-    for (k = 0; k < 4; ++k)
-        report_frame(c, k, 1.3);
+    report_frames(c, 0, 4, 1.3);
     assert_close(relative_error(c, 1.3), 0.3 / 1.3 / 16.0, 1e-9);
     assert_true(relative_error(c, 1.3) > 0.01);
     report_frame(c, 4, 1.3);
     assert_close(relative_error(c, 1.3), 0.3 / 1.3 / 32.0, 1e-9);
     assert_true(relative_error(c, 1.3) <= 0.01);
-    for (k = 5; k < 100; ++k)
-        report_frame(c, k, 1.3);
+    report_frames(c, 5, 100, 1.3);
     assert_close(tclod_calib_scale(c), 1.290625, 1e-14);
     tclod_calib_destroy(c);
 }
@@ -404,22 +407,18 @@ static void scale_tracks_a_threefold_step_up_within_1_percent_in_7_frames(void *
      * (0.52 %, inside the band of 0.0298), where the scale then stays. */
     tclod_calib_desc d;
     tclod_calib *c;
-    int k;
     (void)state;
     tclod_calib_desc_default(&d);
     c = make_calib(&d);
-    for (k = 0; k < 50; ++k)
-        report_frame(c, k, 1.0);
+    report_frames(c, 0, 50, 1.0);
     assert_exact(tclod_calib_scale(c), 1.0);
-    for (k = 0; k < 6; ++k)
-        report_frame(c, k, 3.0);
+    report_frames(c, 0, 6, 3.0);
     assert_exact(tclod_calib_scale(c), 2.96875);
     assert_true(relative_error(c, 3.0) > 0.01);
     report_frame(c, 6, 3.0);
     assert_exact(tclod_calib_scale(c), 2.984375);
     assert_true(relative_error(c, 3.0) <= 0.01);
-    for (k = 7; k < 100; ++k)
-        report_frame(c, k, 3.0);
+    report_frames(c, 7, 100, 3.0);
     assert_exact(tclod_calib_scale(c), 2.984375);
     tclod_calib_destroy(c);
 }
@@ -435,21 +434,18 @@ static void scale_tracks_a_halving_step_down_within_1_percent_in_44_frames(void 
     tclod_calib_desc d;
     tclod_calib *c;
     double held;
-    int k;
     (void)state;
     tclod_calib_desc_default(&d);
     d.initial_scale = 2.0;
     c = make_calib(&d);
-    for (k = 0; k < 43; ++k)
-        report_frame(c, k, 1.0);
+    report_frames(c, 0, 43, 1.0);
     assert_close(tclod_calib_scale(c), 1.0 + pow(0.9, 43), 1e-12);
     assert_true(relative_error(c, 1.0) > 0.01);
     report_frame(c, 43, 1.0);
     assert_close(tclod_calib_scale(c), 1.0 + pow(0.9, 44), 1e-12);
     assert_true(relative_error(c, 1.0) <= 0.01);
     held = tclod_calib_scale(c);
-    for (k = 44; k < 300; ++k)
-        report_frame(c, k, 1.0);
+    report_frames(c, 44, 300, 1.0);
     assert_exact(tclod_calib_scale(c), held);
     tclod_calib_destroy(c);
 }

@@ -88,6 +88,15 @@ static double smooth_benefit(const helper_fixture *f, const tclod_selector *sel)
 
 /* ---- the line search ------------------------------------------------------- */
 
+/* The one node of sel's cut (fails unless the cut has exactly one). */
+static tclod_id only_node(const tclod_selector *sel) {
+    const tclod_id *ids = NULL;
+    size_t n = 0;
+    assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    return ids[0];
+}
+
 /* Papers' loop. Root R (b 1, c 1) with one child C (b 1.5, c 1.5): slope_d =
  * 0.5 / 0.5 = 1. Smooth objects A = 2 sqrt(r), B = sqrt(r), costs r. At 0
  * their gradient is proportional to the weights (both square roots), so after
@@ -104,8 +113,6 @@ static void line_search_stops_where_the_slope_along_the_gradient_meets_slope_d(v
     tclod_id root = helper_add(f, TCLOD_NONE, 1.0, 1.0), child, a, b;
     tclod_selector *sel;
     tclod_stats st;
-    const tclod_id *ids;
-    size_t n;
     double slope;
     child = helper_add(f, root, 1.5, 1.5);
     a = add_sqrt(f, 2.0, 1.0);
@@ -120,15 +127,11 @@ static void line_search_stops_where_the_slope_along_the_gradient_meets_slope_d(v
     /* the slope along the line where it stopped is slope_d */
     slope = 1.353553 / sqrt(resolution(sel, a)) / 1.5;
     assert_near(slope, 1.0, 3e-3, "slope_c at t_opt");
-    assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
-    assert_int_equal(n, 1);
-    assert_int_equal(ids[0], root);
+    assert_int_equal(only_node(sel), root);
 
     /* Figure 8.1: after Q (the smooth step) comes P (the increment) */
     select_mixed(sel, 10.0, 2, &st);
-    assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
-    assert_int_equal(n, 1);
-    assert_int_equal(ids[0], child);
+    assert_int_equal(only_node(sel), child);
     assert_near(resolution(sel, a), 0.814270, 5e-3, "A after the increment");
     tclod_selector_destroy(sel);
 }
@@ -148,12 +151,8 @@ static void discrete_step_first_when_its_slope_beats_the_smooth_slope(void **sta
     for (precondition = 0; precondition <= 1; ++precondition) {
         tclod_selector *sel = mixed_selector(f, precondition, 0.0);
         tclod_stats st;
-        const tclod_id *ids;
-        size_t n;
         select_mixed(sel, 2.0, 0, &st);
-        assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
-        assert_int_equal(n, 1);
-        assert_int_equal(ids[0], child);
+        assert_int_equal(only_node(sel), child);
         assert_true(resolution(sel, s) == 0.0);
         assert_true(st.benefit == 4.0);
         tclod_selector_destroy(sel);
@@ -176,12 +175,8 @@ static void smooth_step_first_when_its_slope_beats_the_discrete_slope(void **sta
     for (precondition = 0; precondition <= 1; ++precondition) {
         tclod_selector *sel = mixed_selector(f, precondition, 0.0);
         tclod_stats st;
-        const tclod_id *ids;
-        size_t n;
         select_mixed(sel, 2.0, 0, &st);
-        assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
-        assert_int_equal(n, 1);
-        assert_int_equal(ids[0], root);
+        assert_int_equal(only_node(sel), root);
         assert_near(resolution(sel, s), 1.0, 1e-8, "smooth resolution");
         assert_near(st.benefit, 1.0 + 2.0 * log(2.0), 1e-8, "benefit");
         assert_true(st.cost <= 2.0);
@@ -203,12 +198,8 @@ static void discrete_and_smooth_steps_share_the_budget_by_slope(void **state) {
     for (precondition = 0; precondition <= 1; ++precondition) {
         tclod_selector *sel = mixed_selector(f, precondition, 0.0);
         tclod_stats st;
-        const tclod_id *ids;
-        size_t n;
         select_mixed(sel, 2.2 + 1.0 / 3.0, 0, &st);
-        assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
-        assert_int_equal(n, 1);
-        assert_int_equal(ids[0], child);
+        assert_int_equal(only_node(sel), child);
         assert_near(resolution(sel, s), 0.2 + 1.0 / 3.0, 1e-7, "smooth resolution");
         tclod_selector_destroy(sel);
     }
@@ -381,14 +372,10 @@ static void unlimited_budget_draws_everything_at_full_resolution(void **state) {
     for (precondition = 0; precondition <= 1; ++precondition) {
         tclod_selector *sel = mixed_selector(f, precondition, 1e-3);
         tclod_stats st;
-        const tclod_id *ids;
-        size_t n;
         select_mixed(sel, INFINITY, 0, &st);
         assert_true(resolution(sel, s1) == 1.0);
         assert_true(resolution(sel, s2) == 1.0);
-        assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
-        assert_int_equal(n, 1);
-        assert_int_equal(ids[0], child);
+        assert_int_equal(only_node(sel), child);
         assert_int_equal(st.stop_reason, TCLOD_STOP_FINEST);
         tclod_selector_destroy(sel);
     }
