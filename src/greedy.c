@@ -31,6 +31,22 @@
 /* A callback value that is NaN, infinite or negative. */
 static int value_bad(double v) { return !(v >= 0.0 && v < HUGE_VAL); }
 
+/* Screen area and distance of node n's bounds in this solve. The levels of
+ * one object usually share its bounds: a parent evaluated in this solve
+ * already (the parent of a chain's level always is) lends its figures. */
+static void measure(const tclod_selector *sel, tclod_id n, float *area, float *distance) {
+    const tclod_scene *s = sel->scene;
+    const float *bounds = &s->bounds[4u * n];
+    tclod_id p = s->parent[n];
+    if (p != TCLOD_NONE && sel->node[p].stamp == sel->solve_id &&
+        memcmp(bounds, &s->bounds[4u * p], 4u * sizeof(float)) == 0) {
+        *area = sel->node[p].area;
+        *distance = sel->node[p].distance;
+    } else {
+        tclod_view_measure(&sel->view, bounds, area, distance);
+    }
+}
+
 /* The callbacks of node n, not evaluated in this solve yet. */
 static int evaluate_fresh(tclod_selector *sel, tclod_id n) {
     const tclod_callbacks *cb = &sel->desc.callbacks;
@@ -46,7 +62,9 @@ static int evaluate_fresh(tclod_selector *sel, tclod_id n) {
     q.distance = -1.0f;
     q.members = NULL;
     q.bounds = bounds[3] >= 0.0f ? bounds : NULL;
-    if (sel->has_view && q.bounds) tclod_view_measure(&sel->view, bounds, &q.screen_area, &q.distance);
+    if (sel->has_view && q.bounds) measure(sel, n, &q.screen_area, &q.distance);
+    st->area = q.screen_area;
+    st->distance = q.distance;
     sel->stats.evaluations++;
     b = cb->benefit(cb->user, &q);
     if (value_bad(b)) {
@@ -161,21 +179,32 @@ static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
     return dc > 0.0 ? db / dc : HUGE_VAL;
 }
 
-/* Queues n's increment if it is a candidate (append: heap order restored by
- * the caller; otherwise pushed). The by-cost heap exists only once the fill
- * has begun (see increment_may_fit). */
-static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
+/* Queues n's increment if it is a candidate: appended (heap order restored
+ * by the caller), pushed, or put in the place of the entry of `*held` (which
+ * is then used up: *held = TCLOD_NONE). The by-cost heap exists only once the
+ * fill has begun (see increment_may_fit). */
+static int queue_increment_at(tclod_selector *sel, tclod_id n, int append, tclod_id *held) {
     int failed;
     double key = increment_key(sel, n, &failed);
     if (failed) return -1;
-    if (key == key) {
-        if (append)
-            tclod_heap_append(&sel->inc, n, key);
-        else
-            tclod_heap_push(&sel->inc, n, key);
-        if (sel->cheap_live) tclod_heap_push(&sel->cheap, n, -sel->node[n].delta_c);
+    if (key != key) return 0;
+    if (*held != TCLOD_NONE) {
+        tclod_heap_replace(&sel->inc, *held, n, key);
+        if (sel->cheap_live) tclod_heap_replace(&sel->cheap, *held, n, -sel->node[n].delta_c);
+        *held = TCLOD_NONE;
+        return 0;
     }
+    if (append)
+        tclod_heap_append(&sel->inc, n, key);
+    else
+        tclod_heap_push(&sel->inc, n, key);
+    if (sel->cheap_live) tclod_heap_push(&sel->cheap, n, -sel->node[n].delta_c);
     return 0;
+}
+
+static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
+    tclod_id none = TCLOD_NONE;
+    return queue_increment_at(sel, n, append, &none);
 }
 
 static void unqueue_increment(tclod_selector *sel, tclod_id n) {
@@ -270,20 +299,24 @@ static int queue_decrement(tclod_selector *sel, tclod_id p, int append) {
     return 0;
 }
 
+/* Replaces cut node n by its children. The first child with a candidate
+ * increment takes the place of n's queued increment: one heap update instead
+ * of a removal and an insertion. */
 static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
     uint32_t count, i;
     const tclod_id *ch = children_of(sel, n, &count);
     tclod_id parent = sel->scene->parent[n];
+    tclod_id held = tclod_heap_contains(&sel->inc, n) ? n : TCLOD_NONE;
     double path_b = sel->path[2u * n] + sel->node[n].delta_b;
     double path_c = sel->path[2u * n + 1u] + sel->node[n].delta_c;
-    unqueue_increment(sel, n);
     cut_remove(sel, n);
     for (i = 0; i < count; ++i) {
         cut_add(sel, ch[i]);
         sel->path[2u * ch[i]] = path_b;
         sel->path[2u * ch[i] + 1u] = path_c;
-        if (queue_increment(sel, ch[i], 0) != 0) return -1;
+        if (queue_increment_at(sel, ch[i], 0, &held) != 0) return -1;
     }
+    if (held != TCLOD_NONE) unqueue_increment(sel, held);
     sel->stats.increments++;
     if (track_dec) {
         if (parent != TCLOD_NONE && tclod_heap_contains(&sel->dec, parent))
@@ -562,8 +595,7 @@ static int improve(tclod_selector *sel, int warm, int alt) {
         }
         if (sel->inc.count == 0) break;
         n = sel->inc.items[0].id;
-        if (increment_fits(sel, n)) {
-            pop_increment(sel);
+        if (increment_fits(sel, n)) { /* its entry goes in apply_increment */
             sel->stats.iterations++;
             if (apply_increment(sel, n, warm) != 0) return -1;
             continue;

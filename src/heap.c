@@ -37,9 +37,7 @@ static int entry_before(const tclod_heap_entry *a, const tclod_heap_entry *b) {
     return before(a->key, a->id, b->key, b->id);
 }
 
-static uint32_t *slot_of(const tclod_heap *h, tclod_id id) {
-    return &h->pos[(size_t)id * h->pos_stride];
-}
+static uint32_t *slot_of(const tclod_heap *h, tclod_id id) { return &h->pos[id]; }
 
 /* Moves items[from] to items[to] and records its new slot. */
 static void move_entry(tclod_heap *h, uint32_t to, uint32_t from) {
@@ -82,11 +80,6 @@ static void climb(tclod_heap *h, uint32_t slot, const tclod_heap_entry *e) {
     place(h, slot, e);
 }
 
-static void sift_up(tclod_heap *h, uint32_t slot) {
-    tclod_heap_entry e = h->items[slot];
-    climb(h, slot, &e);
-}
-
 static void sift_down(tclod_heap *h, uint32_t slot) {
     tclod_heap_entry e = h->items[slot];
     uint32_t count = h->count;
@@ -126,18 +119,13 @@ void tclod_heap_push(tclod_heap *h, tclod_id id, double key) {
     climb(h, h->count++, &e);
 }
 
-tclod_id tclod_heap_pop(tclod_heap *h) {
-    tclod_heap_entry *items = h->items;
-    tclod_id top = items[0].id;
-    uint32_t count, slot = 0, first = 1u;
-    tclod_heap_entry e;
-    assert(h->count > 0);
-    count = --h->count;
-    *slot_of(h, top) = TCLOD_NONE;
-    if (count == 0) return top;
-    e = items[count];
-    /* the hole goes down to the bottom along the best children; the next
-     * level's candidates (16 entries, four lines) are fetched meanwhile */
+/* Moves the hole at slot down to the bottom along the best children, then
+ * lets e climb back from there (Floyd): e must not come before the entry
+ * above slot. The next level's candidates (16 entries, four lines) are
+ * fetched while a level is compared. */
+static void fill_hole(tclod_heap *h, uint32_t slot, const tclod_heap_entry *e) {
+    const tclod_heap_entry *items = h->items;
+    uint32_t count = h->count, first = ARITY * slot + 1u;
     while (first + ARITY <= count) {
         uint32_t best;
         if (ARITY * first + 1u < count) {
@@ -157,26 +145,49 @@ tclod_id tclod_heap_pop(tclod_heap *h) {
         move_entry(h, slot, best);
         slot = best;
     }
-    climb(h, slot, &e);
+    climb(h, slot, e);
+}
+
+/* Puts e into the hole at slot, up or down as its key says. */
+static void settle(tclod_heap *h, uint32_t slot, const tclod_heap_entry *e) {
+    if (slot > 0 && entry_before(e, &h->items[(slot - 1u) / ARITY]))
+        climb(h, slot, e);
+    else
+        fill_hole(h, slot, e);
+}
+
+tclod_id tclod_heap_pop(tclod_heap *h) {
+    tclod_id top = h->items[0].id;
+    tclod_heap_entry e;
+    assert(h->count > 0);
+    *slot_of(h, top) = TCLOD_NONE;
+    if (--h->count == 0) return top;
+    e = h->items[h->count];
+    fill_hole(h, 0, &e);
     return top;
+}
+
+void tclod_heap_replace(tclod_heap *h, tclod_id old_id, tclod_id id, double key) {
+    uint32_t slot = *slot_of(h, old_id);
+    tclod_heap_entry e;
+    assert(slot != TCLOD_NONE);
+    assert(old_id == id || *slot_of(h, id) == TCLOD_NONE);
+    assert(key == key); /* never NaN */
+    *slot_of(h, old_id) = TCLOD_NONE;
+    e.key = key;
+    e.id = id;
+    e.unused = 0;
+    settle(h, slot, &e);
 }
 
 void tclod_heap_remove(tclod_heap *h, tclod_id id) {
     uint32_t slot = *slot_of(h, id);
-    uint32_t last;
+    tclod_heap_entry e;
     assert(slot != TCLOD_NONE);
-    if (slot == 0) {
-        (void)tclod_heap_pop(h);
-        return;
-    }
-    last = --h->count;
     *slot_of(h, id) = TCLOD_NONE;
-    if (slot == last) return;
-    move_entry(h, slot, last);
-    if (entry_before(&h->items[slot], &h->items[(slot - 1u) / ARITY]))
-        sift_up(h, slot);
-    else
-        sift_down(h, slot);
+    if (slot == --h->count) return;
+    e = h->items[h->count];
+    settle(h, slot, &e);
 }
 
 void tclod_heap_clear(tclod_heap *h) {

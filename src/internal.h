@@ -155,12 +155,11 @@ typedef struct tclod_heap_entry {
 } tclod_heap_entry;
 
 /* Orders ids by key, largest first; equal keys by smaller id first. The slot of
- * id i is pos[i * pos_stride] (TCLOD_NONE when absent), so an entry can be
- * removed in O(log n); the slots live inside the selector's node records. */
+ * id i is pos[i] (TCLOD_NONE when absent), so an entry can be removed or
+ * replaced in O(log n). */
 typedef struct tclod_heap {
     tclod_heap_entry *items;
     uint32_t *pos;
-    uint32_t pos_stride;
     uint32_t count;
 } tclod_heap;
 
@@ -172,11 +171,15 @@ void tclod_heap_push(tclod_heap *h, tclod_id id, double key);
 /* Removes and returns the first id; the heap must not be empty. */
 tclod_id tclod_heap_pop(tclod_heap *h);
 void tclod_heap_remove(tclod_heap *h, tclod_id id);
+/* Puts id with key in the place of old_id's entry (id may equal old_id) and
+ * restores order: the same heap as removing old_id and pushing id, for the
+ * cost of one of the two. */
+void tclod_heap_replace(tclod_heap *h, tclod_id old_id, tclod_id id, double key);
 /* Empties the heap, resetting the slots of its entries. */
 void tclod_heap_clear(tclod_heap *h);
 
 static inline int tclod_heap_contains(const tclod_heap *h, tclod_id id) {
-    return h->pos[(size_t)id * h->pos_stride] != TCLOD_NONE;
+    return h->pos[id] != TCLOD_NONE;
 }
 
 /* Sorts ids[0..n) in heap order (largest key first, ties by smaller id),
@@ -255,8 +258,8 @@ typedef struct tclod_node_state {
     uint32_t stamp;
     uint32_t cut_pos;          /* slot in cut[], or TCLOD_NONE */
     double delta_b, delta_c;   /* increment of the node: its children replace it */
-    uint32_t inc_pos;          /* slot in inc (Robin Hood; the greedy's heaps keep
-                                  their slots in inc_slot, cheap_slot, dec_slot) */
+    float area, distance;      /* the query's screen_area and distance in this solve:
+                                  a child with the same bounds reuses them */
 } tclod_node_state;
 
 /* Where a solve stands between two tclod_select_step calls: the state of the

@@ -130,8 +130,7 @@ static tclod_heap_entry *heap_items(tclod_heap_entry *block) {
 }
 
 /* The heaps find their entries in their blocks and their slots in dense
- * arrays, except Robin Hood's inc, which keeps its slots inside the node
- * records. */
+ * arrays. */
 static void bind_heaps(tclod_selector *sel) {
     sel->inc.items = heap_items(sel->inc_block);
     sel->cheap.items = heap_items(sel->cheap_block);
@@ -139,11 +138,6 @@ static void bind_heaps(tclod_selector *sel) {
     sel->inc.pos = sel->inc_slot;
     sel->cheap.pos = sel->cheap_slot;
     sel->dec.pos = sel->dec_slot;
-    sel->inc.pos_stride = sel->cheap.pos_stride = sel->dec.pos_stride = 1;
-    if (sel->desc.solver == TCLOD_SOLVER_ROBIN_HOOD) {
-        sel->inc.pos = &sel->node[0].inc_pos;
-        sel->inc.pos_stride = (uint32_t)(sizeof(tclod_node_state) / sizeof(uint32_t));
-    }
 }
 
 tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_desc *d,
