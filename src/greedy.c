@@ -148,6 +148,45 @@ static const tclod_id *children_of(const tclod_selector *sel, tclod_id n, uint32
 
 /* ---- increments and decrements ------------------------------------------------ */
 
+/* The key of increment (db, dc): NaN when it gains nothing. */
+static double ratio_key(double db, double dc) {
+    if (!(db > 0.0)) return (double)NAN;
+    return dc > 0.0 ? db / dc : HUGE_VAL;
+}
+
+/* With lookahead: the increment of cut node n whose only child is c (visible
+ * and affordable, its one-level increment in n's delta_b/delta_c) may reach
+ * further down the chain of single children below c, to the visible,
+ * affordable level with the best ratio (the shallowest of equal ones). The
+ * depth beyond c goes into n's flags. Returns the key as increment_key. */
+static double jump_key(tclod_selector *sel, tclod_id n, tclod_id c, int *failed) {
+    const tclod_scene *s = sel->scene;
+    tclod_node_state *node = sel->node;
+    double key = ratio_key(node[n].delta_b, node[n].delta_c);
+    uint32_t k, best = 0;
+    for (k = 1; k <= sel->desc.lookahead; ++k) {
+        double db, dc, q;
+        if (s->child_first[c + 1u] - s->child_first[c] != 1u) break;
+        c = s->children[s->child_first[c]];
+        if (node[c].stamp != sel->solve_id && evaluate_fresh(sel, c) != 0) {
+            *failed = 1;
+            return (double)NAN;
+        }
+        if (!(node[c].benefit > 0.0) || unaffordable(node[c].cost)) break;
+        db = node[c].benefit - node[n].benefit;
+        dc = node[c].cost - node[n].cost;
+        q = ratio_key(db, dc);
+        if (q > key || (q == q && key != key)) {
+            key = q;
+            best = k;
+            node[n].delta_b = db;
+            node[n].delta_c = dc;
+        }
+    }
+    sel->flags[n] |= (uint8_t)(best << TCLOD_FLAG_JUMP_SHIFT);
+    return key;
+}
+
 /* Evaluates the children of a visible cut node and computes its increment.
  * Returns the heap key, or NaN when it is no candidate (no children, no gain,
  * an unaffordable child); -1 in *failed on a strict error. */
@@ -158,6 +197,7 @@ static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
     double sum_b = 0.0, sum_c = 0.0, db, dc;
     int affordable = 1;
     *failed = 0;
+    sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED; /* no jump */
     if (i == end || !counts(sel, n)) return (double)NAN;
     for (; i < end; ++i) {
         tclod_id c = s->children[i];
@@ -175,6 +215,9 @@ static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
     dc = sum_c - node[n].cost; /* -inf when n itself is unaffordable */
     node[n].delta_b = db;
     node[n].delta_c = dc;
+    if (sel->desc.lookahead > 0 && end - s->child_first[n] == 1u && affordable &&
+        isfinite(dc) && node[s->children[end - 1u]].benefit > 0.0)
+        return jump_key(sel, n, s->children[end - 1u], failed);
     if (!affordable || !isfinite(sum_c) || !(db > 0.0)) return (double)NAN;
     return dc > 0.0 ? db / dc : HUGE_VAL;
 }
@@ -303,13 +346,19 @@ static int queue_decrement(tclod_selector *sel, tclod_id p, int append) {
  * increment takes the place of n's queued increment: one heap update instead
  * of a removal and an insertion. */
 static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
-    uint32_t count, i;
+    uint32_t count, i, jump = (uint32_t)sel->flags[n] >> TCLOD_FLAG_JUMP_SHIFT;
     const tclod_id *ch = children_of(sel, n, &count);
-    tclod_id parent = sel->scene->parent[n];
+    tclod_id parent = sel->scene->parent[n], above = n;
     tclod_id held = tclod_heap_contains(&sel->inc, n) ? n : TCLOD_NONE;
     double path_b = sel->path[2u * n] + sel->node[n].delta_b;
     double path_c = sel->path[2u * n + 1u] + sel->node[n].delta_c;
     cut_remove(sel, n);
+    sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED;
+    for (i = 0; i < jump; ++i) { /* a lookahead increment: down the chain */
+        above = ch[0];
+        ch = children_of(sel, above, &count);
+        assert(count == 1u);
+    }
     for (i = 0; i < count; ++i) {
         cut_add(sel, ch[i]);
         sel->path[2u * ch[i]] = path_b;
@@ -321,7 +370,7 @@ static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
     if (track_dec) {
         if (parent != TCLOD_NONE && tclod_heap_contains(&sel->dec, parent))
             tclod_heap_remove(&sel->dec, parent);
-        if (queue_decrement(sel, n, 0) != 0) return -1;
+        if (queue_decrement(sel, above, 0) != 0) return -1;
     }
     return 0;
 }
@@ -631,7 +680,8 @@ static int start_forced(tclod_selector *sel, tclod_id n) {
     for (a = n; a != TCLOD_NONE; a = s->parent[a]) sel->scratch[depth++] = a;
     while (depth-- > 0) {
         a = sel->scratch[depth];
-        assert(sel->node[a].cut_pos != TCLOD_NONE);
+        /* levels a lookahead increment above passed over are not in the cut */
+        if (sel->node[a].cut_pos == TCLOD_NONE) continue;
         sel->stats.iterations++;
         if (apply_increment(sel, a, 0) != 0) return -1;
     }

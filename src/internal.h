@@ -247,7 +247,10 @@ enum {
  * has an infinite slope at 0). */
 #define TCLOD_SLOPE_FLOOR 1e-9
 
-enum { TCLOD_FLAG_DROPPED = 1u };
+/* Per-node flags (tclod_selector.flags): a root left out of the selection;
+ * and, in the bits from TCLOD_FLAG_JUMP_SHIFT on, how many levels beyond its
+ * child the greedy's queued increment of the node reaches (lookahead). */
+enum { TCLOD_FLAG_DROPPED = 1u, TCLOD_FLAG_JUMP_SHIFT = 1u };
 
 /* What a selector knows of one node, packed in one record because the solver
  * touches these fields together at random ids; what an evaluation writes

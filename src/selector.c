@@ -151,6 +151,7 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
         (!d->callbacks.smooth_benefit || !d->callbacks.smooth_cost))
         return TCLOD_ERR_ARG;
     if (!(d->split_threshold >= 0.0) || isinf(d->split_threshold)) return TCLOD_ERR_ARG;
+    if (d->lookahead > TCLOD_MAX_LOOKAHEAD) return TCLOD_ERR_ARG;
     if (!(d->smooth_epsilon >= 0.0 && d->smooth_epsilon < 1.0)) return TCLOD_ERR_ARG;
     if (!(d->smooth_tolerance >= 0.0 && d->smooth_tolerance < 1.0)) return TCLOD_ERR_ARG;
     if (!(d->smooth_cull_area >= 0.0) || isinf(d->smooth_cull_area)) return TCLOD_ERR_ARG;

@@ -36,6 +36,19 @@ static void select_frame(tclod_selector *sel, double budget, uint32_t max_iterat
     assert_int_equal(tclod_select(sel, &f, st), TCLOD_OK);
 }
 
+/* A greedy selector over the table model with the given lookahead. */
+static tclod_selector *lookahead_selector(const tclod_scene *s, table_model *m, int warm_start,
+                                          uint32_t lookahead) {
+    tclod_selector_desc d;
+    tclod_selector *sel = NULL;
+    tclod_selector_desc_default(&d);
+    table_callbacks(m, &d.callbacks);
+    d.warm_start = warm_start;
+    d.lookahead = lookahead;
+    assert_int_equal(tclod_selector_create(s, &d, NULL, &sel), TCLOD_OK);
+    return sel;
+}
+
 /* Asserts exact benefit and cost of a result whose values are exact binary
  * fractions (so any summation order gives the same double). */
 static void assert_totals(const tclod_stats *st, double benefit, double cost) {
@@ -366,7 +379,8 @@ static int compare_doubles(const void *a, const void *b) {
 /* Random scenes of 3..12 nodes and 1..3 roots, each solved cold at four
  * budgets between the roots' cost and 1.1 x the leaves' cost, compared with
  * the brute-force optimum over all cuts. */
-static void random_trees_against_exact_optimum(table_values values, int check_half) {
+static void random_trees_against_exact_optimum(table_values values, int check_half,
+                                               uint32_t lookahead) {
     enum { seeds = 300, budgets = 4 };
     static double ratios[seeds * budgets];
     size_t count = 0;
@@ -385,7 +399,7 @@ static void random_trees_against_exact_optimum(table_values values, int check_ha
         table_init(&m);
         assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
         assert_int_equal(table_random_hierarchy(&m, s, &rng, nodes, roots, values), TCLOD_OK);
-        sel = helper_selector(s, &m, 0);
+        sel = lookahead_selector(s, &m, 0, lookahead);
         /* A margin of 1e-12 above the roots' cost keeps a different summation
          * order from legitimately dropping a root. */
         lo = table_roots_cost(&m) * (1.0 + 1e-12);
@@ -420,19 +434,32 @@ static void random_trees_against_exact_optimum(table_values values, int check_ha
         table_free(&m);
     }
     qsort(ratios, count, sizeof ratios[0], compare_doubles);
-    print_message("%s values: greedy / optimum over %u solves: median %.4f, min %.4f\n",
-                  values == TABLE_DIMINISHING ? "diminishing" : "arbitrary", (unsigned)count,
-                  ratios[count / 2], ratios[0]);
+    print_message("%s values, lookahead %u: greedy / optimum over %u solves: median %.4f, "
+                  "min %.4f\n",
+                  values == TABLE_DIMINISHING ? "diminishing" : "arbitrary", (unsigned)lookahead,
+                  (unsigned)count, ratios[count / 2], ratios[0]);
 }
 
 static void greedy_is_within_half_of_exact_optimum_on_random_trees(void **state) {
     (void)state;
-    random_trees_against_exact_optimum(TABLE_DIMINISHING, 1);
+    random_trees_against_exact_optimum(TABLE_DIMINISHING, 1, 0);
 }
 
 static void greedy_never_beats_the_optimum_nor_the_budget_on_arbitrary_values(void **state) {
     (void)state;
-    random_trees_against_exact_optimum(TABLE_ARBITRARY, 0);
+    random_trees_against_exact_optimum(TABLE_ARBITRARY, 0, 0);
+}
+
+/* With diminishing returns no level beyond the next has a better ratio, so
+ * the lookahead changes nothing and the ½ bound still holds. */
+static void greedy_with_lookahead_is_within_half_of_exact_optimum_on_random_trees(void **state) {
+    (void)state;
+    random_trees_against_exact_optimum(TABLE_DIMINISHING, 1, 2);
+}
+
+static void greedy_with_lookahead_never_beats_the_optimum_nor_the_budget(void **state) {
+    (void)state;
+    random_trees_against_exact_optimum(TABLE_ARBITRARY, 0, 3);
 }
 
 /* A random diminishing-returns scene of `nodes` nodes and `roots` roots. */
@@ -508,14 +535,13 @@ static void warm_start_after_a_budget_drop_uses_decrements(void **state) {
     tclod_selector_destroy(sel);
 }
 
-static void warm_start_after_model_changes_stays_feasible(void **state) {
-    helper_fixture *f = (helper_fixture *)*state;
+static void warm_starts_over_changing_models(helper_fixture *f, uint32_t lookahead) {
     tclod_selector *sel;
     table_rng rng;
     int frame;
     random_scene(f, 99, 300, 8);
     table_rng_seed(&rng, 5);
-    sel = helper_selector(f->scene, &f->model, 1);
+    sel = lookahead_selector(f->scene, &f->model, 1, lookahead);
     for (frame = 0; frame < 30; ++frame) {
         double lo = table_roots_cost(&f->model) * (1.0 + 1e-12);
         double hi = table_leaves_cost(&f->model);
@@ -539,6 +565,16 @@ static void warm_start_after_model_changes_stays_feasible(void **state) {
         }
     }
     tclod_selector_destroy(sel);
+}
+
+static void warm_start_after_model_changes_stays_feasible(void **state) {
+    warm_starts_over_changing_models((helper_fixture *)*state, 0);
+}
+
+/* Decrements collapse a level reached by a lookahead increment into the level
+ * above it, which the increment passed over. */
+static void warm_start_with_lookahead_after_model_changes_stays_feasible(void **state) {
+    warm_starts_over_changing_models((helper_fixture *)*state, 3);
 }
 
 static void warm_start_evaluates_fewer_nodes_than_the_scene_has(void **state) {
@@ -805,6 +841,106 @@ static void deep_chain_is_refined_to_its_last_level(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* Three objects, ids in creation order:
+ *   P0 0 (b 1, c 1) -> P3 3 (1.5, 3) -> P4 4 (9, 5)
+ *   Q0 1 (1, 1) -> Q5 5 (3, 3);   R0 2 (1, 1) -> R6 6 (3, 3)
+ * Roots: b 3, c 3; budget 7 leaves 4. One-level increments: P0 gains 0.5 for
+ * 2 (ratio 0.25), Q0 and R0 gain 2 for 2 (ratio 1). Without lookahead Q0 and
+ * R0 go first and spend the 4: {P0, Q5, R6}, b 1 + 3 + 3 = 7, c 7; P0's
+ * increment no longer fits, and taken alone it would give only 3.5. With
+ * lookahead 1, P0's increment may reach P4: gain 9 - 1 = 8 for 5 - 1 = 4,
+ * ratio 2, first in line: {P4, Q0, R0}, b 9 + 1 + 1 = 11, c 5 + 1 + 1 = 7,
+ * after which neither 2-cost increment fits. 11 is the optimum: the other
+ * ways to spend 4 are Q0 and R0 (gain 4) or P0 to P3 and one of them (2.5). */
+static void lookahead_finds_a_refinement_whose_gain_comes_at_its_second_level(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const tclod_id one_level[] = {0, 5, 6};
+    static const tclod_id reached[] = {1, 2, 4};
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 1.0, 1.0); /* 0 P0 */
+    helper_add(f, TCLOD_NONE, 1.0, 1.0); /* 1 Q0 */
+    helper_add(f, TCLOD_NONE, 1.0, 1.0); /* 2 R0 */
+    helper_add(f, 0, 1.5, 3.0);          /* 3 P3 */
+    helper_add(f, 3, 9.0, 5.0);          /* 4 P4 */
+    helper_add(f, 1, 3.0, 3.0);          /* 5 Q5 */
+    helper_add(f, 2, 3.0, 3.0);          /* 6 R6 */
+    assert_true(exact_optimum(&f->model, 7.0, NULL) == 11.0);
+
+    sel = lookahead_selector(f->scene, &f->model, 0, 0);
+    select_frame(sel, 7.0, 0, &st);
+    helper_assert_cut(sel, one_level, 3);
+    assert_totals(&st, 7.0, 7.0);
+    assert_int_equal(st.increments, 2);
+    tclod_selector_destroy(sel);
+
+    sel = lookahead_selector(f->scene, &f->model, 0, 1);
+    table_reset_counts(&f->model);
+    select_frame(sel, 7.0, 0, &st);
+    helper_assert_cut(sel, reached, 3);
+    assert_totals(&st, 11.0, 7.0);
+    assert_int_equal(st.increments, 1);
+    assert_int_equal(st.stop_reason, TCLOD_STOP_BUDGET);
+    assert_true(table_max_calls(&f->model) <= 1);
+    assert_int_equal(st.evaluations, 7); /* every node: P3 and P4 from P0's increment */
+    tclod_selector_destroy(sel);
+}
+
+/* One chain X0 (b 1, c 1), X1 (2, 2), X2 (3, 3), X3 (40, 4). From X0, X1 and
+ * X2 both gain 1 per unit of cost and X3 gains 39 for 3 (ratio 13). The first
+ * increment (max_iterations 1) goes to X1 without lookahead; with lookahead 1
+ * it sees X1 and X2, equal, and takes the shallower, X1; lookahead 2 reaches
+ * X3: b 40, c 4. */
+static void lookahead_takes_the_best_level_within_reach_and_the_shallower_of_equals(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const tclod_id x1[] = {1};
+    static const tclod_id x3[] = {3};
+    tclod_selector *sel;
+    tclod_stats st;
+    uint32_t lookahead;
+    helper_add(f, TCLOD_NONE, 1.0, 1.0); /* 0 X0 */
+    helper_add(f, 0, 2.0, 2.0);          /* 1 X1 */
+    helper_add(f, 1, 3.0, 3.0);          /* 2 X2 */
+    helper_add(f, 2, 40.0, 4.0);         /* 3 X3 */
+    for (lookahead = 0; lookahead <= 2; ++lookahead) {
+        sel = lookahead_selector(f->scene, &f->model, 0, lookahead);
+        select_frame(sel, INFINITY, 1, &st);
+        assert_int_equal(st.increments, 1);
+        if (lookahead < 2) {
+            helper_assert_cut(sel, x1, 1);
+            assert_totals(&st, 2.0, 2.0);
+        } else {
+            helper_assert_cut(sel, x3, 1);
+            assert_totals(&st, 40.0, 4.0);
+        }
+        tclod_selector_destroy(sel);
+    }
+}
+
+/* With diminishing returns the next level always has the best ratio: the
+ * hand-worked order is the same with lookahead (S's increment could reach
+ * S2, gaining 7 - 3 = 4 for 7 - 1 = 6, ratio 2/3 < 1.5). */
+static void lookahead_keeps_the_order_under_diminishing_returns(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const tclod_id k1[] = {1, 2, 7};
+    static const tclod_id k2[] = {1, 5, 6, 7};
+    static const tclod_id k3[] = {1, 5, 6, 8};
+    static const tclod_id k4[] = {3, 4, 5, 6, 8};
+    const tclod_id *after[] = {k1, k2, k3, k4};
+    const size_t sizes[] = {3, 4, 4, 5};
+    tclod_selector *sel;
+    tclod_stats st;
+    uint32_t k;
+    build_order_tree(f);
+    sel = lookahead_selector(f->scene, &f->model, 0, 3);
+    for (k = 1; k <= 4; ++k) {
+        select_frame(sel, INFINITY, k, &st);
+        helper_assert_cut(sel, after[k - 1], sizes[k - 1]);
+        assert_int_equal(st.increments, k);
+    }
+    tclod_selector_destroy(sel);
+}
+
 #define FIXTURE_TEST(name) \
     cmocka_unit_test_setup_teardown(name, helper_fixture_setup, helper_fixture_teardown)
 
@@ -821,9 +957,15 @@ int main(void) {
         FIXTURE_TEST(exact_solver_agrees_with_hand_worked_optima),
         cmocka_unit_test(greedy_is_within_half_of_exact_optimum_on_random_trees),
         cmocka_unit_test(greedy_never_beats_the_optimum_nor_the_budget_on_arbitrary_values),
+        FIXTURE_TEST(lookahead_finds_a_refinement_whose_gain_comes_at_its_second_level),
+        FIXTURE_TEST(lookahead_takes_the_best_level_within_reach_and_the_shallower_of_equals),
+        FIXTURE_TEST(lookahead_keeps_the_order_under_diminishing_returns),
+        cmocka_unit_test(greedy_with_lookahead_is_within_half_of_exact_optimum_on_random_trees),
+        cmocka_unit_test(greedy_with_lookahead_never_beats_the_optimum_nor_the_budget),
         FIXTURE_TEST(warm_start_on_an_unchanged_frame_is_at_least_as_good),
         FIXTURE_TEST(warm_start_after_a_budget_drop_uses_decrements),
         FIXTURE_TEST(warm_start_after_model_changes_stays_feasible),
+        FIXTURE_TEST(warm_start_with_lookahead_after_model_changes_stays_feasible),
         FIXTURE_TEST(warm_start_evaluates_fewer_nodes_than_the_scene_has),
         FIXTURE_TEST(warm_start_after_the_scene_grew_includes_new_nodes),
         FIXTURE_TEST(warm_start_recovers_dropped_roots_when_the_budget_returns),

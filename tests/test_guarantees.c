@@ -448,7 +448,13 @@ static void selector_create_rejects_bad_descriptions(void **state) {
     d = good;
     d.split_threshold = -0.5;
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
+    d = good;
+    d.lookahead = TCLOD_MAX_LOOKAHEAD + 1u;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
     assert_ptr_equal(out, sentinel);
+    d.lookahead = TCLOD_MAX_LOOKAHEAD;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_OK);
+    tclod_selector_destroy(out);
 }
 
 /* Smooth callbacks for selectors that need them but solve no smooth object. */
@@ -559,6 +565,7 @@ static void desc_default_fills_the_documented_values(void **state) {
     assert_int_equal(d.split_smooth, 0);
     assert_true(d.split_threshold == 0.1);
     assert_int_equal(d.strict, 0);
+    assert_int_equal(d.lookahead, 0);
 }
 
 /* ---- determinism --------------------------------------------------------- */

@@ -46,7 +46,8 @@ static tclod_id add_sqrt(helper_fixture *f, double w, double k) {
     return add_smooth(f, TABLE_POWER, w, 0.5, k, k, 0.0);
 }
 
-static tclod_selector *mixed_selector(helper_fixture *f, int precondition, double epsilon) {
+static tclod_selector *lookahead_selector(helper_fixture *f, int precondition, double epsilon,
+                                          uint32_t lookahead) {
     tclod_selector_desc d;
     tclod_selector *sel = NULL;
     tclod_selector_desc_default(&d);
@@ -55,8 +56,13 @@ static tclod_selector *mixed_selector(helper_fixture *f, int precondition, doubl
     d.smooth_precondition = precondition;
     d.smooth_epsilon = epsilon;
     d.smooth_tolerance = 0.0;
+    d.lookahead = lookahead;
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
     return sel;
+}
+
+static tclod_selector *mixed_selector(helper_fixture *f, int precondition, double epsilon) {
+    return lookahead_selector(f, precondition, epsilon, 0);
 }
 
 static void select_mixed(tclod_selector *sel, double budget, uint32_t max_iterations,
@@ -450,6 +456,43 @@ static void without_smooth_objects_the_mixed_solver_keeps_the_greedys_safeguard(
     }
 }
 
+/* Chains P0 (b 1, c 1) -> P1 (1.5, 3) -> P2 (9, 5) and Q0 (1, 1) -> Q1 (3, 3),
+ * and a smooth object of benefit r / 2 and cost r (slope 1/2 throughout, cost
+ * 1 at most); budget 6, the roots cost 2. One level down P gains 0.5 for 2
+ * (slope 1/4), Q gains 2 for 2 (slope 1): Q goes first, then the smooth
+ * object to r = 1, and P's step no longer fits the 1 left, nor would it be
+ * worth the smooth object's place: cut {P0, Q1}, benefit 1 + 3 + 1/2. With
+ * lookahead 1, P's increment reaches P2, gaining 8 for 4 (slope 2): it goes
+ * first and spends the whole budget: cut {P2, Q0}, r = 0, benefit 10, the
+ * optimum. */
+static void lookahead_increments_compete_with_smooth_steps_by_their_slope(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id p0 = helper_add(f, TCLOD_NONE, 1.0, 1.0), q0 = helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    tclod_id p1 = helper_add(f, p0, 1.5, 3.0), p2 = helper_add(f, p1, 9.0, 5.0);
+    tclod_id q1 = helper_add(f, q0, 3.0, 3.0), s;
+    tclod_id one_level[2], reached[2];
+    int precondition;
+    s = add_smooth(f, TABLE_POWER, 0.5, 1.0, 1.0, 1.0, 0.0);
+    one_level[0] = p0;
+    one_level[1] = q1;
+    reached[0] = q0;
+    reached[1] = p2;
+    for (precondition = 0; precondition <= 1; ++precondition) {
+        tclod_selector *sel = mixed_selector(f, precondition, 0.0);
+        tclod_stats st;
+        select_mixed(sel, 6.0, 0, &st);
+        helper_assert_cut(sel, one_level, 2);
+        assert_near(st.benefit, 4.5, 1e-6, "benefit without lookahead");
+        tclod_selector_destroy(sel);
+        sel = lookahead_selector(f, precondition, 0.0, 1);
+        select_mixed(sel, 6.0, 0, &st);
+        helper_assert_cut(sel, reached, 2);
+        assert_true(resolution(sel, s) == 0.0);
+        assert_true(st.benefit == 10.0 && st.cost == 6.0);
+        tclod_selector_destroy(sel);
+    }
+}
+
 #define FIXTURE_TEST(t) cmocka_unit_test_setup_teardown(t, helper_fixture_setup, helper_fixture_teardown)
 
 int main(void) {
@@ -466,6 +509,7 @@ int main(void) {
         FIXTURE_TEST(zero_budget_draws_no_smooth_object),
         FIXTURE_TEST(iteration_limits_stop_with_a_feasible_selection),
         FIXTURE_TEST(without_smooth_objects_the_mixed_solver_keeps_the_greedys_safeguard),
+        FIXTURE_TEST(lookahead_increments_compete_with_smooth_steps_by_their_slope),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

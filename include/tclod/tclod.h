@@ -302,6 +302,18 @@ typedef struct tclod_selector_desc {
     int strict;                /* 1: a bad callback value fails the call with
                                   TCLOD_ERR_CALLBACK (previous result kept);
                                   0: it is sanitised and counted. Default 0 */
+    uint32_t lookahead;        /* greedy and mixed solvers: how many levels further
+                                  an increment of a node with a single child may
+                                  reach down its chain of single children. The
+                                  increment then replaces the node by the level of
+                                  that chain with the best Δbenefit/Δcost, so that a
+                                  refinement whose first level gains little but
+                                  whose next ones gain much is found (benefits
+                                  without diminishing returns, docs/greedy.md); it
+                                  evaluates those levels, up to lookahead more
+                                  nodes per increment. 0 = the papers' increment
+                                  (one level). At most TCLOD_MAX_LOOKAHEAD.
+                                  Default 0 */
     /* The mixed solver's smooth part (docs/mixed.md). */
     int smooth_precondition;   /* 1: every smooth variable carries a model of its own
                                   benefit slope and cost (a diagonal preconditioner,
@@ -332,6 +344,9 @@ typedef struct tclod_selector_desc {
                                   is measured when callbacks.complexity is NULL.
                                   > 0. Default 10000 */
 } tclod_selector_desc;
+
+/* The largest tclod_selector_desc.lookahead. */
+#define TCLOD_MAX_LOOKAHEAD 63u
 
 /* Fills d with the defaults above. */
 TCLOD_API void tclod_selector_desc_default(tclod_selector_desc *d);
@@ -562,6 +577,9 @@ typedef struct tclod_calib_desc {
     double machine_c;     /* eq. 7's machine constant C, > 0. Default 1 */
 } tclod_calib_desc;
 
+/* The largest tclod_selector_desc.lookahead. */
+#define TCLOD_MAX_LOOKAHEAD 63u
+
 /* Fills d with the defaults above. */
 TCLOD_API void tclod_calib_desc_default(tclod_calib_desc *d);
 
@@ -650,6 +668,9 @@ typedef struct tclod_scheduler_desc {
     tclod_calib_desc calib; /* the cost feedback of tclod_scheduler_report.
                               Default: tclod_calib_desc_default */
 } tclod_scheduler_desc;
+
+/* The largest tclod_selector_desc.lookahead. */
+#define TCLOD_MAX_LOOKAHEAD 63u
 
 /* Fills d with the defaults above. */
 TCLOD_API void tclod_scheduler_desc_default(tclod_scheduler_desc *d);

@@ -190,7 +190,8 @@ double option_value(fuzz_reader *in, double def) {
  * "NaN or out of range" with ranges written as ">= 0" and "> 0"). */
 int desc_invalid(const tclod_selector_desc *d) {
     int open = 0;
-    if (!tclod_solver_available(d->solver) || !d->callbacks.benefit || !d->callbacks.cost)
+    if (!tclod_solver_available(d->solver) || !d->callbacks.benefit || !d->callbacks.cost ||
+        d->lookahead > TCLOD_MAX_LOOKAHEAD)
         return 1;
     if (d->solver == TCLOD_SOLVER_MIXED &&
         (!d->callbacks.smooth_benefit || !d->callbacks.smooth_cost))
@@ -222,6 +223,8 @@ void read_desc(fuzz_reader *in, tclod_selector_desc *d, host_model *m) {
     if ((flags >> 5) & 1)
         d->callbacks.complexity = host_complexity;
     m->view_dependent = (flags >> 6) & 1;
+    if (flags >> 7) /* 1 .. 3 levels, or one more than allowed */
+        d->lookahead = enums >> 6 == 3 ? TCLOD_MAX_LOOKAHEAD + 1u : 1u + (enums >> 6);
     if (flags == 0xff) /* the required callbacks missing */
         d->callbacks.cost = NULL;
     d->value = (tclod_value)(enums % 6u);          /* 5: unknown */
