@@ -27,8 +27,8 @@ set datafile separator ","
 
 # One colour per method, the same in every figure.
 names = "greedy greedy_warm mixed robin_hood threshold_tuned threshold_fixed pq_stop flat " . \
-        "greedy_lookahead"
-colours = "#1f77b4 #17becf #2ca02c #d62728 #9467bd #8c564b #ff7f0e #7f7f7f #bcbd22"
+        "greedy_lookahead greedy_restarts"
+colours = "#1f77b4 #17becf #2ca02c #d62728 #9467bd #8c564b #ff7f0e #7f7f7f #bcbd22 #e377c2"
 colour(m) = word(colours, index_of(m))
 index_of(m) = sum [i = 1:words(names)] (word(names, i) eq m ? i : 0)
 
@@ -75,8 +75,9 @@ set format y "% h"
 # ---- quality against budget: families ------------------------------------------------
 families = "uncorrelated weak strong not_diminishing"
 do for [shape in "chains trees"] {
-    methods = shape eq "chains" ? "greedy greedy_lookahead mixed robin_hood pq_stop flat" : \
-                                  "greedy mixed robin_hood pq_stop"
+    methods = shape eq "chains" ? \
+        "greedy greedy_lookahead greedy_restarts mixed robin_hood pq_stop flat" : \
+        "greedy greedy_restarts mixed robin_hood pq_stop"
     do for [f = 1:words(families)] {
         do for [m = 1:words(methods)] {
             cond = sprintf("strcol(1) eq 'families' && strcol(2) eq '%s' && " . \

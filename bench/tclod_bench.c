@@ -134,6 +134,8 @@ static const tclod_solver method_solvers[3] = {TCLOD_SOLVER_GREEDY, TCLOD_SOLVER
 
 /* Row filters of --solver and --mode (NULL: every row). */
 static const char *only_solver, *only_mode;
+/* --lookahead and --restarts: tclod_selector_desc of the random and flyover rows */
+static unsigned long opt_lookahead, opt_restarts = 1;
 
 static int row_wanted(const char *solver, const char *mode) {
     return (only_solver == NULL || strcmp(only_solver, solver) == 0) &&
@@ -257,6 +259,8 @@ static int run_config(world_scene *w, bench_method method, int warm, double budg
             sd.callbacks.smooth_cost = bench_no_smooth;
         }
         sd.warm_start = warm;
+        sd.lookahead = (uint32_t)opt_lookahead;
+        sd.restarts = (uint32_t)opt_restarts;
         st = tclod_selector_create(w->scene, &sd, NULL, &call.sel);
         if (st != TCLOD_OK) {
             fprintf(stderr, "tclod_bench: creating a %s selector failed: %s\n",
@@ -571,7 +575,8 @@ static int bench_thesis(int quick, unsigned long frames, double theta) {
 static void usage(FILE *out) {
     fprintf(out,
             "usage: tclod_bench [--quick] [--scene NAME] [--theta X] [--objects N] [--frames N]\n"
-            "                   [--solver NAME] [--mode NAME] [--help]\n"
+            "                   [--solver NAME] [--mode NAME] [--lookahead N] [--restarts N]\n"
+            "                   [--help]\n"
             "\n"
             "Times tclod_select on random worlds of 10^3 ... 10^6 objects x 4 levels and on\n"
             "the flyover scene, cold (from the roots) and warm (from the previous frame), and\n"
@@ -594,7 +599,32 @@ static void usage(FILE *out) {
             "                robin_hood, threshold_tuned, threshold_fixed, pq_stop, flat\n"
             "  --mode NAME   only the rows of one mode: cold, warm (thesis: split, flat,\n"
             "                split_gradient)\n"
+            "  --lookahead N random and flyover rows: the greedy and mixed solvers'\n"
+            "                tclod_selector_desc.lookahead (default 0)\n"
+            "  --restarts N  random and flyover rows: tclod_selector_desc.restarts\n"
+            "                (default 1)\n"
             "  --help        print this text and exit\n");
+}
+
+/* Parses the value of option opt, an integer in [lo, hi], into *out; reports
+ * and returns 0 when it is missing or out of range. */
+static int parse_count(int argc, char **argv, int *i, unsigned long lo, unsigned long hi,
+                       unsigned long *out) {
+    const char *opt = argv[*i];
+    char *end;
+    if (*i + 1 >= argc) {
+        fprintf(stderr, "tclod_bench: %s needs a value\n", opt);
+        return 0;
+    }
+    errno = 0;
+    *out = strtoul(argv[++*i], &end, 10);
+    if (errno != 0 || *end != '\0' || argv[*i][0] == '-' || argv[*i][0] == '\0' || *out < lo ||
+        *out > hi) {
+        fprintf(stderr, "tclod_bench: %s expects an integer in [%lu, %lu], got '%s'\n", opt, lo,
+                hi, argv[*i]);
+        return 0;
+    }
+    return 1;
 }
 
 int main(int argc, char **argv) {
@@ -627,22 +657,16 @@ int main(int argc, char **argv) {
                 return 2;
             }
         } else if (strcmp(argv[i], "--objects") == 0) {
-            char *end;
             unsigned long v;
-            if (i + 1 >= argc) {
-                fprintf(stderr, "tclod_bench: --objects needs a value\n");
+            if (!parse_count(argc, argv, &i, 1ul, 10000000ul, &v))
                 return 2;
-            }
-            errno = 0;
-            v = strtoul(argv[++i], &end, 10);
-            if (errno != 0 || *end != '\0' || argv[i][0] == '-' || v < 1 || v > 10000000ul) {
-                fprintf(stderr,
-                        "tclod_bench: --objects expects an integer in [1, 10000000], "
-                        "got '%s'\n",
-                        argv[i]);
-                return 2;
-            }
             only_objects = (uint32_t)v;
+        } else if (strcmp(argv[i], "--lookahead") == 0) {
+            if (!parse_count(argc, argv, &i, 0ul, TCLOD_MAX_LOOKAHEAD, &opt_lookahead))
+                return 2;
+        } else if (strcmp(argv[i], "--restarts") == 0) {
+            if (!parse_count(argc, argv, &i, 0ul, TCLOD_MAX_RESTARTS, &opt_restarts))
+                return 2;
         } else if (strcmp(argv[i], "--solver") == 0 || strcmp(argv[i], "--mode") == 0) {
             static const char *const modes[] = {"cold", "warm", "split", "flat", "split_gradient"};
             int is_solver = strcmp(argv[i], "--solver") == 0, known = 0, k2;
@@ -678,21 +702,8 @@ int main(int argc, char **argv) {
                 return 2;
             }
         } else if (strcmp(argv[i], "--frames") == 0) {
-            char *end;
-            if (i + 1 >= argc) {
-                fprintf(stderr, "tclod_bench: --frames needs a value\n");
+            if (!parse_count(argc, argv, &i, 4ul, 1000000ul, &frames))
                 return 2;
-            }
-            errno = 0;
-            frames = strtoul(argv[++i], &end, 10);
-            if (errno != 0 || *end != '\0' || argv[i][0] == '-' || frames < 4 ||
-                frames > 1000000ul) {
-                fprintf(stderr,
-                        "tclod_bench: --frames expects an integer in [4, 1000000], "
-                        "got '%s'\n",
-                        argv[i]);
-                return 2;
-            }
         } else {
             fprintf(stderr, "tclod_bench: unknown option '%s' (try --help)\n", argv[i]);
             return 2;

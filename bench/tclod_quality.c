@@ -17,8 +17,9 @@
  * optimum_bound: the quality figures are lower bounds on the fraction of the optimum.
  *
  * Methods: the library's solvers (greedy cold, mixed, robin_hood, all with their default
- * options, and greedy_lookahead: the greedy with tclod_selector_desc.lookahead = 8, more
- * levels than any chain has) and the baselines of bench/baselines.h (threshold_tuned, threshold_fixed and
+ * options; greedy_lookahead: the greedy with tclod_selector_desc.lookahead = 8, more
+ * levels than any chain has; greedy_restarts: the same with restarts = TCLOD_MAX_RESTARTS)
+ * and the baselines of bench/baselines.h (threshold_tuned, threshold_fixed and
  * pq_stop need screen sizes and run only where there is a view, except pq_stop, which
  * then orders by benefit; flat needs objects that are chains: the chain families and the
  * random world). threshold_fixed keeps the bias the tuned rule found at the first view
@@ -79,6 +80,7 @@ typedef enum method {
     METHOD_MIXED,
     METHOD_ROBIN_HOOD,
     METHOD_GREEDY_LOOKAHEAD,
+    METHOD_GREEDY_RESTARTS,
     METHOD_THRESHOLD_TUNED,
     METHOD_THRESHOLD_FIXED,
     METHOD_PQ_STOP,
@@ -87,11 +89,13 @@ typedef enum method {
 } method;
 
 static const char *const method_names[METHOD_COUNT] = {
-    "greedy", "mixed", "robin_hood", "greedy_lookahead", "threshold_tuned", "threshold_fixed", "pq_stop", "flat"};
+    "greedy", "mixed", "robin_hood", "greedy_lookahead", "greedy_restarts",
+    "threshold_tuned", "threshold_fixed", "pq_stop", "flat"};
 
 /* The methods that are the library's solvers come first. */
-#define LIBRARY_METHODS 4
-/* greedy_lookahead: the greedy with this lookahead (more than any chain's levels). */
+#define LIBRARY_METHODS 5
+/* greedy_lookahead and greedy_restarts: the greedy with this lookahead (more than any
+ * chain's levels); greedy_restarts also with the most restarts. */
 #define LOOKAHEAD 8u
 
 /* The samples of one row. */
@@ -171,12 +175,13 @@ static void print_cell(const char *suite, const char *scene, const char *family,
 
 /* The library's solvers over one scene: a selector per solver, created once. */
 typedef struct solvers {
-    tclod_selector *sel[LIBRARY_METHODS]; /* greedy, mixed, robin_hood, greedy_lookahead */
+    tclod_selector *sel[LIBRARY_METHODS]; /* in method order */
 } solvers;
 
 static tclod_status solvers_create(const tclod_scene *s, tclod_callbacks cb, solvers *out) {
     static const tclod_solver kinds[LIBRARY_METHODS] = {
-        TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_MIXED, TCLOD_SOLVER_ROBIN_HOOD, TCLOD_SOLVER_GREEDY};
+        TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_MIXED, TCLOD_SOLVER_ROBIN_HOOD, TCLOD_SOLVER_GREEDY,
+        TCLOD_SOLVER_GREEDY};
     int i;
     memset(out, 0, sizeof *out);
     if (cb.smooth_benefit == NULL) {
@@ -192,8 +197,10 @@ static tclod_status solvers_create(const tclod_scene *s, tclod_callbacks cb, sol
         d.solver = kinds[i];
         d.callbacks = cb;
         d.warm_start = 0; /* every budget and view on its own */
-        if (i == METHOD_GREEDY_LOOKAHEAD)
+        if (i >= METHOD_GREEDY_LOOKAHEAD)
             d.lookahead = LOOKAHEAD;
+        if (i == METHOD_GREEDY_RESTARTS)
+            d.restarts = TCLOD_MAX_RESTARTS;
         st = tclod_selector_create(s, &d, NULL, &out->sel[i]);
         if (st != TCLOD_OK)
             return st;
@@ -213,7 +220,7 @@ static int run_method(method m, solvers *lib, baseline_selector *bl, const tclod
                       double budget, double *fixed_bias, const tclod_id **ids, size_t *n) {
     baseline_result r;
     int rc = 0;
-    if (m <= METHOD_GREEDY_LOOKAHEAD) {
+    if (m <= METHOD_GREEDY_RESTARTS) {
         tclod_selector *sel = lib->sel[m];
         tclod_frame f;
         tclod_status st;
@@ -356,7 +363,7 @@ static int run_families(unsigned instances) {
                          * selection is bounded by the optimum with holes. */
                         if (benefit > opt_free * (1.0 + ABOVE_OPTIMUM) ||
                             (holes == 0 && benefit > opt * (1.0 + ABOVE_OPTIMUM)) ||
-                            (m <= METHOD_GREEDY_LOOKAHEAD && cost > budgets[f])) {
+                            (m <= METHOD_GREEDY_RESTARTS && cost > budgets[f])) {
                             fprintf(stderr,
                                     "tclod_quality: %s on %s %s instance %u, budget %g: benefit "
                                     "%.17g, cost %.17g, optimum %.17g\n",
@@ -460,7 +467,7 @@ static int run_world(const char *name, world_scene *w, double base_budget, int f
                 c = sum_over(cost, ids, n);
                 holes = baseline_count_holes(values, benefit, ids, n);
                 gain = bound > coarsest ? (b - coarsest) / (bound - coarsest) : 1.0;
-                if (m <= METHOD_GREEDY_LOOKAHEAD && c > budget) {
+                if (m <= METHOD_GREEDY_RESTARTS && c > budget) {
                     fprintf(stderr, "tclod_quality: %s on %s exceeded the budget: %.17g > %.17g\n",
                             method_names[m], name, c, budget);
                     failures++;

@@ -154,6 +154,37 @@ static double ratio_key(double db, double dc) {
     return dc > 0.0 ? db / dc : HUGE_VAL;
 }
 
+/* Evaluates the children of a visible cut node and computes its increment.
+ * Returns the heap key, or NaN when it is no candidate (no children, no gain,
+ * an unaffordable child); -1 in *failed on a strict error. */
+static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
+    const tclod_scene *s = sel->scene;
+    tclod_node_state *node = sel->node;
+    uint32_t i = s->child_first[n], end = s->child_first[n + 1u];
+    double sum_b = 0.0, sum_c = 0.0, db, dc;
+    int affordable = 1;
+    *failed = 0;
+    if (i == end || !counts(sel, n)) return (double)NAN;
+    for (; i < end; ++i) {
+        tclod_id c = s->children[i];
+        double cost;
+        if (node[c].stamp != sel->solve_id && evaluate_fresh(sel, c) != 0) {
+            *failed = 1;
+            return (double)NAN;
+        }
+        sum_b += node[c].benefit;
+        cost = node[c].cost;
+        affordable &= !unaffordable(cost);
+        sum_c += unaffordable(cost) ? 0.0 : cost; /* sum_c >= +0: adding +0 changes no bit */
+    }
+    db = sum_b - node[n].benefit;
+    dc = sum_c - node[n].cost; /* -inf when n itself is unaffordable */
+    node[n].delta_b = db;
+    node[n].delta_c = dc;
+    if (!affordable || !isfinite(sum_c) || !(db > 0.0)) return (double)NAN;
+    return dc > 0.0 ? db / dc : HUGE_VAL;
+}
+
 /* With lookahead: the increment of cut node n whose only child is c (visible
  * and affordable, its one-level increment in n's delta_b/delta_c) may reach
  * further down the chain of single children below c, to the visible,
@@ -187,39 +218,20 @@ static double jump_key(tclod_selector *sel, tclod_id n, tclod_id c, int *failed)
     return key;
 }
 
-/* Evaluates the children of a visible cut node and computes its increment.
- * Returns the heap key, or NaN when it is no candidate (no children, no gain,
- * an unaffordable child); -1 in *failed on a strict error. */
-static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
+/* increment_key with lookahead: a cut node with a single child, visible and
+ * affordable, may jump further down its chain. */
+static double lookahead_key(tclod_selector *sel, tclod_id n, int *failed) {
     const tclod_scene *s = sel->scene;
-    tclod_node_state *node = sel->node;
-    uint32_t i = s->child_first[n], end = s->child_first[n + 1u];
-    double sum_b = 0.0, sum_c = 0.0, db, dc;
-    int affordable = 1;
-    *failed = 0;
+    uint32_t first = s->child_first[n];
+    double key = increment_key(sel, n, failed);
+    tclod_id c;
     sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED; /* no jump */
-    if (i == end || !counts(sel, n)) return (double)NAN;
-    for (; i < end; ++i) {
-        tclod_id c = s->children[i];
-        double cost;
-        if (node[c].stamp != sel->solve_id && evaluate_fresh(sel, c) != 0) {
-            *failed = 1;
-            return (double)NAN;
-        }
-        sum_b += node[c].benefit;
-        cost = node[c].cost;
-        affordable &= !unaffordable(cost);
-        sum_c += unaffordable(cost) ? 0.0 : cost; /* sum_c >= +0: adding +0 changes no bit */
-    }
-    db = sum_b - node[n].benefit;
-    dc = sum_c - node[n].cost; /* -inf when n itself is unaffordable */
-    node[n].delta_b = db;
-    node[n].delta_c = dc;
-    if (sel->desc.lookahead > 0 && end - s->child_first[n] == 1u && affordable &&
-        isfinite(dc) && node[s->children[end - 1u]].benefit > 0.0)
-        return jump_key(sel, n, s->children[end - 1u], failed);
-    if (!affordable || !isfinite(sum_c) || !(db > 0.0)) return (double)NAN;
-    return dc > 0.0 ? db / dc : HUGE_VAL;
+    if (*failed || s->child_first[n + 1u] - first != 1u || !counts(sel, n)) return key;
+    c = s->children[first];
+    if (!(sel->node[c].benefit > 0.0) || unaffordable(sel->node[c].cost) ||
+        !isfinite(sel->node[n].delta_c))
+        return key;
+    return jump_key(sel, n, c, failed);
 }
 
 /* Queues n's increment if it is a candidate: appended (heap order restored
@@ -228,7 +240,8 @@ static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
  * fill has begun (see increment_may_fit). */
 static int queue_increment_at(tclod_selector *sel, tclod_id n, int append, tclod_id *held) {
     int failed;
-    double key = increment_key(sel, n, &failed);
+    double key = sel->desc.lookahead > 0 ? lookahead_key(sel, n, &failed)
+                                         : increment_key(sel, n, &failed);
     if (failed) return -1;
     if (key != key) return 0;
     if (*held != TCLOD_NONE) {
@@ -353,7 +366,7 @@ static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
     double path_b = sel->path[2u * n] + sel->node[n].delta_b;
     double path_c = sel->path[2u * n + 1u] + sel->node[n].delta_c;
     cut_remove(sel, n);
-    sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED;
+    if (jump > 0) sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED;
     for (i = 0; i < jump; ++i) { /* a lookahead increment: down the chain */
         above = ch[0];
         ch = children_of(sel, above, &count);
@@ -612,17 +625,27 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
     return 1;
 }
 
-/* A cold solve records the best single skipped increment with the increments
- * above it (sel->resume.alt_*). */
+/* A cold solve records the skipped increments whose T(n) (the increment with
+ * the increments above it, from the roots) fits and is worth most, best first
+ * (ties: the node met first), as many as restarts may try; and, at the first
+ * misfit, the bound of the linear relaxation (docs/greedy.md). */
 static void consider_alternative(tclod_selector *sel, tclod_id n) {
     tclod_resume *R = &sel->resume;
     const double *path = &sel->path[2u * n];
     double c = R->alt_roots_c + path[1] + sel->node[n].delta_c;
     double b = R->alt_roots_b + path[0] + sel->node[n].delta_b;
-    if (c <= sel->frame->budget && b > R->alt_benefit) {
-        R->alt_node = n;
-        R->alt_benefit = b;
+    uint32_t cap = sel->desc.restarts, k;
+    if (R->lp_bound == 0.0) R->lp_bound = sel->benefit_sum + sel->node[n].delta_b;
+    if (!(c <= sel->frame->budget) || !(b > 0.0)) return;
+    k = R->alt_count < cap ? R->alt_count++ : cap;
+    if (k == cap && !(b > R->alt_benefit[cap - 1u])) return;
+    if (k == cap) k = cap - 1u; /* the last one gives way */
+    for (; k > 0 && b > R->alt_benefit[k - 1u]; --k) {
+        R->alt_node[k] = R->alt_node[k - 1u];
+        R->alt_benefit[k] = R->alt_benefit[k - 1u];
     }
+    R->alt_node[k] = n;
+    R->alt_benefit[k] = b;
 }
 
 /* Increments while any fits, best ratio first, skipping those that do not fit
@@ -738,7 +761,19 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
 }
 
 /* The stages of a greedy solve (sel->resume.phase). */
-enum { GREEDY_START = 0, GREEDY_IMPROVE, GREEDY_FORCED, GREEDY_IMPROVE_FORCED, GREEDY_END };
+enum {
+    GREEDY_START = 0,
+    GREEDY_IMPROVE,
+    GREEDY_FORCED,          /* a restart from sel->resume.alt_node[alt_tried] */
+    GREEDY_IMPROVE_FORCED,
+    GREEDY_REPLAY,          /* the best pass again, when another one ended last */
+    GREEDY_IMPROVE_REPLAY,
+    GREEDY_END
+};
+
+/* The relative shortfall from the relaxation's bound below which a solve
+ * makes no restarts beyond the first. */
+#define RESTART_GAP 1e-2
 
 /* Starts the solve: a warm start is brought within the budget, a cold one
  * starts from the roots. Always completes. */
@@ -748,21 +783,50 @@ static int greedy_start(tclod_selector *sel) {
     R->skipped = 0;
     if (R->warm) return start_warm(sel) != 0 ? -1 : restore_budget(sel);
     if (start_cold(sel) != 0) return -1;
-    R->alt_node = TCLOD_NONE;
-    R->alt_benefit = 0.0;
+    R->alt_count = R->alt_tried = 0;
     R->alt_roots_b = sel->benefit_sum;
     R->alt_roots_c = sel->cost_sum;
-    R->use_alt = sel->stats.dropped_roots == 0;
+    R->use_alt = sel->stats.dropped_roots == 0 && sel->desc.restarts > 0;
+    R->lp_bound = 0.0;
+    R->best_pass = R->cut_pass = -1;
     return 0;
 }
 
-/* Whether the cold solve's best skipped increment taken alone beats it. */
-static int alternative_wins(const tclod_selector *sel) {
-    const tclod_resume *R = &sel->resume;
-    return !R->warm && R->use_alt && R->alt_node != TCLOD_NONE &&
-           (sel->stats.stop_reason == TCLOD_STOP_BUDGET ||
-            sel->stats.stop_reason == TCLOD_STOP_FINEST) &&
-           R->alt_benefit > sel->benefit_sum * (1.0 + SWAP_MARGIN);
+/* The stage after a pass of a cold solve: the next restart worth trying, the
+ * best pass again if the working cut is not it, or the end. A restart is
+ * worth trying when its forced selection alone beats the best so far (the
+ * half-optimum safeguard), or, when more than one restart is allowed, the
+ * frame has no limit and the best may be short of the relaxation's bound. A
+ * pass stopped by a limit ends the solve with what it has. */
+static int after_pass(tclod_selector *sel) {
+    tclod_resume *R = &sel->resume;
+    const tclod_frame *f = sel->frame;
+    if (sel->stopped ||
+        (sel->stats.stop_reason != TCLOD_STOP_BUDGET && sel->stats.stop_reason != TCLOD_STOP_FINEST))
+        return GREEDY_END;
+    if (R->cut_pass == R->best_pass || sel->benefit_sum > R->best_benefit * (1.0 + SWAP_MARGIN)) {
+        R->best_pass = R->cut_pass;
+        R->best_benefit = sel->benefit_sum;
+    }
+    if (R->use_alt && !R->warm) {
+        int open = sel->desc.restarts > 1 && f->max_iterations == 0 && f->solve_seconds == 0.0 &&
+                   R->lp_bound > R->best_benefit * (1.0 + RESTART_GAP);
+        while (R->alt_tried < R->alt_count) {
+            if (open || R->alt_benefit[R->alt_tried] > R->best_benefit * (1.0 + SWAP_MARGIN))
+                return GREEDY_FORCED;
+            R->alt_tried++;
+        }
+    }
+    return R->cut_pass == R->best_pass ? GREEDY_END : GREEDY_REPLAY;
+}
+
+/* Puts the cut of pass p (-1: the plain greedy) in place again. Callback
+ * values are cached: no callback is called. */
+static int start_pass(tclod_selector *sel, int p) {
+    sel->resume.skipped = 0;
+    sel->resume.cut_pass = p;
+    sel->stats.stop_reason = TCLOD_STOP_FINEST;
+    return p < 0 ? start_cold(sel) : start_forced(sel, sel->resume.alt_node[p]);
 }
 
 tclod_status tclod_greedy_solve(tclod_selector *sel) {
@@ -776,15 +840,21 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
             break;
         case GREEDY_IMPROVE:
             rc = improve(sel, R->warm, !R->warm && R->use_alt);
-            if (!sel->paused) R->phase = alternative_wins(sel) ? GREEDY_FORCED : GREEDY_END;
+            if (!sel->paused) R->phase = R->warm ? GREEDY_END : after_pass(sel);
             break;
         case GREEDY_FORCED:
-            rc = start_forced(sel, R->alt_node);
-            R->skipped = 0;
-            sel->stats.stop_reason = TCLOD_STOP_FINEST;
+            rc = start_pass(sel, (int)R->alt_tried++);
             R->phase = GREEDY_IMPROVE_FORCED;
             break;
         case GREEDY_IMPROVE_FORCED:
+            rc = improve(sel, 0, 0);
+            if (!sel->paused) R->phase = after_pass(sel);
+            break;
+        case GREEDY_REPLAY:
+            rc = start_pass(sel, R->best_pass);
+            R->phase = GREEDY_IMPROVE_REPLAY;
+            break;
+        case GREEDY_IMPROVE_REPLAY:
             rc = improve(sel, 0, 0);
             if (!sel->paused) R->phase = GREEDY_END;
             break;

@@ -277,10 +277,18 @@ typedef struct tclod_resume {
     uint32_t k;            /* steps of a bounded stage, or the next instance */
     tclod_id matched;      /* papers' loop: the increment whose slope was matched */
     double guess;          /* preconditioned loop: the last level */
-    /* greedy, cold start: the best skipped increment taken alone */
-    tclod_id alt_node;
-    double alt_benefit, alt_roots_b, alt_roots_c;
+    /* greedy, cold start: the skipped increments T(n) of which (the increment
+     * with the increments above it) fits and gives the most benefit, best
+     * first; the restarts from them tried so far, the best pass (-1: the
+     * plain one) and the pass whose cut is the working cut */
+    tclod_id alt_node[TCLOD_MAX_RESTARTS];
+    double alt_benefit[TCLOD_MAX_RESTARTS];
+    uint32_t alt_count, alt_tried;
+    double alt_roots_b, alt_roots_c;
     int use_alt;
+    int best_pass, cut_pass;
+    double best_benefit;
+    double lp_bound;       /* benefit at the first misfit plus its gain; 0: none */
     /* Robin Hood: time not shared out yet, value of the instances left */
     double pool, value_left;
     int limited;           /* an instance could refine further */

@@ -55,6 +55,7 @@ void tclod_selector_desc_default(tclod_selector_desc *d) {
     d->value = TCLOD_VALUE_AREA_SQRT_DEPTH;
     d->misfit = TCLOD_MISFIT_DROP;
     d->reference_area = 10000.0;
+    d->restarts = 1;
 }
 
 /* Every per-node buffer of a selector, for growing and freeing them together.
@@ -151,7 +152,8 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
         (!d->callbacks.smooth_benefit || !d->callbacks.smooth_cost))
         return TCLOD_ERR_ARG;
     if (!(d->split_threshold >= 0.0) || isinf(d->split_threshold)) return TCLOD_ERR_ARG;
-    if (d->lookahead > TCLOD_MAX_LOOKAHEAD) return TCLOD_ERR_ARG;
+    if (d->lookahead > TCLOD_MAX_LOOKAHEAD || d->restarts > TCLOD_MAX_RESTARTS)
+        return TCLOD_ERR_ARG;
     if (!(d->smooth_epsilon >= 0.0 && d->smooth_epsilon < 1.0)) return TCLOD_ERR_ARG;
     if (!(d->smooth_tolerance >= 0.0 && d->smooth_tolerance < 1.0)) return TCLOD_ERR_ARG;
     if (!(d->smooth_cull_area >= 0.0) || isinf(d->smooth_cull_area)) return TCLOD_ERR_ARG;

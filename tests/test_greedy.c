@@ -36,17 +36,24 @@ static void select_frame(tclod_selector *sel, double budget, uint32_t max_iterat
     assert_int_equal(tclod_select(sel, &f, st), TCLOD_OK);
 }
 
-/* A greedy selector over the table model with the given lookahead. */
-static tclod_selector *lookahead_selector(const tclod_scene *s, table_model *m, int warm_start,
-                                          uint32_t lookahead) {
+/* A greedy selector over the table model with the given lookahead and
+ * restarts. */
+static tclod_selector *tuned_selector(const tclod_scene *s, table_model *m, int warm_start,
+                                      uint32_t lookahead, uint32_t restarts) {
     tclod_selector_desc d;
     tclod_selector *sel = NULL;
     tclod_selector_desc_default(&d);
     table_callbacks(m, &d.callbacks);
     d.warm_start = warm_start;
     d.lookahead = lookahead;
+    d.restarts = restarts;
     assert_int_equal(tclod_selector_create(s, &d, NULL, &sel), TCLOD_OK);
     return sel;
+}
+
+static tclod_selector *lookahead_selector(const tclod_scene *s, table_model *m, int warm_start,
+                                          uint32_t lookahead) {
+    return tuned_selector(s, m, warm_start, lookahead, 1);
 }
 
 /* Asserts exact benefit and cost of a result whose values are exact binary
@@ -941,6 +948,99 @@ static void lookahead_keeps_the_order_under_diminishing_returns(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* Four objects of two levels, roots (b 1, c 1) with ids 0 .. 3, refinements
+ * A (+6 for +2, ratio 3), B (+8 for +4, ratio 2), C (+9.5 for +5, ratio 1.9),
+ * D (+5.5 for +6). Roots: b 4, c 4; budget 11 leaves 7. The plain greedy takes
+ * A and B (b 18, c 10); C and D no longer fit. Their forced selections alone,
+ * T(C) = 4 + 9.5 = 13.5 at cost 9 and T(D) = 9.5 at cost 10, are below 18, so
+ * one restart (the default) tries neither: b 18. The bound at the first
+ * misfit is 18 + 9.5 = 27.5, far above 18, so with two restarts both are
+ * tried: from C the fill adds A (cost 11): b 19.5; from D nothing more fits:
+ * b 9.5. The best, C's, is made again after D's: {A1, B0, C1, D0}, b 19.5,
+ * c 11, the optimum (A and C are the only pair of refinements that fit
+ * with the larger gain). With an iteration limit that is never reached, the
+ * extra restarts are not made: b 18. */
+static void restarts_try_skipped_increments_and_keep_the_best(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const tclod_id plain[] = {2, 3, 4, 5};
+    static const tclod_id best[] = {1, 3, 4, 6};
+    tclod_selector *sel;
+    tclod_stats st;
+    uint32_t i;
+    for (i = 0; i < 4; ++i)
+        helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, 0, 7.0, 3.0);  /* 4 A1 */
+    helper_add(f, 1, 9.0, 5.0);  /* 5 B1 */
+    helper_add(f, 2, 10.5, 6.0); /* 6 C1 */
+    helper_add(f, 3, 6.5, 7.0);  /* 7 D1 */
+    assert_true(exact_optimum(&f->model, 11.0, NULL) == 19.5);
+
+    sel = tuned_selector(f->scene, &f->model, 0, 0, 1);
+    select_frame(sel, 11.0, 0, &st);
+    helper_assert_cut(sel, plain, 4);
+    assert_totals(&st, 18.0, 10.0);
+    tclod_selector_destroy(sel);
+
+    sel = tuned_selector(f->scene, &f->model, 0, 0, 2);
+    table_reset_counts(&f->model);
+    select_frame(sel, 11.0, 0, &st);
+    helper_assert_cut(sel, best, 4);
+    assert_totals(&st, 19.5, 11.0);
+    assert_true(table_max_calls(&f->model) <= 1);
+    select_frame(sel, 11.0, 1000, &st);
+    helper_assert_cut(sel, plain, 4);
+    assert_totals(&st, 18.0, 10.0);
+    tclod_selector_destroy(sel);
+}
+
+/* Restarts only replace the result by a better one: on random trees with any
+ * values, the most restarts never give less than one, nor exceed the budget
+ * or the optimum. */
+static void more_restarts_never_give_less(void **state) {
+    enum { seeds = 200, budgets = 4 };
+    uint64_t seed;
+    (void)state;
+    for (seed = 1; seed <= seeds; ++seed) {
+        tclod_scene *s = NULL;
+        tclod_selector *one, *most;
+        table_model m;
+        table_rng rng;
+        int b;
+        table_rng_seed(&rng, seed * 104729u);
+        table_init(&m);
+        assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+        assert_int_equal(table_random_hierarchy(&m, s, &rng, 3 + table_rng_below(&rng, 10),
+                                                1 + table_rng_below(&rng, 3),
+                                                seed % 2 ? TABLE_ARBITRARY : TABLE_DIMINISHING),
+                         TCLOD_OK);
+        one = tuned_selector(s, &m, 0, 0, 1);
+        most = tuned_selector(s, &m, 0, 0, TCLOD_MAX_RESTARTS);
+        for (b = 0; b < budgets; ++b) {
+            /* from the roots' cost to that of every node (always above the roots') */
+            double lo = table_roots_cost(&m) * (1.0 + 1e-12), hi = lo, budget;
+            tclod_stats a, z;
+            uint32_t i;
+            for (i = 0; i < m.count; ++i)
+                hi += m.cost[i];
+            budget = table_rng_uniform(&rng, lo, hi);
+            select_frame(one, budget, 0, &a);
+            table_reset_counts(&m);
+            select_frame(most, budget, 0, &z);
+            helper_check_result(most, &m, &z, budget, 0);
+            assert_true(table_max_calls(&m) <= 1);
+            if (z.benefit < a.benefit || z.benefit > exact_optimum(&m, budget, NULL) + 1e-9)
+                fail_msg("seed %u budget %.17g: %.17g with restarts, %.17g with one, optimum "
+                         "%.17g",
+                         (unsigned)seed, budget, z.benefit, a.benefit,
+                         exact_optimum(&m, budget, NULL));
+        }
+        tclod_selector_destroy(one);
+        tclod_selector_destroy(most);
+        tclod_scene_destroy(s);
+        table_free(&m);
+    }
+}
+
 #define FIXTURE_TEST(name) \
     cmocka_unit_test_setup_teardown(name, helper_fixture_setup, helper_fixture_teardown)
 
@@ -960,6 +1060,8 @@ int main(void) {
         FIXTURE_TEST(lookahead_finds_a_refinement_whose_gain_comes_at_its_second_level),
         FIXTURE_TEST(lookahead_takes_the_best_level_within_reach_and_the_shallower_of_equals),
         FIXTURE_TEST(lookahead_keeps_the_order_under_diminishing_returns),
+        FIXTURE_TEST(restarts_try_skipped_increments_and_keep_the_best),
+        cmocka_unit_test(more_restarts_never_give_less),
         cmocka_unit_test(greedy_with_lookahead_is_within_half_of_exact_optimum_on_random_trees),
         cmocka_unit_test(greedy_with_lookahead_never_beats_the_optimum_nor_the_budget),
         FIXTURE_TEST(warm_start_on_an_unchanged_frame_is_at_least_as_good),

@@ -452,7 +452,12 @@ static void selector_create_rejects_bad_descriptions(void **state) {
     d.lookahead = TCLOD_MAX_LOOKAHEAD + 1u;
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
     assert_ptr_equal(out, sentinel);
+    d = good;
+    d.restarts = TCLOD_MAX_RESTARTS + 1u;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
+    assert_ptr_equal(out, sentinel);
     d.lookahead = TCLOD_MAX_LOOKAHEAD;
+    d.restarts = TCLOD_MAX_RESTARTS;
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_OK);
     tclod_selector_destroy(out);
 }
@@ -566,6 +571,7 @@ static void desc_default_fills_the_documented_values(void **state) {
     assert_true(d.split_threshold == 0.1);
     assert_int_equal(d.strict, 0);
     assert_int_equal(d.lookahead, 0);
+    assert_int_equal(d.restarts, 1);
 }
 
 /* ---- determinism --------------------------------------------------------- */

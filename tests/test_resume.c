@@ -71,7 +71,14 @@ static int world_teardown(void **state) {
 }
 
 /* The solvers and modes a resumed solve must reproduce. */
-typedef enum mode { GREEDY, MIXED_MODELLED, MIXED_PAPERS, ROBIN_HOOD, MODE_COUNT } mode;
+typedef enum mode {
+    GREEDY,
+    GREEDY_TUNED, /* cold, lookahead and restarts: its restarts resume too */
+    MIXED_MODELLED,
+    MIXED_PAPERS,
+    ROBIN_HOOD,
+    MODE_COUNT
+} mode;
 
 static tclod_selector *make_selector(world *w, mode m) {
     tclod_selector_desc d;
@@ -83,6 +90,10 @@ static tclod_selector *make_selector(world *w, mode m) {
         d.smooth_precondition = m == MIXED_MODELLED;
     } else if (m == ROBIN_HOOD) {
         d.solver = TCLOD_SOLVER_ROBIN_HOOD;
+    } else if (m == GREEDY_TUNED) {
+        d.warm_start = 0;
+        d.lookahead = 3;
+        d.restarts = TCLOD_MAX_RESTARTS;
     }
     assert_int_equal(tclod_selector_create(w->scene, &d, NULL, &sel), TCLOD_OK);
     return sel;

@@ -314,6 +314,23 @@ typedef struct tclod_selector_desc {
                                   nodes per increment. 0 = the papers' increment
                                   (one level). At most TCLOD_MAX_LOOKAHEAD.
                                   Default 0 */
+    uint32_t restarts;         /* greedy solver, cold solves (and the mixed solver on
+                                  a frame without smooth objects): how many of the
+                                  increments that did not fit are each tried as a
+                                  starting point (the increment forced with the
+                                  ones above it, the rest filled in greedily),
+                                  the best selection kept. The first is the one
+                                  whose forced selection alone is worth most, tried
+                                  when it beats the plain result: what keeps the
+                                  greedy within half of the optimum
+                                  (docs/greedy.md). The others are tried only when
+                                  the frame has no iteration or time limit and the
+                                  plain result may be more than 1 % short of the
+                                  optimum (its bound at the first misfit, valid
+                                  with diminishing returns); each costs about one
+                                  more solve, without callbacks for the nodes
+                                  evaluated already. At most TCLOD_MAX_RESTARTS;
+                                  0 = none. Default 1 */
     /* The mixed solver's smooth part (docs/mixed.md). */
     int smooth_precondition;   /* 1: every smooth variable carries a model of its own
                                   benefit slope and cost (a diagonal preconditioner,
@@ -347,6 +364,8 @@ typedef struct tclod_selector_desc {
 
 /* The largest tclod_selector_desc.lookahead. */
 #define TCLOD_MAX_LOOKAHEAD 63u
+/* The largest tclod_selector_desc.restarts. */
+#define TCLOD_MAX_RESTARTS 8u
 
 /* Fills d with the defaults above. */
 TCLOD_API void tclod_selector_desc_default(tclod_selector_desc *d);
@@ -577,9 +596,6 @@ typedef struct tclod_calib_desc {
     double machine_c;     /* eq. 7's machine constant C, > 0. Default 1 */
 } tclod_calib_desc;
 
-/* The largest tclod_selector_desc.lookahead. */
-#define TCLOD_MAX_LOOKAHEAD 63u
-
 /* Fills d with the defaults above. */
 TCLOD_API void tclod_calib_desc_default(tclod_calib_desc *d);
 
@@ -668,9 +684,6 @@ typedef struct tclod_scheduler_desc {
     tclod_calib_desc calib; /* the cost feedback of tclod_scheduler_report.
                               Default: tclod_calib_desc_default */
 } tclod_scheduler_desc;
-
-/* The largest tclod_selector_desc.lookahead. */
-#define TCLOD_MAX_LOOKAHEAD 63u
 
 /* Fills d with the defaults above. */
 TCLOD_API void tclod_scheduler_desc_default(tclod_scheduler_desc *d);

@@ -191,7 +191,7 @@ double option_value(fuzz_reader *in, double def) {
 int desc_invalid(const tclod_selector_desc *d) {
     int open = 0;
     if (!tclod_solver_available(d->solver) || !d->callbacks.benefit || !d->callbacks.cost ||
-        d->lookahead > TCLOD_MAX_LOOKAHEAD)
+        d->lookahead > TCLOD_MAX_LOOKAHEAD || d->restarts > TCLOD_MAX_RESTARTS)
         return 1;
     if (d->solver == TCLOD_SOLVER_MIXED &&
         (!d->callbacks.smooth_benefit || !d->callbacks.smooth_cost))
@@ -210,6 +210,8 @@ void read_desc(fuzz_reader *in, tclod_selector_desc *d, host_model *m) {
     tclod_selector_desc_default(d);
     d->solver = solver >= 250 ? (tclod_solver)(solver - 247) /* 3 .. 8: unknown */
                               : (tclod_solver)(solver % 3u);
+    if (solver < 250) /* 0 .. TCLOD_MAX_RESTARTS, or one more */
+        d->restarts = (uint32_t)(solver / 3u) % (TCLOD_MAX_RESTARTS + 2u);
     d->warm_start = flags & 1;
     d->split_smooth = (flags >> 1) & 1;
     d->strict = (flags >> 2) & 1;
