@@ -820,8 +820,9 @@ static int after_pass(tclod_selector *sel) {
     return R->cut_pass == R->best_pass ? GREEDY_END : GREEDY_REPLAY;
 }
 
-/* Puts the cut of pass p (-1: the plain greedy) in place again. Callback
- * values are cached: no callback is called. */
+/* Starts pass p from the roots: the plain greedy (p = -1) or restart p, its
+ * increment forced with the ones above it. Values are cached for the solve,
+ * so making a pass again (GREEDY_REPLAY) calls no callback. */
 static int start_pass(tclod_selector *sel, int p) {
     sel->resume.skipped = 0;
     sel->resume.cut_pass = p;
