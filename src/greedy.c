@@ -218,9 +218,16 @@ static double jump_key(tclod_selector *sel, tclod_id n, tclod_id c, int *failed)
     return key;
 }
 
+/* A function the compiler must not inline: one kept off the common path. */
+#if defined(__GNUC__) || defined(__clang__)
+#define NOINLINE __attribute__((noinline))
+#else
+#define NOINLINE
+#endif
+
 /* increment_key with lookahead: a cut node with a single child, visible and
  * affordable, may jump further down its chain. */
-static double lookahead_key(tclod_selector *sel, tclod_id n, int *failed) {
+static NOINLINE double lookahead_key(tclod_selector *sel, tclod_id n, int *failed) {
     const tclod_scene *s = sel->scene;
     uint32_t first = s->child_first[n];
     double key = increment_key(sel, n, failed);
@@ -234,33 +241,43 @@ static double lookahead_key(tclod_selector *sel, tclod_id n, int *failed) {
     return jump_key(sel, n, c, failed);
 }
 
-/* Queues n's increment if it is a candidate: appended (heap order restored
- * by the caller), pushed, or put in the place of the entry of `*held` (which
- * is then used up: *held = TCLOD_NONE). The by-cost heap exists only once the
- * fill has begun (see increment_may_fit). */
-static int queue_increment_at(tclod_selector *sel, tclod_id n, int append, tclod_id *held) {
+/* The key of cut node n's increment (increment_key, with the lookahead when
+ * the selector has one). */
+static double key_of(tclod_selector *sel, tclod_id n, int *failed) {
+    return sel->desc.lookahead > 0 ? lookahead_key(sel, n, failed) : increment_key(sel, n, failed);
+}
+
+/* Queues n's increment if it is a candidate (append: heap order restored by
+ * the caller; otherwise pushed). The by-cost heap exists only once the fill
+ * has begun (see increment_may_fit). */
+static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
     int failed;
-    double key = sel->desc.lookahead > 0 ? lookahead_key(sel, n, &failed)
-                                         : increment_key(sel, n, &failed);
+    double key = key_of(sel, n, &failed);
     if (failed) return -1;
-    if (key != key) return 0;
-    if (*held != TCLOD_NONE) {
-        tclod_heap_replace(&sel->inc, *held, n, key);
-        if (sel->cheap_live) tclod_heap_replace(&sel->cheap, *held, n, -sel->node[n].delta_c);
-        *held = TCLOD_NONE;
-        return 0;
+    if (key == key) {
+        if (append)
+            tclod_heap_append(&sel->inc, n, key);
+        else
+            tclod_heap_push(&sel->inc, n, key);
+        if (sel->cheap_live) tclod_heap_push(&sel->cheap, n, -sel->node[n].delta_c);
     }
-    if (append)
-        tclod_heap_append(&sel->inc, n, key);
-    else
-        tclod_heap_push(&sel->inc, n, key);
-    if (sel->cheap_live) tclod_heap_push(&sel->cheap, n, -sel->node[n].delta_c);
     return 0;
 }
 
-static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
-    tclod_id none = TCLOD_NONE;
-    return queue_increment_at(sel, n, append, &none);
+/* Queues n's increment, if it is a candidate, in the place of old's queued
+ * one, which is then gone (*held = TCLOD_NONE); otherwise pushes it. */
+static int requeue_increment(tclod_selector *sel, tclod_id n, tclod_id *held) {
+    int failed;
+    double key;
+    if (*held == TCLOD_NONE) return queue_increment(sel, n, 0);
+    key = key_of(sel, n, &failed);
+    if (failed) return -1;
+    if (key == key) {
+        tclod_heap_replace(&sel->inc, *held, n, key);
+        if (sel->cheap_live) tclod_heap_replace(&sel->cheap, *held, n, -sel->node[n].delta_c);
+        *held = TCLOD_NONE;
+    }
+    return 0;
 }
 
 static void unqueue_increment(tclod_selector *sel, tclod_id n) {
@@ -376,7 +393,7 @@ static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
         cut_add(sel, ch[i]);
         sel->path[2u * ch[i]] = path_b;
         sel->path[2u * ch[i] + 1u] = path_c;
-        if (queue_increment_at(sel, ch[i], 0, &held) != 0) return -1;
+        if (requeue_increment(sel, ch[i], &held) != 0) return -1;
     }
     if (held != TCLOD_NONE) unqueue_increment(sel, held);
     sel->stats.increments++;
