@@ -642,27 +642,34 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
     return 1;
 }
 
-/* A cold solve records the skipped increments whose T(n) (the increment with
- * the increments above it, from the roots) fits and is worth most, best first
- * (ties: the node met first), as many as restarts may try; and, at the first
- * misfit, the bound of the linear relaxation (docs/greedy.md). */
+/* A cold solve records the best single skipped increment with the increments
+ * above it (sel->resume.alt_*). */
 static void consider_alternative(tclod_selector *sel, tclod_id n) {
     tclod_resume *R = &sel->resume;
     const double *path = &sel->path[2u * n];
     double c = R->alt_roots_c + path[1] + sel->node[n].delta_c;
     double b = R->alt_roots_b + path[0] + sel->node[n].delta_b;
-    uint32_t cap = sel->desc.restarts, k;
-    if (R->lp_bound == 0.0) R->lp_bound = sel->benefit_sum + sel->node[n].delta_b;
-    if (!(c <= sel->frame->budget) || !(b > 0.0)) return;
-    k = R->alt_count < cap ? R->alt_count++ : cap;
-    if (k == cap && !(b > R->alt_benefit[cap - 1u])) return;
-    if (k == cap) k = cap - 1u; /* the last one gives way */
-    for (; k > 0 && b > R->alt_benefit[k - 1u]; --k) {
-        R->alt_node[k] = R->alt_node[k - 1u];
-        R->alt_benefit[k] = R->alt_benefit[k - 1u];
+    if (c <= sel->frame->budget && b > R->alt_benefit) {
+        R->alt_node = n;
+        R->alt_benefit = b;
     }
-    R->alt_node[k] = n;
-    R->alt_benefit[k] = b;
+}
+
+/* A cold pass records its first misfit n and the bound of the linear
+ * relaxation there: the benefit so far plus n's gain (docs/greedy.md). */
+static void note_misfit(tclod_selector *sel, tclod_id n) {
+    tclod_resume *R = &sel->resume;
+    if (R->misfit != TCLOD_NONE) return;
+    R->misfit = n;
+    R->lp_bound = sel->benefit_sum + sel->node[n].delta_b;
+}
+
+/* 1 when the current pass leaves node n's increment out. */
+static int left_out(const tclod_resume *R, tclod_id n) {
+    uint32_t i;
+    for (i = 0; i < R->picks; ++i)
+        if (R->pick[i] == n && !R->take[i]) return 1;
+    return 0;
 }
 
 /* Increments while any fits, best ratio first, skipping those that do not fit
@@ -684,11 +691,16 @@ static int improve(tclod_selector *sel, int warm, int alt) {
         }
         if (sel->inc.count == 0) break;
         n = sel->inc.items[0].id;
+        if (sel->resume.left_out > 0 && left_out(&sel->resume, n)) {
+            pop_increment(sel);
+            continue;
+        }
         if (increment_fits(sel, n)) { /* its entry goes in apply_increment */
             sel->stats.iterations++;
             if (apply_increment(sel, n, warm) != 0) return -1;
             continue;
         }
+        if (!warm) note_misfit(sel, n);
         if (increment_may_fit(sel)) { /* fill: skip the misfit, try smaller ones */
             pop_increment(sel);
             sel->stats.iterations++;
@@ -710,21 +722,51 @@ static int improve(tclod_selector *sel, int warm, int alt) {
     return 0;
 }
 
-/* Restarts from the roots with node n's increment and all increments above it
- * forced; the greedy improvement follows. */
-static int start_forced(tclod_selector *sel, tclod_id n) {
+/* Takes node n's increment and those above it that are not taken yet. Returns
+ * 1 when one of them is left out by the current pass (nothing is taken
+ * then), 0 when done, -1 on a strict error. */
+static int force_path(tclod_selector *sel, tclod_id n) {
     const tclod_scene *s = sel->scene;
     uint32_t depth = 0;
+    int below = 1; /* a is not refined yet: the cut is at a or above it */
     tclod_id a;
-    if (start_cold(sel) != 0) return -1;
-    for (a = n; a != TCLOD_NONE; a = s->parent[a]) sel->scratch[depth++] = a;
+    for (a = n; a != TCLOD_NONE; a = s->parent[a]) {
+        if (below && sel->resume.left_out > 0 && left_out(&sel->resume, a)) return 1;
+        below &= sel->node[a].cut_pos == TCLOD_NONE;
+        sel->scratch[depth++] = a;
+    }
     while (depth-- > 0) {
         a = sel->scratch[depth];
-        /* levels a lookahead increment above passed over are not in the cut */
+        /* taken already, or passed over by a lookahead increment above */
         if (sel->node[a].cut_pos == TCLOD_NONE) continue;
         sel->stats.iterations++;
         if (apply_increment(sel, a, 0) != 0) return -1;
     }
+    return 0;
+}
+
+/* Starts a pass from the roots with the current decisions: the increments
+ * taken forced (with those above them), the others left out by improve.
+ * Sets resume.infeasible when the forced ones do not fit. */
+static int start_decided(tclod_selector *sel) {
+    tclod_resume *R = &sel->resume;
+    uint32_t i;
+    if (start_cold(sel) != 0) return -1;
+    R->left_out = 0;
+    for (i = 0; i < R->picks; ++i) R->left_out += !R->take[i];
+    R->infeasible = 0;
+    R->misfit = TCLOD_NONE;
+    R->lp_bound = 0.0;
+    R->skipped = 0;
+    sel->stats.stop_reason = TCLOD_STOP_FINEST;
+    for (i = 0; i < R->picks && !R->infeasible; ++i) {
+        int rc;
+        if (!R->take[i]) continue;
+        rc = force_path(sel, R->pick[i]);
+        if (rc < 0) return -1;
+        R->infeasible = rc > 0;
+    }
+    if (!feasible(sel)) R->infeasible = 1;
     return 0;
 }
 
@@ -781,15 +823,15 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
 enum {
     GREEDY_START = 0,
     GREEDY_IMPROVE,
-    GREEDY_FORCED,          /* a restart from sel->resume.alt_node[alt_tried] */
-    GREEDY_IMPROVE_FORCED,
+    GREEDY_PASS,            /* a pass after the plain one, with resume.pick/take */
+    GREEDY_IMPROVE_PASS,
     GREEDY_REPLAY,          /* the best pass again, when another one ended last */
     GREEDY_IMPROVE_REPLAY,
     GREEDY_END
 };
 
 /* The relative shortfall from the relaxation's bound below which a solve
- * makes no restarts beyond the first. */
+ * searches no further. */
 #define RESTART_GAP 1e-2
 
 /* Starts the solve: a warm start is brought within the budget, a cold one
@@ -800,51 +842,91 @@ static int greedy_start(tclod_selector *sel) {
     R->skipped = 0;
     if (R->warm) return start_warm(sel) != 0 ? -1 : restore_budget(sel);
     if (start_cold(sel) != 0) return -1;
-    R->alt_count = R->alt_tried = 0;
+    R->alt_node = TCLOD_NONE;
+    R->alt_benefit = 0.0;
     R->alt_roots_b = sel->benefit_sum;
     R->alt_roots_c = sel->cost_sum;
     R->use_alt = sel->stats.dropped_roots == 0 && sel->desc.restarts > 0;
+    R->misfit = TCLOD_NONE;
     R->lp_bound = 0.0;
-    R->best_pass = R->cut_pass = -1;
+    R->picks = R->best_picks = R->left_out = R->tries = 0;
+    R->searching = 0;
     return 0;
 }
 
-/* The stage after a pass of a cold solve: the next restart worth trying, the
- * best pass again if the working cut is not it, or the end. A restart is
- * worth trying when its forced selection alone beats the best so far (the
- * half-optimum safeguard), or, when more than one restart is allowed, the
- * frame has no limit and the best may be short of the relaxation's bound. A
- * pass stopped by a limit ends the solve with what it has. */
+/* Whether the search may go on below a pass whose bound is `bound`: passes
+ * left, no limit in the frame, and a bound more than RESTART_GAP above the
+ * best result. */
+static int worth_searching(const tclod_selector *sel, double bound) {
+    const tclod_resume *R = &sel->resume;
+    const tclod_frame *f = sel->frame;
+    return sel->desc.restarts > 1 && R->tries < sel->desc.restarts && f->max_iterations == 0 &&
+           f->solve_seconds == 0.0 &&
+           bound > R->best_benefit * (1.0 + RESTART_GAP);
+}
+
+/* The search's next decisions after a pass (depth first): below a pass whose
+ * bound leaves room, its first misfit taken; otherwise the last decision
+ * taken is left out instead, the decisions after it dropped. Returns 0 when
+ * the search is over. */
+static int next_decisions(tclod_selector *sel, int below) {
+    tclod_resume *R = &sel->resume;
+    if (below && R->picks < TCLOD_SEARCH_DEPTH) {
+        R->pick[R->picks] = R->misfit;
+        R->take[R->picks++] = 1;
+        return 1;
+    }
+    while (R->picks > 0 && !R->take[R->picks - 1u]) R->picks--;
+    if (R->picks == 0) return 0;
+    R->take[R->picks - 1u] = 0;
+    return 1;
+}
+
+/* The stage after a pass of a cold solve. The plain pass is followed by the
+ * one from the best skipped increment's T(n) when that alone beats it (the
+ * half-optimum safeguard), and, with restarts > 1, by the search: passes with
+ * increments forced or left out, branching on each pass's first misfit while
+ * the relaxation's bound there says the optimum may be more than RESTART_GAP
+ * better, as many as restarts allows. Then the best pass is made again if it
+ * is not the last one. A pass stopped by a limit ends the solve. */
 static int after_pass(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
-    const tclod_frame *f = sel->frame;
+    int plain = R->tries == 0 && !R->searching && R->picks == 0;
     if (sel->stopped ||
         (sel->stats.stop_reason != TCLOD_STOP_BUDGET && sel->stats.stop_reason != TCLOD_STOP_FINEST))
         return GREEDY_END;
-    if (R->cut_pass == R->best_pass || sel->benefit_sum > R->best_benefit * (1.0 + SWAP_MARGIN)) {
-        R->best_pass = R->cut_pass;
+    R->cut_is_best = 0;
+    if (plain || (!R->infeasible && sel->benefit_sum > R->best_benefit * (1.0 + SWAP_MARGIN))) {
         R->best_benefit = sel->benefit_sum;
+        R->best_picks = R->picks;
+        memcpy(R->best_pick, R->pick, sizeof(tclod_id) * R->picks);
+        memcpy(R->best_take, R->take, R->picks);
+        R->cut_is_best = 1;
     }
-    if (R->use_alt && !R->warm) {
-        int open = sel->desc.restarts > 1 && f->max_iterations == 0 && f->solve_seconds == 0.0 &&
-                   R->lp_bound > R->best_benefit * (1.0 + RESTART_GAP);
-        while (R->alt_tried < R->alt_count) {
-            if (open || R->alt_benefit[R->alt_tried] > R->best_benefit * (1.0 + SWAP_MARGIN))
-                return GREEDY_FORCED;
-            R->alt_tried++;
+    if (plain) {
+        R->root_misfit = R->misfit;
+        R->root_bound = R->lp_bound;
+        if (R->use_alt && R->alt_node != TCLOD_NONE &&
+            R->alt_benefit > R->best_benefit * (1.0 + SWAP_MARGIN)) {
+            R->pick[0] = R->alt_node; /* the T(n) pass */
+            R->take[0] = 1;
+            R->picks = 1;
+            return GREEDY_PASS;
         }
     }
-    return R->cut_pass == R->best_pass ? GREEDY_END : GREEDY_REPLAY;
-}
-
-/* Starts pass p from the roots: the plain greedy (p = -1) or restart p, its
- * increment forced with the ones above it. Values are cached for the solve,
- * so making a pass again (GREEDY_REPLAY) calls no callback. */
-static int start_pass(tclod_selector *sel, int p) {
-    sel->resume.skipped = 0;
-    sel->resume.cut_pass = p;
-    sel->stats.stop_reason = TCLOD_STOP_FINEST;
-    return p < 0 ? start_cold(sel) : start_forced(sel, sel->resume.alt_node[p]);
+    if (R->use_alt && !R->searching) { /* the search begins below the plain pass */
+        R->searching = 1;
+        R->picks = 0;
+        R->misfit = R->root_misfit;
+        if (R->root_misfit != TCLOD_NONE && worth_searching(sel, R->root_bound) &&
+            next_decisions(sel, 1))
+            return GREEDY_PASS;
+    } else if (R->searching && R->tries < sel->desc.restarts &&
+               next_decisions(sel, !R->infeasible && R->misfit != TCLOD_NONE &&
+                                       worth_searching(sel, R->lp_bound))) {
+        return GREEDY_PASS;
+    }
+    return R->cut_is_best ? GREEDY_END : GREEDY_REPLAY;
 }
 
 tclod_status tclod_greedy_solve(tclod_selector *sel) {
@@ -860,16 +942,20 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
             rc = improve(sel, R->warm, !R->warm && R->use_alt);
             if (!sel->paused) R->phase = R->warm ? GREEDY_END : after_pass(sel);
             break;
-        case GREEDY_FORCED:
-            rc = start_pass(sel, (int)R->alt_tried++);
-            R->phase = GREEDY_IMPROVE_FORCED;
+        case GREEDY_PASS:
+            R->tries++;
+            rc = start_decided(sel);
+            R->phase = GREEDY_IMPROVE_PASS;
             break;
-        case GREEDY_IMPROVE_FORCED:
-            rc = improve(sel, 0, 0);
+        case GREEDY_IMPROVE_PASS:
+            if (!R->infeasible) rc = improve(sel, 0, 0);
             if (!sel->paused) R->phase = after_pass(sel);
             break;
         case GREEDY_REPLAY:
-            rc = start_pass(sel, R->best_pass);
+            R->picks = R->best_picks;
+            memcpy(R->pick, R->best_pick, sizeof(tclod_id) * R->picks);
+            memcpy(R->take, R->best_take, R->picks);
+            rc = start_decided(sel);
             R->phase = GREEDY_IMPROVE_REPLAY;
             break;
         case GREEDY_IMPROVE_REPLAY:

@@ -243,6 +243,9 @@ enum {
     TCLOD_VAR_BLOCKED = 2  /* could not move within the budget; out of this solve */
 };
 
+/* The most decisions on one path of the greedy's search (restarts). */
+#define TCLOD_SEARCH_DEPTH 32u
+
 /* Smallest resolution at which derivatives are asked (a square-root benefit
  * has an infinite slope at 0). */
 #define TCLOD_SLOPE_FLOOR 1e-9
@@ -277,18 +280,27 @@ typedef struct tclod_resume {
     uint32_t k;            /* steps of a bounded stage, or the next instance */
     tclod_id matched;      /* papers' loop: the increment whose slope was matched */
     double guess;          /* preconditioned loop: the last level */
-    /* greedy, cold start: the skipped increments T(n) of which (the increment
-     * with the increments above it) fits and gives the most benefit, best
-     * first; the restarts from them tried so far, the best pass (-1: the
-     * plain one) and the pass whose cut is the working cut */
-    tclod_id alt_node[TCLOD_MAX_RESTARTS];
-    double alt_benefit[TCLOD_MAX_RESTARTS];
-    uint32_t alt_count, alt_tried;
-    double alt_roots_b, alt_roots_c;
+    /* greedy, cold start: the skipped increment whose T(n) (the increment with
+     * the increments above it) fits and gives the most benefit */
+    tclod_id alt_node;
+    double alt_benefit, alt_roots_b, alt_roots_c;
     int use_alt;
-    int best_pass, cut_pass;
+    /* greedy, cold start: the passes after the plain one (restarts). A pass
+     * forces the increments of its decisions marked taken (with those above
+     * them) and leaves out the others; the search below explores decisions
+     * depth first. The current pass's decisions and the best pass's */
+    tclod_id pick[TCLOD_SEARCH_DEPTH], best_pick[TCLOD_SEARCH_DEPTH];
+    uint8_t take[TCLOD_SEARCH_DEPTH], best_take[TCLOD_SEARCH_DEPTH];
+    uint32_t picks, best_picks, left_out; /* left_out: decisions not taken */
+    uint32_t tries;        /* passes made after the plain one */
+    int searching;         /* the passes are the search's (not the T(n) one) */
+    int cut_is_best;       /* the working cut is the best pass's */
+    int infeasible;        /* the current pass's decisions do not fit */
     double best_benefit;
-    double lp_bound;       /* benefit at the first misfit plus its gain; 0: none */
+    tclod_id misfit;       /* the current pass's first increment that did not fit */
+    double lp_bound;       /* its benefit there plus the misfit's gain (0: none) */
+    tclod_id root_misfit;  /* the plain pass's, where the search begins */
+    double root_bound;
     /* Robin Hood: time not shared out yet, value of the instances left */
     double pool, value_left;
     int limited;           /* an instance could refine further */

@@ -948,49 +948,73 @@ static void lookahead_keeps_the_order_under_diminishing_returns(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* n objects of two levels: roots (b 1, c 1) with ids 0 .. n - 1, then their
+ * finer levels, fine[i] = {benefit, cost}, in the same order. */
+static void add_two_level_objects(helper_fixture *f, const double (*fine)[2], uint32_t n) {
+    uint32_t i;
+    for (i = 0; i < n; ++i)
+        helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    for (i = 0; i < n; ++i)
+        helper_add(f, i, fine[i][0], fine[i][1]);
+}
+
+/* A cold solve with `restarts` at the budget (and iteration limit) gives the
+ * cut (sorted) with these totals, each callback called once at most. */
+static void assert_restarts_give(helper_fixture *f, uint32_t restarts, double budget,
+                                 uint32_t max_iterations, const tclod_id *cut, size_t n,
+                                 double benefit, double cost) {
+    tclod_selector *sel = tuned_selector(f->scene, &f->model, 0, 0, restarts);
+    tclod_stats st;
+    table_reset_counts(&f->model);
+    select_frame(sel, budget, max_iterations, &st);
+    helper_assert_cut(sel, cut, n);
+    assert_totals(&st, benefit, cost);
+    assert_true(table_max_calls(&f->model) <= 1);
+    tclod_selector_destroy(sel);
+}
+
 /* Four objects of two levels, roots (b 1, c 1) with ids 0 .. 3, refinements
  * A (+6 for +2, ratio 3), B (+8 for +4, ratio 2), C (+9.5 for +5, ratio 1.9),
  * D (+5.5 for +6). Roots: b 4, c 4; budget 11 leaves 7. The plain greedy takes
- * A and B (b 18, c 10); C and D no longer fit. Their forced selections alone,
- * T(C) = 4 + 9.5 = 13.5 at cost 9 and T(D) = 9.5 at cost 10, are below 18, so
- * one restart (the default) tries neither: b 18. The bound at the first
- * misfit is 18 + 9.5 = 27.5, far above 18, so with two restarts both are
- * tried: from C the fill adds A (cost 11): b 19.5; from D nothing more fits:
- * b 9.5. The best, C's, is made again after D's: {A1, B0, C1, D0}, b 19.5,
- * c 11, the optimum (A and C are the only pair of refinements that fit
- * with the larger gain). With an iteration limit that is never reached, the
- * extra restarts are not made: b 18. */
+ * A and B (b 18, c 10); C, the first misfit, and D no longer fit. Their
+ * selections alone, T(C) = 4 + 9.5 = 13.5 at cost 9 and T(D) = 9.5, are below
+ * 18, so one restart (the default) makes no pass: b 18. The relaxation's
+ * bound at C is 18 + 9.5 = 27.5, far above 18, so with two the search makes
+ * them: C forced (cost 9), then A fits (11) and B no longer: b 19.5, best so
+ * far, first misfit B (bound 19.5 + 8); C and B forced cost 13: no fit, and
+ * the passes are spent. The best, C's, is made again: {A1, B0, C1, D0},
+ * b 19.5, c 11, the optimum (A and C are the pair of refinements that fit
+ * with the larger gain). With an iteration limit that is never reached there
+ * is no search: b 18. */
 static void restarts_try_skipped_increments_and_keep_the_best(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
+    static const double fine[4][2] = {{7.0, 3.0}, {9.0, 5.0}, {10.5, 6.0}, {6.5, 7.0}};
     static const tclod_id plain[] = {2, 3, 4, 5};
     static const tclod_id best[] = {1, 3, 4, 6};
-    tclod_selector *sel;
-    tclod_stats st;
-    uint32_t i;
-    for (i = 0; i < 4; ++i)
-        helper_add(f, TCLOD_NONE, 1.0, 1.0);
-    helper_add(f, 0, 7.0, 3.0);  /* 4 A1 */
-    helper_add(f, 1, 9.0, 5.0);  /* 5 B1 */
-    helper_add(f, 2, 10.5, 6.0); /* 6 C1 */
-    helper_add(f, 3, 6.5, 7.0);  /* 7 D1 */
+    add_two_level_objects(f, fine, 4); /* A1 4, B1 5, C1 6, D1 7 */
     assert_true(exact_optimum(&f->model, 11.0, NULL) == 19.5);
+    assert_restarts_give(f, 1, 11.0, 0, plain, 4, 18.0, 10.0);
+    assert_restarts_give(f, 2, 11.0, 0, best, 4, 19.5, 11.0);
+    assert_restarts_give(f, 2, 11.0, 1000, plain, 4, 18.0, 10.0);
+}
 
-    sel = tuned_selector(f->scene, &f->model, 0, 0, 1);
-    select_frame(sel, 11.0, 0, &st);
-    helper_assert_cut(sel, plain, 4);
-    assert_totals(&st, 18.0, 10.0);
-    tclod_selector_destroy(sel);
-
-    sel = tuned_selector(f->scene, &f->model, 0, 0, 2);
-    table_reset_counts(&f->model);
-    select_frame(sel, 11.0, 0, &st);
-    helper_assert_cut(sel, best, 4);
-    assert_totals(&st, 19.5, 11.0);
-    assert_true(table_max_calls(&f->model) <= 1);
-    select_frame(sel, 11.0, 1000, &st);
-    helper_assert_cut(sel, plain, 4);
-    assert_totals(&st, 18.0, 10.0);
-    tclod_selector_destroy(sel);
+/* Objects X, Y, Z of two levels, roots (b 1, c 1) with ids 0 .. 2; refining X
+ * gains 12 for 7 (ratio 1.71), Y 68 for 60 (1.13), Z 56 for 51 (1.10). The
+ * budget, 120, leaves 117. The plain greedy takes X and Y (67) and Z no
+ * longer fits: b 3 + 80 = 83, c 1 + 8 + 61 = 70. The optimum leaves X out for
+ * Y and Z (111, c 114): b 3 + 124 = 127. The search finds it by forcing Z (X then fits, Y does not:
+ * b 71) and then Y as well (X no longer fits: b 127); its other passes
+ * (X forced too: no fit; X left out; Y left out; Z left out) find nothing
+ * better, and the best pass is made again. */
+static void the_search_finds_the_pair_a_cheaper_increment_blocks(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double fine[3][2] = {{13.0, 8.0}, {69.0, 61.0}, {57.0, 52.0}};
+    static const tclod_id plain[] = {2, 3, 4};
+    static const tclod_id best[] = {0, 4, 5};
+    add_two_level_objects(f, fine, 3); /* X1 3, Y1 4, Z1 5 */
+    assert_true(exact_optimum(&f->model, 120.0, NULL) == 127.0);
+    assert_restarts_give(f, 1, 120.0, 0, plain, 3, 83.0, 70.0);
+    assert_restarts_give(f, 8, 120.0, 0, best, 3, 127.0, 114.0);
 }
 
 /* Restarts only replace the result by a better one: on random trees with any
@@ -1061,6 +1085,7 @@ int main(void) {
         FIXTURE_TEST(lookahead_takes_the_best_level_within_reach_and_the_shallower_of_equals),
         FIXTURE_TEST(lookahead_keeps_the_order_under_diminishing_returns),
         FIXTURE_TEST(restarts_try_skipped_increments_and_keep_the_best),
+        FIXTURE_TEST(the_search_finds_the_pair_a_cheaper_increment_blocks),
         cmocka_unit_test(more_restarts_never_give_less),
         cmocka_unit_test(greedy_with_lookahead_is_within_half_of_exact_optimum_on_random_trees),
         cmocka_unit_test(greedy_with_lookahead_never_beats_the_optimum_nor_the_budget),

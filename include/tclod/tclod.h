@@ -315,19 +315,20 @@ typedef struct tclod_selector_desc {
                                   (one level). At most TCLOD_MAX_LOOKAHEAD.
                                   Default 0 */
     uint32_t restarts;         /* greedy solver, cold solves (and the mixed solver on
-                                  a frame without smooth objects): how many of the
-                                  increments that did not fit are each tried as a
-                                  starting point (the increment forced with the
-                                  ones above it, the rest filled in greedily),
-                                  the best selection kept. The first is the one
-                                  whose forced selection alone is worth most, tried
-                                  when it beats the plain result: what keeps the
-                                  greedy within half of the optimum
-                                  (docs/greedy.md). The others are tried only when
-                                  the frame has no iteration or time limit and the
-                                  plain result may be more than 1 % short of the
-                                  optimum (its bound at the first misfit, valid
-                                  with diminishing returns); each costs about one
+                                  a frame without smooth objects): the most passes
+                                  a solve makes after its plain greedy pass. The
+                                  first starts from the increment that did not fit
+                                  whose selection alone (it with the increments
+                                  above it) is worth most, when that beats the plain
+                                  result: what keeps the greedy within half of the
+                                  optimum (docs/greedy.md). With restarts > 1 the
+                                  others search depth first, each pass forcing or
+                                  leaving out the first increment that did not fit
+                                  in the pass above it, while the linear
+                                  relaxation's bound there (valid with diminishing
+                                  returns) leaves room for more than 1 %; the best
+                                  pass is kept. No search when the frame has an
+                                  iteration or time limit. A pass costs about one
                                   more solve, without callbacks for the nodes
                                   evaluated already. At most TCLOD_MAX_RESTARTS;
                                   0 = none. Default 1 */
@@ -365,7 +366,7 @@ typedef struct tclod_selector_desc {
 /* The largest tclod_selector_desc.lookahead. */
 #define TCLOD_MAX_LOOKAHEAD 63u
 /* The largest tclod_selector_desc.restarts. */
-#define TCLOD_MAX_RESTARTS 8u
+#define TCLOD_MAX_RESTARTS 256u
 
 /* Fills d with the defaults above. */
 TCLOD_API void tclod_selector_desc_default(tclod_selector_desc *d);

@@ -210,8 +210,10 @@ void read_desc(fuzz_reader *in, tclod_selector_desc *d, host_model *m) {
     tclod_selector_desc_default(d);
     d->solver = solver >= 250 ? (tclod_solver)(solver - 247) /* 3 .. 8: unknown */
                               : (tclod_solver)(solver % 3u);
-    if (solver < 250) /* 0 .. TCLOD_MAX_RESTARTS, or one more */
-        d->restarts = (uint32_t)(solver / 3u) % (TCLOD_MAX_RESTARTS + 2u);
+    if (solver < 250) { /* 0 .. 7, the most, or one more */
+        uint32_t r = (uint32_t)(solver / 3u) % 10u;
+        d->restarts = r < 8u ? r : TCLOD_MAX_RESTARTS + r - 8u;
+    }
     d->warm_start = flags & 1;
     d->split_smooth = (flags >> 1) & 1;
     d->strict = (flags >> 2) & 1;
