@@ -1126,16 +1126,20 @@ static tclod_status select_now(tclod_scheduler *sch, const tclod_view *view, int
 }
 
 /* At a boundary: the pending selection ends (early if need be) and joins the
- * landed ones; the plan of the new interval is made. */
+ * landed ones; the plan of the new interval is made. A selection that fails
+ * in strict mode is dropped, and fails the update. */
 static void land(tclod_scheduler *sch) {
     uint32_t fresh = sch->next;
     if (tclod_select_pending(sch->sel)) {
         tclod_stats st;
         double start = clock_in();
-        if (tclod_select_finish(sch->sel, &st) == TCLOD_OK) {
+        tclod_status status = tclod_select_finish(sch->sel, &st);
+        if (status == TCLOD_OK) {
             sch->ready = 1;
             sch->landed_invalid = st.invalid_values;
             if (st.stop_reason == TCLOD_STOP_FINISHED) sch->stats.unfinished++;
+        } else if (status == TCLOD_ERR_CALLBACK) {
+            sch->failed = 1;
         }
         clock_out(sch, start);
     }
