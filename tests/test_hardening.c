@@ -10,7 +10,9 @@
  *    (valgrind: a smooth object whose benefit is bad near resolution 0);
  *  - the scheduler returns from every update whatever the origin of its
  *    clock; it does not take huge finite benefits for bad values when it adds
- *    them over its predicted views; a failed update keeps the draw list.
+ *    them over its predicted views; a failed update keeps the draw list; a
+ *    selection that meets a bad value when it lands at a boundary fails a
+ *    strict update.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -311,6 +313,46 @@ static void a_failed_first_update_keeps_the_empty_draw_list(void **state) {
     tclod_scene_destroy(s);
 }
 
+/* NaN for the next `nan_benefits` calls, 1 after them. */
+static uint32_t nan_benefits;
+
+static double nan_first(void *user, const tclod_query *q) {
+    (void)user;
+    (void)q;
+    if (nan_benefits > 0u) {
+        nan_benefits--;
+        return (double)NAN;
+    }
+    return 1.0;
+}
+
+static void a_selection_landed_on_a_bad_value_fails_a_strict_update(void **state) {
+    /* Strict mode, one node, tau = 0.5 s. The update at t = 0 selects at
+     * once and runs the selection for the next interval to its end. The
+     * update at t = 1.25 crosses the boundaries at 0.5 and 1: at 1 it
+     * finishes the selection begun at 0.5, whose first benefit is NaN (the
+     * selection begun at 1 then sees only good values). "A callback returned
+     * a bad value": the update fails with TCLOD_ERR_CALLBACK and keeps the
+     * draw list; the next one succeeds. */
+    tclod_scene *s = NULL;
+    tclod_scheduler *sch = chain_scheduler(&s, 1, nan_first, 1, 0.0);
+    tclod_view v = straight_view();
+    const tclod_draw *items = NULL;
+    size_t n = 0;
+    (void)state;
+    nan_benefits = 0;
+    assert_int_equal(tclod_scheduler_update(sch, 0.0, &v, 10.0, 0.0), TCLOD_OK);
+    nan_benefits = 1;
+    assert_int_equal(tclod_scheduler_update(sch, 1.25, &v, 10.0, 0.0), TCLOD_ERR_CALLBACK);
+    assert_int_equal(nan_benefits, 0);
+    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(items[0].fine, 0);
+    assert_int_equal(tclod_scheduler_update(sch, 1.3, &v, 10.0, 0.0), TCLOD_OK);
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(strict_mode_fails_when_a_warm_swap_meets_a_bad_value),
@@ -319,6 +361,7 @@ int main(void) {
         cmocka_unit_test(scheduler_updates_return_whatever_the_clock_origin),
         cmocka_unit_test(scheduler_takes_huge_finite_benefits_for_good_values),
         cmocka_unit_test(a_failed_first_update_keeps_the_empty_draw_list),
+        cmocka_unit_test(a_selection_landed_on_a_bad_value_fails_a_strict_update),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -39,8 +39,6 @@ typedef struct wish_host {
     uint32_t depth[16];
     uint32_t target;
     double weight[4];
-    int strict;          /* the selector's strict mode */
-    uint32_t nan_costs;  /* the next cost calls that return NaN */
 } wish_host;
 
 static double wish_benefit(void *user, const tclod_query *q) {
@@ -50,11 +48,7 @@ static double wish_benefit(void *user, const tclod_query *q) {
 }
 
 static double wish_cost(void *user, const tclod_query *q) {
-    wish_host *h = (wish_host *)user;
-    if (h->nan_costs > 0u) {
-        h->nan_costs--;
-        return (double)NAN;
-    }
+    const wish_host *h = (const wish_host *)user;
     return (double)(h->depth[q->id] + 1u);
 }
 
@@ -87,7 +81,6 @@ static tclod_scheduler *wish_scheduler(tclod_scene *s, wish_host *h, int morph, 
     sd.callbacks.smooth_cost = wish_smooth_cost;
     sd.callbacks.user = h;
     sd.warm_start = 0;
-    sd.strict = h->strict;
     if (mixed) {
         sd.solver = TCLOD_SOLVER_MIXED;
         sd.smooth_cull_area = 0.0;
@@ -712,37 +705,6 @@ static void bad_arguments_are_refused_and_change_nothing(void **state) {
     tclod_scene_destroy(s);
 }
 
-static void a_selection_landed_on_a_bad_value_fails_a_strict_update(void **state) {
-    /* Strict mode, tau = 1. The update at t = 0 selects at once and runs the
-     * selection for the next interval to its end. The update at t = 2.5
-     * crosses the boundaries at 1 and 2: at 2 it finishes the selection
-     * begun at 1, whose first cost is NaN. That update fails with
-     * TCLOD_ERR_CALLBACK and leaves the draw list as it was; the next one,
-     * with good values, succeeds. */
-    wish_host h;
-    tclod_scene *s;
-    tclod_scheduler *sch;
-    tclod_view v;
-    const tclod_draw *items = NULL;
-    size_t n = 0;
-    (void)state;
-    memset(&h, 0, sizeof h);
-    h.strict = 1;
-    s = chain(&h, 2);
-    sch = wish_scheduler(s, &h, 1, 0);
-    helper_view(&v);
-    assert_int_equal(tclod_scheduler_update(sch, 0.0, &v, 100.0, 0.0), TCLOD_OK);
-    h.nan_costs = 1;
-    assert_int_equal(tclod_scheduler_update(sch, 2.5, &v, 100.0, 0.0), TCLOD_ERR_CALLBACK);
-    assert_int_equal(h.nan_costs, 0);
-    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
-    assert_int_equal(n, 1);
-    assert_int_equal(items[0].fine, 0);
-    assert_int_equal(tclod_scheduler_update(sch, 2.6, &v, 100.0, 0.0), TCLOD_OK);
-    tclod_scheduler_destroy(sch);
-    tclod_scene_destroy(s);
-}
-
 static void a_slower_machine_lowers_the_budget_through_the_calibration(void **state) {
     wish_host h;
     tclod_scene *s;
@@ -786,7 +748,6 @@ int main(void) {
         cmocka_unit_test(without_morphing_a_selection_switches_in_at_its_interval),
         cmocka_unit_test(draw_lists_stay_within_the_budget_over_random_paths),
         cmocka_unit_test(bad_arguments_are_refused_and_change_nothing),
-        cmocka_unit_test(a_selection_landed_on_a_bad_value_fails_a_strict_update),
         cmocka_unit_test(a_slower_machine_lowers_the_budget_through_the_calibration),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
