@@ -134,8 +134,9 @@ static const tclod_solver method_solvers[3] = {TCLOD_SOLVER_GREEDY, TCLOD_SOLVER
 
 /* Row filters of --solver and --mode (NULL: every row). */
 static const char *only_solver, *only_mode;
-/* --lookahead and --restarts: tclod_selector_desc of the random and flyover rows */
-static unsigned long opt_lookahead, opt_restarts = 1;
+/* --lookahead and --restarts: tclod_selector_desc of the random and flyover rows
+ * (defaults: the library's) */
+static unsigned long opt_lookahead, opt_restarts;
 
 static int row_wanted(const char *solver, const char *mode) {
     return (only_solver == NULL || strcmp(only_solver, solver) == 0) &&
@@ -600,9 +601,9 @@ static void usage(FILE *out) {
             "  --mode NAME   only the rows of one mode: cold, warm (thesis: split, flat,\n"
             "                split_gradient)\n"
             "  --lookahead N random and flyover rows: the greedy and mixed solvers'\n"
-            "                tclod_selector_desc.lookahead (default 0)\n"
+            "                tclod_selector_desc.lookahead (default: the library's, 0)\n"
             "  --restarts N  random and flyover rows: tclod_selector_desc.restarts\n"
-            "                (default 1)\n"
+            "                (default: the library's, 32)\n"
             "  --help        print this text and exit\n");
 }
 
@@ -636,7 +637,11 @@ int main(int argc, char **argv) {
     int quick = 0, i;
     size_t k;
     double t_start = bench_now_us();
+    tclod_selector_desc defaults;
 
+    tclod_selector_desc_default(&defaults);
+    opt_lookahead = defaults.lookahead;
+    opt_restarts = defaults.restarts;
     for (i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--quick") == 0) {
             quick = 1;

@@ -55,7 +55,7 @@ void tclod_selector_desc_default(tclod_selector_desc *d) {
     d->value = TCLOD_VALUE_AREA_SQRT_DEPTH;
     d->misfit = TCLOD_MISFIT_DROP;
     d->reference_area = 10000.0;
-    d->restarts = 1;
+    d->restarts = 32;
 }
 
 /* Every per-node buffer of a selector, for growing and freeing them together.

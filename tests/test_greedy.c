@@ -144,7 +144,8 @@ static void increments_stop_when_nothing_more_fits(void **state) {
     /* Budget 10: R (c 5), B (c 7), S (c 9) are taken; A would cost 9 + 2 = 11
      * and S1 9 + 4 = 13: neither fits. Whether they count as tried depends on
      * whether the solver looks at them or sees that none can fit, so the
-     * iterations lie between 3 and 5. The cut
+     * iterations lie between 3 and 5 (one pass: restarts = 1, so that the
+     * counts are the pass's own). The cut
      * {A, B1, B2, S1} (b 23, c 9) is also the optimum: the other cuts of cost
      * <= 10 are {A1, A2, B1, B2, S} (b 22), {A1, A2, B, S1} (b 22) and less. */
     static const tclod_id budget_10[] = {1, 5, 6, 8};
@@ -153,7 +154,7 @@ static void increments_stop_when_nothing_more_fits(void **state) {
     tclod_selector *sel;
     tclod_stats st;
     build_order_tree(f);
-    sel = helper_selector(f->scene, &f->model, 0);
+    sel = tuned_selector(f->scene, &f->model, 0, 0, 1);
     select_frame(sel, 10.0, 0, &st);
     helper_assert_cut(sel, budget_10, 4);
     assert_totals(&st, 23.0, 9.0);
@@ -175,7 +176,8 @@ static void an_increment_that_does_not_fit_is_skipped_for_a_later_one(void **sta
     /* P 0 (1, 1) -> P1 1 (11, 11): Δb 10, Δc 10, ratio 1.
      * Q 2 (1, 1) -> Q1 3 (1.5, 2): Δb 0.5, Δc 1, ratio 0.5.
      * Budget 5, roots cost 2: P first needs 12 > 5, skipped; Q needs 3, taken.
-     * {P, Q1}: b 2.5, c 3 — the optimum ({P1, ...} costs >= 12). */
+     * {P, Q1}: b 2.5, c 3 — the optimum ({P1, ...} costs >= 12). One pass
+     * (restarts = 1): the counts are the pass's own. */
     static const tclod_id filled[] = {0, 3};
     static const tclod_id one_try[] = {0, 2};
     tclod_selector *sel;
@@ -184,7 +186,7 @@ static void an_increment_that_does_not_fit_is_skipped_for_a_later_one(void **sta
     helper_add(f, 0, 11.0, 11.0);
     helper_add(f, TCLOD_NONE, 1.0, 1.0);
     helper_add(f, 2, 1.5, 2.0);
-    sel = helper_selector(f->scene, &f->model, 0);
+    sel = tuned_selector(f->scene, &f->model, 0, 0, 1);
     select_frame(sel, 5.0, 0, &st);
     helper_assert_cut(sel, filled, 2);
     assert_totals(&st, 2.5, 3.0);

@@ -571,7 +571,7 @@ static void desc_default_fills_the_documented_values(void **state) {
     assert_true(d.split_threshold == 0.1);
     assert_int_equal(d.strict, 0);
     assert_int_equal(d.lookahead, 0);
-    assert_int_equal(d.restarts, 1);
+    assert_int_equal(d.restarts, 32);
 }
 
 /* ---- determinism --------------------------------------------------------- */

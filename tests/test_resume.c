@@ -73,6 +73,7 @@ static int world_teardown(void **state) {
 /* The solvers and modes a resumed solve must reproduce. */
 typedef enum mode {
     GREEDY,
+    GREEDY_ONE_PASS, /* restarts = 1: no search */
     GREEDY_TUNED, /* cold, lookahead and restarts: its restarts resume too */
     MIXED_MODELLED,
     MIXED_PAPERS,
@@ -90,6 +91,8 @@ static tclod_selector *make_selector(world *w, mode m) {
         d.smooth_precondition = m == MIXED_MODELLED;
     } else if (m == ROBIN_HOOD) {
         d.solver = TCLOD_SOLVER_ROBIN_HOOD;
+    } else if (m == GREEDY_ONE_PASS) {
+        d.restarts = 1;
     } else if (m == GREEDY_TUNED) {
         d.warm_start = 0;
         d.lookahead = 3;
@@ -341,7 +344,9 @@ static void a_solve_after_a_budget_that_fits_nothing_recovers(void **state) {
     world *w = (world *)*state;
     int m;
     for (m = 0; m < MODE_COUNT; ++m) {
-        tclod_selector *sel = make_selector(w, (mode)m), *fresh = make_selector(w, (mode)m);
+        /* a warm solve does not search: the greedy's reference is one pass */
+        tclod_selector *sel = make_selector(w, (mode)m),
+                       *fresh = make_selector(w, m == GREEDY ? GREEDY_ONE_PASS : (mode)m);
         tclod_frame big = helper_frame(&w->view, 50.0), none = helper_frame(&w->view, 0.0);
         tclod_stats a, b;
         size_t n = 1;
