@@ -264,6 +264,15 @@ static void scheduler_updates_return_whatever_the_clock_origin(void **state) {
     tclod_scene_destroy(s);
 }
 
+/* Asserts that the scheduler's draw list is node `node` alone. */
+static void assert_draws_node(const tclod_scheduler *sch, tclod_id node) {
+    const tclod_draw *items = NULL;
+    size_t n = 0;
+    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(items[0].fine, node);
+}
+
 static double huge(void *user, const tclod_query *q) {
     (void)user;
     (void)q;
@@ -278,13 +287,9 @@ static void scheduler_takes_huge_finite_benefits_for_good_values(void **state) {
     tclod_scene *s = NULL;
     tclod_scheduler *sch = chain_scheduler(&s, 1, huge, 1, 0.0);
     tclod_view v = straight_view();
-    const tclod_draw *items = NULL;
-    size_t n = 0;
     (void)state;
     assert_int_equal(tclod_scheduler_update(sch, 0.0, &v, 10.0, 0.0), TCLOD_OK);
-    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
-    assert_int_equal(n, 1);
-    assert_int_equal(items[0].fine, 0);
+    assert_draws_node(sch, 0);
     tclod_scheduler_destroy(sch);
     tclod_scene_destroy(s);
 }
@@ -337,17 +342,13 @@ static void a_selection_landed_on_a_bad_value_fails_a_strict_update(void **state
     tclod_scene *s = NULL;
     tclod_scheduler *sch = chain_scheduler(&s, 1, nan_first, 1, 0.0);
     tclod_view v = straight_view();
-    const tclod_draw *items = NULL;
-    size_t n = 0;
     (void)state;
     nan_benefits = 0;
     assert_int_equal(tclod_scheduler_update(sch, 0.0, &v, 10.0, 0.0), TCLOD_OK);
     nan_benefits = 1;
     assert_int_equal(tclod_scheduler_update(sch, 1.25, &v, 10.0, 0.0), TCLOD_ERR_CALLBACK);
     assert_int_equal(nan_benefits, 0);
-    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
-    assert_int_equal(n, 1);
-    assert_int_equal(items[0].fine, 0);
+    assert_draws_node(sch, 0);
     assert_int_equal(tclod_scheduler_update(sch, 1.3, &v, 10.0, 0.0), TCLOD_OK);
     tclod_scheduler_destroy(sch);
     tclod_scene_destroy(s);

@@ -74,7 +74,7 @@ static int world_teardown(void **state) {
 typedef enum mode {
     GREEDY,
     GREEDY_ONE_PASS, /* restarts = 1: no search */
-    GREEDY_TUNED, /* cold, lookahead and restarts: its restarts resume too */
+    GREEDY_TUNED,    /* cold, lookahead and restarts: its restarts resume too */
     MIXED_MODELLED,
     MIXED_PAPERS,
     ROBIN_HOOD,
