@@ -8,16 +8,20 @@
  * still tried (fill). A cold solve starts from the roots and, because plain
  * ratio order can be arbitrarily bad, finally compares its result with the best
  * skipped increment taken alone (with the increments above it), which keeps it
- * within half of the optimum when benefits show diminishing returns. A warm
- * solve starts from the previous cut: it re-evaluates only the frontier (cut
- * nodes, their children and their collapsible parents), applies decrements
- * (children -> parent, least benefit lost per cost saved first) while over
- * budget, then increments and increment/decrement swaps while they gain.
+ * within half of the optimum when benefits show diminishing returns. The
+ * increments keyed above the previous cold solve's first misfit, the heap's
+ * first pops, are taken without ordering them when they surely fit
+ * (take_closure). A warm solve starts from the previous cut: it re-evaluates
+ * only the frontier (cut nodes, their children and their collapsible
+ * parents), applies decrements (children -> parent, least benefit lost per
+ * cost saved first) while over budget, then increments and
+ * increment/decrement swaps while they gain.
  * A final exact re-summation in result order repairs any rounding drift, so the
  * budget guarantee holds to the last bit.
  */
 #include "internal.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -247,6 +251,12 @@ static double key_of(tclod_selector *sel, tclod_id n, int *failed) {
     return sel->desc.lookahead > 0 ? lookahead_key(sel, n, failed) : increment_key(sel, n, failed);
 }
 
+/* 1 when an increment of this key waits in the plain pass's closure stack
+ * rather than in the heap (see take_closure). */
+static int stacks(const tclod_selector *sel, double key) {
+    return sel->resume.closing && key >= sel->resume.closure_key;
+}
+
 /* Queues n's increment if it is a candidate (append: heap order restored by
  * the caller; otherwise pushed). The by-cost heap exists only once the fill
  * has begun (see increment_may_fit). */
@@ -254,8 +264,10 @@ static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
     int failed;
     double key = key_of(sel, n, &failed);
     if (failed) return -1;
-    if (key == key) {
-        if (append)
+    if (stacks(sel, key)) {
+        sel->scratch[sel->resume.stacked++] = n;
+    } else if (key == key) {
+        if (append || sel->resume.closing) /* the closure's end builds the heap */
             tclod_heap_append(&sel->inc, n, key);
         else
             tclod_heap_push(&sel->inc, n, key);
@@ -272,7 +284,9 @@ static int requeue_increment(tclod_selector *sel, tclod_id n, tclod_id *held) {
     if (*held == TCLOD_NONE) return queue_increment(sel, n, 0);
     key = key_of(sel, n, &failed);
     if (failed) return -1;
-    if (key == key) {
+    if (stacks(sel, key)) {
+        sel->scratch[sel->resume.stacked++] = n;
+    } else if (key == key) {
         tclod_heap_replace(&sel->inc, *held, n, key);
         if (sel->cheap_live) tclod_heap_replace(&sel->cheap, *held, n, -sel->node[n].delta_c);
         *held = TCLOD_NONE;
@@ -661,6 +675,7 @@ static void note_misfit(tclod_selector *sel, tclod_id n) {
     tclod_resume *R = &sel->resume;
     if (R->misfit != TCLOD_NONE) return;
     R->misfit = n;
+    R->misfit_key = sel->inc.items[0].key;
     R->lp_bound = sel->benefit_sum + sel->node[n].delta_b;
 }
 
@@ -669,6 +684,42 @@ static int left_out(const tclod_resume *R, tclod_id n) {
     uint32_t i;
     for (i = 0; i < R->picks; ++i)
         if (R->pick[i] == n && !R->take[i]) return 1;
+    return 0;
+}
+
+/* Relative margin above the previous solve's first misfit from which the
+ * plain cold pass takes increments without ordering them. */
+#define CLOSURE_MARGIN 1.25
+
+/* The plain cold pass takes the increments keyed at or above closure_key and
+ * those they lead to with such keys (the closure) from a stack, in no order,
+ * before any other. The heap would take the same set first, and if the
+ * closure's cost grows by at most the budget left none of its prefixes
+ * misfits, so the cut after it is the heap's after as many increments. If the
+ * closure does not fit that way the pass starts over with the heap alone.
+ * One step: takes an increment, or ends the closure. */
+static int take_closure(tclod_selector *sel) {
+    tclod_resume *R = &sel->resume;
+    tclod_id n;
+    double grow;
+    uint32_t dropped;
+    if (R->stacked == 0) {
+        R->closing = 0;
+        tclod_heap_build(&sel->inc);
+        return 0;
+    }
+    n = sel->scratch[--R->stacked];
+    grow = sel->node[n].delta_c > 0.0 ? sel->node[n].delta_c : 0.0;
+    if (sel->unaffordable == 0 && R->closure_cost + grow <= cut_budget(sel)) {
+        R->closure_cost += grow;
+        sel->stats.iterations++;
+        return apply_increment(sel, n, 0);
+    }
+    R->closing = 0;
+    R->stacked = 0;
+    dropped = sel->stats.dropped_roots; /* the roots are dropped again, the same way */
+    if (start_cold(sel) != 0) return -1;
+    sel->stats.dropped_roots = dropped;
     return 0;
 }
 
@@ -684,6 +735,10 @@ static int improve(tclod_selector *sel, int warm, int alt) {
         tclod_id n;
         int swapped;
         if (tclod_out_of_time(sel)) return 0;
+        if (sel->resume.closing) {
+            if (take_closure(sel) != 0) return -1;
+            continue;
+        }
         if (warm && sel->dec.count > 0 && sel->dec.items[0].key == HUGE_VAL) {
             sel->stats.iterations++;
             if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0) return -1;
@@ -841,7 +896,12 @@ static int greedy_start(tclod_selector *sel) {
     R->warm = sel->desc.warm_start && sel->has_cut;
     R->skipped = 0;
     if (R->warm) return start_warm(sel) != 0 ? -1 : restore_budget(sel);
+    R->stacked = 0;
+    R->closing = sel->closure_hint > 0.0 && sel->frame->max_iterations == 0 &&
+                 sel->frame->solve_seconds == 0.0;
+    R->closure_key = sel->closure_hint * CLOSURE_MARGIN;
     if (start_cold(sel) != 0) return -1;
+    R->closure_cost = sel->cost_sum;
     R->alt_node = TCLOD_NONE;
     R->alt_benefit = 0.0;
     R->alt_roots_b = sel->benefit_sum;
@@ -906,6 +966,7 @@ static int after_pass(tclod_selector *sel) {
     if (plain) {
         R->root_misfit = R->misfit;
         R->root_bound = R->lp_bound;
+        sel->closure_hint = R->misfit != TCLOD_NONE ? R->misfit_key : DBL_MIN;
         if (R->use_alt && R->alt_node != TCLOD_NONE &&
             R->alt_benefit > R->best_benefit * (1.0 + SWAP_MARGIN)) {
             R->pick[0] = R->alt_node; /* the T(n) pass */

@@ -301,6 +301,14 @@ typedef struct tclod_resume {
     double lp_bound;       /* its benefit there plus the misfit's gain (0: none) */
     tclod_id root_misfit;  /* the plain pass's, where the search begins */
     double root_bound;
+    double misfit_key;     /* the key of the current pass's first misfit */
+    /* greedy, the plain cold pass: increments keyed at or above closure_key
+     * wait in a stack (sel->scratch, stacked entries) instead of the heap and
+     * are taken first, while closure_cost (the roots' cost plus every positive
+     * Δc taken from the stack) fits */
+    int closing;
+    uint32_t stacked;
+    double closure_key, closure_cost;
     /* Robin Hood: time not shared out yet, value of the instances left */
     double pool, value_left;
     int limited;           /* an instance could refine further */
@@ -396,6 +404,8 @@ struct tclod_selector {
     double benefit_sum;
     uint32_t unaffordable;  /* visible, kept cut nodes with infinite cost */
     double start_time;
+    double closure_hint;    /* the key of the last plain cold pass's first misfit:
+                               DBL_MIN when it had none, 0 before the first */
     tclod_stats stats;
 };
 

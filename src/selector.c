@@ -304,7 +304,10 @@ tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f) {
         status = reserve(sel, sel->scene->node_count, sel->scene->smooth_count);
     sel->busy = 0;
     if (status != TCLOD_OK) return status;
-    if (sel->scene_version != sel->scene->version) sel->has_cut = 0;
+    if (sel->scene_version != sel->scene->version) { /* start over like a new selector */
+        sel->has_cut = 0;
+        sel->closure_hint = 0.0;
+    }
     if (++sel->solve_id == UINT32_MAX) { /* the fill value of new records */
         uint32_t i;
         for (i = 0; i < sel->cap; ++i) sel->node[i].stamp = 0;

@@ -486,8 +486,11 @@ static void warm_start_on_an_unchanged_frame_is_at_least_as_good(void **state) {
     double lo, hi;
     int i;
     random_scene(f, 42, 400, 12);
+    /* Just above the roots' and the leaves' costs: at exactly these budgets
+     * whether the first or the last increment fits is decided by rounding,
+     * which the order of the running sums decides. */
     lo = table_roots_cost(&f->model) * (1.0 + 1e-12);
-    hi = table_leaves_cost(&f->model);
+    hi = table_leaves_cost(&f->model) * (1.0 + 1e-12);
     cold = helper_selector(f->scene, &f->model, 0);
     warm = helper_selector(f->scene, &f->model, 1);
     for (i = 0; i <= 10; ++i) {
@@ -512,6 +515,45 @@ static void warm_start_on_an_unchanged_frame_is_at_least_as_good(void **state) {
     }
     tclod_selector_destroy(warm);
     tclod_selector_destroy(cold);
+}
+
+/* A cold solve after an earlier one takes the increments keyed above the
+ * earlier solve's first misfit without ordering them, and starts over with
+ * the heap alone when they do not fit (docs/greedy.md); either way it must
+ * reach the cut a new selector's solve reaches. Budgets that jump up and down
+ * make both happen: after a large budget the earlier misfit's key is low and
+ * the unordered increments overrun a small one. */
+static void cold_solves_after_other_budgets_reach_a_new_selectors_cut(void **state) {
+    enum { CAP = 4096 };
+    static tclod_id a[CAP], b[CAP];
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *reused;
+    table_rng rng;
+    double lo, hi;
+    int k, restarted = 0;
+    random_scene(f, 7, 900, 30);
+    lo = table_roots_cost(&f->model);
+    hi = table_leaves_cost(&f->model);
+    reused = helper_selector(f->scene, &f->model, 0);
+    table_rng_seed(&rng, 11);
+    for (k = 0; k < 40; ++k) {
+        double budget = table_rng_uniform(&rng, lo, hi);
+        tclod_selector *fresh = helper_selector(f->scene, &f->model, 0);
+        tclod_stats st, ref;
+        size_t na, nb;
+        select_frame(reused, budget, 0, &st);
+        select_frame(fresh, budget, 0, &ref);
+        helper_check_result(reused, &f->model, &st, budget, 0);
+        na = helper_sorted_cut(reused, a, CAP);
+        nb = helper_sorted_cut(fresh, b, CAP);
+        assert_int_equal(na, nb);
+        assert_memory_equal(a, b, na * sizeof *a);
+        assert_true(fabs(st.benefit - ref.benefit) <= 1e-12 * ref.benefit);
+        restarted += st.iterations > ref.iterations;
+        tclod_selector_destroy(fresh);
+    }
+    assert_true(restarted > 0);
+    tclod_selector_destroy(reused);
 }
 
 static void warm_start_after_a_budget_drop_uses_decrements(void **state) {
@@ -1092,6 +1134,7 @@ int main(void) {
         cmocka_unit_test(greedy_with_lookahead_is_within_half_of_exact_optimum_on_random_trees),
         cmocka_unit_test(greedy_with_lookahead_never_beats_the_optimum_nor_the_budget),
         FIXTURE_TEST(warm_start_on_an_unchanged_frame_is_at_least_as_good),
+        FIXTURE_TEST(cold_solves_after_other_budgets_reach_a_new_selectors_cut),
         FIXTURE_TEST(warm_start_after_a_budget_drop_uses_decrements),
         FIXTURE_TEST(warm_start_after_model_changes_stays_feasible),
         FIXTURE_TEST(warm_start_with_lookahead_after_model_changes_stays_feasible),
