@@ -251,9 +251,9 @@ static double key_of(tclod_selector *sel, tclod_id n, int *failed) {
     return sel->desc.lookahead > 0 ? lookahead_key(sel, n, failed) : increment_key(sel, n, failed);
 }
 
-/* 1 when an increment of this key waits in the plain pass's closure stack
+/* 1 when an increment of this key waits in the plain pass's closure queue
  * rather than in the heap (see take_closure). */
-static int stacks(const tclod_selector *sel, double key) {
+static int closes(const tclod_selector *sel, double key) {
     return sel->resume.closing && key >= sel->resume.closure_key;
 }
 
@@ -264,8 +264,8 @@ static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
     int failed;
     double key = key_of(sel, n, &failed);
     if (failed) return -1;
-    if (stacks(sel, key)) {
-        sel->scratch[sel->resume.stacked++] = n;
+    if (closes(sel, key)) {
+        sel->scratch[sel->resume.closure_tail++] = n;
     } else if (key == key) {
         if (append || sel->resume.closing) /* the closure's end builds the heap */
             tclod_heap_append(&sel->inc, n, key);
@@ -284,8 +284,8 @@ static int requeue_increment(tclod_selector *sel, tclod_id n, tclod_id *held) {
     if (*held == TCLOD_NONE) return queue_increment(sel, n, 0);
     key = key_of(sel, n, &failed);
     if (failed) return -1;
-    if (stacks(sel, key)) {
-        sel->scratch[sel->resume.stacked++] = n;
+    if (closes(sel, key)) {
+        sel->scratch[sel->resume.closure_tail++] = n;
     } else if (key == key) {
         tclod_heap_replace(&sel->inc, *held, n, key);
         if (sel->cheap_live) tclod_heap_replace(&sel->cheap, *held, n, -sel->node[n].delta_c);
@@ -531,9 +531,32 @@ static int start_cold(tclod_selector *sel) {
 }
 
 /* Cut = the previous cut, re-evaluated; queues its increments and decrements. */
+/* Sorts the cut by id (least significant digit radix sort, 8 bits a pass,
+ * through scratch), so that the warm start visits the per-node records in
+ * memory order rather than in the order taking and removing nodes left
+ * (docs/greedy.md: at 10^5 objects this halves a warm solve). */
+static void sort_cut(tclod_selector *sel) {
+    uint32_t n = sel->cut_count, shift, i, max = 0;
+    tclod_id *a = sel->cut, *b = sel->scratch;
+    for (i = 0; i < n; ++i) max |= a[i];
+    for (shift = 0; shift < 32u && (max >> shift) != 0; shift += 8u) {
+        uint32_t count[257] = {0};
+        tclod_id *t;
+        for (i = 0; i < n; ++i) count[((a[i] >> shift) & 255u) + 1u]++;
+        for (i = 0; i < 256u; ++i) count[i + 1u] += count[i];
+        for (i = 0; i < n; ++i) b[count[(a[i] >> shift) & 255u]++] = a[i];
+        t = a;
+        a = b;
+        b = t;
+    }
+    if (a != sel->cut) memcpy(sel->cut, a, sizeof(tclod_id) * n);
+    for (i = 0; i < n; ++i) sel->node[sel->cut[i]].cut_pos = i;
+}
+
 static int start_warm(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
     uint32_t i;
+    sort_cut(sel);
     sel->cost_sum = sel->benefit_sum = 0.0;
     sel->unaffordable = 0;
     for (i = 0; i < sel->cut_count; ++i) {
@@ -692,31 +715,35 @@ static int left_out(const tclod_resume *R, tclod_id n) {
 #define CLOSURE_MARGIN 1.25
 
 /* The plain cold pass takes the increments keyed at or above closure_key and
- * those they lead to with such keys (the closure) from a stack, in no order,
- * before any other. The heap would take the same set first, and if the
+ * those they lead to with such keys (the closure) before any other, in the
+ * order they were queued, not by key (first in, first out: on large scenes
+ * faster than last in, first out, docs/greedy.md). The heap would take the same set first, and if the
  * closure's cost grows by at most the budget left none of its prefixes
  * misfits, so the cut after it is the heap's after as many increments. If the
  * closure does not fit that way the pass starts over with the heap alone.
- * One step: takes an increment, or ends the closure. */
+ * Takes one increment when the solve runs in slices (a slice may end after
+ * any), else all of them; ends the closure when none is left. */
 static int take_closure(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
-    tclod_id n;
-    double grow;
+    int sliced = sel->slice_end > 0.0 || sel->slice_iterations != 0;
     uint32_t dropped;
-    if (R->stacked == 0) {
+    while (R->closure_tail > R->closure_head) {
+        tclod_id n = sel->scratch[R->closure_head];
+        double grow = sel->node[n].delta_c > 0.0 ? sel->node[n].delta_c : 0.0;
+        if (sel->unaffordable != 0 || !(R->closure_cost + grow <= cut_budget(sel))) break;
+        R->closure_head++;
+        R->closure_cost += grow;
+        sel->stats.iterations++;
+        if (apply_increment(sel, n, 0) != 0) return -1;
+        if (sliced) return 0;
+    }
+    if (R->closure_tail == R->closure_head) {
         R->closing = 0;
         tclod_heap_build(&sel->inc);
         return 0;
     }
-    n = sel->scratch[--R->stacked];
-    grow = sel->node[n].delta_c > 0.0 ? sel->node[n].delta_c : 0.0;
-    if (sel->unaffordable == 0 && R->closure_cost + grow <= cut_budget(sel)) {
-        R->closure_cost += grow;
-        sel->stats.iterations++;
-        return apply_increment(sel, n, 0);
-    }
     R->closing = 0;
-    R->stacked = 0;
+    R->closure_head = R->closure_tail = 0;
     dropped = sel->stats.dropped_roots; /* the roots are dropped again, the same way */
     if (start_cold(sel) != 0) return -1;
     sel->stats.dropped_roots = dropped;
@@ -896,7 +923,7 @@ static int greedy_start(tclod_selector *sel) {
     R->warm = sel->desc.warm_start && sel->has_cut;
     R->skipped = 0;
     if (R->warm) return start_warm(sel) != 0 ? -1 : restore_budget(sel);
-    R->stacked = 0;
+    R->closure_head = R->closure_tail = 0;
     R->closing = sel->closure_hint > 0.0 && sel->frame->max_iterations == 0 &&
                  sel->frame->solve_seconds == 0.0;
     R->closure_key = sel->closure_hint * CLOSURE_MARGIN;

@@ -303,11 +303,11 @@ typedef struct tclod_resume {
     double root_bound;
     double misfit_key;     /* the key of the current pass's first misfit */
     /* greedy, the plain cold pass: increments keyed at or above closure_key
-     * wait in a stack (sel->scratch, stacked entries) instead of the heap and
-     * are taken first, while closure_cost (the roots' cost plus every positive
-     * Δc taken from the stack) fits */
+     * wait in a queue (sel->scratch[closure_head .. closure_tail)) instead of
+     * the heap and are taken first, while closure_cost (the roots' cost plus
+     * every positive Δc taken from the queue) fits */
     int closing;
-    uint32_t stacked;
+    uint32_t closure_head, closure_tail;
     double closure_key, closure_cost;
     /* Robin Hood: time not shared out yet, value of the instances left */
     double pool, value_left;
