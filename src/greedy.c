@@ -531,20 +531,40 @@ static int start_cold(tclod_selector *sel) {
 }
 
 /* Cut = the previous cut, re-evaluated; queues its increments and decrements. */
+/* Scenes from this many nodes have their cut sorted by a warm start: their
+ * per-node records (about 150 bytes a node) outgrow a core's own caches. */
+#define SORT_FROM_NODES 16384u
+
 /* Sorts the cut by id (least significant digit radix sort, 8 bits a pass,
  * through scratch), so that the warm start visits the per-node records in
  * memory order rather than in the order taking and removing nodes left
- * (docs/greedy.md: at 10^5 objects this halves a warm solve). */
+ * (docs/greedy.md: at 10^5 objects this halves a warm solve). One reading
+ * counts every digit; a digit all ids share needs no pass. */
 static void sort_cut(tclod_selector *sel) {
-    uint32_t n = sel->cut_count, shift, i, max = 0;
+    uint32_t count[4][256], n = sel->cut_count, i, d;
     tclod_id *a = sel->cut, *b = sel->scratch;
-    for (i = 0; i < n; ++i) max |= a[i];
-    for (shift = 0; shift < 32u && (max >> shift) != 0; shift += 8u) {
-        uint32_t count[257] = {0};
+    if (n < 2u) return;
+    memset(count, 0, sizeof count);
+    for (i = 0; i < n; ++i) {
+        tclod_id v = a[i];
+        count[0][v & 255u]++;
+        count[1][(v >> 8) & 255u]++;
+        count[2][(v >> 16) & 255u]++;
+        count[3][v >> 24]++;
+    }
+    for (d = 0; d < 4u; ++d) {
+        uint32_t shift = 8u * d, *at = count[d], sum = 0, k;
         tclod_id *t;
-        for (i = 0; i < n; ++i) count[((a[i] >> shift) & 255u) + 1u]++;
-        for (i = 0; i < 256u; ++i) count[i + 1u] += count[i];
-        for (i = 0; i < n; ++i) b[count[(a[i] >> shift) & 255u]++] = a[i];
+        if (at[(a[0] >> shift) & 255u] == n) continue;
+        for (k = 0; k < 256u; ++k) {
+            uint32_t c = at[k];
+            at[k] = sum;
+            sum += c;
+        }
+        for (i = 0; i < n; ++i) {
+            tclod_id v = a[i];
+            b[at[(v >> shift) & 255u]++] = v;
+        }
         t = a;
         a = b;
         b = t;
@@ -556,7 +576,7 @@ static void sort_cut(tclod_selector *sel) {
 static int start_warm(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
     uint32_t i;
-    sort_cut(sel);
+    if (s->node_count >= SORT_FROM_NODES) sort_cut(sel);
     sel->cost_sum = sel->benefit_sum = 0.0;
     sel->unaffordable = 0;
     for (i = 0; i < sel->cut_count; ++i) {
