@@ -282,11 +282,10 @@ static int requeue_increment(tclod_selector *sel, tclod_id n, tclod_id *held) {
     int failed;
     double key;
     if (*held == TCLOD_NONE) return queue_increment(sel, n, 0);
+    assert(!sel->resume.closing); /* the closure takes only increments it queued */
     key = key_of(sel, n, &failed);
     if (failed) return -1;
-    if (closes(sel, key)) {
-        sel->scratch[sel->resume.closure_tail++] = n;
-    } else if (key == key) {
+    if (key == key) {
         tclod_heap_replace(&sel->inc, *held, n, key);
         if (sel->cheap_live) tclod_heap_replace(&sel->cheap, *held, n, -sel->node[n].delta_c);
         *held = TCLOD_NONE;
@@ -530,7 +529,6 @@ static int start_cold(tclod_selector *sel) {
     return 0;
 }
 
-/* Cut = the previous cut, re-evaluated; queues its increments and decrements. */
 /* Scenes from this many nodes have their cut sorted by a warm start: their
  * per-node records (about 150 bytes a node) outgrow a core's own caches. */
 #define SORT_FROM_NODES 16384u
@@ -573,6 +571,7 @@ static void sort_cut(tclod_selector *sel) {
     for (i = 0; i < n; ++i) sel->node[sel->cut[i]].cut_pos = i;
 }
 
+/* Cut = the previous cut, re-evaluated; queues its increments and decrements. */
 static int start_warm(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
     uint32_t i;
@@ -737,12 +736,13 @@ static int left_out(const tclod_resume *R, tclod_id n) {
 /* The plain cold pass takes the increments keyed at or above closure_key and
  * those they lead to with such keys (the closure) before any other, in the
  * order they were queued, not by key (first in, first out: on large scenes
- * faster than last in, first out, docs/greedy.md). The heap would take the same set first, and if the
- * closure's cost grows by at most the budget left none of its prefixes
- * misfits, so the cut after it is the heap's after as many increments. If the
- * closure does not fit that way the pass starts over with the heap alone.
- * Takes one increment when the solve runs in slices (a slice may end after
- * any), else all of them; ends the closure when none is left. */
+ * faster than last in, first out, docs/greedy.md). The heap would take the
+ * same set first, and if the closure's cost grows by at most the budget left
+ * none of its prefixes misfits, so the cut after it is the heap's after as
+ * many increments. If the closure does not fit that way the pass starts over
+ * with the heap alone. Takes one increment when the solve runs in slices (a
+ * slice may end after any), else all of them; ends the closure when none is
+ * left. */
 static int take_closure(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     int sliced = sel->slice_end > 0.0 || sel->slice_iterations != 0;
