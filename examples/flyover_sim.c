@@ -3,7 +3,7 @@
  *
  * A camera flies a closed loop over one of two scenes:
  *  - flyover (default): the flyover world, a 4^6-patch terrain quadtree and 5000
- *    buildings and trees of 4 levels (examples/scenes/world_scene.h), budget 10 ms;
+ *    buildings and trees of 6 levels (examples/scenes/world_scene.h), budget 10 ms;
  *  - thesis (--scene thesis): the thesis's test scene (seed 001 §8.4), a 120 km
  *    terrain quadtree of 5461 patches and 1.4 million trees in about 25 000 smooth
  *    groups whose resolution is continuous (examples/scenes/thesis_scene.h), budget
@@ -123,7 +123,7 @@ static void usage(FILE *out) {
             "thesis, over the thesis's 120 km terrain with 1.4 million trees) and selects\n"
             "levels of detail every frame so that the predicted render time fits the budget.\n"
             "\n"
-            "  --scene S       flyover: terrain quadtree and 5000 objects of 4 levels (default);\n"
+            "  --scene S       flyover: terrain quadtree and 5000 objects of 6 levels (default);\n"
             "                  thesis: terrain quadtree and 1.4 million trees in smooth groups\n"
             "                  of continuous resolution (seed 001 ch. 8.4)\n"
             "  --frames N      frames to simulate, N >= 1 (default 600)\n"

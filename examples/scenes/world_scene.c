@@ -128,7 +128,7 @@ void world_flyover_desc_default(world_flyover_desc *d) {
     d->side = 4096.0f;
     d->height = 300.0f;
     d->objects = 5000;
-    d->levels = 4;
+    d->levels = 6;
     d->seed = 7;
     world_cost_model_default(&d->cost);
 }

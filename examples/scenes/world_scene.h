@@ -108,7 +108,7 @@ typedef struct world_flyover_desc {
     float side;               /* terrain side, m; default 4096 */
     float height;             /* terrain relief, m; default 300 */
     uint32_t objects;         /* buildings and trees; default 5000 */
-    uint32_t levels;          /* levels per object, in [1, 8]; default 4 */
+    uint32_t levels;          /* levels per object, in [1, 8]; default 6 */
     uint64_t seed;            /* default 7 */
     world_cost_model cost;
 } world_flyover_desc;
