@@ -141,6 +141,9 @@ static void bind_heaps(tclod_selector *sel) {
     sel->dec.pos = sel->dec_slot;
 }
 
+/* An on/off field of a description: exactly 0 or 1. */
+static int flag(int v) { return v == 0 || v == 1; }
+
 tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_desc *d,
                                    const tclod_allocator *a, tclod_selector **out) {
     tclod_allocator alloc;
@@ -150,6 +153,9 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
         return TCLOD_ERR_ARG;
     if (d->solver == TCLOD_SOLVER_MIXED &&
         (!d->callbacks.smooth_benefit || !d->callbacks.smooth_cost))
+        return TCLOD_ERR_ARG;
+    if (!flag(d->warm_start) || !flag(d->split_smooth) || !flag(d->strict) ||
+        !flag(d->smooth_precondition))
         return TCLOD_ERR_ARG;
     if (!(d->split_threshold >= 0.0) || isinf(d->split_threshold)) return TCLOD_ERR_ARG;
     if (d->lookahead > TCLOD_MAX_LOOKAHEAD || d->restarts > TCLOD_MAX_RESTARTS)
@@ -369,6 +375,8 @@ static tclod_status run(tclod_selector *sel, double slice_seconds, uint32_t slic
     default: status = tclod_greedy_solve(sel); break;
     }
     sel->elapsed += tclod_now() - sel->start_time;
+    if (status == TCLOD_OK && sel->pending_version != sel->scene->version)
+        status = TCLOD_ERR_STATE; /* a callback changed the scene: the solve saw part of it */
     if (status != TCLOD_OK) {
         abandon(sel);
     } else if (sel->paused) {

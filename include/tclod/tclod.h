@@ -424,9 +424,11 @@ typedef struct tclod_selector tclod_selector;
 /* Creates a selector over scene s, which must outlive it. d is copied; a may be
  * NULL (malloc/free). Errors: TCLOD_ERR_ARG (NULL s, d or out; a solver this
  * build does not provide; benefit or cost callback NULL; the mixed solver
- * without smooth_benefit or smooth_cost; split_threshold, smooth_epsilon,
- * smooth_tolerance, smooth_cull_area, value, misfit or reference_area NaN or
- * out of range), TCLOD_ERR_NOMEM. */
+ * without smooth_benefit or smooth_cost; warm_start, split_smooth, strict or
+ * smooth_precondition other than 0 or 1; lookahead or restarts above their
+ * maximum; split_threshold, smooth_epsilon, smooth_tolerance,
+ * smooth_cull_area, value, misfit or reference_area NaN or out of range),
+ * TCLOD_ERR_NOMEM. */
 TCLOD_API tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_desc *d,
                                              const tclod_allocator *a, tclod_selector **out);
 
@@ -446,8 +448,9 @@ TCLOD_API void tclod_selector_destroy(tclod_selector *sel);
  * st may be NULL.
  * Errors: TCLOD_ERR_ARG (NULL sel or f; budget NaN or < 0; solve_seconds NaN
  * or < 0; an invalid view), TCLOD_ERR_CALLBACK (strict mode), TCLOD_ERR_NOMEM,
- * TCLOD_ERR_STATE (re-entered from a callback). On error the previous result
- * and its stats stay as they were. */
+ * TCLOD_ERR_STATE (re-entered from a callback, or a callback changed the
+ * scene during the solve: the next solve starts over from the roots). On error
+ * the previous result and its stats stay as they were. */
 TCLOD_API tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats *st);
 
 /* Resumable selection: the same solve as tclod_select, spread over several
@@ -473,7 +476,8 @@ TCLOD_API tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, t
  * Errors: begin: as tclod_select, and TCLOD_ERR_STATE when a solve is already
  * pending; step: TCLOD_ERR_ARG (NULL sel or done, slice_seconds NaN or < 0),
  * TCLOD_ERR_STATE (no solve pending, re-entered from a callback, or the scene
- * changed since begin: the solve is then cancelled), TCLOD_ERR_CALLBACK
+ * changed since begin, also from a callback: the solve is then cancelled),
+ * TCLOD_ERR_CALLBACK
  * (strict mode: the solve is cancelled). tclod_select while a solve is
  * pending returns TCLOD_ERR_STATE. */
 TCLOD_API tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f);
