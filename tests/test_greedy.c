@@ -615,6 +615,36 @@ static void warm_start_after_a_budget_drop_uses_decrements(void **state) {
     tclod_selector_destroy(sel);
 }
 
+static void warm_start_swaps_a_refinement_for_a_better_one_of_the_same_cost(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* Chains A: 0 (b 1, c 1) -> 1 (b 5, c 3) and B: 2 (b 1, c 1) -> 3 (b 4,
+     * c 3); budget 4 = the roots plus one increment of cost 2. Frame 1: A's
+     * increment (Δb 4, ratio 2) beats B's (Δb 3, ratio 1.5): {1, 2}, benefit
+     * 6. Frame 2: B's finer level is worth 7 (Δb 6, ratio 3). The warm start
+     * finds its cut feasible and B's increment too costly (4 + 2 > 4); since
+     * B's ratio 3 is above the loss ratio 4 / 2 = 2 of collapsing A, it swaps:
+     * decrement A (loses 4, frees 2), increment B (gains 6): {0, 3}, benefit
+     * 8, cost 4 -- the optimum, which a cold solve reaches directly. */
+    static const tclod_id first[] = {1, 2}, swapped[] = {0, 3};
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, 0, 5.0, 3.0);
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, 2, 4.0, 3.0);
+    sel = helper_selector(f->scene, &f->model, 1);
+    select_frame(sel, 4.0, 0, &st);
+    helper_assert_cut(sel, first, 2);
+    assert_true(st.benefit == 6.0 && st.cost == 4.0);
+    f->model.benefit[3] = 7.0;
+    select_frame(sel, 4.0, 0, &st);
+    helper_assert_cut(sel, swapped, 2);
+    assert_true(st.benefit == 8.0 && st.cost == 4.0);
+    assert_int_equal(st.decrements, 1);
+    assert_int_equal(st.increments, 1);
+    tclod_selector_destroy(sel);
+}
+
 static void warm_starts_over_changing_models(helper_fixture *f, uint32_t lookahead) {
     tclod_selector *sel;
     table_rng rng;
@@ -657,27 +687,50 @@ static void warm_start_with_lookahead_after_model_changes_stays_feasible(void **
     warm_starts_over_changing_models((helper_fixture *)*state, 3);
 }
 
-static void warm_start_evaluates_fewer_nodes_than_the_scene_has(void **state) {
+static void warm_start_evaluates_the_frontier_not_the_path_from_the_roots(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
-    /* 100 chains of 20 levels (2000 nodes); a budget of 1.5 x the roots'
-     * cost keeps every object within its first few levels. A warm solve
-     * needs the selected level, its parent and its child per object, far
-     * fewer than half the scene. */
-    tclod_selector *sel;
-    tclod_stats st;
+    /* 100 chains of 20 levels (object o's level k is node 20 o + k); the
+     * budget is what every object costs at level 8, so the cut lies deep in
+     * the chains. A cold solve evaluates every level from the root down to
+     * one below the cut's: k + 2 nodes for an object cut at level k < 19.
+     * On the same frame a warm solve keeps the cut (nothing to gain) and
+     * evaluates only its frontier: the cut node, its child (to key its
+     * increment) and its parent (collapsible: its only child is in the
+     * cut), at most 3 per object. */
+    tclod_selector *cold, *warm;
+    tclod_stats st_cold, st_warm;
     table_rng rng;
-    double budget;
+    const tclod_id *ids;
+    size_t n, i;
+    uint32_t path = 0, frontier = 0, o;
+    double budget = 0.0;
     table_rng_seed(&rng, 11);
     assert_int_equal(table_chains(&f->model, f->scene, &rng, 100, 20, 0.0f), TCLOD_OK);
-    budget = table_roots_cost(&f->model) * 1.5;
-    sel = helper_selector(f->scene, &f->model, 1);
-    select_frame(sel, budget, 0, &st);
+    for (o = 0; o < 100u; ++o)
+        budget += f->model.cost[20u * o + 8u];
+    cold = helper_selector(f->scene, &f->model, 0);
+    warm = helper_selector(f->scene, &f->model, 1);
+    select_frame(cold, budget, 0, &st_cold);
+    assert_int_equal(tclod_selector_cut(cold, &ids, &n), TCLOD_OK);
+    assert_int_equal(n, 100);
+    for (i = 0; i < n; ++i) {
+        uint32_t k = ids[i] % 20u;
+        assert_true(k > 0u && k < 19u); /* deep in every chain, never at an end */
+        path += k + 2u;
+        frontier += 3u;
+    }
+    assert_int_equal(st_cold.evaluations, path);
+    select_frame(warm, budget, 0, &st_warm); /* the first solve is cold */
+    assert_int_equal(st_warm.evaluations, path);
     table_reset_counts(&f->model);
-    select_frame(sel, budget, 0, &st);
-    helper_check_result(sel, &f->model, &st, budget, 0);
-    assert_int_equal(st.evaluations, table_asked_nodes(&f->model));
-    assert_true(st.evaluations < 2000 / 2);
-    tclod_selector_destroy(sel);
+    select_frame(warm, budget, 0, &st_warm);
+    helper_check_result(warm, &f->model, &st_warm, budget, 0);
+    assert_true(st_warm.benefit >= st_cold.benefit);
+    assert_int_equal(st_warm.evaluations, table_asked_nodes(&f->model));
+    assert_true(st_warm.evaluations <= frontier);
+    assert_true(2u * st_warm.evaluations < path);
+    tclod_selector_destroy(warm);
+    tclod_selector_destroy(cold);
 }
 
 static void warm_start_after_the_scene_grew_includes_new_nodes(void **state) {
@@ -1166,9 +1219,10 @@ int main(void) {
         FIXTURE_TEST(cold_solves_after_other_budgets_reach_a_new_selectors_cut),
         FIXTURE_TEST(warm_starts_on_a_large_scene_keep_every_guarantee),
         FIXTURE_TEST(warm_start_after_a_budget_drop_uses_decrements),
+        FIXTURE_TEST(warm_start_swaps_a_refinement_for_a_better_one_of_the_same_cost),
         FIXTURE_TEST(warm_start_after_model_changes_stays_feasible),
         FIXTURE_TEST(warm_start_with_lookahead_after_model_changes_stays_feasible),
-        FIXTURE_TEST(warm_start_evaluates_fewer_nodes_than_the_scene_has),
+        FIXTURE_TEST(warm_start_evaluates_the_frontier_not_the_path_from_the_roots),
         FIXTURE_TEST(warm_start_after_the_scene_grew_includes_new_nodes),
         FIXTURE_TEST(warm_start_recovers_dropped_roots_when_the_budget_returns),
         FIXTURE_TEST(limits_never_stop_a_warm_start_over_budget),

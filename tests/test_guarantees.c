@@ -4,10 +4,10 @@
  * (src/selector.c, src/alloc.c): the exact budget guarantee under floating
  * point absorption, bad callback values (sanitised or, in strict mode,
  * reported), bad arguments, determinism, no allocation per frame, and
- * refusal of re-entry from callbacks (allocation failure: test_allocation.c). The same guarantees for the mixed solver (src/mixed.c,
- * src/split.c) over 10,000 random instances of discrete hierarchies and
- * smooth objects, with every group's cost recomputed member by member from
- * the table, and the smooth order that groups and queries refer to.
+ * refusal of re-entry from callbacks (allocation failure: test_allocation.c). The same guarantees
+ * for the mixed solver (src/mixed.c, src/split.c) over 10,000 random instances of discrete
+ * hierarchies and smooth objects, with every group's cost recomputed member by member from the
+ * table, and the smooth order that groups and queries refer to.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -75,21 +75,27 @@ static void select_ok(tclod_selector *sel, double budget, tclod_stats *st) {
 
 static void budget_holds_when_tiny_costs_are_absorbed(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
-    /* 100 roots with costs 1e-17 .. 1e-16 (sum 5.5e-15), then X (b 1, c 0.5)
-     * with child X1 (b 3, c 1). Taking X1 costs 1 + 5.5e-15 exactly, more
-     * than the budget 1, yet a running sum that starts from 0.5 absorbs every
-     * tiny cost (each is below half an ulp of 0.5) and reaches exactly 1.
-     * Summed in result order the total must not exceed the budget, whatever
-     * order the library lists the nodes in; likewise with budget 0.5, which
-     * the roots themselves exceed by 5.5e-15. */
-    static const double budgets[] = {1.0, 0.5, 0.5 + 1e-16, 1.0 - 1e-16};
+    /* Root Y = 0 (b 1, c 0.5) with children Y1 = 1 (b 2, c 0.25) and Y2 = 2
+     * (b 2, c 0.75), then 100 roots 3 .. 102 with costs 3e-17, 4e-17, 5e-17,
+     * 3e-17, ... (sum 3.99e-15). A running sum that starts from Y's 0.5
+     * absorbs every tiny cost (each is below half an ulp of 0.5, 5.55e-17):
+     * the roots seem to cost 0.5 and Y's increment (Δc 0.5) seems to reach
+     * exactly 1. But it costs 1 + 3.99e-15 with the roots, more than the
+     * budget 1, and a cut that lists the tiny roots after a node of 0.25 (each
+     * then rounds up to a whole ulp of 0.25) and before Y2 sums to 1 + 4e-15:
+     * only summing again in result order catches it. The total in result
+     * order must not exceed the budget, whatever order the library lists the
+     * nodes in; likewise with budgets just around 1 and with 0.5, which the
+     * roots themselves exceed by 3.99e-15. */
+    static const double budgets[] = {1.0, 0.5, 0.5 + 1e-16, 1.0 - 1e-16, 1.0 + 1e-16};
     tclod_selector *cold, *warm;
     uint32_t i;
     size_t b;
-    for (i = 0; i < 100; ++i)
-        helper_add(f, TCLOD_NONE, 1.0, 1e-17 * (double)(1u + i % 10u));
     helper_add(f, TCLOD_NONE, 1.0, 0.5);
-    helper_add(f, 100, 3.0, 1.0);
+    helper_add(f, 0, 2.0, 0.25);
+    helper_add(f, 0, 2.0, 0.75);
+    for (i = 0; i < 100; ++i)
+        helper_add(f, TCLOD_NONE, 1.0, 1e-17 * (double)(3u + i % 3u));
     cold = helper_selector(f->scene, &f->model, 0);
     warm = helper_selector(f->scene, &f->model, 1);
     for (b = 0; b < sizeof budgets / sizeof budgets[0]; ++b) {
@@ -456,6 +462,27 @@ static void selector_create_rejects_bad_descriptions(void **state) {
     d.restarts = TCLOD_MAX_RESTARTS + 1u;
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
     assert_ptr_equal(out, sentinel);
+    {
+        /* on/off fields take 0 or 1 only: 2 or -1 is a caller's mistake */
+        static const int bad_flags[] = {2, -1};
+        size_t i;
+        for (i = 0; i < 2u; ++i) {
+            d = good;
+            d.warm_start = bad_flags[i];
+            assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
+            d = good;
+            d.split_smooth = bad_flags[i];
+            assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
+            d = good;
+            d.strict = bad_flags[i];
+            assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
+            d = good;
+            d.smooth_precondition = bad_flags[i];
+            assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
+        }
+        assert_ptr_equal(out, sentinel);
+    }
+    d = good;
     d.lookahead = TCLOD_MAX_LOOKAHEAD;
     d.restarts = TCLOD_MAX_RESTARTS;
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_OK);
@@ -809,6 +836,68 @@ static void callbacks_cannot_reenter_their_selector(void **state) {
     assert_int_equal(r.select_status, TCLOD_ERR_STATE);
     helper_assert_cut(r.sel, listed, 2);
     tclod_selector_destroy(r.sel);
+}
+
+/* A host that breaks the contract: its first benefit call adds a root. */
+typedef struct growing_host {
+    helper_fixture *f;
+    int armed;
+} growing_host;
+
+static double growing_benefit(void *user, const tclod_query *q) {
+    growing_host *h = (growing_host *)user;
+    if (h->armed) {
+        h->armed = 0;
+        helper_add(h->f, TCLOD_NONE, 5.0, 1.0);
+    }
+    return table_benefit(&h->f->model, q);
+}
+
+static double growing_cost(void *user, const tclod_query *q) {
+    return table_cost(&((growing_host *)user)->f->model, q);
+}
+
+/* Roots 0 and 1 (b 1, c 1), unlimited budget: {0, 1}. During the next (warm)
+ * solve a callback adds root 2 (b 5, c 1): that solve saw the scene half
+ * before, half after, so it fails with TCLOD_ERR_STATE and {0, 1} stays; the
+ * solve after it starts over and selects {0, 1, 2}, benefit 7, cost 3. */
+static void scene_changed_by_a_callback(helper_fixture *f, tclod_solver solver) {
+    static const tclod_id before[] = {0, 1}, after[] = {0, 1, 2};
+    tclod_frame frame = helper_frame(NULL, INFINITY);
+    growing_host h;
+    tclod_selector_desc d;
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    h.f = f;
+    h.armed = 0;
+    tclod_selector_desc_default(&d);
+    d.solver = solver;
+    d.callbacks.benefit = growing_benefit;
+    d.callbacks.cost = growing_cost;
+    d.callbacks.user = &h;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_OK);
+    helper_assert_cut(sel, before, 2);
+    h.armed = 1;
+    assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_ERR_STATE);
+    assert_int_equal(h.armed, 0);
+    helper_assert_cut(sel, before, 2);
+    assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_OK);
+    helper_assert_cut(sel, after, 3);
+    assert_true(st.benefit == 7.0 && st.cost == 3.0);
+    tclod_selector_destroy(sel);
+}
+
+static void
+a_greedy_solve_whose_callback_changed_the_scene_fails_and_the_next_sees_it(void **state) {
+    scene_changed_by_a_callback((helper_fixture *)*state, TCLOD_SOLVER_GREEDY);
+}
+
+static void
+a_robin_hood_solve_whose_callback_changed_the_scene_fails_and_the_next_sees_it(void **state) {
+    scene_changed_by_a_callback((helper_fixture *)*state, TCLOD_SOLVER_ROBIN_HOOD);
 }
 
 /* ---- the mixed solver ---------------------------------------------------- *
@@ -1963,6 +2052,9 @@ int main(void) {
         FIXTURE_TEST(equal_increments_are_taken_in_id_order),
         cmocka_unit_test(selects_after_the_first_allocate_nothing),
         FIXTURE_TEST(callbacks_cannot_reenter_their_selector),
+        FIXTURE_TEST(a_greedy_solve_whose_callback_changed_the_scene_fails_and_the_next_sees_it),
+        FIXTURE_TEST(
+            a_robin_hood_solve_whose_callback_changed_the_scene_fails_and_the_next_sees_it),
         cmocka_unit_test(mixed_budget_holds_on_ten_thousand_random_mixed_instances),
         FIXTURE_TEST(bad_smooth_values_are_counted_and_the_budget_still_holds),
         FIXTURE_TEST(strict_mode_turns_bad_smooth_values_into_errors_and_keeps_the_result),
