@@ -20,7 +20,10 @@
  * that does not fit) and, on the random world only (the flyover's terrain is not a
  * chain), flat (per-object greedy without the hierarchy of group impostors). Within a
  * scene and size the rows come greedy cold, greedy warm, robin_hood, then mixed and the
- * baselines.
+ * baselines. After greedy warm comes greedy warm_floor: not a solver but the least a warm
+ * solve must spend under the callback contract, the time to project and ask the
+ * callbacks of the frontier of the warm row's selection (its nodes, their children,
+ * the parents all of whose children are selected) with nothing else (frontier_floor).
  * thesis runs the mixed solver cold, in three modes: split (split_smooth 1: quadtree
  * variable splitting lets nearby smooth objects share a variable), flat
  * (split_smooth 0: one variable per visible smooth object, up to about two thousand),
@@ -232,19 +235,192 @@ static void add_stats(bench_row *row, const tclod_stats *stats, size_t cut) {
     row->line_searches += (double)stats->line_searches;
 }
 
+/* The frontier floor of a warm solve: what re-evaluating the frontier of the
+ * previous frame's selection costs with nothing else, i.e. the least any warm solve
+ * must spend under the callback contract (every node's values are this frame's). The
+ * frontier is the selection's visible nodes, their children (to key their
+ * increments) and their parents (to key the decrements); each is projected as the
+ * library projects it (frustum planes, then the area of its sphere) and asked for its
+ * benefit, and for its cost when visible, with the world's own callbacks. No heap, no
+ * bookkeeping, no cut. */
+typedef struct frontier_floor {
+    uint32_t *child_first; /* node_count + 1 entries: node n's children are */
+    tclod_id *children;    /* children[child_first[n] .. child_first[n + 1]) */
+    tclod_id *parent;      /* bench_parents */
+    uint32_t *mark;        /* the frame a node was last listed in, + 1 */
+    uint32_t *in_cut;      /* the frame a node was last selected in, + 1 */
+    tclod_id *list;        /* this frame's frontier */
+    double *times;         /* per timed frame, µs */
+} frontier_floor;
+
+static void floor_free(frontier_floor *fl) {
+    free(fl->child_first);
+    free(fl->children);
+    free(fl->parent);
+    free(fl->mark);
+    free(fl->in_cut);
+    free(fl->list);
+    free(fl->times);
+    memset(fl, 0, sizeof(*fl));
+}
+
+static int floor_init(frontier_floor *fl, const world_scene *w, unsigned long frames) {
+    uint32_t n = w->node_count, i;
+    memset(fl, 0, sizeof(*fl));
+    fl->child_first = (uint32_t *)calloc((size_t)n + 1u, sizeof(uint32_t));
+    fl->children = (tclod_id *)malloc(((size_t)n + 1u) * sizeof(tclod_id));
+    fl->parent = bench_parents(w->scene);
+    fl->mark = (uint32_t *)calloc((size_t)n + 1u, sizeof(uint32_t));
+    fl->in_cut = (uint32_t *)calloc((size_t)n + 1u, sizeof(uint32_t));
+    fl->list = (tclod_id *)malloc(((size_t)n + 1u) * sizeof(tclod_id));
+    fl->times = (double *)malloc(frames * sizeof(double));
+    if (!fl->child_first || !fl->children || (n && !fl->parent) || !fl->mark || !fl->in_cut ||
+        !fl->list || !fl->times) {
+        floor_free(fl);
+        return 1;
+    }
+    for (i = 0; i < n; ++i)
+        if (fl->parent[i] != TCLOD_NONE)
+            fl->child_first[fl->parent[i] + 1u]++;
+    for (i = 0; i < n; ++i)
+        fl->child_first[i + 1u] += fl->child_first[i];
+    for (i = 0; i < n; ++i) /* mark counts the children placed so far */
+        if (fl->parent[i] != TCLOD_NONE)
+            fl->children[fl->child_first[fl->parent[i]] + fl->mark[fl->parent[i]]++] = i;
+    memset(fl->mark, 0, ((size_t)n + 1u) * sizeof(uint32_t));
+    return 0;
+}
+
+static size_t floor_list(frontier_floor *fl, uint32_t stamp, tclod_id n, size_t m) {
+    if (fl->mark[n] != stamp) {
+        fl->mark[n] = stamp;
+        fl->list[m++] = n;
+    }
+    return m;
+}
+
+/* Whether every child of p is in the selection (in_cut == stamp). */
+static int floor_collapsible(const frontier_floor *fl, uint32_t stamp, tclod_id p) {
+    uint32_t c;
+    for (c = fl->child_first[p]; c < fl->child_first[p + 1u]; ++c)
+        if (fl->in_cut[fl->children[c]] != stamp)
+            return 0;
+    return 1;
+}
+
+/* Lists the frontier of selection ids[0..n) (frame stamp > 0): the selected nodes,
+ * their children and the parents all of whose children are selected (what a warm
+ * solve evaluates, less the invisible nodes of its cut, which the selection does
+ * not list). Returns its size. */
+static size_t floor_frontier(frontier_floor *fl, uint32_t stamp, const tclod_id *ids, size_t n) {
+    size_t i, m = 0;
+    for (i = 0; i < n; ++i)
+        fl->in_cut[ids[i]] = stamp;
+    for (i = 0; i < n; ++i) {
+        tclod_id id = ids[i], p = fl->parent[id];
+        uint32_t c;
+        m = floor_list(fl, stamp, id, m);
+        for (c = fl->child_first[id]; c < fl->child_first[id + 1u]; ++c)
+            m = floor_list(fl, stamp, fl->children[c], m);
+        if (p != TCLOD_NONE && fl->mark[p] != stamp && floor_collapsible(fl, stamp, p))
+            m = floor_list(fl, stamp, p, m);
+    }
+    return m;
+}
+
+/* An orthonormal view basis and the constants of its frustum planes. */
+typedef struct floor_view {
+    double eye[3], forward[3], up[3], right[3];
+    double cos_y, sin_y, cos_x, sin_x, near_z, far_z, focal;
+} floor_view;
+
+static void floor_normalize(double v[3]) {
+    double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    v[0] /= len;
+    v[1] /= len;
+    v[2] /= len;
+}
+
+static void floor_view_init(floor_view *fv, const tclod_view *v) {
+    double half_y = 0.5 * (double)v->fov_y, half_x = atan((double)v->aspect * tan(half_y));
+    int i;
+    for (i = 0; i < 3; ++i) {
+        fv->eye[i] = (double)v->eye[i];
+        fv->forward[i] = (double)v->forward[i];
+        fv->up[i] = (double)v->up[i];
+    }
+    floor_normalize(fv->forward);
+    fv->right[0] = fv->forward[1] * fv->up[2] - fv->forward[2] * fv->up[1];
+    fv->right[1] = fv->forward[2] * fv->up[0] - fv->forward[0] * fv->up[2];
+    fv->right[2] = fv->forward[0] * fv->up[1] - fv->forward[1] * fv->up[0];
+    floor_normalize(fv->right);
+    fv->up[0] = fv->right[1] * fv->forward[2] - fv->right[2] * fv->forward[1];
+    fv->up[1] = fv->right[2] * fv->forward[0] - fv->right[0] * fv->forward[2];
+    fv->up[2] = fv->right[0] * fv->forward[1] - fv->right[1] * fv->forward[0];
+    fv->cos_y = cos(half_y);
+    fv->sin_y = sin(half_y);
+    fv->cos_x = cos(half_x);
+    fv->sin_x = sin(half_x);
+    fv->near_z = (double)v->near_z;
+    fv->far_z = (double)v->far_z;
+    fv->focal = 0.5 * (double)v->viewport_height / tan(half_y);
+}
+
+/* Projected area (0 outside the frustum, as the library measures it) of sphere b. */
+static double floor_area(const floor_view *fv, const float *b, double *d2) {
+    double p0 = (double)b[0] - fv->eye[0], p1 = (double)b[1] - fv->eye[1],
+           p2 = (double)b[2] - fv->eye[2], r = (double)b[3];
+    double z = p0 * fv->forward[0] + p1 * fv->forward[1] + p2 * fv->forward[2];
+    double y = p0 * fv->up[0] + p1 * fv->up[1] + p2 * fv->up[2];
+    double x = p0 * fv->right[0] + p1 * fv->right[1] + p2 * fv->right[2];
+    *d2 = p0 * p0 + p1 * p1 + p2 * p2;
+    if (z < fv->near_z - r || z > fv->far_z + r || fabs(y) * fv->cos_y - z * fv->sin_y > r ||
+        fabs(x) * fv->cos_x - z * fv->sin_x > r || *d2 <= r * r)
+        return 0.0;
+    return 3.14159265358979323846 * fv->focal * fv->focal * r * r / (*d2 - r * r);
+}
+
+/* Projects and asks the callbacks of the m listed nodes; returns a sum to keep. */
+static double floor_evaluate(const frontier_floor *fl, world_scene *w, const tclod_view *view,
+                             size_t m) {
+    tclod_callbacks cb = world_callbacks(w);
+    floor_view fv;
+    double sum = 0.0;
+    size_t i;
+    floor_view_init(&fv, view);
+    for (i = 0; i < m; ++i) {
+        tclod_query q;
+        double d2, benefit;
+        q.id = fl->list[i];
+        q.count = 1;
+        q.view = view;
+        q.members = NULL;
+        q.bounds = &w->bounds[4u * fl->list[i]];
+        q.screen_area = (float)floor_area(&fv, q.bounds, &d2);
+        q.distance = (float)sqrt(d2);
+        benefit = cb.benefit(cb.user, &q);
+        sum += benefit > 0.0 ? benefit + cb.cost(cb.user, &q) : 0.0;
+    }
+    return sum;
+}
+
 /* Runs warm-up plus `frames` timed frames along the world's loop with one method: a
  * library solver (warm or cold) or a baseline over base. Returns 0 on success; a library
  * error or a library solver's budget violation is reported and returns 1 (baselines'
  * violations are counted in the row). */
 static int run_config(world_scene *w, bench_method method, int warm, double budget,
-                      unsigned long frames, double *times, baseline_selector *base,
-                      bench_row *row) {
+                      unsigned long frames, double *times, baseline_selector *base, bench_row *row,
+                      frontier_floor *fl, bench_row *floor_row) {
     solve_call call;
     unsigned long f, total = frames + WARMUP_FRAMES;
     double sum_us = 0.0;
     int library = method <= METHOD_ROBIN_HOOD;
 
+    double floor_sum_us = 0.0, floor_sink = 0.0;
+
     memset(row, 0, sizeof(*row));
+    if (floor_row)
+        memset(floor_row, 0, sizeof(*floor_row));
     memset(&call, 0, sizeof(call));
     call.method = method;
     call.base = base;
@@ -318,6 +494,18 @@ static int run_config(world_scene *w, bench_method method, int warm, double budg
             continue;
         times[f - WARMUP_FRAMES] = t1 - t0;
         sum_us += t1 - t0;
+        if (floor_row) { /* this selection's frontier, which the next warm solve evaluates */
+            size_t m = floor_frontier(fl, (uint32_t)f + 1u, ids, n);
+            double t2 = bench_now_us(), t3;
+            floor_sink += floor_evaluate(fl, w, &view, m);
+            t3 = bench_now_us();
+            fl->times[f - WARMUP_FRAMES] = t3 - t2;
+            floor_sum_us += t3 - t2;
+            floor_row->evaluations += (double)m;
+            floor_row->cut += (double)n;
+            floor_row->benefit += call.stats.benefit;
+            floor_row->cost += call.stats.cost;
+        }
         if (library) {
             add_stats(row, &call.stats, n);
         } else {
@@ -335,6 +523,10 @@ static int run_config(world_scene *w, bench_method method, int warm, double budg
     }
     tclod_selector_destroy(call.sel);
     finish_row(row, times, frames, sum_us);
+    if (floor_row) {
+        finish_row(floor_row, fl->times, frames, floor_sum_us);
+        floor_row->refined = floor_sink > 0.0 ? row->refined : 0.0; /* keeps the sum alive */
+    }
     return 0;
 }
 
@@ -484,16 +676,28 @@ static int bench_scene(const char *scene, world_scene *w, double budget, unsigne
         if (m == METHOD_FLAT && bs.object_count == 0)
             continue;
         for (warm = 0; warm <= (m == METHOD_GREEDY) && rc == 0; ++warm) {
-            bench_row row;
+            bench_row row, floor_row;
             const char *mode = warm ? "warm" : "cold";
-            if (!row_wanted(method_names[m], mode))
+            int with_floor = warm && row_wanted(method_names[m], "warm_floor");
+            frontier_floor fl;
+            if (!row_wanted(method_names[m], mode) && !with_floor)
                 continue;
-            if (run_config(w, m, warm, budget, frames, times, base, &row) != 0) {
+            if (with_floor && floor_init(&fl, w, frames) != 0) {
+                fprintf(stderr, "tclod_bench: out of memory\n");
                 rc = 1;
                 break;
             }
-            print_row(scene, method_names[m], mode, (unsigned long)w->object_count,
-                      (unsigned long)w->node_count, budget, visible, &row);
+            if (run_config(w, m, warm, budget, frames, times, base, &row, with_floor ? &fl : NULL,
+                           with_floor ? &floor_row : NULL) != 0)
+                rc = 1;
+            if (rc == 0 && row_wanted(method_names[m], mode))
+                print_row(scene, method_names[m], mode, (unsigned long)w->object_count,
+                          (unsigned long)w->node_count, budget, visible, &row);
+            if (rc == 0 && with_floor)
+                print_row(scene, method_names[m], "warm_floor", (unsigned long)w->object_count,
+                          (unsigned long)w->node_count, budget, visible, &floor_row);
+            if (with_floor)
+                floor_free(&fl);
         }
     }
     baseline_destroy(base);
@@ -598,8 +802,8 @@ static void usage(FILE *out) {
             "                cycles through them, at most 40 frames with --quick)\n"
             "  --solver NAME only the rows of one solver or baseline: greedy, mixed,\n"
             "                robin_hood, threshold_tuned, threshold_fixed, pq_stop, flat\n"
-            "  --mode NAME   only the rows of one mode: cold, warm (thesis: split, flat,\n"
-            "                split_gradient)\n"
+            "  --mode NAME   only the rows of one mode: cold, warm, warm_floor (thesis:\n"
+            "                split, flat, split_gradient)\n"
             "  --lookahead N random and flyover rows: the greedy and mixed solvers'\n"
             "                tclod_selector_desc.lookahead (default: the library's, 0)\n"
             "  --restarts N  random and flyover rows: tclod_selector_desc.restarts\n"
@@ -621,8 +825,8 @@ static int parse_count(int argc, char **argv, int *i, unsigned long lo, unsigned
     *out = strtoul(argv[++*i], &end, 10);
     if (errno != 0 || *end != '\0' || argv[*i][0] == '-' || argv[*i][0] == '\0' || *out < lo ||
         *out > hi) {
-        fprintf(stderr, "tclod_bench: %s expects an integer in [%lu, %lu], got '%s'\n", opt, lo,
-                hi, argv[*i]);
+        fprintf(stderr, "tclod_bench: %s expects an integer in [%lu, %lu], got '%s'\n", opt, lo, hi,
+                argv[*i]);
         return 0;
     }
     return 1;
@@ -673,7 +877,8 @@ int main(int argc, char **argv) {
             if (!parse_count(argc, argv, &i, 0ul, TCLOD_MAX_RESTARTS, &opt_restarts))
                 return 2;
         } else if (strcmp(argv[i], "--solver") == 0 || strcmp(argv[i], "--mode") == 0) {
-            static const char *const modes[] = {"cold", "warm", "split", "flat", "split_gradient"};
+            static const char *const modes[] = {"cold",  "warm", "warm_floor",
+                                                "split", "flat", "split_gradient"};
             int is_solver = strcmp(argv[i], "--solver") == 0, known = 0, k2;
             if (i + 1 >= argc) {
                 fprintf(stderr, "tclod_bench: %s needs a value\n", argv[i]);
@@ -685,7 +890,7 @@ int main(int argc, char **argv) {
                     known |= strcmp(argv[i], method_names[k2]) == 0;
                 only_solver = argv[i];
             } else {
-                for (k2 = 0; k2 < 5; ++k2)
+                for (k2 = 0; k2 < (int)(sizeof(modes) / sizeof(modes[0])); ++k2)
                     known |= strcmp(argv[i], modes[k2]) == 0;
                 only_mode = argv[i];
             }
