@@ -162,14 +162,8 @@ static int parse_options(int argc, char **argv, options *o) {
         if (!strcmp(a, "--help") || !strcmp(a, "-h"))
             return 1;
         if (!strcmp(a, "--morph")) {
-#ifdef GLFW_FOREST_SCHEDULER
             o->morph = 1;
             continue;
-#else
-            fprintf(stderr, "glfw_forest: --morph needs libtclod's geomorph scheduler "
-                            "(tclod_scheduler_*), which this libtclod does not provide\n");
-            return 2;
-#endif
         }
         if (!v) {
             fprintf(stderr, "glfw_forest: unknown option or missing value: %s\n", a);
@@ -577,7 +571,6 @@ static void terrain_draw(terrain_cache *c, const gl_ext *gl, const thesis_scene 
     gl->BindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
-#ifdef GLFW_FOREST_SCHEDULER
 /* Geomorphs (seed 004 §4.3) of the scheduler's draw lists: a patch on its way
  * to or from its parent is drawn with every height between its own and the
  * parent's surface at that vertex (weight 1 = the patch itself). The parent's
@@ -660,7 +653,6 @@ static void morph_draw(const terrain_cache *c, const gl_ext *gl) {
     gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
     gl->BindBuffer(GL_ARRAY_BUFFER, 0);
 }
-#endif
 
 /* ------------------------------------------------------------------------- */
 /* Trees: one splat template, a prefix of it per tree                        */
@@ -827,7 +819,6 @@ static tree_counts trees_draw(const thesis_scene *t, const gl_ext *gl, GLuint vb
     return counts;
 }
 
-#ifdef GLFW_FOREST_SCHEDULER
 /* Draws every smooth object at the resolution the scheduler gives it this frame
  * (moving linearly while it changes). */
 static tree_counts trees_draw_scheduled(const thesis_scene *t, const gl_ext *gl, GLuint vbo,
@@ -846,7 +837,6 @@ static tree_counts trees_draw_scheduled(const thesis_scene *t, const gl_ext *gl,
     trees_end(gl);
     return counts;
 }
-#endif
 
 /* ------------------------------------------------------------------------- */
 /* Camera                                                                    */
@@ -1071,9 +1061,7 @@ typedef struct app {
     tclod_selector *sel;
     tclod_solver solver;
     tclod_calib *calib;
-#ifdef GLFW_FOREST_SCHEDULER
     tclod_scheduler *sch; /* --morph */
-#endif
     camera cam;
 } app;
 
@@ -1084,7 +1072,6 @@ static void selector_desc(app *a, tclod_solver s, tclod_selector_desc *d) {
     d->split_smooth = 1; /* the thesis's grouping of nearby tree sets (SplitVar) */
 }
 
-#ifdef GLFW_FOREST_SCHEDULER
 /* Replaces the scheduler by one selecting with a->solver, whose calibration
  * starts from initial_scale; keeps the old one on failure. The flyover moves at
  * about 260 m/s and turns slowly; free flight may be faster, which only makes
@@ -1109,7 +1096,6 @@ static int make_scheduler(app *a, double initial_scale) {
     a->sch = sch;
     return 1;
 }
-#endif
 
 /* Replaces the selector (and the scheduler) by one with solver s; keeps the old
  * one on failure. */
@@ -1127,10 +1113,8 @@ static void set_solver(app *a, tclod_solver s) {
     tclod_selector_destroy(a->sel);
     a->sel = sel;
     a->solver = s;
-#ifdef GLFW_FOREST_SCHEDULER
     if (a->sch)
         make_scheduler(a, tclod_calib_scale(a->calib));
-#endif
 }
 
 static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods) {
@@ -1424,9 +1408,7 @@ int main(int argc, char **argv) {
     tclod_status st;
     GLfloat point_range[2];
     double last_time, sum_ms = 0.0, sum_err = 0.0;
-#ifdef GLFW_FOREST_SCHEDULER
     double now = 0.0; /* the scheduler's clock: flight time, s */
-#endif
     unsigned long frame = 0;
     int rc, i, fb_w, fb_h;
 
@@ -1510,10 +1492,8 @@ int main(int argc, char **argv) {
     }
     a.calib = calib;
     printf("glfw_forest: measured %.2f ms per predicted ms to start from\n", cd.initial_scale);
-#ifdef GLFW_FOREST_SCHEDULER
     if (a.opt.morph && !make_scheduler(&a, cd.initial_scale))
         return 1;
-#endif
 
     last_time = glfwGetTime();
     while (!glfwWindowShouldClose(win) && (a.opt.frames == 0 || frame < a.opt.frames)) {
@@ -1538,14 +1518,11 @@ int main(int argc, char **argv) {
             continue;
         }
         dt = dt > 0.1 ? 0.1 : dt;
-#ifdef GLFW_FOREST_SCHEDULER
         now += dt;
-#endif
         update_view(&a, win, dt, fb_w, fb_h, &view);
         memset(&stats, 0, sizeof(stats));
         hf.morphing = 0;
 
-#ifdef GLFW_FOREST_SCHEDULER
         if (a.sch) {
             /* the scheduler: the render time that fits the target (its own
              * calibration turns it into a budget), a slice of the next selection,
@@ -1571,7 +1548,6 @@ int main(int argc, char **argv) {
             stats.solve_seconds = ss.select_seconds;
             hf.morphing = ss.morphing;
         } else
-#endif
         {
             /* libtclod: the budget for the target frame time, the selection, the result */
             tclod_calib_budget(calib, a.opt.target_ms, &budget);
@@ -1599,13 +1575,11 @@ int main(int argc, char **argv) {
             glFinish();
         t0 = glfwGetTime();
         terrain_draw(&r.terrain, &r.gl, &a.scene, ids, n_ids);
-#ifdef GLFW_FOREST_SCHEDULER
         if (a.sch) {
             morph_draw(&r.terrain, &r.gl);
             hf.trees = trees_draw_scheduled(&a.scene, &r.gl, r.tree_vbo, &view, view_d, a.sch,
                                             r.max_point);
         } else
-#endif
             hf.trees = trees_draw(&a.scene, &r.gl, r.tree_vbo, &view, view_d, groups, n_groups,
                                   r.max_point);
         if (tm.gpu) {
@@ -1646,12 +1620,10 @@ int main(int argc, char **argv) {
             tclod_calib_report(calib, predicted, tm.last_render_ms,
                                frame_ms > tm.last_render_ms ? frame_ms - tm.last_render_ms : 0.0);
         }
-#ifdef GLFW_FOREST_SCHEDULER
         /* the scheduler's own calibration: with GPU timing the latest measured
          * frame, a frame or two old, stands in for this one */
         if (a.sch)
             tclod_scheduler_report(a.sch, tm.last_render_ms);
-#endif
         hud.frame_ms[hud.next] = (float)frame_ms;
         hud.target_ms[hud.next] = (float)a.opt.target_ms;
         hud.next = (hud.next + 1) % GRAPH_FRAMES;
@@ -1669,9 +1641,7 @@ int main(int argc, char **argv) {
         r.gl.DeleteQueries(1, &tm.ring[i].query);
     r.gl.DeleteBuffers(1, &r.tree_vbo);
     terrain_free(&r.terrain, &r.gl);
-#ifdef GLFW_FOREST_SCHEDULER
     tclod_scheduler_destroy(a.sch);
-#endif
     tclod_selector_destroy(a.sel);
     tclod_calib_destroy(calib);
     thesis_scene_free(&a.scene);
