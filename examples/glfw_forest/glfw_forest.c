@@ -356,22 +356,13 @@ static void terrain_colour(double rel, double forest, const double n[3], uint8_t
     out[3] = 255;
 }
 
-/* Node id → quadtree level and cell (ids are level by level, row-major). */
-static void patch_place(const thesis_scene *t, tclod_id id, uint32_t *ix, uint32_t *iz,
-                        uint32_t *level) {
-    uint32_t l = t->depth[id], m = 1u << l, first = ((1u << (2u * l)) - 1u) / 3u;
-    *level = l;
-    *ix = (id - first) % m;
-    *iz = (id - first) / m;
-}
-
 /* The patch's 33 × 33 vertices with colours from height, slope and sun, and its
  * skirts, into c->scratch: what every patch of any depth sends, 2112 strip
  * vertices (thesis eq. 8.19), at its own spacing. */
 static void build_patch(const thesis_scene *t, terrain_cache *c, tclod_id id) {
     uint32_t ix, iz, level, i, j, e, s = GRID_SIDE + 2u;
     double size, cell, x0, z0, skirt;
-    patch_place(t, id, &ix, &iz, &level);
+    thesis_patch_cell(t, id, &level, &ix, &iz);
     size = (double)t->side / (double)(1u << level);
     cell = size / (double)THESIS_PATCH_CELLS;
     x0 = (double)ix * size;
@@ -1547,8 +1538,7 @@ int main(int argc, char **argv) {
             budget = ss.budget;
             stats.solve_seconds = ss.select_seconds;
             hf.morphing = ss.morphing;
-        } else
-        {
+        } else {
             /* libtclod: the budget for the target frame time, the selection, the result */
             tclod_calib_budget(calib, a.opt.target_ms, &budget);
             memset(&fr, 0, sizeof(fr));
