@@ -304,15 +304,15 @@ typedef struct vertex {
 typedef struct terrain_cache {
     GLuint vbo, ibo;
     GLsizei index_count;
-    uint32_t slots;       /* PATCH_SLOTS or fewer, plus one scratch slot after them */
+    uint32_t slots;       /* cached patches: PATCH_SLOTS or fewer; the vertex buffer holds
+                             them, a scratch slot after them and MORPH_SLOTS more */
     uint32_t used;        /* slots 0 .. used - 1 hold a patch */
     int32_t *slot_of;     /* per node: its slot, or -1 */
     tclod_id *node_in;    /* per slot: its node, or TCLOD_NONE */
     uint32_t *stamp;      /* per slot: the last frame that drew it */
     vertex *scratch;      /* one patch being built */
     float *heights;       /* (GRID_SIDE + 2)² samples: the grid and a border for normals */
-    GLuint morph_vbo;     /* --morph: this frame's morphing patches */
-    uint32_t morph_count; /* patches in it */
+    uint32_t morph_count; /* --morph: this frame's morphing patches, after the scratch slot */
     tclod_id *plain;      /* --morph: node_count, the draw list's patches drawn as they are */
 } terrain_cache;
 
@@ -356,11 +356,26 @@ static void terrain_colour(double rel, double forest, const double n[3], uint8_t
     out[3] = 255;
 }
 
+/* The grid vertex that skirt vertex k (0 .. 4 · GRID_SIDE - 1, after the grid's
+ * vertices) hangs below: the edges z = 0, z = end, x = 0, x = end in turn. */
+static uint32_t skirt_top(uint32_t k) {
+    uint32_t e = k / GRID_SIDE, i = k % GRID_SIDE;
+    uint32_t gi = e < 2u ? i : (e == 2u ? 0u : GRID_SIDE - 1u);
+    uint32_t gj = e < 2u ? (e == 0u ? 0u : GRID_SIDE - 1u) : i;
+    return gj * GRID_SIDE + gi;
+}
+
 /* The patch's 33 × 33 vertices with colours from height, slope and sun, and its
  * skirts, into c->scratch: what every patch of any depth sends, 2112 strip
- * vertices (thesis eq. 8.19), at its own spacing. */
-static void build_patch(const thesis_scene *t, terrain_cache *c, tclod_id id) {
-    uint32_t ix, iz, level, i, j, e, s = GRID_SIDE + 2u;
+ * vertices (thesis eq. 8.19), at its own spacing, plus the skirts' 264.
+ * weight < 1 geomorphs it (seed 004 §4.3) towards its parent: every height lies
+ * between its own and the parent's surface at that vertex (weight 1 = the patch
+ * itself). The parent's vertices are the patch's even ones; the others lie on
+ * the parent's cell edges (the mean of the two ends) or on the diagonal its
+ * strips cut each cell along, from (i - 1, j + 1) to (i + 1, j - 1). */
+static void build_patch(const thesis_scene *t, terrain_cache *c, tclod_id id, float weight) {
+    const ptrdiff_t s = GRID_SIDE + 2u;
+    uint32_t ix, iz, level, i, j, k;
     double size, cell, x0, z0, skirt;
     thesis_patch_cell(t, id, &level, &ix, &iz);
     size = (double)t->side / (double)(1u << level);
@@ -370,8 +385,8 @@ static void build_patch(const thesis_scene *t, terrain_cache *c, tclod_id id) {
     /* deeper than the largest step a finer neighbour's edge can make against
      * this patch's straight edge on these slopes */
     skirt = 0.25 * cell + 2.0;
-    for (j = 0; j < s; ++j)
-        for (i = 0; i < s; ++i)
+    for (j = 0; j < (uint32_t)s; ++j)
+        for (i = 0; i < (uint32_t)s; ++i)
             c->heights[j * s + i] =
                 thesis_terrain_height((float)(x0 + ((double)i - 1.0) * cell),
                                       (float)(z0 + ((double)j - 1.0) * cell), t->side, t->height);
@@ -379,30 +394,29 @@ static void build_patch(const thesis_scene *t, terrain_cache *c, tclod_id id) {
         for (i = 0; i < GRID_SIDE; ++i) {
             const float *h = c->heights + (j + 1u) * s + (i + 1u);
             vertex *v = c->scratch + j * GRID_SIDE + i;
+            float coarse = (i % 2u == 0u && j % 2u == 0u) ? h[0]
+                           : j % 2u == 0u                 ? 0.5f * (h[-1] + h[1])
+                           : i % 2u == 0u                 ? 0.5f * (h[-s] + h[s])
+                                                          : 0.5f * (h[s - 1] + h[1 - s]);
             double n[3], len;
             n[0] = -((double)h[1] - (double)h[-1]) / (2.0 * cell);
             n[1] = 1.0;
-            n[2] = -((double)h[s] - (double)h[-(ptrdiff_t)s]) / (2.0 * cell);
+            n[2] = -((double)h[s] - (double)h[-s]) / (2.0 * cell);
             len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
             n[0] /= len;
             n[1] /= len;
             n[2] /= len;
             v->pos[0] = (float)(x0 + (double)i * cell);
-            v->pos[1] = h[0];
+            v->pos[1] = weight * h[0] + (1.0f - weight) * coarse;
             v->pos[2] = (float)(z0 + (double)j * cell);
             terrain_colour(t->height > 0.0f ? (double)h[0] / (double)t->height : 0.0,
                            (double)thesis_forest_mask(t, v->pos[0], v->pos[2]), n, v->rgba);
         }
     }
-    /* skirts: edges z = 0, z = end, x = 0, x = end, each vertex copied down */
-    for (e = 0; e < 4u; ++e) {
-        for (i = 0; i < GRID_SIDE; ++i) {
-            uint32_t gi = e < 2u ? i : (e == 2u ? 0u : GRID_SIDE - 1u);
-            uint32_t gj = e < 2u ? (e == 0u ? 0u : GRID_SIDE - 1u) : i;
-            vertex *v = c->scratch + GRID_SIDE * GRID_SIDE + e * GRID_SIDE + i;
-            *v = c->scratch[gj * GRID_SIDE + gi];
-            v->pos[1] -= (float)skirt;
-        }
+    for (k = 0; k < 4u * GRID_SIDE; ++k) {
+        vertex *v = c->scratch + GRID_SIDE * GRID_SIDE + k;
+        *v = c->scratch[skirt_top(k)];
+        v->pos[1] -= (float)skirt;
     }
 }
 
@@ -411,7 +425,7 @@ static void build_patch(const thesis_scene *t, terrain_cache *c, tclod_id id) {
  * (degenerate triangles; every strip has an even length, so winding is kept). */
 static GLsizei patch_indices(GLushort *out) {
     GLsizei n = 0;
-    uint32_t j, i, e;
+    uint32_t j, i, k;
     for (j = 0; j < THESIS_PATCH_CELLS; ++j) {
         if (n > 0) {
             out[n] = out[n - 1];
@@ -423,20 +437,15 @@ static GLsizei patch_indices(GLushort *out) {
             out[n++] = (GLushort)((j + 1u) * GRID_SIDE + i);
         }
     }
-    for (e = 0; e < 4u; ++e) {
-        for (i = 0; i < GRID_SIDE; ++i) {
-            uint32_t gi = e < 2u ? i : (e == 2u ? 0u : GRID_SIDE - 1u);
-            uint32_t gj = e < 2u ? (e == 0u ? 0u : GRID_SIDE - 1u) : i;
-            GLushort top = (GLushort)(gj * GRID_SIDE + gi);
-            GLushort below = (GLushort)(GRID_SIDE * GRID_SIDE + e * GRID_SIDE + i);
-            if (i == 0u) {
-                out[n] = out[n - 1];
-                out[n + 1] = top;
-                n += 2;
-            }
-            out[n++] = top;
-            out[n++] = below;
+    for (k = 0; k < 4u * GRID_SIDE; ++k) {
+        GLushort top = (GLushort)skirt_top(k);
+        if (k % GRID_SIDE == 0u) {
+            out[n] = out[n - 1];
+            out[n + 1] = top;
+            n += 2;
         }
+        out[n++] = top;
+        out[n++] = (GLushort)(GRID_SIDE * GRID_SIDE + k);
     }
     return n;
 }
@@ -462,14 +471,10 @@ static int terrain_init(terrain_cache *c, const gl_ext *gl, const thesis_scene *
     gl->GenBuffers(1, &c->vbo);
     gl->GenBuffers(1, &c->ibo);
     gl->BindBuffer(GL_ARRAY_BUFFER, c->vbo);
-    gl->BufferData(GL_ARRAY_BUFFER,
-                   (GLsizeiptr)((size_t)(c->slots + 1u) * PATCH_VERTS * sizeof(vertex)), NULL,
-                   GL_DYNAMIC_DRAW);
-    gl->GenBuffers(1, &c->morph_vbo);
-    gl->BindBuffer(GL_ARRAY_BUFFER, c->morph_vbo);
-    gl->BufferData(GL_ARRAY_BUFFER,
-                   (GLsizeiptr)((size_t)MORPH_SLOTS * PATCH_VERTS * sizeof(vertex)), NULL,
-                   GL_STREAM_DRAW);
+    gl->BufferData(
+        GL_ARRAY_BUFFER,
+        (GLsizeiptr)((size_t)(c->slots + 1u + MORPH_SLOTS) * PATCH_VERTS * sizeof(vertex)), NULL,
+        GL_DYNAMIC_DRAW);
     gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, c->ibo);
     gl->BufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)((size_t)c->index_count * sizeof(GLushort)),
                    indices, GL_STATIC_DRAW);
@@ -483,8 +488,6 @@ static void terrain_free(terrain_cache *c, const gl_ext *gl) {
         gl->DeleteBuffers(1, &c->vbo);
     if (c->ibo)
         gl->DeleteBuffers(1, &c->ibo);
-    if (c->morph_vbo)
-        gl->DeleteBuffers(1, &c->morph_vbo);
     free(c->plain);
     free(c->slot_of);
     free(c->node_in);
@@ -494,8 +497,9 @@ static void terrain_free(terrain_cache *c, const gl_ext *gl) {
     memset(c, 0, sizeof(*c));
 }
 
-static void upload_patch(terrain_cache *c, const gl_ext *gl, uint32_t slot) {
-    gl->BufferSubData(GL_ARRAY_BUFFER, (GLintptr)((size_t)slot * PATCH_VERTS * sizeof(vertex)),
+/* c->scratch into slot `slot` of the vertex buffer, which is bound. */
+static void upload_patch(terrain_cache *c, const gl_ext *gl, size_t slot) {
+    gl->BufferSubData(GL_ARRAY_BUFFER, (GLintptr)(slot * PATCH_VERTS * sizeof(vertex)),
                       (GLsizeiptr)(PATCH_VERTS * sizeof(vertex)), c->scratch);
 }
 
@@ -526,7 +530,7 @@ static void terrain_prepare(terrain_cache *c, const gl_ext *gl, const thesis_sce
                 continue;
             c->slot_of[c->node_in[slot]] = -1;
         }
-        build_patch(t, c, id);
+        build_patch(t, c, id, 1.0f);
         upload_patch(c, gl, slot);
         c->node_in[slot] = id;
         c->slot_of[id] = (int32_t)slot;
@@ -535,6 +539,30 @@ static void terrain_prepare(terrain_cache *c, const gl_ext *gl, const thesis_sce
     gl->BindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
+/* Splits a draw list of the scheduler into the patches drawn as they are (into
+ * plain, from the cache) and those that morph, built now into the slots after
+ * the scratch slot, before the drawing is timed; past MORPH_SLOTS a morphing
+ * patch is drawn as it is. */
+static size_t morph_prepare(terrain_cache *c, const gl_ext *gl, const thesis_scene *t,
+                            const tclod_draw *items, size_t n, tclod_id *plain) {
+    size_t k, n_plain = 0;
+    c->morph_count = 0;
+    gl->BindBuffer(GL_ARRAY_BUFFER, c->vbo);
+    for (k = 0; k < n; ++k) {
+        if (items[k].fine == items[k].coarse || items[k].weight >= 1.0f ||
+            c->morph_count == MORPH_SLOTS) {
+            plain[n_plain++] = items[k].fine;
+            continue;
+        }
+        build_patch(t, c, items[k].fine, items[k].weight < 0.0f ? 0.0f : items[k].weight);
+        upload_patch(c, gl, (size_t)c->slots + 1u + c->morph_count++);
+    }
+    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    return n_plain;
+}
+
+/* Draws the patches ids from the cache (one that is not in it is built now, into
+ * the scratch slot), then this frame's morphing patches. */
 static void terrain_draw(terrain_cache *c, const gl_ext *gl, const thesis_scene *t,
                          const tclod_id *ids, size_t n) {
     size_t k;
@@ -542,98 +570,14 @@ static void terrain_draw(terrain_cache *c, const gl_ext *gl, const thesis_scene 
     gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, c->ibo);
     glEnableClientState(GL_VERTEX_ARRAY);
     glEnableClientState(GL_COLOR_ARRAY);
-    for (k = 0; k < n; ++k) {
-        int32_t slot = c->slot_of[ids[k]];
-        size_t base;
-        if (slot < 0) {
-            build_patch(t, c, ids[k]);
-            upload_patch(c, gl, c->slots);
-            slot = (int32_t)c->slots;
+    for (k = 0; k < n + c->morph_count; ++k) {
+        size_t slot = k >= n ? c->slots + 1u + (k - n) : (size_t)c->slot_of[ids[k]], base;
+        if (k < n && c->slot_of[ids[k]] < 0) {
+            build_patch(t, c, ids[k], 1.0f);
+            slot = c->slots;
+            upload_patch(c, gl, slot);
         }
-        base = (size_t)slot * PATCH_VERTS * sizeof(vertex);
-        glVertexPointer(3, GL_FLOAT, sizeof(vertex), buffer_offset(base));
-        glColorPointer(4, GL_UNSIGNED_BYTE, sizeof(vertex),
-                       buffer_offset(base + offsetof(vertex, rgba)));
-        glDrawElements(GL_TRIANGLE_STRIP, c->index_count, GL_UNSIGNED_SHORT, buffer_offset(0));
-    }
-    glDisableClientState(GL_COLOR_ARRAY);
-    glDisableClientState(GL_VERTEX_ARRAY);
-    gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
-    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
-}
-
-/* Geomorphs (seed 004 §4.3) of the scheduler's draw lists: a patch on its way
- * to or from its parent is drawn with every height between its own and the
- * parent's surface at that vertex (weight 1 = the patch itself). The parent's
- * vertices are the patch's even ones; the others lie on the parent's cell edges
- * (the mean of the two ends) or on the diagonal its strips cut each cell along,
- * from (i - 1, j + 1) to (i + 1, j - 1). Works on the patch build_patch just
- * built, its heights included; the skirts follow their edges. */
-static void morph_patch(terrain_cache *c, float weight) {
-    const ptrdiff_t s = GRID_SIDE + 2u;
-    uint32_t i, j, e;
-    for (e = 0; e < 4u; ++e) {
-        for (i = 0; i < GRID_SIDE; ++i) {
-            uint32_t gi = e < 2u ? i : (e == 2u ? 0u : GRID_SIDE - 1u);
-            uint32_t gj = e < 2u ? (e == 0u ? 0u : GRID_SIDE - 1u) : i;
-            /* the skirt's depth below its edge vertex, before that one moves */
-            c->scratch[GRID_SIDE * GRID_SIDE + e * GRID_SIDE + i].pos[1] -=
-                c->scratch[gj * GRID_SIDE + gi].pos[1];
-        }
-    }
-    for (j = 0; j < GRID_SIDE; ++j) {
-        for (i = 0; i < GRID_SIDE; ++i) {
-            const float *h = c->heights + (ptrdiff_t)(j + 1u) * s + (i + 1u);
-            float coarse = (i % 2u == 0u && j % 2u == 0u) ? h[0]
-                           : j % 2u == 0u                 ? 0.5f * (h[-1] + h[1])
-                           : i % 2u == 0u                 ? 0.5f * (h[-s] + h[s])
-                                                          : 0.5f * (h[s - 1] + h[1 - s]);
-            c->scratch[j * GRID_SIDE + i].pos[1] = weight * h[0] + (1.0f - weight) * coarse;
-        }
-    }
-    for (e = 0; e < 4u; ++e) {
-        for (i = 0; i < GRID_SIDE; ++i) {
-            uint32_t gi = e < 2u ? i : (e == 2u ? 0u : GRID_SIDE - 1u);
-            uint32_t gj = e < 2u ? (e == 0u ? 0u : GRID_SIDE - 1u) : i;
-            c->scratch[GRID_SIDE * GRID_SIDE + e * GRID_SIDE + i].pos[1] +=
-                c->scratch[gj * GRID_SIDE + gi].pos[1];
-        }
-    }
-}
-
-/* Splits a draw list into the patches drawn as they are (into plain, from the
- * cache) and those that morph, built now into the morph buffer, before the
- * drawing is timed; past MORPH_SLOTS a morphing patch is drawn as it is. */
-static size_t morph_prepare(terrain_cache *c, const gl_ext *gl, const thesis_scene *t,
-                            const tclod_draw *items, size_t n, tclod_id *plain) {
-    size_t k, n_plain = 0;
-    c->morph_count = 0;
-    gl->BindBuffer(GL_ARRAY_BUFFER, c->morph_vbo);
-    for (k = 0; k < n; ++k) {
-        if (items[k].fine == items[k].coarse || items[k].weight >= 1.0f ||
-            c->morph_count == MORPH_SLOTS) {
-            plain[n_plain++] = items[k].fine;
-            continue;
-        }
-        build_patch(t, c, items[k].fine);
-        morph_patch(c, items[k].weight < 0.0f ? 0.0f : items[k].weight);
-        gl->BufferSubData(GL_ARRAY_BUFFER,
-                          (GLintptr)((size_t)c->morph_count * PATCH_VERTS * sizeof(vertex)),
-                          (GLsizeiptr)(PATCH_VERTS * sizeof(vertex)), c->scratch);
-        c->morph_count++;
-    }
-    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
-    return n_plain;
-}
-
-static void morph_draw(const terrain_cache *c, const gl_ext *gl) {
-    uint32_t k;
-    gl->BindBuffer(GL_ARRAY_BUFFER, c->morph_vbo);
-    gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, c->ibo);
-    glEnableClientState(GL_VERTEX_ARRAY);
-    glEnableClientState(GL_COLOR_ARRAY);
-    for (k = 0; k < c->morph_count; ++k) {
-        size_t base = (size_t)k * PATCH_VERTS * sizeof(vertex);
+        base = slot * PATCH_VERTS * sizeof(vertex);
         glVertexPointer(3, GL_FLOAT, sizeof(vertex), buffer_offset(base));
         glColorPointer(4, GL_UNSIGNED_BYTE, sizeof(vertex),
                        buffer_offset(base + offsetof(vertex, rgba)));
@@ -792,38 +736,24 @@ static void object_trees_draw(const thesis_scene *t, const tclod_view *view,
     }
 }
 
-/* Draws the selected smooth groups: every member at its group's resolution. */
+/* Draws the selected trees: every member of each of the n groups at its group's
+ * resolution or, with a scheduler, every smooth object at the resolution the
+ * scheduler gives it this frame (moving linearly while it changes). */
 static tree_counts trees_draw(const thesis_scene *t, const gl_ext *gl, GLuint vbo,
                               const tclod_view *view, const double view_d[16],
-                              const tclod_smooth_group *groups, size_t n, float max_point) {
+                              const tclod_smooth_group *groups, size_t n,
+                              const tclod_scheduler *sch, float max_point) {
     tree_counts counts = {0, 0.0};
+    double carry = 0.5;
     size_t g;
-    trees_begin(gl, vbo);
-    for (g = 0; g < n; ++g) {
-        double per_tree = groups[g].resolution * (double)THESIS_SPLATS_PER_TREE, carry = 0.5;
-        uint32_t p;
-        for (p = groups[g].first; p < groups[g].first + groups[g].count; ++p)
-            object_trees_draw(t, view, view_d, t->smooth_order[p], per_tree, &carry, max_point,
-                              &counts);
-    }
-    trees_end(gl);
-    return counts;
-}
-
-/* Draws every smooth object at the resolution the scheduler gives it this frame
- * (moving linearly while it changes). */
-static tree_counts trees_draw_scheduled(const thesis_scene *t, const gl_ext *gl, GLuint vbo,
-                                        const tclod_view *view, const double view_d[16],
-                                        const tclod_scheduler *sch, float max_point) {
-    tree_counts counts = {0, 0.0};
     uint32_t p;
     trees_begin(gl, vbo);
-    for (p = 0; p < t->smooth_count; ++p) {
-        tclod_id obj = t->smooth_order[p];
-        double r = tclod_scheduler_resolution(sch, obj), carry = 0.5;
-        if (r > 0.0)
-            object_trees_draw(t, view, view_d, obj, r * (double)THESIS_SPLATS_PER_TREE, &carry,
-                              max_point, &counts);
+    for (g = 0; g < (sch ? (size_t)t->smooth_count : n); ++g) {
+        uint32_t first = sch ? (uint32_t)g : groups[g].first, count = sch ? 1u : groups[g].count;
+        double r = sch ? tclod_scheduler_resolution(sch, t->smooth_order[g]) : groups[g].resolution;
+        for (p = first; p < first + count && r > 0.0; ++p)
+            object_trees_draw(t, view, view_d, t->smooth_order[p],
+                              r * (double)THESIS_SPLATS_PER_TREE, &carry, max_point, &counts);
     }
     trees_end(gl);
     return counts;
@@ -1346,7 +1276,7 @@ static double probe_scale(app *a, renderer *r, const tclod_view *view, double bu
     glFinish();
     t0 = glfwGetTime();
     terrain_draw(&r->terrain, &r->gl, &a->scene, ids, n_ids);
-    trees_draw(&a->scene, &r->gl, r->tree_vbo, view, view_d, groups, n_groups, r->max_point);
+    trees_draw(&a->scene, &r->gl, r->tree_vbo, view, view_d, groups, n_groups, NULL, r->max_point);
     glFinish();
     ms = (glfwGetTime() - t0) * 1e3;
     return ms > 0.0 ? ms / st.cost : 1.0;
@@ -1565,13 +1495,8 @@ int main(int argc, char **argv) {
             glFinish();
         t0 = glfwGetTime();
         terrain_draw(&r.terrain, &r.gl, &a.scene, ids, n_ids);
-        if (a.sch) {
-            morph_draw(&r.terrain, &r.gl);
-            hf.trees = trees_draw_scheduled(&a.scene, &r.gl, r.tree_vbo, &view, view_d, a.sch,
-                                            r.max_point);
-        } else
-            hf.trees = trees_draw(&a.scene, &r.gl, r.tree_vbo, &view, view_d, groups, n_groups,
-                                  r.max_point);
+        hf.trees = trees_draw(&a.scene, &r.gl, r.tree_vbo, &view, view_d, groups, n_groups, a.sch,
+                              r.max_point);
         if (tm.gpu) {
             r.gl.EndQuery(GL_TIME_ELAPSED);
         } else {
