@@ -701,18 +701,16 @@ typedef struct tree_counts {
 /* Draws smooth object obj's trees with per_tree splats each on average (r · S,
  * S = THESIS_SPLATS_PER_TREE), as the cost model counts them: below one, one
  * splat for that share of the trees, spread evenly; *carry keeps the fraction
- * from tree to tree, so nothing is lost to rounding. Splats grow as fewer cover
- * a tree. */
+ * from tree to tree, so nothing is lost to rounding. Every tree is drawn, in
+ * view or not: the group's cost counts them all, and a host that culled them
+ * would draw less than the calibration is told. Splats grow as fewer cover a
+ * tree. */
 static void object_trees_draw(const thesis_scene *t, const tclod_view *view,
                               const double view_d[16], tclod_id obj, double per_tree, double *carry,
                               float max_point, tree_counts *counts) {
     double focal = 0.5 * (double)view->viewport_height / tan(0.5 * (double)view->fov_y);
-    uint32_t k, end = t->tree_first[obj + 1u];
-    if (!tclod_view_sphere_visible(view, t->smooth_bounds + 4u * (size_t)obj)) {
-        *carry = fmod(*carry + per_tree * (double)(end - t->tree_first[obj]), 1.0);
-        return;
-    }
-    for (k = t->tree_first[obj]; k < end; ++k) {
+    uint32_t k;
+    for (k = t->tree_first[obj]; k < t->tree_first[obj + 1u]; ++k) {
         const float *tr = t->tree_xyzh + 4u * (size_t)k;
         double h = (double)tr[3], dx = (double)tr[0] - (double)view->eye[0];
         double dy = (double)tr[1] + 0.4 * h - (double)view->eye[1];
