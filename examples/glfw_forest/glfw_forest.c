@@ -1315,17 +1315,74 @@ static void on_glfw_error(int code, const char *text) {
     fprintf(stderr, "glfw_forest: GLFW error %d: %s\n", code, text);
 }
 
+/* Everything before the first frame: the scene, the selector, the terrain cache
+ * and the tree template, one unmeasured draw, the calibration from a measured
+ * starting scale and, with --morph, the scheduler. 0 after saying what failed;
+ * main frees whatever was made. */
+static int setup(app *a, renderer *r, GLFWwindow *win) {
+    thesis_desc desc;
+    tclod_calib_desc cd;
+    tclod_view v;
+    tclod_status st;
+    GLfloat point_range[2];
+    int fb_w, fb_h;
+
+    thesis_desc_default(&desc);
+    desc.keep_trees = 1;
+    desc.k = TREE_WEIGHT;
+    st = thesis_build(&desc, &a->scene);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "glfw_forest: building the scene failed: %s\n", tclod_status_string(st));
+        return 0;
+    }
+    /* lower than the thesis's camera and looking further down, so that the
+     * forest fills more of the picture */
+    a->scene.path.altitude = FLIGHT_ALTITUDE;
+    a->scene.path.altitude_swing = 0.5f * FLIGHT_ALTITUDE;
+    a->scene.path.pitch = FLIGHT_PITCH;
+    set_solver(a, a->opt.solver);
+    if (!a->sel)
+        return 0; /* set_solver said why */
+    if (!terrain_init(&r->terrain, &r->gl, &a->scene)) {
+        fprintf(stderr, "glfw_forest: out of memory for the terrain's patch cache\n");
+        return 0;
+    }
+    r->tree_vbo = make_tree_template(&r->gl);
+    if (!r->tree_vbo) {
+        fprintf(stderr, "glfw_forest: out of memory for the tree template\n");
+        return 0;
+    }
+    printf("glfw_forest: %u terrain patches, %u trees in %u groups; target %.1f ms, %s solver\n",
+           a->scene.node_count, a->scene.tree_count, a->scene.smooth_count, a->opt.target_ms,
+           solver_names[a->solver]);
+
+    glGetFloatv(GL_SMOOTH_POINT_SIZE_RANGE, point_range);
+    r->max_point = point_range[1] > 1.0f ? point_range[1] : 1.0f;
+    glFogi(GL_FOG_MODE, GL_LINEAR);
+    glFogfv(GL_FOG_COLOR, (const GLfloat[4]){sky_colour[0], sky_colour[1], sky_colour[2], 1.0f});
+    glAlphaFunc(GL_GREATER, 0.5f);
+    glfwGetFramebufferSize(win, &fb_w, &fb_h);
+    update_view(a, win, 0.0, fb_w > 0 ? fb_w : 1, fb_h > 0 ? fb_h : 1, &v);
+    warm_up(win, r, &a->scene, &v, fb_w, fb_h);
+
+    tclod_calib_desc_default(&cd);
+    cd.initial_scale = probe_scale(a, r, &v, PROBE_SHARE * a->opt.target_ms, fb_w, fb_h);
+    st = tclod_calib_create(&cd, NULL, &a->calib);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "glfw_forest: tclod_calib_create failed: %s\n", tclod_status_string(st));
+        return 0;
+    }
+    printf("glfw_forest: measured %.2f ms per predicted ms to start from\n", cd.initial_scale);
+    return !a->opt.morph || make_scheduler(a, cd.initial_scale);
+}
+
 int main(int argc, char **argv) {
     static app a;
     static hud_state hud;
     static renderer r;
     static timing tm;
-    thesis_desc desc;
-    tclod_calib_desc cd;
-    tclod_calib *calib = NULL;
     GLFWwindow *win;
     tclod_status st;
-    GLfloat point_range[2];
     double last_time, sum_ms = 0.0, sum_err = 0.0;
     double now = 0.0; /* the scheduler's clock: flight time, s */
     unsigned long frame = 0;
@@ -1356,6 +1413,7 @@ int main(int argc, char **argv) {
                  a.opt.timer == TIMER_GPU || (a.opt.timer == TIMER_AUTO && !software_renderer()))) {
         fprintf(stderr, "glfw_forest: the OpenGL context lacks vertex buffers (GL 1.5); "
                         "skipped\n");
+        glfwDestroyWindow(win);
         glfwTerminate();
         return EXIT_SKIP;
     }
@@ -1363,59 +1421,17 @@ int main(int argc, char **argv) {
     glfwSwapInterval(0);
     printf("glfw_forest: %s, OpenGL %s, timer %s\n", (const char *)glGetString(GL_RENDERER),
            (const char *)glGetString(GL_VERSION), r.gl.GenQueries ? "GL_TIME_ELAPSED" : "CPU");
-
-    thesis_desc_default(&desc);
-    desc.keep_trees = 1;
-    desc.k = TREE_WEIGHT;
-    st = thesis_build(&desc, &a.scene);
-    /* lower than the thesis's camera and looking further down, so that the
-     * forest fills more of the picture */
-    a.scene.path.altitude = FLIGHT_ALTITUDE;
-    a.scene.path.altitude_swing = 0.5f * FLIGHT_ALTITUDE;
-    a.scene.path.pitch = FLIGHT_PITCH;
-    if (st == TCLOD_OK)
-        set_solver(&a, a.opt.solver);
-    if (st != TCLOD_OK || !a.sel || !terrain_init(&r.terrain, &r.gl, &a.scene) ||
-        !(r.tree_vbo = make_tree_template(&r.gl))) {
-        fprintf(stderr, "glfw_forest: setting up failed: %s\n", tclod_status_string(st));
-        return 1;
-    }
-    printf("glfw_forest: %u terrain patches, %u trees in %u groups; target %.1f ms, %s solver\n",
-           a.scene.node_count, a.scene.tree_count, a.scene.smooth_count, a.opt.target_ms,
-           solver_names[a.solver]);
-
-    tm.gpu = r.gl.GenQueries != NULL;
-    for (i = 0; tm.gpu && i < QUERY_RING; ++i)
-        r.gl.GenQueries(1, &tm.ring[i].query);
-    glGetFloatv(GL_SMOOTH_POINT_SIZE_RANGE, point_range);
-    r.max_point = point_range[1] > 1.0f ? point_range[1] : 1.0f;
     glfwSetWindowUserPointer(win, &a);
     glfwSetKeyCallback(win, on_key);
     glfwSetMouseButtonCallback(win, on_mouse_button);
     glfwSetCursorPosCallback(win, on_cursor);
-    glFogi(GL_FOG_MODE, GL_LINEAR);
-    glFogfv(GL_FOG_COLOR, (const GLfloat[4]){sky_colour[0], sky_colour[1], sky_colour[2], 1.0f});
-    glAlphaFunc(GL_GREATER, 0.5f);
-    glfwGetFramebufferSize(win, &fb_w, &fb_h);
-    {
-        tclod_view v;
-        update_view(&a, win, 0.0, fb_w > 0 ? fb_w : 1, fb_h > 0 ? fb_h : 1, &v);
-        warm_up(win, &r, &a.scene, &v, fb_w, fb_h);
-        tclod_calib_desc_default(&cd);
-        cd.initial_scale = probe_scale(&a, &r, &v, PROBE_SHARE * a.opt.target_ms, fb_w, fb_h);
-    }
-    st = tclod_calib_create(&cd, NULL, &calib);
-    if (st != TCLOD_OK) {
-        fprintf(stderr, "glfw_forest: tclod_calib_create failed: %s\n", tclod_status_string(st));
-        return 1;
-    }
-    a.calib = calib;
-    printf("glfw_forest: measured %.2f ms per predicted ms to start from\n", cd.initial_scale);
-    if (a.opt.morph && !make_scheduler(&a, cd.initial_scale))
-        return 1;
+    rc = setup(&a, &r, win) ? 0 : 1;
+    tm.gpu = rc == 0 && r.gl.GenQueries != NULL;
+    for (i = 0; tm.gpu && i < QUERY_RING; ++i)
+        r.gl.GenQueries(1, &tm.ring[i].query);
 
     last_time = glfwGetTime();
-    while (!glfwWindowShouldClose(win) && (a.opt.frames == 0 || frame < a.opt.frames)) {
+    while (rc == 0 && !glfwWindowShouldClose(win) && (a.opt.frames == 0 || frame < a.opt.frames)) {
         double start = glfwGetTime(), budget = 0.0, view_d[16], frame_ms, t0, predicted;
         double dt = a.opt.frames ? HEADLESS_STEP : start - last_time;
         int last = a.opt.frames && frame + 1u == a.opt.frames;
@@ -1430,7 +1446,7 @@ int main(int argc, char **argv) {
         last_time = start;
         glfwPollEvents();
         if (tm.gpu)
-            timing_collect(&tm, &r.gl, calib, tm.ring[tm.head].waiting);
+            timing_collect(&tm, &r.gl, a.calib, tm.ring[tm.head].waiting);
         glfwGetFramebufferSize(win, &fb_w, &fb_h);
         if (fb_w <= 0 || fb_h <= 0) { /* minimised */
             glfwWaitEventsTimeout(0.1);
@@ -1449,7 +1465,7 @@ int main(int argc, char **argv) {
             const tclod_draw *items;
             size_t n_items;
             tclod_scheduler_stats ss;
-            tclod_render_budget(a.opt.target_ms, tclod_calib_logic(calib), 1.0, &budget);
+            tclod_render_budget(a.opt.target_ms, tclod_calib_logic(a.calib), 1.0, &budget);
             st = tclod_scheduler_update(a.sch, now, &view, budget,
                                         SLICE_SHARE * a.opt.target_ms * 1e-3);
             if (st != TCLOD_OK) {
@@ -1468,7 +1484,7 @@ int main(int argc, char **argv) {
             hf.morphing = ss.morphing;
         } else {
             /* libtclod: the budget for the target frame time, the selection, the result */
-            tclod_calib_budget(calib, a.opt.target_ms, &budget);
+            tclod_calib_budget(a.calib, a.opt.target_ms, &budget);
             memset(&fr, 0, sizeof(fr));
             fr.view = &view;
             fr.budget = budget;
@@ -1506,8 +1522,8 @@ int main(int argc, char **argv) {
             hud.filled ? (double)hud.frame_ms[(hud.next + GRAPH_FRAMES - 1) % GRAPH_FRAMES] : 0.0;
         hf.target_ms = a.opt.target_ms;
         hf.budget = budget;
-        hf.scale = tclod_calib_scale(calib);
-        hf.logic_ms = tclod_calib_logic(calib);
+        hf.scale = tclod_calib_scale(a.calib);
+        hf.logic_ms = tclod_calib_logic(a.calib);
         hf.select_us = stats.solve_seconds * 1e6;
         hf.solver = solver_names[a.solver];
         hf.morph = a.opt.morph;
@@ -1530,7 +1546,7 @@ int main(int argc, char **argv) {
             tm.ring[tm.head].frame_ms = frame_ms;
             tm.head = (tm.head + 1) % QUERY_RING;
         } else {
-            tclod_calib_report(calib, predicted, tm.last_render_ms,
+            tclod_calib_report(a.calib, predicted, tm.last_render_ms,
                                frame_ms > tm.last_render_ms ? frame_ms - tm.last_render_ms : 0.0);
         }
         /* the scheduler's own calibration: with GPU timing the latest measured
@@ -1556,7 +1572,7 @@ int main(int argc, char **argv) {
     terrain_free(&r.terrain, &r.gl);
     tclod_scheduler_destroy(a.sch);
     tclod_selector_destroy(a.sel);
-    tclod_calib_destroy(calib);
+    tclod_calib_destroy(a.calib);
     thesis_scene_free(&a.scene);
     glfwDestroyWindow(win);
     glfwTerminate();
