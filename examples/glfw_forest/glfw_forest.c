@@ -1046,14 +1046,6 @@ static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods)
     case GLFW_KEY_ESCAPE:
         glfwSetWindowShouldClose(win, GLFW_TRUE);
         break;
-    case GLFW_KEY_EQUAL:
-    case GLFW_KEY_KP_ADD:
-        a->opt.target_ms = fmin(a->opt.target_ms * 1.25, MAX_TARGET_MS);
-        break;
-    case GLFW_KEY_MINUS:
-    case GLFW_KEY_KP_SUBTRACT:
-        a->opt.target_ms = fmax(a->opt.target_ms / 1.25, MIN_TARGET_MS);
-        break;
     case GLFW_KEY_TAB:
         if (action == GLFW_PRESS)
             set_solver(a, (tclod_solver)(((int)a->solver + 1) % 3));
@@ -1079,6 +1071,15 @@ static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods)
     default:
         break;
     }
+}
+
+/* + and - by the character typed, whatever the keyboard's layout. */
+static void on_char(GLFWwindow *win, unsigned int codepoint) {
+    app *a = (app *)glfwGetWindowUserPointer(win);
+    if (codepoint == '+')
+        a->opt.target_ms = fmin(a->opt.target_ms * 1.25, MAX_TARGET_MS);
+    else if (codepoint == '-')
+        a->opt.target_ms = fmax(a->opt.target_ms / 1.25, MIN_TARGET_MS);
 }
 
 static void on_mouse_button(GLFWwindow *win, int button, int action, int mods) {
@@ -1423,6 +1424,7 @@ int main(int argc, char **argv) {
            (const char *)glGetString(GL_VERSION), r.gl.GenQueries ? "GL_TIME_ELAPSED" : "CPU");
     glfwSetWindowUserPointer(win, &a);
     glfwSetKeyCallback(win, on_key);
+    glfwSetCharCallback(win, on_char);
     glfwSetMouseButtonCallback(win, on_mouse_button);
     glfwSetCursorPosCallback(win, on_cursor);
     rc = setup(&a, &r, win) ? 0 : 1;
