@@ -40,6 +40,7 @@
 #include <GLFW/glfw3.h>
 
 #include <math.h>
+#include <signal.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -1312,6 +1313,14 @@ static int write_ppm(const char *path, int w, int h) {
 /* Main                                                                      */
 /* ------------------------------------------------------------------------- */
 
+/* Ctrl-C ends the loop, so that an interactive run prints its summary too. */
+static volatile sig_atomic_t interrupted;
+
+static void on_interrupt(int sig) {
+    (void)sig;
+    interrupted = 1;
+}
+
 static void on_glfw_error(int code, const char *text) {
     fprintf(stderr, "glfw_forest: GLFW error %d: %s\n", code, text);
 }
@@ -1433,7 +1442,9 @@ int main(int argc, char **argv) {
         r.gl.GenQueries(1, &tm.ring[i].query);
 
     last_time = glfwGetTime();
-    while (rc == 0 && !glfwWindowShouldClose(win) && (a.opt.frames == 0 || frame < a.opt.frames)) {
+    signal(SIGINT, on_interrupt);
+    while (rc == 0 && !interrupted && !glfwWindowShouldClose(win) &&
+           (a.opt.frames == 0 || frame < a.opt.frames)) {
         double start = glfwGetTime(), budget = 0.0, view_d[16], frame_ms, t0, predicted;
         double dt = a.opt.frames ? HEADLESS_STEP : start - last_time;
         int last = a.opt.frames && frame + 1u == a.opt.frames;
