@@ -69,6 +69,9 @@
 #define TREE_WEIGHT 10.0
 /* Flight step of a headless run, s: 60 Hz whatever the machine. */
 #define HEADLESS_STEP (1.0 / 60.0)
+/* The window's size (it may be resized), pixels. */
+#define WINDOW_WIDTH 1280
+#define WINDOW_HEIGHT 720
 #define DEFAULT_TARGET_MS 50.0
 #define MIN_TARGET_MS 5.0
 #define MAX_TARGET_MS 500.0
@@ -110,21 +113,29 @@ typedef struct options {
     const char *screenshot;
     double target_ms;
     tclod_solver solver;
-    int width, height;
-    int timer;    /* a timer_mode */
-    double start; /* where on the loop the flyover starts, in [0, 1) */
-    int morph;    /* draw the geomorph scheduler's lists instead of selecting */
+    int timer; /* a timer_mode */
+    int morph; /* draw the geomorph scheduler's lists instead of selecting */
 } options;
 
+/* in the order of timer_names */
 typedef enum timer_mode { TIMER_AUTO, TIMER_GPU, TIMER_CPU } timer_mode;
 
 static const char *const solver_names[] = {"greedy", "mixed", "robin_hood"};
+static const char *const timer_names[] = {"auto", "gpu", "cpu"};
+
+/* The index of v among the three names, or -1. */
+static int find_name(const char *v, const char *const names[3]) {
+    int k;
+    for (k = 0; k < 3 && strcmp(v, names[k]); ++k)
+        ;
+    return k < 3 ? k : -1;
+}
 
 static void usage(FILE *out) {
     fprintf(out,
             "usage: glfw_forest [--frames N [--screenshot FILE.ppm]] [--target-ms T]\n"
-            "                   [--solver greedy|mixed|robin_hood] [--size WxH]\n"
-            "                   [--timer auto|gpu|cpu] [--start F] [--morph] [--help]\n"
+            "                   [--solver greedy|mixed|robin_hood] [--timer auto|gpu|cpu]\n"
+            "                   [--morph] [--help]\n"
             "\n"
             "Flies over the thesis's 120 km terrain with 1.4 million point-splat trees,\n"
             "drawing what libtclod selects every frame so that frames take T ms.\n"
@@ -133,9 +144,6 @@ static void usage(FILE *out) {
             "  --screenshot FILE  with --frames: write the last frame as a binary PPM\n"
             "  --target-ms T      target frame time, %g <= T <= %g (default %g)\n"
             "  --solver S         selection algorithm (default mixed; greedy draws no trees)\n"
-            "  --size WxH         window size in pixels (default 1280x720)\n"
-            "  --start F          where on the flyover's loop to start, 0 <= F < 1\n"
-            "                     (default %g)\n"
             "  --timer M          how the drawing is timed: gpu = GL_TIME_ELAPSED queries,\n"
             "                     cpu = CPU time around glFinish, auto = gpu where the\n"
             "                     context has them, except on software renderers (default)\n"
@@ -145,7 +153,7 @@ static void usage(FILE *out) {
             "Keys: +/- target time, Tab solver, F free flight (WASD, Q/E down/up, drag the\n"
             "left mouse button to look, Shift faster), Esc quit.\n"
             "Exit status 77: no display or no usable OpenGL context.\n",
-            MIN_TARGET_MS, MAX_TARGET_MS, DEFAULT_TARGET_MS, FLIGHT_START);
+            MIN_TARGET_MS, MAX_TARGET_MS, DEFAULT_TARGET_MS);
 }
 
 /* 0 ok, 1 --help, 2 bad usage. */
@@ -154,9 +162,6 @@ static int parse_options(int argc, char **argv, options *o) {
     memset(o, 0, sizeof(*o));
     o->target_ms = DEFAULT_TARGET_MS;
     o->solver = TCLOD_SOLVER_MIXED;
-    o->start = FLIGHT_START;
-    o->width = 1280;
-    o->height = 720;
     for (i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         char *end = NULL;
@@ -187,35 +192,16 @@ static int parse_options(int argc, char **argv, options *o) {
                 return 2;
             }
         } else if (!strcmp(a, "--solver")) {
-            int s;
-            for (s = 0; s < 3 && strcmp(v, solver_names[s]); ++s)
-                ;
-            if (s == 3) {
+            int s = find_name(v, solver_names);
+            if (s < 0) {
                 fprintf(stderr, "glfw_forest: unknown solver %s\n", v);
                 return 2;
             }
             o->solver = (tclod_solver)s;
-        } else if (!strcmp(a, "--start")) {
-            o->start = strtod(v, &end);
-            if (*end || !(o->start >= 0.0 && o->start < 1.0)) {
-                fprintf(stderr, "glfw_forest: --start needs 0 <= F < 1\n");
-                return 2;
-            }
         } else if (!strcmp(a, "--timer")) {
-            if (!strcmp(v, "auto"))
-                o->timer = TIMER_AUTO;
-            else if (!strcmp(v, "gpu"))
-                o->timer = TIMER_GPU;
-            else if (!strcmp(v, "cpu"))
-                o->timer = TIMER_CPU;
-            else {
+            o->timer = find_name(v, timer_names);
+            if (o->timer < 0) {
                 fprintf(stderr, "glfw_forest: --timer needs auto, gpu or cpu\n");
-                return 2;
-            }
-        } else if (!strcmp(a, "--size")) {
-            if (sscanf(v, "%dx%d", &o->width, &o->height) != 2 || o->width < 64 || o->height < 64 ||
-                o->width > 8192 || o->height > 8192) {
-                fprintf(stderr, "glfw_forest: --size needs WxH, 64..8192 each\n");
                 return 2;
             }
         } else {
@@ -1055,7 +1041,7 @@ static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods)
         if (action == GLFW_PRESS && !a->cam.flying) {
             /* take over from the flyover where it is, looking where it looks */
             tclod_view v;
-            thesis_camera_at(&a->scene, a->opt.start + a->cam.flight_time / LOOP_SECONDS, &v);
+            thesis_camera_at(&a->scene, FLIGHT_START + a->cam.flight_time / LOOP_SECONDS, &v);
             a->cam.pos[0] = (double)v.eye[0];
             a->cam.pos[1] = (double)v.eye[1];
             a->cam.pos[2] = (double)v.eye[2];
@@ -1110,7 +1096,7 @@ static void on_cursor(GLFWwindow *win, double x, double y) {
  * for dt seconds (never below the ground). */
 static void update_view(app *a, GLFWwindow *win, double dt, int fb_w, int fb_h, tclod_view *v) {
     camera *c = &a->cam;
-    thesis_camera_at(&a->scene, a->opt.start + c->flight_time / LOOP_SECONDS, v);
+    thesis_camera_at(&a->scene, FLIGHT_START + c->flight_time / LOOP_SECONDS, v);
     if (c->flying) {
         double f[3], speed = 300.0 * dt, ground;
         int k;
@@ -1412,7 +1398,7 @@ int main(int argc, char **argv) {
         return EXIT_SKIP;
     }
     glfwWindowHint(GLFW_DEPTH_BITS, 24);
-    win = glfwCreateWindow(a.opt.width, a.opt.height, "glfw_forest (libtclod)", NULL, NULL);
+    win = glfwCreateWindow(WINDOW_WIDTH, WINDOW_HEIGHT, "glfw_forest (libtclod)", NULL, NULL);
     if (!win) {
         fprintf(stderr, "glfw_forest: no OpenGL context could be made; skipped\n");
         glfwTerminate();
