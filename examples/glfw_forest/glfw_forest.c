@@ -888,7 +888,8 @@ typedef struct hud_figures {
 } hud_figures;
 
 static void hud_draw(const hud_state *h, const hud_figures *f, int width, int height) {
-    const float x0 = 12.0f, y0 = 12.0f, w = 2.0f * GRAPH_FRAMES + 16.0f, s = 2.0f;
+    /* the panel fits 52 characters of text, the longest --morph line */
+    const float x0 = 12.0f, y0 = 12.0f, s = 2.0f, w = 6.0f * s * 52.0f + 16.0f;
     const float gx = x0 + 8.0f, gy = y0 + 128.0f, gh = 70.0f;
     char line[128];
     double top = 2.0 * f->target_ms;
