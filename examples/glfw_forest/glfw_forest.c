@@ -11,9 +11,11 @@
  *     over a draw list of morphing patches and moving tree resolutions,
  *  3. draws the selected terrain cut (quadtree patches of 33 × 33 vertices) and
  *     the selected tree groups as point splats: a group at resolution r draws
- *     r · N · THESIS_SPLATS_PER_TREE splats for its N trees, a prefix of every
- *     tree's splat template, or one splat for only that many of its trees while
- *     that is less than one a tree — what the cost model (thesis eq. 8.18) predicts,
+ *     r · N · THESIS_SPLATS_PER_TREE splats for its N trees, in view or not, a
+ *     prefix of every tree's splat template, or one splat for only that many of
+ *     its trees while that is less than one a tree — what the cost model (thesis
+ *     eq. 8.18) predicts; the patches' skirts are the one thing drawn beyond the
+ *     model, the same for every patch,
  *  4. measures the time the drawing took (GL_TIME_ELAPSED queries, read a frame or
  *     two later; CPU time around glFinish where there are none, and on software
  *     renderers, whose queries do not time the rasterisation) and reports it with
@@ -24,14 +26,16 @@
  * the solver and the selection time. Keys change the target and the solver.
  *
  * --frames N --screenshot FILE.ppm renders N frames of the flyover at a fixed
- * 60 Hz flight step (the images do not depend on the machine's speed), writes the
- * last one and exits 0; 77 means no display or no usable OpenGL context. At exit
- * it prints
+ * 60 Hz flight step (the views do not depend on the machine's speed; the detail
+ * drawn does, through the measured times), writes the last one and exits 0; 77
+ * means no display or no usable OpenGL context. At exit (Ctrl-C included) it
+ * prints
  *
  *   summary: frames=N mean_ms=M target_ms=T avg_err=E
  *
- * with E the mean of |t_frame − T| / T over the frames, t_frame the wall-clock
- * time of a whole frame (selection, drawing, HUD and buffer swap).
+ * with E the mean over the frames of |t_frame − T_frame| / T_frame, t_frame the
+ * wall-clock time of a whole frame (selection, drawing, HUD and buffer swap) and
+ * T_frame the target in force then; T is the target at exit.
  *
  * Plain OpenGL 1.5 (vertex buffers, fixed function), what Mesa's llvmpipe draws
  * reliably; timer queries where the context has them (GL 3.3 or ARB_timer_query).
