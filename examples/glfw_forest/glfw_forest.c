@@ -11,9 +11,11 @@
  *     over a draw list of morphing patches and moving tree resolutions,
  *  3. draws the selected terrain cut (quadtree patches of 33 × 33 vertices) and
  *     the selected tree groups as point splats: a group at resolution r draws
- *     r · N · THESIS_SPLATS_PER_TREE splats for its N trees, a prefix of every
- *     tree's splat template, or one splat for only that many of its trees while
- *     that is less than one a tree — what the cost model (thesis eq. 8.18) predicts,
+ *     r · N · THESIS_SPLATS_PER_TREE splats for its N trees, in view or not, a
+ *     prefix of every tree's splat template, or one splat for only that many of
+ *     its trees while that is less than one a tree — what the cost model (thesis
+ *     eq. 8.18) predicts; the patches' skirts are the one thing drawn beyond the
+ *     model, the same for every patch,
  *  4. measures the time the drawing took (GL_TIME_ELAPSED queries, read a frame or
  *     two later; CPU time around glFinish where there are none, and on software
  *     renderers, whose queries do not time the rasterisation) and reports it with
@@ -24,14 +26,16 @@
  * the solver and the selection time. Keys change the target and the solver.
  *
  * --frames N --screenshot FILE.ppm renders N frames of the flyover at a fixed
- * 60 Hz flight step (the images do not depend on the machine's speed), writes the
- * last one and exits 0; 77 means no display or no usable OpenGL context. At exit
- * it prints
+ * 60 Hz flight step (the views do not depend on the machine's speed; the detail
+ * drawn does, through the measured times), writes the last one and exits 0; 77
+ * means no display or no usable OpenGL context. At exit (Ctrl-C included) it
+ * prints
  *
  *   summary: frames=N mean_ms=M target_ms=T avg_err=E
  *
- * with E the mean of |t_frame − T| / T over the frames, t_frame the wall-clock
- * time of a whole frame (selection, drawing, HUD and buffer swap).
+ * with E the mean over the frames of |t_frame − T_frame| / T_frame, t_frame the
+ * wall-clock time of a whole frame (selection, drawing, HUD and buffer swap) and
+ * T_frame the target in force then; T is the target at exit.
  *
  * Plain OpenGL 1.5 (vertex buffers, fixed function), what Mesa's llvmpipe draws
  * reliably; timer queries where the context has them (GL 3.3 or ARB_timer_query).
@@ -40,6 +44,7 @@
 #include <GLFW/glfw3.h>
 
 #include <math.h>
+#include <signal.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -68,6 +73,9 @@
 #define TREE_WEIGHT 10.0
 /* Flight step of a headless run, s: 60 Hz whatever the machine. */
 #define HEADLESS_STEP (1.0 / 60.0)
+/* The window's size (it may be resized), pixels. */
+#define WINDOW_WIDTH 1280
+#define WINDOW_HEIGHT 720
 #define DEFAULT_TARGET_MS 50.0
 #define MIN_TARGET_MS 5.0
 #define MAX_TARGET_MS 500.0
@@ -109,21 +117,29 @@ typedef struct options {
     const char *screenshot;
     double target_ms;
     tclod_solver solver;
-    int width, height;
-    int timer;    /* a timer_mode */
-    double start; /* where on the loop the flyover starts, in [0, 1) */
-    int morph;    /* draw the geomorph scheduler's lists instead of selecting */
+    int timer; /* a timer_mode */
+    int morph; /* draw the geomorph scheduler's lists instead of selecting */
 } options;
 
+/* in the order of timer_names */
 typedef enum timer_mode { TIMER_AUTO, TIMER_GPU, TIMER_CPU } timer_mode;
 
 static const char *const solver_names[] = {"greedy", "mixed", "robin_hood"};
+static const char *const timer_names[] = {"auto", "gpu", "cpu"};
+
+/* The index of v among the three names, or -1. */
+static int find_name(const char *v, const char *const names[3]) {
+    int k;
+    for (k = 0; k < 3 && strcmp(v, names[k]); ++k)
+        ;
+    return k < 3 ? k : -1;
+}
 
 static void usage(FILE *out) {
     fprintf(out,
             "usage: glfw_forest [--frames N [--screenshot FILE.ppm]] [--target-ms T]\n"
-            "                   [--solver greedy|mixed|robin_hood] [--size WxH]\n"
-            "                   [--timer auto|gpu|cpu] [--start F] [--morph] [--help]\n"
+            "                   [--solver greedy|mixed|robin_hood] [--timer auto|gpu|cpu]\n"
+            "                   [--morph] [--help]\n"
             "\n"
             "Flies over the thesis's 120 km terrain with 1.4 million point-splat trees,\n"
             "drawing what libtclod selects every frame so that frames take T ms.\n"
@@ -132,9 +148,6 @@ static void usage(FILE *out) {
             "  --screenshot FILE  with --frames: write the last frame as a binary PPM\n"
             "  --target-ms T      target frame time, %g <= T <= %g (default %g)\n"
             "  --solver S         selection algorithm (default mixed; greedy draws no trees)\n"
-            "  --size WxH         window size in pixels (default 1280x720)\n"
-            "  --start F          where on the flyover's loop to start, 0 <= F < 1\n"
-            "                     (default %g)\n"
             "  --timer M          how the drawing is timed: gpu = GL_TIME_ELAPSED queries,\n"
             "                     cpu = CPU time around glFinish, auto = gpu where the\n"
             "                     context has them, except on software renderers (default)\n"
@@ -144,7 +157,7 @@ static void usage(FILE *out) {
             "Keys: +/- target time, Tab solver, F free flight (WASD, Q/E down/up, drag the\n"
             "left mouse button to look, Shift faster), Esc quit.\n"
             "Exit status 77: no display or no usable OpenGL context.\n",
-            MIN_TARGET_MS, MAX_TARGET_MS, DEFAULT_TARGET_MS, FLIGHT_START);
+            MIN_TARGET_MS, MAX_TARGET_MS, DEFAULT_TARGET_MS);
 }
 
 /* 0 ok, 1 --help, 2 bad usage. */
@@ -153,23 +166,14 @@ static int parse_options(int argc, char **argv, options *o) {
     memset(o, 0, sizeof(*o));
     o->target_ms = DEFAULT_TARGET_MS;
     o->solver = TCLOD_SOLVER_MIXED;
-    o->start = FLIGHT_START;
-    o->width = 1280;
-    o->height = 720;
     for (i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         char *end = NULL;
         if (!strcmp(a, "--help") || !strcmp(a, "-h"))
             return 1;
         if (!strcmp(a, "--morph")) {
-#ifdef GLFW_FOREST_SCHEDULER
             o->morph = 1;
             continue;
-#else
-            fprintf(stderr, "glfw_forest: --morph needs libtclod's geomorph scheduler "
-                            "(tclod_scheduler_*), which this libtclod does not provide\n");
-            return 2;
-#endif
         }
         if (!v) {
             fprintf(stderr, "glfw_forest: unknown option or missing value: %s\n", a);
@@ -192,35 +196,16 @@ static int parse_options(int argc, char **argv, options *o) {
                 return 2;
             }
         } else if (!strcmp(a, "--solver")) {
-            int s;
-            for (s = 0; s < 3 && strcmp(v, solver_names[s]); ++s)
-                ;
-            if (s == 3) {
+            int s = find_name(v, solver_names);
+            if (s < 0) {
                 fprintf(stderr, "glfw_forest: unknown solver %s\n", v);
                 return 2;
             }
             o->solver = (tclod_solver)s;
-        } else if (!strcmp(a, "--start")) {
-            o->start = strtod(v, &end);
-            if (*end || !(o->start >= 0.0 && o->start < 1.0)) {
-                fprintf(stderr, "glfw_forest: --start needs 0 <= F < 1\n");
-                return 2;
-            }
         } else if (!strcmp(a, "--timer")) {
-            if (!strcmp(v, "auto"))
-                o->timer = TIMER_AUTO;
-            else if (!strcmp(v, "gpu"))
-                o->timer = TIMER_GPU;
-            else if (!strcmp(v, "cpu"))
-                o->timer = TIMER_CPU;
-            else {
+            o->timer = find_name(v, timer_names);
+            if (o->timer < 0) {
                 fprintf(stderr, "glfw_forest: --timer needs auto, gpu or cpu\n");
-                return 2;
-            }
-        } else if (!strcmp(a, "--size")) {
-            if (sscanf(v, "%dx%d", &o->width, &o->height) != 2 || o->width < 64 || o->height < 64 ||
-                o->width > 8192 || o->height > 8192) {
-                fprintf(stderr, "glfw_forest: --size needs WxH, 64..8192 each\n");
                 return 2;
             }
         } else {
@@ -310,15 +295,15 @@ typedef struct vertex {
 typedef struct terrain_cache {
     GLuint vbo, ibo;
     GLsizei index_count;
-    uint32_t slots;       /* PATCH_SLOTS or fewer, plus one scratch slot after them */
+    uint32_t slots;       /* cached patches: PATCH_SLOTS or fewer; the vertex buffer holds
+                             them, a scratch slot after them and MORPH_SLOTS more */
     uint32_t used;        /* slots 0 .. used - 1 hold a patch */
     int32_t *slot_of;     /* per node: its slot, or -1 */
     tclod_id *node_in;    /* per slot: its node, or TCLOD_NONE */
     uint32_t *stamp;      /* per slot: the last frame that drew it */
     vertex *scratch;      /* one patch being built */
     float *heights;       /* (GRID_SIDE + 2)² samples: the grid and a border for normals */
-    GLuint morph_vbo;     /* --morph: this frame's morphing patches */
-    uint32_t morph_count; /* patches in it */
+    uint32_t morph_count; /* --morph: this frame's morphing patches, after the scratch slot */
     tclod_id *plain;      /* --morph: node_count, the draw list's patches drawn as they are */
 } terrain_cache;
 
@@ -362,22 +347,28 @@ static void terrain_colour(double rel, double forest, const double n[3], uint8_t
     out[3] = 255;
 }
 
-/* Node id → quadtree level and cell (ids are level by level, row-major). */
-static void patch_place(const thesis_scene *t, tclod_id id, uint32_t *ix, uint32_t *iz,
-                        uint32_t *level) {
-    uint32_t l = t->depth[id], m = 1u << l, first = ((1u << (2u * l)) - 1u) / 3u;
-    *level = l;
-    *ix = (id - first) % m;
-    *iz = (id - first) / m;
+/* The grid vertex that skirt vertex k (0 .. 4 · GRID_SIDE - 1, after the grid's
+ * vertices) hangs below: the edges z = 0, z = end, x = 0, x = end in turn. */
+static uint32_t skirt_top(uint32_t k) {
+    uint32_t e = k / GRID_SIDE, i = k % GRID_SIDE;
+    uint32_t gi = e < 2u ? i : (e == 2u ? 0u : GRID_SIDE - 1u);
+    uint32_t gj = e < 2u ? (e == 0u ? 0u : GRID_SIDE - 1u) : i;
+    return gj * GRID_SIDE + gi;
 }
 
 /* The patch's 33 × 33 vertices with colours from height, slope and sun, and its
  * skirts, into c->scratch: what every patch of any depth sends, 2112 strip
- * vertices (thesis eq. 8.19), at its own spacing. */
-static void build_patch(const thesis_scene *t, terrain_cache *c, tclod_id id) {
-    uint32_t ix, iz, level, i, j, e, s = GRID_SIDE + 2u;
+ * vertices (thesis eq. 8.19), at its own spacing, plus the skirts' 264.
+ * weight < 1 geomorphs it (seed 004 §4.3) towards its parent: every height lies
+ * between its own and the parent's surface at that vertex (weight 1 = the patch
+ * itself). The parent's vertices are the patch's even ones; the others lie on
+ * the parent's cell edges (the mean of the two ends) or on the diagonal its
+ * strips cut each cell along, from (i - 1, j + 1) to (i + 1, j - 1). */
+static void build_patch(const thesis_scene *t, terrain_cache *c, tclod_id id, float weight) {
+    const ptrdiff_t s = GRID_SIDE + 2u;
+    uint32_t ix, iz, level, i, j, k;
     double size, cell, x0, z0, skirt;
-    patch_place(t, id, &ix, &iz, &level);
+    thesis_patch_cell(t, id, &level, &ix, &iz);
     size = (double)t->side / (double)(1u << level);
     cell = size / (double)THESIS_PATCH_CELLS;
     x0 = (double)ix * size;
@@ -385,8 +376,8 @@ static void build_patch(const thesis_scene *t, terrain_cache *c, tclod_id id) {
     /* deeper than the largest step a finer neighbour's edge can make against
      * this patch's straight edge on these slopes */
     skirt = 0.25 * cell + 2.0;
-    for (j = 0; j < s; ++j)
-        for (i = 0; i < s; ++i)
+    for (j = 0; j < (uint32_t)s; ++j)
+        for (i = 0; i < (uint32_t)s; ++i)
             c->heights[j * s + i] =
                 thesis_terrain_height((float)(x0 + ((double)i - 1.0) * cell),
                                       (float)(z0 + ((double)j - 1.0) * cell), t->side, t->height);
@@ -394,30 +385,29 @@ static void build_patch(const thesis_scene *t, terrain_cache *c, tclod_id id) {
         for (i = 0; i < GRID_SIDE; ++i) {
             const float *h = c->heights + (j + 1u) * s + (i + 1u);
             vertex *v = c->scratch + j * GRID_SIDE + i;
+            float coarse = (i % 2u == 0u && j % 2u == 0u) ? h[0]
+                           : j % 2u == 0u                 ? 0.5f * (h[-1] + h[1])
+                           : i % 2u == 0u                 ? 0.5f * (h[-s] + h[s])
+                                                          : 0.5f * (h[s - 1] + h[1 - s]);
             double n[3], len;
             n[0] = -((double)h[1] - (double)h[-1]) / (2.0 * cell);
             n[1] = 1.0;
-            n[2] = -((double)h[s] - (double)h[-(ptrdiff_t)s]) / (2.0 * cell);
+            n[2] = -((double)h[s] - (double)h[-s]) / (2.0 * cell);
             len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
             n[0] /= len;
             n[1] /= len;
             n[2] /= len;
             v->pos[0] = (float)(x0 + (double)i * cell);
-            v->pos[1] = h[0];
+            v->pos[1] = weight * h[0] + (1.0f - weight) * coarse;
             v->pos[2] = (float)(z0 + (double)j * cell);
             terrain_colour(t->height > 0.0f ? (double)h[0] / (double)t->height : 0.0,
                            (double)thesis_forest_mask(t, v->pos[0], v->pos[2]), n, v->rgba);
         }
     }
-    /* skirts: edges z = 0, z = end, x = 0, x = end, each vertex copied down */
-    for (e = 0; e < 4u; ++e) {
-        for (i = 0; i < GRID_SIDE; ++i) {
-            uint32_t gi = e < 2u ? i : (e == 2u ? 0u : GRID_SIDE - 1u);
-            uint32_t gj = e < 2u ? (e == 0u ? 0u : GRID_SIDE - 1u) : i;
-            vertex *v = c->scratch + GRID_SIDE * GRID_SIDE + e * GRID_SIDE + i;
-            *v = c->scratch[gj * GRID_SIDE + gi];
-            v->pos[1] -= (float)skirt;
-        }
+    for (k = 0; k < 4u * GRID_SIDE; ++k) {
+        vertex *v = c->scratch + GRID_SIDE * GRID_SIDE + k;
+        *v = c->scratch[skirt_top(k)];
+        v->pos[1] -= (float)skirt;
     }
 }
 
@@ -426,7 +416,7 @@ static void build_patch(const thesis_scene *t, terrain_cache *c, tclod_id id) {
  * (degenerate triangles; every strip has an even length, so winding is kept). */
 static GLsizei patch_indices(GLushort *out) {
     GLsizei n = 0;
-    uint32_t j, i, e;
+    uint32_t j, i, k;
     for (j = 0; j < THESIS_PATCH_CELLS; ++j) {
         if (n > 0) {
             out[n] = out[n - 1];
@@ -438,20 +428,15 @@ static GLsizei patch_indices(GLushort *out) {
             out[n++] = (GLushort)((j + 1u) * GRID_SIDE + i);
         }
     }
-    for (e = 0; e < 4u; ++e) {
-        for (i = 0; i < GRID_SIDE; ++i) {
-            uint32_t gi = e < 2u ? i : (e == 2u ? 0u : GRID_SIDE - 1u);
-            uint32_t gj = e < 2u ? (e == 0u ? 0u : GRID_SIDE - 1u) : i;
-            GLushort top = (GLushort)(gj * GRID_SIDE + gi);
-            GLushort below = (GLushort)(GRID_SIDE * GRID_SIDE + e * GRID_SIDE + i);
-            if (i == 0u) {
-                out[n] = out[n - 1];
-                out[n + 1] = top;
-                n += 2;
-            }
-            out[n++] = top;
-            out[n++] = below;
+    for (k = 0; k < 4u * GRID_SIDE; ++k) {
+        GLushort top = (GLushort)skirt_top(k);
+        if (k % GRID_SIDE == 0u) {
+            out[n] = out[n - 1];
+            out[n + 1] = top;
+            n += 2;
         }
+        out[n++] = top;
+        out[n++] = (GLushort)(GRID_SIDE * GRID_SIDE + k);
     }
     return n;
 }
@@ -477,14 +462,10 @@ static int terrain_init(terrain_cache *c, const gl_ext *gl, const thesis_scene *
     gl->GenBuffers(1, &c->vbo);
     gl->GenBuffers(1, &c->ibo);
     gl->BindBuffer(GL_ARRAY_BUFFER, c->vbo);
-    gl->BufferData(GL_ARRAY_BUFFER,
-                   (GLsizeiptr)((size_t)(c->slots + 1u) * PATCH_VERTS * sizeof(vertex)), NULL,
-                   GL_DYNAMIC_DRAW);
-    gl->GenBuffers(1, &c->morph_vbo);
-    gl->BindBuffer(GL_ARRAY_BUFFER, c->morph_vbo);
-    gl->BufferData(GL_ARRAY_BUFFER,
-                   (GLsizeiptr)((size_t)MORPH_SLOTS * PATCH_VERTS * sizeof(vertex)), NULL,
-                   GL_STREAM_DRAW);
+    gl->BufferData(
+        GL_ARRAY_BUFFER,
+        (GLsizeiptr)((size_t)(c->slots + 1u + MORPH_SLOTS) * PATCH_VERTS * sizeof(vertex)), NULL,
+        GL_DYNAMIC_DRAW);
     gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, c->ibo);
     gl->BufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)((size_t)c->index_count * sizeof(GLushort)),
                    indices, GL_STATIC_DRAW);
@@ -498,8 +479,6 @@ static void terrain_free(terrain_cache *c, const gl_ext *gl) {
         gl->DeleteBuffers(1, &c->vbo);
     if (c->ibo)
         gl->DeleteBuffers(1, &c->ibo);
-    if (c->morph_vbo)
-        gl->DeleteBuffers(1, &c->morph_vbo);
     free(c->plain);
     free(c->slot_of);
     free(c->node_in);
@@ -509,8 +488,9 @@ static void terrain_free(terrain_cache *c, const gl_ext *gl) {
     memset(c, 0, sizeof(*c));
 }
 
-static void upload_patch(terrain_cache *c, const gl_ext *gl, uint32_t slot) {
-    gl->BufferSubData(GL_ARRAY_BUFFER, (GLintptr)((size_t)slot * PATCH_VERTS * sizeof(vertex)),
+/* c->scratch into slot `slot` of the vertex buffer, which is bound. */
+static void upload_patch(terrain_cache *c, const gl_ext *gl, size_t slot) {
+    gl->BufferSubData(GL_ARRAY_BUFFER, (GLintptr)(slot * PATCH_VERTS * sizeof(vertex)),
                       (GLsizeiptr)(PATCH_VERTS * sizeof(vertex)), c->scratch);
 }
 
@@ -541,7 +521,7 @@ static void terrain_prepare(terrain_cache *c, const gl_ext *gl, const thesis_sce
                 continue;
             c->slot_of[c->node_in[slot]] = -1;
         }
-        build_patch(t, c, id);
+        build_patch(t, c, id, 1.0f);
         upload_patch(c, gl, slot);
         c->node_in[slot] = id;
         c->slot_of[id] = (int32_t)slot;
@@ -550,6 +530,30 @@ static void terrain_prepare(terrain_cache *c, const gl_ext *gl, const thesis_sce
     gl->BindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
+/* Splits a draw list of the scheduler into the patches drawn as they are (into
+ * plain, from the cache) and those that morph, built now into the slots after
+ * the scratch slot, before the drawing is timed; past MORPH_SLOTS a morphing
+ * patch is drawn as it is. */
+static size_t morph_prepare(terrain_cache *c, const gl_ext *gl, const thesis_scene *t,
+                            const tclod_draw *items, size_t n, tclod_id *plain) {
+    size_t k, n_plain = 0;
+    c->morph_count = 0;
+    gl->BindBuffer(GL_ARRAY_BUFFER, c->vbo);
+    for (k = 0; k < n; ++k) {
+        if (items[k].fine == items[k].coarse || items[k].weight >= 1.0f ||
+            c->morph_count == MORPH_SLOTS) {
+            plain[n_plain++] = items[k].fine;
+            continue;
+        }
+        build_patch(t, c, items[k].fine, items[k].weight < 0.0f ? 0.0f : items[k].weight);
+        upload_patch(c, gl, (size_t)c->slots + 1u + c->morph_count++);
+    }
+    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    return n_plain;
+}
+
+/* Draws the patches ids from the cache (one that is not in it is built now, into
+ * the scratch slot), then this frame's morphing patches. */
 static void terrain_draw(terrain_cache *c, const gl_ext *gl, const thesis_scene *t,
                          const tclod_id *ids, size_t n) {
     size_t k;
@@ -557,15 +561,14 @@ static void terrain_draw(terrain_cache *c, const gl_ext *gl, const thesis_scene 
     gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, c->ibo);
     glEnableClientState(GL_VERTEX_ARRAY);
     glEnableClientState(GL_COLOR_ARRAY);
-    for (k = 0; k < n; ++k) {
-        int32_t slot = c->slot_of[ids[k]];
-        size_t base;
-        if (slot < 0) {
-            build_patch(t, c, ids[k]);
-            upload_patch(c, gl, c->slots);
-            slot = (int32_t)c->slots;
+    for (k = 0; k < n + c->morph_count; ++k) {
+        size_t slot = k >= n ? c->slots + 1u + (k - n) : (size_t)c->slot_of[ids[k]], base;
+        if (k < n && c->slot_of[ids[k]] < 0) {
+            build_patch(t, c, ids[k], 1.0f);
+            slot = c->slots;
+            upload_patch(c, gl, slot);
         }
-        base = (size_t)slot * PATCH_VERTS * sizeof(vertex);
+        base = slot * PATCH_VERTS * sizeof(vertex);
         glVertexPointer(3, GL_FLOAT, sizeof(vertex), buffer_offset(base));
         glColorPointer(4, GL_UNSIGNED_BYTE, sizeof(vertex),
                        buffer_offset(base + offsetof(vertex, rgba)));
@@ -576,91 +579,6 @@ static void terrain_draw(terrain_cache *c, const gl_ext *gl, const thesis_scene 
     gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
     gl->BindBuffer(GL_ARRAY_BUFFER, 0);
 }
-
-#ifdef GLFW_FOREST_SCHEDULER
-/* Geomorphs (seed 004 §4.3) of the scheduler's draw lists: a patch on its way
- * to or from its parent is drawn with every height between its own and the
- * parent's surface at that vertex (weight 1 = the patch itself). The parent's
- * vertices are the patch's even ones; the others lie on the parent's cell edges
- * (the mean of the two ends) or on the diagonal its strips cut each cell along,
- * from (i - 1, j + 1) to (i + 1, j - 1). Works on the patch build_patch just
- * built, its heights included; the skirts follow their edges. */
-static void morph_patch(terrain_cache *c, float weight) {
-    const ptrdiff_t s = GRID_SIDE + 2u;
-    uint32_t i, j, e;
-    for (e = 0; e < 4u; ++e) {
-        for (i = 0; i < GRID_SIDE; ++i) {
-            uint32_t gi = e < 2u ? i : (e == 2u ? 0u : GRID_SIDE - 1u);
-            uint32_t gj = e < 2u ? (e == 0u ? 0u : GRID_SIDE - 1u) : i;
-            /* the skirt's depth below its edge vertex, before that one moves */
-            c->scratch[GRID_SIDE * GRID_SIDE + e * GRID_SIDE + i].pos[1] -=
-                c->scratch[gj * GRID_SIDE + gi].pos[1];
-        }
-    }
-    for (j = 0; j < GRID_SIDE; ++j) {
-        for (i = 0; i < GRID_SIDE; ++i) {
-            const float *h = c->heights + (ptrdiff_t)(j + 1u) * s + (i + 1u);
-            float coarse = (i % 2u == 0u && j % 2u == 0u) ? h[0]
-                           : j % 2u == 0u                 ? 0.5f * (h[-1] + h[1])
-                           : i % 2u == 0u                 ? 0.5f * (h[-s] + h[s])
-                                                          : 0.5f * (h[s - 1] + h[1 - s]);
-            c->scratch[j * GRID_SIDE + i].pos[1] = weight * h[0] + (1.0f - weight) * coarse;
-        }
-    }
-    for (e = 0; e < 4u; ++e) {
-        for (i = 0; i < GRID_SIDE; ++i) {
-            uint32_t gi = e < 2u ? i : (e == 2u ? 0u : GRID_SIDE - 1u);
-            uint32_t gj = e < 2u ? (e == 0u ? 0u : GRID_SIDE - 1u) : i;
-            c->scratch[GRID_SIDE * GRID_SIDE + e * GRID_SIDE + i].pos[1] +=
-                c->scratch[gj * GRID_SIDE + gi].pos[1];
-        }
-    }
-}
-
-/* Splits a draw list into the patches drawn as they are (into plain, from the
- * cache) and those that morph, built now into the morph buffer, before the
- * drawing is timed; past MORPH_SLOTS a morphing patch is drawn as it is. */
-static size_t morph_prepare(terrain_cache *c, const gl_ext *gl, const thesis_scene *t,
-                            const tclod_draw *items, size_t n, tclod_id *plain) {
-    size_t k, n_plain = 0;
-    c->morph_count = 0;
-    gl->BindBuffer(GL_ARRAY_BUFFER, c->morph_vbo);
-    for (k = 0; k < n; ++k) {
-        if (items[k].fine == items[k].coarse || items[k].weight >= 1.0f ||
-            c->morph_count == MORPH_SLOTS) {
-            plain[n_plain++] = items[k].fine;
-            continue;
-        }
-        build_patch(t, c, items[k].fine);
-        morph_patch(c, items[k].weight < 0.0f ? 0.0f : items[k].weight);
-        gl->BufferSubData(GL_ARRAY_BUFFER,
-                          (GLintptr)((size_t)c->morph_count * PATCH_VERTS * sizeof(vertex)),
-                          (GLsizeiptr)(PATCH_VERTS * sizeof(vertex)), c->scratch);
-        c->morph_count++;
-    }
-    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
-    return n_plain;
-}
-
-static void morph_draw(const terrain_cache *c, const gl_ext *gl) {
-    uint32_t k;
-    gl->BindBuffer(GL_ARRAY_BUFFER, c->morph_vbo);
-    gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, c->ibo);
-    glEnableClientState(GL_VERTEX_ARRAY);
-    glEnableClientState(GL_COLOR_ARRAY);
-    for (k = 0; k < c->morph_count; ++k) {
-        size_t base = (size_t)k * PATCH_VERTS * sizeof(vertex);
-        glVertexPointer(3, GL_FLOAT, sizeof(vertex), buffer_offset(base));
-        glColorPointer(4, GL_UNSIGNED_BYTE, sizeof(vertex),
-                       buffer_offset(base + offsetof(vertex, rgba)));
-        glDrawElements(GL_TRIANGLE_STRIP, c->index_count, GL_UNSIGNED_SHORT, buffer_offset(0));
-    }
-    glDisableClientState(GL_COLOR_ARRAY);
-    glDisableClientState(GL_VERTEX_ARRAY);
-    gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
-    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
-}
-#endif
 
 /* ------------------------------------------------------------------------- */
 /* Trees: one splat template, a prefix of it per tree                        */
@@ -774,18 +692,16 @@ typedef struct tree_counts {
 /* Draws smooth object obj's trees with per_tree splats each on average (r · S,
  * S = THESIS_SPLATS_PER_TREE), as the cost model counts them: below one, one
  * splat for that share of the trees, spread evenly; *carry keeps the fraction
- * from tree to tree, so nothing is lost to rounding. Splats grow as fewer cover
- * a tree. */
+ * from tree to tree, so nothing is lost to rounding. Every tree is drawn, in
+ * view or not: the group's cost counts them all, and a host that culled them
+ * would draw less than the calibration is told. Splats grow as fewer cover a
+ * tree. */
 static void object_trees_draw(const thesis_scene *t, const tclod_view *view,
                               const double view_d[16], tclod_id obj, double per_tree, double *carry,
                               float max_point, tree_counts *counts) {
     double focal = 0.5 * (double)view->viewport_height / tan(0.5 * (double)view->fov_y);
-    uint32_t k, end = t->tree_first[obj + 1u];
-    if (!tclod_view_sphere_visible(view, t->smooth_bounds + 4u * (size_t)obj)) {
-        *carry = fmod(*carry + per_tree * (double)(end - t->tree_first[obj]), 1.0);
-        return;
-    }
-    for (k = t->tree_first[obj]; k < end; ++k) {
+    uint32_t k;
+    for (k = t->tree_first[obj]; k < t->tree_first[obj + 1u]; ++k) {
         const float *tr = t->tree_xyzh + 4u * (size_t)k;
         double h = (double)tr[3], dx = (double)tr[0] - (double)view->eye[0];
         double dy = (double)tr[1] + 0.4 * h - (double)view->eye[1];
@@ -809,44 +725,28 @@ static void object_trees_draw(const thesis_scene *t, const tclod_view *view,
     }
 }
 
-/* Draws the selected smooth groups: every member at its group's resolution. */
+/* Draws the selected trees: every member of each of the n groups at its group's
+ * resolution or, with a scheduler, every smooth object at the resolution the
+ * scheduler gives it this frame (moving linearly while it changes). */
 static tree_counts trees_draw(const thesis_scene *t, const gl_ext *gl, GLuint vbo,
                               const tclod_view *view, const double view_d[16],
-                              const tclod_smooth_group *groups, size_t n, float max_point) {
+                              const tclod_smooth_group *groups, size_t n,
+                              const tclod_scheduler *sch, float max_point) {
     tree_counts counts = {0, 0.0};
+    double carry = 0.5;
     size_t g;
-    trees_begin(gl, vbo);
-    for (g = 0; g < n; ++g) {
-        double per_tree = groups[g].resolution * (double)THESIS_SPLATS_PER_TREE, carry = 0.5;
-        uint32_t p;
-        for (p = groups[g].first; p < groups[g].first + groups[g].count; ++p)
-            object_trees_draw(t, view, view_d, t->smooth_order[p], per_tree, &carry, max_point,
-                              &counts);
-    }
-    trees_end(gl);
-    return counts;
-}
-
-#ifdef GLFW_FOREST_SCHEDULER
-/* Draws every smooth object at the resolution the scheduler gives it this frame
- * (moving linearly while it changes). */
-static tree_counts trees_draw_scheduled(const thesis_scene *t, const gl_ext *gl, GLuint vbo,
-                                        const tclod_view *view, const double view_d[16],
-                                        const tclod_scheduler *sch, float max_point) {
-    tree_counts counts = {0, 0.0};
     uint32_t p;
     trees_begin(gl, vbo);
-    for (p = 0; p < t->smooth_count; ++p) {
-        tclod_id obj = t->smooth_order[p];
-        double r = tclod_scheduler_resolution(sch, obj), carry = 0.5;
-        if (r > 0.0)
-            object_trees_draw(t, view, view_d, obj, r * (double)THESIS_SPLATS_PER_TREE, &carry,
-                              max_point, &counts);
+    for (g = 0; g < (sch ? (size_t)t->smooth_count : n); ++g) {
+        uint32_t first = sch ? (uint32_t)g : groups[g].first, count = sch ? 1u : groups[g].count;
+        double r = sch ? tclod_scheduler_resolution(sch, t->smooth_order[g]) : groups[g].resolution;
+        for (p = first; p < first + count && r > 0.0; ++p)
+            object_trees_draw(t, view, view_d, t->smooth_order[p],
+                              r * (double)THESIS_SPLATS_PER_TREE, &carry, max_point, &counts);
     }
     trees_end(gl);
     return counts;
 }
-#endif
 
 /* ------------------------------------------------------------------------- */
 /* Camera                                                                    */
@@ -992,7 +892,8 @@ typedef struct hud_figures {
 } hud_figures;
 
 static void hud_draw(const hud_state *h, const hud_figures *f, int width, int height) {
-    const float x0 = 12.0f, y0 = 12.0f, w = 2.0f * GRAPH_FRAMES + 16.0f, s = 2.0f;
+    /* the panel fits 52 characters of text, the longest --morph line */
+    const float x0 = 12.0f, y0 = 12.0f, s = 2.0f, w = 6.0f * s * 52.0f + 16.0f;
     const float gx = x0 + 8.0f, gy = y0 + 128.0f, gh = 70.0f;
     char line[128];
     double top = 2.0 * f->target_ms;
@@ -1071,9 +972,7 @@ typedef struct app {
     tclod_selector *sel;
     tclod_solver solver;
     tclod_calib *calib;
-#ifdef GLFW_FOREST_SCHEDULER
     tclod_scheduler *sch; /* --morph */
-#endif
     camera cam;
 } app;
 
@@ -1084,7 +983,6 @@ static void selector_desc(app *a, tclod_solver s, tclod_selector_desc *d) {
     d->split_smooth = 1; /* the thesis's grouping of nearby tree sets (SplitVar) */
 }
 
-#ifdef GLFW_FOREST_SCHEDULER
 /* Replaces the scheduler by one selecting with a->solver, whose calibration
  * starts from initial_scale; keeps the old one on failure. The flyover moves at
  * about 260 m/s and turns slowly; free flight may be faster, which only makes
@@ -1109,7 +1007,6 @@ static int make_scheduler(app *a, double initial_scale) {
     a->sch = sch;
     return 1;
 }
-#endif
 
 /* Replaces the selector (and the scheduler) by one with solver s; keeps the old
  * one on failure. */
@@ -1127,10 +1024,8 @@ static void set_solver(app *a, tclod_solver s) {
     tclod_selector_destroy(a->sel);
     a->sel = sel;
     a->solver = s;
-#ifdef GLFW_FOREST_SCHEDULER
     if (a->sch)
         make_scheduler(a, tclod_calib_scale(a->calib));
-#endif
 }
 
 static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods) {
@@ -1143,14 +1038,6 @@ static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods)
     case GLFW_KEY_ESCAPE:
         glfwSetWindowShouldClose(win, GLFW_TRUE);
         break;
-    case GLFW_KEY_EQUAL:
-    case GLFW_KEY_KP_ADD:
-        a->opt.target_ms = fmin(a->opt.target_ms * 1.25, MAX_TARGET_MS);
-        break;
-    case GLFW_KEY_MINUS:
-    case GLFW_KEY_KP_SUBTRACT:
-        a->opt.target_ms = fmax(a->opt.target_ms / 1.25, MIN_TARGET_MS);
-        break;
     case GLFW_KEY_TAB:
         if (action == GLFW_PRESS)
             set_solver(a, (tclod_solver)(((int)a->solver + 1) % 3));
@@ -1159,7 +1046,7 @@ static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods)
         if (action == GLFW_PRESS && !a->cam.flying) {
             /* take over from the flyover where it is, looking where it looks */
             tclod_view v;
-            thesis_camera_at(&a->scene, a->opt.start + a->cam.flight_time / LOOP_SECONDS, &v);
+            thesis_camera_at(&a->scene, FLIGHT_START + a->cam.flight_time / LOOP_SECONDS, &v);
             a->cam.pos[0] = (double)v.eye[0];
             a->cam.pos[1] = (double)v.eye[1];
             a->cam.pos[2] = (double)v.eye[2];
@@ -1176,6 +1063,15 @@ static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods)
     default:
         break;
     }
+}
+
+/* + and - by the character typed, whatever the keyboard's layout. */
+static void on_char(GLFWwindow *win, unsigned int codepoint) {
+    app *a = (app *)glfwGetWindowUserPointer(win);
+    if (codepoint == '+')
+        a->opt.target_ms = fmin(a->opt.target_ms * 1.25, MAX_TARGET_MS);
+    else if (codepoint == '-')
+        a->opt.target_ms = fmax(a->opt.target_ms / 1.25, MIN_TARGET_MS);
 }
 
 static void on_mouse_button(GLFWwindow *win, int button, int action, int mods) {
@@ -1205,7 +1101,7 @@ static void on_cursor(GLFWwindow *win, double x, double y) {
  * for dt seconds (never below the ground). */
 static void update_view(app *a, GLFWwindow *win, double dt, int fb_w, int fb_h, tclod_view *v) {
     camera *c = &a->cam;
-    thesis_camera_at(&a->scene, a->opt.start + c->flight_time / LOOP_SECONDS, v);
+    thesis_camera_at(&a->scene, FLIGHT_START + c->flight_time / LOOP_SECONDS, v);
     if (c->flying) {
         double f[3], speed = 300.0 * dt, ground;
         int k;
@@ -1371,7 +1267,7 @@ static double probe_scale(app *a, renderer *r, const tclod_view *view, double bu
     glFinish();
     t0 = glfwGetTime();
     terrain_draw(&r->terrain, &r->gl, &a->scene, ids, n_ids);
-    trees_draw(&a->scene, &r->gl, r->tree_vbo, view, view_d, groups, n_groups, r->max_point);
+    trees_draw(&a->scene, &r->gl, r->tree_vbo, view, view_d, groups, n_groups, NULL, r->max_point);
     glFinish();
     ms = (glfwGetTime() - t0) * 1e3;
     return ms > 0.0 ? ms / st.cost : 1.0;
@@ -1408,8 +1304,77 @@ static int write_ppm(const char *path, int w, int h) {
 /* Main                                                                      */
 /* ------------------------------------------------------------------------- */
 
+/* Ctrl-C ends the loop, so that an interactive run prints its summary too. */
+static volatile sig_atomic_t interrupted;
+
+static void on_interrupt(int sig) {
+    (void)sig;
+    interrupted = 1;
+}
+
 static void on_glfw_error(int code, const char *text) {
     fprintf(stderr, "glfw_forest: GLFW error %d: %s\n", code, text);
+}
+
+/* Everything before the first frame: the scene, the selector, the terrain cache
+ * and the tree template, one unmeasured draw, the calibration from a measured
+ * starting scale and, with --morph, the scheduler. 0 after saying what failed;
+ * main frees whatever was made. */
+static int setup(app *a, renderer *r, GLFWwindow *win) {
+    thesis_desc desc;
+    tclod_calib_desc cd;
+    tclod_view v;
+    tclod_status st;
+    GLfloat point_range[2];
+    int fb_w, fb_h;
+
+    thesis_desc_default(&desc);
+    desc.keep_trees = 1;
+    desc.k = TREE_WEIGHT;
+    st = thesis_build(&desc, &a->scene);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "glfw_forest: building the scene failed: %s\n", tclod_status_string(st));
+        return 0;
+    }
+    /* lower than the thesis's camera and looking further down, so that the
+     * forest fills more of the picture */
+    a->scene.path.altitude = FLIGHT_ALTITUDE;
+    a->scene.path.altitude_swing = 0.5f * FLIGHT_ALTITUDE;
+    a->scene.path.pitch = FLIGHT_PITCH;
+    set_solver(a, a->opt.solver);
+    if (!a->sel)
+        return 0; /* set_solver said why */
+    if (!terrain_init(&r->terrain, &r->gl, &a->scene)) {
+        fprintf(stderr, "glfw_forest: out of memory for the terrain's patch cache\n");
+        return 0;
+    }
+    r->tree_vbo = make_tree_template(&r->gl);
+    if (!r->tree_vbo) {
+        fprintf(stderr, "glfw_forest: out of memory for the tree template\n");
+        return 0;
+    }
+    printf("glfw_forest: %u terrain patches, %u trees in %u groups; target %.1f ms, %s solver\n",
+           a->scene.node_count, a->scene.tree_count, a->scene.smooth_count, a->opt.target_ms,
+           solver_names[a->solver]);
+
+    glGetFloatv(GL_SMOOTH_POINT_SIZE_RANGE, point_range);
+    r->max_point = point_range[1] > 1.0f ? point_range[1] : 1.0f;
+    glFogi(GL_FOG_MODE, GL_LINEAR);
+    glFogfv(GL_FOG_COLOR, (const GLfloat[4]){sky_colour[0], sky_colour[1], sky_colour[2], 1.0f});
+    glAlphaFunc(GL_GREATER, 0.5f);
+    glfwGetFramebufferSize(win, &fb_w, &fb_h);
+    update_view(a, win, 0.0, fb_w > 0 ? fb_w : 1, fb_h > 0 ? fb_h : 1, &v);
+    warm_up(win, r, &a->scene, &v, fb_w, fb_h);
+
+    tclod_calib_desc_default(&cd);
+    cd.initial_scale = probe_scale(a, r, &v, PROBE_SHARE * a->opt.target_ms, fb_w, fb_h);
+    st = tclod_calib_create(&cd, NULL, &a->calib);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "glfw_forest: tclod_calib_create failed: %s\n", tclod_status_string(st));
+        return 0;
+    }
+    printf("glfw_forest: measured %.2f ms per predicted ms to start from\n", cd.initial_scale);
+    return !a->opt.morph || make_scheduler(a, cd.initial_scale);
 }
 
 int main(int argc, char **argv) {
@@ -1417,16 +1382,10 @@ int main(int argc, char **argv) {
     static hud_state hud;
     static renderer r;
     static timing tm;
-    thesis_desc desc;
-    tclod_calib_desc cd;
-    tclod_calib *calib = NULL;
     GLFWwindow *win;
     tclod_status st;
-    GLfloat point_range[2];
     double last_time, sum_ms = 0.0, sum_err = 0.0;
-#ifdef GLFW_FOREST_SCHEDULER
     double now = 0.0; /* the scheduler's clock: flight time, s */
-#endif
     unsigned long frame = 0;
     int rc, i, fb_w, fb_h;
 
@@ -1444,7 +1403,7 @@ int main(int argc, char **argv) {
         return EXIT_SKIP;
     }
     glfwWindowHint(GLFW_DEPTH_BITS, 24);
-    win = glfwCreateWindow(a.opt.width, a.opt.height, "glfw_forest (libtclod)", NULL, NULL);
+    win = glfwCreateWindow(WINDOW_WIDTH, WINDOW_HEIGHT, "glfw_forest (libtclod)", NULL, NULL);
     if (!win) {
         fprintf(stderr, "glfw_forest: no OpenGL context could be made; skipped\n");
         glfwTerminate();
@@ -1455,6 +1414,7 @@ int main(int argc, char **argv) {
                  a.opt.timer == TIMER_GPU || (a.opt.timer == TIMER_AUTO && !software_renderer()))) {
         fprintf(stderr, "glfw_forest: the OpenGL context lacks vertex buffers (GL 1.5); "
                         "skipped\n");
+        glfwDestroyWindow(win);
         glfwTerminate();
         return EXIT_SKIP;
     }
@@ -1462,61 +1422,20 @@ int main(int argc, char **argv) {
     glfwSwapInterval(0);
     printf("glfw_forest: %s, OpenGL %s, timer %s\n", (const char *)glGetString(GL_RENDERER),
            (const char *)glGetString(GL_VERSION), r.gl.GenQueries ? "GL_TIME_ELAPSED" : "CPU");
-
-    thesis_desc_default(&desc);
-    desc.keep_trees = 1;
-    desc.k = TREE_WEIGHT;
-    st = thesis_build(&desc, &a.scene);
-    /* lower than the thesis's camera and looking further down, so that the
-     * forest fills more of the picture */
-    a.scene.path.altitude = FLIGHT_ALTITUDE;
-    a.scene.path.altitude_swing = 0.5f * FLIGHT_ALTITUDE;
-    a.scene.path.pitch = FLIGHT_PITCH;
-    if (st == TCLOD_OK)
-        set_solver(&a, a.opt.solver);
-    if (st != TCLOD_OK || !a.sel || !terrain_init(&r.terrain, &r.gl, &a.scene) ||
-        !(r.tree_vbo = make_tree_template(&r.gl))) {
-        fprintf(stderr, "glfw_forest: setting up failed: %s\n", tclod_status_string(st));
-        return 1;
-    }
-    printf("glfw_forest: %u terrain patches, %u trees in %u groups; target %.1f ms, %s solver\n",
-           a.scene.node_count, a.scene.tree_count, a.scene.smooth_count, a.opt.target_ms,
-           solver_names[a.solver]);
-
-    tm.gpu = r.gl.GenQueries != NULL;
-    for (i = 0; tm.gpu && i < QUERY_RING; ++i)
-        r.gl.GenQueries(1, &tm.ring[i].query);
-    glGetFloatv(GL_SMOOTH_POINT_SIZE_RANGE, point_range);
-    r.max_point = point_range[1] > 1.0f ? point_range[1] : 1.0f;
     glfwSetWindowUserPointer(win, &a);
     glfwSetKeyCallback(win, on_key);
+    glfwSetCharCallback(win, on_char);
     glfwSetMouseButtonCallback(win, on_mouse_button);
     glfwSetCursorPosCallback(win, on_cursor);
-    glFogi(GL_FOG_MODE, GL_LINEAR);
-    glFogfv(GL_FOG_COLOR, (const GLfloat[4]){sky_colour[0], sky_colour[1], sky_colour[2], 1.0f});
-    glAlphaFunc(GL_GREATER, 0.5f);
-    glfwGetFramebufferSize(win, &fb_w, &fb_h);
-    {
-        tclod_view v;
-        update_view(&a, win, 0.0, fb_w > 0 ? fb_w : 1, fb_h > 0 ? fb_h : 1, &v);
-        warm_up(win, &r, &a.scene, &v, fb_w, fb_h);
-        tclod_calib_desc_default(&cd);
-        cd.initial_scale = probe_scale(&a, &r, &v, PROBE_SHARE * a.opt.target_ms, fb_w, fb_h);
-    }
-    st = tclod_calib_create(&cd, NULL, &calib);
-    if (st != TCLOD_OK) {
-        fprintf(stderr, "glfw_forest: tclod_calib_create failed: %s\n", tclod_status_string(st));
-        return 1;
-    }
-    a.calib = calib;
-    printf("glfw_forest: measured %.2f ms per predicted ms to start from\n", cd.initial_scale);
-#ifdef GLFW_FOREST_SCHEDULER
-    if (a.opt.morph && !make_scheduler(&a, cd.initial_scale))
-        return 1;
-#endif
+    rc = setup(&a, &r, win) ? 0 : 1;
+    tm.gpu = rc == 0 && r.gl.GenQueries != NULL;
+    for (i = 0; tm.gpu && i < QUERY_RING; ++i)
+        r.gl.GenQueries(1, &tm.ring[i].query);
 
     last_time = glfwGetTime();
-    while (!glfwWindowShouldClose(win) && (a.opt.frames == 0 || frame < a.opt.frames)) {
+    signal(SIGINT, on_interrupt);
+    while (rc == 0 && !interrupted && !glfwWindowShouldClose(win) &&
+           (a.opt.frames == 0 || frame < a.opt.frames)) {
         double start = glfwGetTime(), budget = 0.0, view_d[16], frame_ms, t0, predicted;
         double dt = a.opt.frames ? HEADLESS_STEP : start - last_time;
         int last = a.opt.frames && frame + 1u == a.opt.frames;
@@ -1531,21 +1450,18 @@ int main(int argc, char **argv) {
         last_time = start;
         glfwPollEvents();
         if (tm.gpu)
-            timing_collect(&tm, &r.gl, calib, tm.ring[tm.head].waiting);
+            timing_collect(&tm, &r.gl, a.calib, tm.ring[tm.head].waiting);
         glfwGetFramebufferSize(win, &fb_w, &fb_h);
         if (fb_w <= 0 || fb_h <= 0) { /* minimised */
             glfwWaitEventsTimeout(0.1);
             continue;
         }
         dt = dt > 0.1 ? 0.1 : dt;
-#ifdef GLFW_FOREST_SCHEDULER
         now += dt;
-#endif
         update_view(&a, win, dt, fb_w, fb_h, &view);
         memset(&stats, 0, sizeof(stats));
         hf.morphing = 0;
 
-#ifdef GLFW_FOREST_SCHEDULER
         if (a.sch) {
             /* the scheduler: the render time that fits the target (its own
              * calibration turns it into a budget), a slice of the next selection,
@@ -1553,7 +1469,7 @@ int main(int argc, char **argv) {
             const tclod_draw *items;
             size_t n_items;
             tclod_scheduler_stats ss;
-            tclod_render_budget(a.opt.target_ms, tclod_calib_logic(calib), 1.0, &budget);
+            tclod_render_budget(a.opt.target_ms, tclod_calib_logic(a.calib), 1.0, &budget);
             st = tclod_scheduler_update(a.sch, now, &view, budget,
                                         SLICE_SHARE * a.opt.target_ms * 1e-3);
             if (st != TCLOD_OK) {
@@ -1570,11 +1486,9 @@ int main(int argc, char **argv) {
             budget = ss.budget;
             stats.solve_seconds = ss.select_seconds;
             hf.morphing = ss.morphing;
-        } else
-#endif
-        {
+        } else {
             /* libtclod: the budget for the target frame time, the selection, the result */
-            tclod_calib_budget(calib, a.opt.target_ms, &budget);
+            tclod_calib_budget(a.calib, a.opt.target_ms, &budget);
             memset(&fr, 0, sizeof(fr));
             fr.view = &view;
             fr.budget = budget;
@@ -1599,15 +1513,8 @@ int main(int argc, char **argv) {
             glFinish();
         t0 = glfwGetTime();
         terrain_draw(&r.terrain, &r.gl, &a.scene, ids, n_ids);
-#ifdef GLFW_FOREST_SCHEDULER
-        if (a.sch) {
-            morph_draw(&r.terrain, &r.gl);
-            hf.trees = trees_draw_scheduled(&a.scene, &r.gl, r.tree_vbo, &view, view_d, a.sch,
-                                            r.max_point);
-        } else
-#endif
-            hf.trees = trees_draw(&a.scene, &r.gl, r.tree_vbo, &view, view_d, groups, n_groups,
-                                  r.max_point);
+        hf.trees = trees_draw(&a.scene, &r.gl, r.tree_vbo, &view, view_d, groups, n_groups, a.sch,
+                              r.max_point);
         if (tm.gpu) {
             r.gl.EndQuery(GL_TIME_ELAPSED);
         } else {
@@ -1619,8 +1526,8 @@ int main(int argc, char **argv) {
             hud.filled ? (double)hud.frame_ms[(hud.next + GRAPH_FRAMES - 1) % GRAPH_FRAMES] : 0.0;
         hf.target_ms = a.opt.target_ms;
         hf.budget = budget;
-        hf.scale = tclod_calib_scale(calib);
-        hf.logic_ms = tclod_calib_logic(calib);
+        hf.scale = tclod_calib_scale(a.calib);
+        hf.logic_ms = tclod_calib_logic(a.calib);
         hf.select_us = stats.solve_seconds * 1e6;
         hf.solver = solver_names[a.solver];
         hf.morph = a.opt.morph;
@@ -1643,15 +1550,13 @@ int main(int argc, char **argv) {
             tm.ring[tm.head].frame_ms = frame_ms;
             tm.head = (tm.head + 1) % QUERY_RING;
         } else {
-            tclod_calib_report(calib, predicted, tm.last_render_ms,
+            tclod_calib_report(a.calib, predicted, tm.last_render_ms,
                                frame_ms > tm.last_render_ms ? frame_ms - tm.last_render_ms : 0.0);
         }
-#ifdef GLFW_FOREST_SCHEDULER
         /* the scheduler's own calibration: with GPU timing the latest measured
          * frame, a frame or two old, stands in for this one */
         if (a.sch)
             tclod_scheduler_report(a.sch, tm.last_render_ms);
-#endif
         hud.frame_ms[hud.next] = (float)frame_ms;
         hud.target_ms[hud.next] = (float)a.opt.target_ms;
         hud.next = (hud.next + 1) % GRAPH_FRAMES;
@@ -1669,11 +1574,9 @@ int main(int argc, char **argv) {
         r.gl.DeleteQueries(1, &tm.ring[i].query);
     r.gl.DeleteBuffers(1, &r.tree_vbo);
     terrain_free(&r.terrain, &r.gl);
-#ifdef GLFW_FOREST_SCHEDULER
     tclod_scheduler_destroy(a.sch);
-#endif
     tclod_selector_destroy(a.sel);
-    tclod_calib_destroy(calib);
+    tclod_calib_destroy(a.calib);
     thesis_scene_free(&a.scene);
     glfwDestroyWindow(win);
     glfwTerminate();

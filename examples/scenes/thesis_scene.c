@@ -223,6 +223,13 @@ void thesis_scene_free(thesis_scene *t) {
 /* Terrain                                                                   */
 /* ------------------------------------------------------------------------- */
 
+/* Node ids of the terrain quadtree run root first, level by level, row-major
+ * within a level: node (level, ix, iz) is level_first(level) + iz · 2^level + ix,
+ * the levels above it holding (4^level − 1) / 3 nodes. */
+static uint32_t level_first(uint32_t level) {
+    return ((1u << (2u * level)) - 1u) / 3u;
+}
+
 /* Height range of every patch: leaves from their 33 × 33 vertices, one row of
  * samples at a time; coarser patches draw a subset of their children's vertices,
  * so the union of the children's ranges bounds them. minmax holds 2 floats per
@@ -274,7 +281,7 @@ static tclod_status terrain_ranges(const thesis_desc *d, uint32_t node_count, fl
     free(row);
     /* parents from children, deepest level first */
     for (level = depth; level-- > 0;) {
-        uint32_t m = 1u << level, first = ((1u << (2u * level)) - 1u) / 3u;
+        uint32_t m = 1u << level, first = level_first(level);
         uint32_t child_first = first + m * m, ix, iz, s;
         for (iz = 0; iz < m; ++iz) {
             for (ix = 0; ix < m; ++ix) {
@@ -295,11 +302,10 @@ static tclod_status terrain_ranges(const thesis_desc *d, uint32_t node_count, fl
     return TCLOD_OK;
 }
 
-/* The terrain quadtree, root first, level by level, row-major within a level, so
- * that node ids follow the formula first(level) + iz · 2^level + ix. */
+/* The terrain quadtree in node id order (level_first). */
 static tclod_status build_terrain(const thesis_desc *d, thesis_scene *t) {
     uint32_t depth = d->terrain_depth, level;
-    uint32_t count = ((1u << (2u * (depth + 1u))) - 1u) / 3u;
+    uint32_t count = level_first(depth + 1u);
     float *minmax;
     tclod_status st;
     t->depth = (uint8_t *)malloc(count);
@@ -311,8 +317,8 @@ static tclod_status build_terrain(const thesis_desc *d, thesis_scene *t) {
     }
     st = terrain_ranges(d, count, minmax);
     for (level = 0; level <= depth && st == TCLOD_OK; ++level) {
-        uint32_t m = 1u << level, first = ((1u << (2u * level)) - 1u) / 3u, ix, iz;
-        uint32_t parent_first = level ? ((1u << (2u * (level - 1u))) - 1u) / 3u : 0u;
+        uint32_t m = 1u << level, first = level_first(level), ix, iz;
+        uint32_t parent_first = level ? level_first(level - 1u) : 0u;
         float patch = d->side / (float)m;
         for (iz = 0; iz < m && st == TCLOD_OK; ++iz) {
             for (ix = 0; ix < m; ++ix) {
@@ -342,6 +348,14 @@ static tclod_status build_terrain(const thesis_desc *d, thesis_scene *t) {
     t->terrain_depth = depth;
     t->patch_cost_ms = tclod_cost_vertices(d->c_vertex_ms, (double)THESIS_PATCH_VERTICES);
     return st;
+}
+
+void thesis_patch_cell(const thesis_scene *t, tclod_id node, uint32_t *level, uint32_t *ix,
+                       uint32_t *iz) {
+    uint32_t l = t->depth[node], m = 1u << l, k = node - level_first(l);
+    *level = l;
+    *ix = k % m;
+    *iz = k / m;
 }
 
 /* ------------------------------------------------------------------------- */

@@ -152,6 +152,14 @@ void thesis_scene_free(thesis_scene *t);
  * and deterministic. */
 float thesis_terrain_height(float x, float z, float side, float height);
 
+/* The place of terrain node `node` (< t->node_count) in the quadtree: its depth
+ * *level (0 = root) and its cell (*ix, *iz) among the 2^level × 2^level patches of
+ * that depth, so that it covers x in [ix, ix + 1] · side / 2^level and z likewise
+ * with iz. The one definition of the node id layout a host needs to draw the
+ * patches. */
+void thesis_patch_cell(const thesis_scene *t, tclod_id node, uint32_t *level, uint32_t *ix,
+                       uint32_t *iz);
+
 /* How far (x, z) lies inside the forest regions: the forest mask that placed the
  * trees, minus its threshold; > 0 where the tree grid's cells have trees (at the
  * cell centres exactly), < 0 outside. Smooth: within about [−1.2, 1] over the
