@@ -239,6 +239,36 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
     return TCLOD_OK;
 }
 
+tclod_status tclod_selector_reserve(tclod_selector *sel) {
+    tclod_status status = tclod_scene_prepare(sel->scene);
+    if (status != TCLOD_OK) return status;
+    return reserve(sel, sel->scene->node_count, sel->scene->smooth_count);
+}
+
+void tclod_selector_keep(tclod_selector *sel, tclod_selector_saved *keep) {
+    sel->keep = keep;
+    if (!keep) return;
+    keep->valid = 0;
+    keep->closure_hint = sel->closure_hint; /* a solve writes it before its commit */
+}
+
+/* Copies the committed state into sel->keep, once, before a commit replaces
+ * it. */
+static void keep_committed(tclod_selector *sel) {
+    tclod_selector_saved *k = sel->keep;
+    if (!k || k->valid) return;
+    if (sel->prev_count) memcpy(k->cut, sel->prev_cut, sizeof(tclod_id) * sel->prev_count);
+    if (sel->result_count) memcpy(k->result, sel->result, sizeof(tclod_id) * sel->result_count);
+    if (sel->group_count)
+        memcpy(k->groups, sel->groups, sizeof(tclod_smooth_group) * sel->group_count);
+    k->cut_count = sel->prev_count;
+    k->result_count = sel->result_count;
+    k->group_count = sel->group_count;
+    k->scene_version = sel->scene_version;
+    k->has_cut = sel->has_cut;
+    k->valid = 1;
+}
+
 static tclod_status check_frame(const tclod_frame *f) {
     if (!(f->budget >= 0.0)) return TCLOD_ERR_ARG;
     if (!(f->solve_seconds >= 0.0)) return TCLOD_ERR_ARG;
@@ -258,10 +288,26 @@ static void roll_back(tclod_selector *sel) {
     for (i = 0; i < sel->cut_count; ++i) sel->node[sel->cut[i]].cut_pos = i;
 }
 
+void tclod_selector_restore(tclod_selector *sel, const tclod_selector_saved *k) {
+    assert(!sel->pending && !sel->busy);
+    sel->closure_hint = k->closure_hint;
+    if (!k->valid) return; /* nothing was committed since */
+    if (k->cut_count) memcpy(sel->prev_cut, k->cut, sizeof(tclod_id) * k->cut_count);
+    sel->prev_count = k->cut_count;
+    roll_back(sel);
+    if (k->result_count) memcpy(sel->result, k->result, sizeof(tclod_id) * k->result_count);
+    if (k->group_count) memcpy(sel->groups, k->groups, sizeof(tclod_smooth_group) * k->group_count);
+    sel->result_count = k->result_count;
+    sel->group_count = k->group_count;
+    sel->scene_version = k->scene_version;
+    sel->has_cut = k->has_cut;
+}
+
 /* The working cut becomes the result: visible, kept nodes in cut order. */
 static void commit(tclod_selector *sel) {
     uint32_t i, n = 0;
     double benefit = 0.0, cost = 0.0;
+    keep_committed(sel);
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id id = sel->cut[i];
         if (!(sel->node[id].benefit > 0.0) || (sel->flags[id] & TCLOD_FLAG_DROPPED)) continue;

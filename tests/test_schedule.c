@@ -33,23 +33,38 @@
 
 /* Nodes without bounds; node n sits at depth[n] of its hierarchy. A node is
  * worth 10 (depth + 1) up to the depth `target` and 1 below it, so the
- * greedy refines exactly down to `target`; it costs depth + 1. Smooth
- * objects are worth weight[i] sqrt(r) and cost r. */
+ * greedy refines exactly down to `target`, or benefit[n] when that is set
+ * (> 0); it costs depth + 1, or cost[n] when that is set. The next
+ * `nan_costs` cost calls return NaN, and with nan_wide every benefit asked
+ * for a view wider than 1.6 radians. Smooth objects are worth
+ * weight[i] sqrt(r) and cost r. */
 typedef struct wish_host {
-    uint32_t depth[16];
+    uint32_t depth[128];
+    double benefit[128], cost[128];
     uint32_t target;
+    uint32_t nan_costs;
+    int nan_wide;
+    int strict; /* the selector's strict mode */
     double weight[4];
 } wish_host;
 
 static double wish_benefit(void *user, const tclod_query *q) {
     const wish_host *h = (const wish_host *)user;
     uint32_t d = h->depth[q->id];
+    if (h->nan_wide && q->view && q->view->fov_y > 1.6f)
+        return (double)NAN;
+    if (h->benefit[q->id] > 0.0)
+        return h->benefit[q->id];
     return d <= h->target ? 10.0 * (double)(d + 1u) : 1.0;
 }
 
 static double wish_cost(void *user, const tclod_query *q) {
-    const wish_host *h = (const wish_host *)user;
-    return (double)(h->depth[q->id] + 1u);
+    wish_host *h = (wish_host *)user;
+    if (h->nan_costs > 0u) {
+        h->nan_costs--;
+        return (double)NAN;
+    }
+    return h->cost[q->id] > 0.0 ? h->cost[q->id] : (double)(h->depth[q->id] + 1u);
 }
 
 static double wish_smooth_benefit(void *user, const tclod_query *q, double r, double *d_dr) {
@@ -81,6 +96,7 @@ static tclod_scheduler *wish_scheduler(tclod_scene *s, wish_host *h, int morph, 
     sd.callbacks.smooth_cost = wish_smooth_cost;
     sd.callbacks.user = h;
     sd.warm_start = 0;
+    sd.strict = h->strict;
     if (mixed) {
         sd.solver = TCLOD_SOLVER_MIXED;
         sd.smooth_cull_area = 0.0;
@@ -705,6 +721,343 @@ static void bad_arguments_are_refused_and_change_nothing(void **state) {
     tclod_scene_destroy(s);
 }
 
+/* ---- failed updates ---------------------------------------------------------- */
+
+static tclod_scheduler_stats stats_of(const tclod_scheduler *sch) {
+    tclod_scheduler_stats st;
+    assert_int_equal(tclod_scheduler_get_stats(sch, &st), TCLOD_OK);
+    return st;
+}
+
+/* Whether two stats are the same but for the time they measure. */
+static int same_stats(const tclod_scheduler_stats *a, const tclod_scheduler_stats *b) {
+    return a->draw_cost == b->draw_cost && a->budget == b->budget && a->draws == b->draws &&
+           a->morphing == b->morphing && a->selections == b->selections &&
+           a->unfinished == b->unfinished && a->emergencies == b->emergencies &&
+           a->changes == b->changes && a->morphs == b->morphs && a->pops == b->pops &&
+           a->invalid_values == b->invalid_values;
+}
+
+/* Asserts that two schedulers show the same draw list and stats. */
+static void assert_same_outputs(const tclod_scheduler *a, const tclod_scheduler *b, double t) {
+    const tclod_draw *ia = NULL, *ib = NULL;
+    size_t na = 0, nb = 0;
+    tclod_scheduler_stats sa = stats_of(a), sb = stats_of(b);
+    assert_int_equal(tclod_scheduler_draws(a, &ia, &na), TCLOD_OK);
+    assert_int_equal(tclod_scheduler_draws(b, &ib, &nb), TCLOD_OK);
+    if (na != nb || (na && memcmp(ia, ib, na * sizeof *ia) != 0))
+        fail_msg("t = %.1f: the draw lists differ (%u and %u items)", t, (unsigned)na,
+                 (unsigned)nb);
+    if (!same_stats(&sa, &sb))
+        fail_msg("t = %.1f: the stats differ (selections %u and %u, morphs %u and %u)", t,
+                 (unsigned)sa.selections, (unsigned)sb.selections, (unsigned)sa.morphs,
+                 (unsigned)sb.morphs);
+}
+
+static void a_strict_update_that_fails_at_a_boundary_changes_nothing(void **state) {
+    /* Strict mode, tau = 1, beside a scheduler that never fails. B is wished
+     * from 3. The update at 3, a boundary, lands the selection begun at 2
+     * and begins the one for [5, 6), whose first cost is NaN: it fails with
+     * TCLOD_ERR_CALLBACK, and must leave the draw list and the stats as they
+     * were. Retried at the same time with good values it does what the
+     * failed one should have done: the selection for [5, 6) is made, lands
+     * at 4, and A -> B runs during [5, 6) (weight 0.5 at 5.5, B at 6), not
+     * one interval later; every output after it is the other scheduler's. */
+    wish_host h, ref_h;
+    tclod_scene *s;
+    tclod_scheduler *sch, *ref;
+    tclod_scheduler_stats before;
+    const tclod_draw *items = NULL;
+    size_t n = 0;
+    tclod_view v;
+    uint32_t f;
+    (void)state;
+    memset(&h, 0, sizeof h);
+    h.strict = 1;
+    s = chain(&h, 2);
+    ref_h = h;
+    sch = wish_scheduler(s, &h, 1, 0);
+    ref = wish_scheduler(s, &ref_h, 1, 0);
+    run_frames(sch, 0, 30);
+    run_frames(ref, 0, 30);
+    h.target = ref_h.target = 1;
+    h.nan_costs = 1;
+    before = stats_of(sch);
+    helper_view(&v);
+    assert_int_equal(tclod_scheduler_update(sch, 3.0, &v, 100.0, 0.0), TCLOD_ERR_CALLBACK);
+    assert_int_equal(h.nan_costs, 0);
+    {
+        tclod_scheduler_stats after = stats_of(sch);
+        assert_true(same_stats(&before, &after) && before.select_seconds == after.select_seconds);
+    }
+    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(items[0].fine, 0);
+    assert_same_outputs(sch, ref, 2.9);
+    for (f = 30; f < 70u; ++f) {
+        run_frames(sch, f, f + 1u);
+        run_frames(ref, f, f + 1u);
+        assert_same_outputs(sch, ref, (double)f / 10.0);
+    }
+    tclod_scheduler_destroy(sch);
+    sch = wish_scheduler(s, &h, 1, 0); /* the morph of [5, 6), by expect_one */
+    h.nan_costs = 0;
+    h.target = 0;
+    run_frames(sch, 0, 30);
+    h.target = 1;
+    h.nan_costs = 1;
+    assert_int_equal(tclod_scheduler_update(sch, 3.0, &v, 100.0, 0.0), TCLOD_ERR_CALLBACK);
+    run_frames(sch, 30, 55);
+    expect_one(sch, 55, 1, 0, 0.5);
+    run_frames(sch, 56, 60);
+    expect_one(sch, 60, 1, 1, 1.0);
+    assert_int_equal(stats_of(sch).selections, 6); /* one per boundary, 1 to 6 */
+    tclod_scheduler_destroy(ref);
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
+static void a_selection_under_way_when_an_update_fails_is_begun_again(void **state) {
+    /* 40 objects of three levels, strict mode, the host wishing for the
+     * finest; slices of 1e-300 s end a step at every 16th increment, so the
+     * selection begun at 0 is still under way after the first update. The
+     * update at 0.1 continues it and meets a NaN cost: it fails, and the
+     * selection's progress is lost. The update retried at 0.1 begins it
+     * again; from then on every draw list and all the stats are those of a
+     * scheduler that never failed, the selection landing at 1 as its did. */
+    wish_host h, ref_h;
+    tclod_scene *s = NULL;
+    tclod_scheduler *sch, *ref;
+    tclod_view v;
+    tclod_id id, parent;
+    uint32_t f, k, level;
+    (void)state;
+    memset(&h, 0, sizeof h);
+    h.strict = 1;
+    h.target = 2;
+    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+    for (k = 0; k < 40u; ++k)
+        for (level = 0, parent = TCLOD_NONE; level < 3u; ++level, parent = id) {
+            assert_int_equal(tclod_scene_add_node(s, parent, NULL, &id), TCLOD_OK);
+            h.depth[id] = level;
+        }
+    ref_h = h;
+    sch = wish_scheduler(s, &h, 1, 0);
+    ref = wish_scheduler(s, &ref_h, 1, 0);
+    helper_view(&v);
+    for (f = 0; f < 25u; ++f) {
+        double t = (double)f / 10.0;
+        if (f == 1u) {
+            h.nan_costs = 1;
+            assert_int_equal(tclod_scheduler_update(sch, t, &v, 1000.0, 1e-300),
+                             TCLOD_ERR_CALLBACK);
+            assert_int_equal(h.nan_costs, 0);
+            assert_same_outputs(sch, ref, 0.0);
+        }
+        assert_int_equal(tclod_scheduler_update(sch, t, &v, 1000.0, 1e-300), TCLOD_OK);
+        assert_int_equal(tclod_scheduler_update(ref, t, &v, 1000.0, 1e-300), TCLOD_OK);
+        assert_same_outputs(sch, ref, t);
+    }
+    assert_int_equal(stats_of(sch).selections, 2);
+    assert_int_equal(stats_of(sch).draws, 40);
+    tclod_scheduler_destroy(ref);
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
+static void a_failed_update_puts_the_warm_start_back(void **state) {
+    /* Two objects, X (A_X = 0 -> B_X = 1) and Y (A_Y = 2 -> B_Y = 3), both
+     * refined under a budget of 100; warm starts, strict mode, a turn rate
+     * so that the conservative camera is wider than the view. At 2.5 the
+     * budget falls to 3: the draw list (4) is over it and the scheduler
+     * selects at once, from the selector's last selection {B_X, B_Y}, by one
+     * decrement. The first try sees B_X worth 21 (X loses 11 per unit saved,
+     * Y 10: Y is decremented, {B_X, A_Y}) and then a NaN under the
+     * conservative camera, and fails. The retry sees B_X worth 20 again:
+     * equal losses, the smaller id first, so X is decremented, {A_X, B_Y},
+     * as for a scheduler that never failed -- but only if the retry starts
+     * from {B_X, B_Y} again, since {B_X, A_Y} fits and no swap gains. */
+    wish_host h, ref_h;
+    tclod_scene *s = NULL;
+    tclod_scheduler *sch[2];
+    tclod_selector_desc sd;
+    tclod_scheduler_desc d;
+    const tclod_draw *items = NULL;
+    size_t n = 0;
+    tclod_view v;
+    tclod_id id;
+    uint32_t f, k;
+    (void)state;
+    memset(&h, 0, sizeof h);
+    h.strict = 1;
+    h.target = 1;
+    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+    for (k = 0; k < 4u; ++k) {
+        assert_int_equal(tclod_scene_add_node(s, k % 2u ? k - 1u : TCLOD_NONE, NULL, &id),
+                         TCLOD_OK);
+        h.depth[id] = k % 2u;
+    }
+    ref_h = h;
+    for (k = 0; k < 2u; ++k) {
+        tclod_selector_desc_default(&sd);
+        sd.callbacks.benefit = wish_benefit;
+        sd.callbacks.cost = wish_cost;
+        sd.callbacks.user = k ? &ref_h : &h;
+        sd.strict = 1;
+        tclod_scheduler_desc_default(&d);
+        d.tau = 1.0;
+        d.samples = 1;
+        d.max_turn_rate = 0.1;
+        assert_int_equal(tclod_scheduler_create(s, &sd, &d, NULL, &sch[k]), TCLOD_OK);
+    }
+    helper_view(&v);
+    for (f = 0; f < 40u; ++f) {
+        double t = (double)f / 10.0, budget = f < 25u ? 100.0 : 3.0;
+        if (f == 25u) {
+            h.benefit[1] = 21.0;
+            h.nan_wide = 1;
+            assert_int_equal(tclod_scheduler_update(sch[0], t, &v, budget, 0.0),
+                             TCLOD_ERR_CALLBACK);
+            assert_same_outputs(sch[0], sch[1], t);
+            h.benefit[1] = 0.0;
+            h.nan_wide = 0;
+        }
+        for (k = 0; k < 2u; ++k)
+            assert_int_equal(tclod_scheduler_update(sch[k], t, &v, budget, 0.0), TCLOD_OK);
+        assert_same_outputs(sch[0], sch[1], t);
+        if (f != 25u)
+            continue;
+        assert_int_equal(tclod_scheduler_draws(sch[0], &items, &n), TCLOD_OK);
+        assert_int_equal(n, 2);
+        assert_true((items[0].fine == 0 && items[1].fine == 3) ||
+                    (items[0].fine == 3 && items[1].fine == 0));
+    }
+    tclod_scheduler_destroy(sch[1]);
+    tclod_scheduler_destroy(sch[0]);
+    tclod_scene_destroy(s);
+}
+
+/* 40 objects of three levels, each worth 10 (depth + 1) and costing
+ * depth + 1; the eye x of the first benefit call since `first_x` was reset
+ * (NAN), and NaN for views beyond x = nan_beyond (when > 0). */
+typedef struct path_host {
+    double first_x, nan_beyond;
+} path_host;
+
+static double path_benefit(void *user, const tclod_query *q) {
+    path_host *h = (path_host *)user;
+    double x = (double)q->view->eye[0];
+    if (h->first_x != h->first_x)
+        h->first_x = x;
+    if (h->nan_beyond > 0.0 && x > h->nan_beyond)
+        return (double)NAN;
+    return 10.0 * (double)(q->id % 3u + 1u);
+}
+
+static double path_cost(void *user, const tclod_query *q) {
+    (void)user;
+    return (double)(q->id % 3u + 1u);
+}
+
+static void a_failed_update_begins_the_lost_selection_again_with_its_views(void **state) {
+    /* Strict mode, tau = 1, one sample, updates once a second with the eye
+     * at x = t; slices of 1e-300 s end a step at every 16th increment, so a
+     * selection of the 80 increments is still under way at the boundary
+     * after the one it began at. At 2 the selection begun at 1 (for [3, 4),
+     * its sample at x = 3.5) is ended and lands, the one for [4, 5) begins
+     * with its sample at x = 4.5, and the first benefit there is NaN: the
+     * update fails and must show what it showed. The retry at 2 begins the
+     * lost selection again with its own view (the first benefit it asks is
+     * at x = 3.5, not 4.5), runs it to its end when it lands (not counted
+     * as unfinished) and then begins the next. */
+    path_host h;
+    tclod_scene *s = NULL;
+    tclod_scheduler *sch = NULL;
+    tclod_selector_desc sd;
+    tclod_scheduler_desc d;
+    tclod_scheduler_stats before;
+    const tclod_draw *items = NULL, *kept = NULL;
+    size_t n = 0, n_kept = 0;
+    tclod_view v;
+    tclod_id id, parent;
+    uint32_t k, level;
+    (void)state;
+    memset(&h, 0, sizeof h);
+    h.first_x = (double)NAN;
+    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+    for (k = 0; k < 40u; ++k)
+        for (level = 0, parent = TCLOD_NONE; level < 3u; ++level, parent = id)
+            assert_int_equal(tclod_scene_add_node(s, parent, NULL, &id), TCLOD_OK);
+    tclod_selector_desc_default(&sd);
+    sd.callbacks.benefit = path_benefit;
+    sd.callbacks.cost = path_cost;
+    sd.callbacks.user = &h;
+    sd.strict = 1;
+    sd.warm_start = 0;
+    tclod_scheduler_desc_default(&d);
+    d.tau = 1.0;
+    d.samples = 1;
+    d.confidence = 0.0;
+    d.max_speed = 2.0;
+    assert_int_equal(tclod_scheduler_create(s, &sd, &d, NULL, &sch), TCLOD_OK);
+    helper_view(&v);
+    for (k = 0; k < 2u; ++k) {
+        v.eye[0] = (float)k;
+        assert_int_equal(tclod_scheduler_update(sch, (double)k, &v, 1000.0, 1e-300), TCLOD_OK);
+    }
+    before = stats_of(sch);
+    assert_int_equal(tclod_scheduler_draws(sch, &kept, &n_kept), TCLOD_OK);
+    v.eye[0] = 2.0f;
+    h.nan_beyond = 4.0;
+    assert_int_equal(tclod_scheduler_update(sch, 2.0, &v, 1000.0, 1e-300), TCLOD_ERR_CALLBACK);
+    {
+        tclod_scheduler_stats after = stats_of(sch);
+        assert_true(same_stats(&before, &after));
+    }
+    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
+    assert_ptr_equal(items, kept);
+    assert_int_equal(n, n_kept);
+    h.nan_beyond = 0.0;
+    h.first_x = (double)NAN;
+    assert_int_equal(tclod_scheduler_update(sch, 2.0, &v, 1000.0, 1e-300), TCLOD_OK);
+    assert_float_equal(h.first_x, 3.5, 1e-4);
+    assert_int_equal(stats_of(sch).selections, before.selections + 1u);
+    assert_int_equal(stats_of(sch).unfinished, before.unfinished);
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
+static void a_failed_update_records_no_camera(void **state) {
+    /* 20 updates at 20 Hz along a zigzag (x = t + 0.1 at odd frames), tau =
+     * 1 s: the prediction fits all 16 views the path keeps. An update at 1,
+     * a boundary, with the eye far off at x = 100 fails on a NaN cost; the
+     * prediction is then what it was, though the ring was full and the
+     * failed update wrote over its oldest view. */
+    wish_host h;
+    tclod_scene *s;
+    tclod_scheduler *sch;
+    tclod_view v, p1, p2;
+    uint32_t f;
+    (void)state;
+    memset(&h, 0, sizeof h);
+    h.strict = 1;
+    s = chain(&h, 2);
+    sch = wish_scheduler(s, &h, 1, 0);
+    helper_view(&v);
+    for (f = 0; f < 20u; ++f) {
+        v.eye[0] = (float)((double)f / 20.0 + (f % 2u ? 0.1 : 0.0));
+        assert_int_equal(tclod_scheduler_update(sch, (double)f / 20.0, &v, 100.0, 0.0), TCLOD_OK);
+    }
+    assert_int_equal(tclod_scheduler_predict(sch, 2.0, &p1), TCLOD_OK);
+    v.eye[0] = 100.0f;
+    h.nan_costs = 1;
+    assert_int_equal(tclod_scheduler_update(sch, 1.0, &v, 100.0, 0.0), TCLOD_ERR_CALLBACK);
+    assert_int_equal(tclod_scheduler_predict(sch, 2.0, &p2), TCLOD_OK);
+    assert_memory_equal(&p1, &p2, sizeof p1);
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
 static void a_slower_machine_lowers_the_budget_through_the_calibration(void **state) {
     wish_host h;
     tclod_scene *s;
@@ -748,6 +1101,11 @@ int main(void) {
         cmocka_unit_test(without_morphing_a_selection_switches_in_at_its_interval),
         cmocka_unit_test(draw_lists_stay_within_the_budget_over_random_paths),
         cmocka_unit_test(bad_arguments_are_refused_and_change_nothing),
+        cmocka_unit_test(a_strict_update_that_fails_at_a_boundary_changes_nothing),
+        cmocka_unit_test(a_selection_under_way_when_an_update_fails_is_begun_again),
+        cmocka_unit_test(a_failed_update_puts_the_warm_start_back),
+        cmocka_unit_test(a_failed_update_begins_the_lost_selection_again_with_its_views),
+        cmocka_unit_test(a_failed_update_records_no_camera),
         cmocka_unit_test(a_slower_machine_lowers_the_budget_through_the_calibration),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

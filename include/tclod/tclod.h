@@ -750,13 +750,18 @@ TCLOD_API void tclod_scheduler_destroy(tclod_scheduler *sch);
  * does an update after a changed scene or a gap of more than 3 tau. The
  * scheduler also calls the host's callbacks itself, for the nodes a morph
  * passes through. Allocates only when the scene grew (and on the first
- * update). Errors: TCLOD_ERR_ARG (NULL sch or view, an invalid view, now NaN,
- * inf or earlier than the last successful update's, budget NaN or < 0,
- * slice_seconds NaN, inf or < 0), TCLOD_ERR_CALLBACK (strict mode: a callback
- * returned a bad value; the selection that saw it is dropped), TCLOD_ERR_NOMEM,
- * TCLOD_ERR_STATE (called from a callback). On error the outputs stay as the
- * last successful update left them: draw list, resolutions, stats and the
- * recorded path. */
+ * update); all of it before anything else, so that running out of memory
+ * changes nothing. Errors: TCLOD_ERR_ARG (NULL sch or view, an invalid view,
+ * now NaN, inf or earlier than the last successful update's, budget NaN or
+ * < 0, slice_seconds NaN, inf or < 0), TCLOD_ERR_CALLBACK (strict mode: a
+ * callback returned a bad value), TCLOD_ERR_NOMEM,
+ * TCLOD_ERR_STATE (called from a callback). An update is all or nothing: on
+ * error the scheduler is as the last successful update left it (draw list,
+ * resolutions, stats, the recorded path, the interval boundary, the landed
+ * selections and the memory held), so that the next update goes on as if the
+ * failed one had not been made. The one thing a failed update cannot keep is
+ * the progress of a selection under way; the next update begins it again and
+ * runs it to its end when it lands. */
 TCLOD_API tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now,
                                              const tclod_view *view, double budget,
                                              double slice_seconds);
