@@ -120,7 +120,8 @@ typedef struct pipeline {
     uint32_t prev, cur, next;           /* S_{j-1}, S_j, S_{j+1} in gen[] (may coincide) */
     int ready;                          /* the pending selection finished: it lands next, ... */
     uint32_t landing;                   /* ... from gen[landing] */
-    uint32_t landed_invalid;            /* the bad values it saw */
+    uint32_t landed_invalid;            /* the bad values it saw ... */
+    double landed_benefit, landed_cost; /* ... and its benefit and cost */
     double u;                           /* position in the current interval, [0, 1] */
     struct plan_state *plan;            /* the plan in use, one of plans[] */
     double pending_budget;              /* the budget the pending selection began with */
@@ -1215,6 +1216,8 @@ static tclod_status select_now(tclod_scheduler *sch, const tclod_view *view, int
     if (st != TCLOD_OK) return st;
     sch->p.stats.invalid_values += stats.invalid_values;
     sch->p.stats.emergencies++;
+    sch->p.stats.selection_benefit = stats.benefit;
+    sch->p.stats.selection_cost = stats.cost;
     store(sch, g);
     if (count_pops) { /* from what this frame would have drawn */
         n = sch->item_count[sch->back];
@@ -1238,6 +1241,8 @@ static void finished(tclod_scheduler *sch, const tclod_stats *st) {
     store(sch, sch->p.landing);
     sch->p.ready = 1;
     sch->p.landed_invalid = st->invalid_values;
+    sch->p.landed_benefit = st->benefit;
+    sch->p.landed_cost = st->cost;
 }
 
 /* At a boundary: the pending selection ends (early if need be; one begun
@@ -1263,6 +1268,8 @@ static tclod_status land(tclod_scheduler *sch) {
     }
     fresh = sch->p.landing;
     sch->p.stats.invalid_values += sch->p.landed_invalid;
+    sch->p.stats.selection_benefit = sch->p.landed_benefit;
+    sch->p.stats.selection_cost = sch->p.landed_cost;
     if (sch->desc.morph) {
         /* S_{j-1}, S_j, S_{j+1} <- S_j, S_{j+1}, the new one */
         sch->p.prev = sch->p.cur;

@@ -798,7 +798,8 @@ static int same_scheduler_stats(const tclod_scheduler_stats *a, const tclod_sche
            a->morphing == b->morphing && a->selections == b->selections &&
            a->unfinished == b->unfinished && a->emergencies == b->emergencies &&
            a->changes == b->changes && a->morphs == b->morphs && a->pops == b->pops &&
-           a->invalid_values == b->invalid_values;
+           a->invalid_values == b->invalid_values && a->selection_benefit == b->selection_benefit &&
+           a->selection_cost == b->selection_cost;
 }
 
 /* The scheduler calls over `solver` under failure, in both modes (below). */

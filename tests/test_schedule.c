@@ -274,6 +274,154 @@ static void prediction_keeps_to_the_speed_and_turn_bounds(void **state) {
     tclod_scene_destroy(s);
 }
 
+/* ---- what a selection is asked with ------------------------------------------ */
+
+/* A host that records the views its callbacks are asked with. The scene is
+ * one node; its benefit is 1 + eye x, its cost 1 + (eye x) / 10, of the
+ * view asked with. */
+typedef struct recording_host {
+    uint32_t benefits, costs;
+    tclod_view benefit_view[8], cost_view[8];
+} recording_host;
+
+static double recording_benefit(void *user, const tclod_query *q) {
+    recording_host *h = (recording_host *)user;
+    if (h->benefits < 8u)
+        h->benefit_view[h->benefits] = *q->view;
+    h->benefits++;
+    return 1.0 + (double)q->view->eye[0];
+}
+
+static double recording_cost(void *user, const tclod_query *q) {
+    recording_host *h = (recording_host *)user;
+    if (h->costs < 8u)
+        h->cost_view[h->costs] = *q->view;
+    h->costs++;
+    return 1.0 + 0.1 * (double)q->view->eye[0];
+}
+
+/* A smooth object worth (1 + eye x) r, costing r. */
+static double recording_smooth_benefit(void *user, const tclod_query *q, double r, double *d_dr) {
+    (void)user;
+    *d_dr = 1.0 + (double)q->view->eye[0];
+    return *d_dr * r;
+}
+
+static double recording_smooth_cost(void *user, const tclod_query *q, double r, double *d_dr) {
+    (void)user;
+    (void)q;
+    *d_dr = 1.0;
+    return r;
+}
+
+static void assert_eye(const tclod_view *v, double x, double y, double z) {
+    if (fabs((double)v->eye[0] - x) > 1e-4 || fabs((double)v->eye[1] - y) > 1e-4 ||
+        fabs((double)v->eye[2] - z) > 1e-4)
+        fail_msg("eye (%g, %g, %g), expected (%g, %g, %g)", (double)v->eye[0], (double)v->eye[1],
+                 (double)v->eye[2], x, y, z);
+}
+
+static void a_selection_is_asked_for_its_target_interval_and_the_conservative_camera(void **state) {
+    /* tau = 1 s, 2 samples, lambda = 0.5, theta = 2 m/s, omega = 5 deg/s.
+     * The camera moves along x at 1 m/s (eye x = t), looking down -z with a
+     * field of view of 60 degrees (aspect 1); an update every 0.1 s.
+     *
+     * With morphing the selection begun at the boundary b = 1 is for
+     * [b + 2 tau, b + 3 tau) = [3, 4). Its samples lie at the middles of the
+     * two halves, t = 3.25 and 3.75, where the camera will be at x = 3.25 and
+     * 3.75. The conservative camera widens the 60 degrees by 6 tau omega = 30
+     * to 90 and steps back from the current eye (x = 1) by
+     * 3 tau theta / sin(30 + 15 degrees) = 6 / sin 45 = 8.485281 m against
+     * forward, to z = +8.485281. The node's benefit is
+     * (1 + 3.25) + (1 + 3.75) + 0.5 (1 + 1) = 10, its cost the larger of
+     * the samples' 1.325 and 1.375.
+     *
+     * Without morphing the target is [b + tau, b + 2 tau) = [2, 3): samples
+     * at 2.25 and 2.75, a field of view of 60 + 4 tau omega = 80 degrees, a
+     * step back of 2 tau theta / sin(30 + 10 degrees) = 4 / 0.6427876 =
+     * 6.222895 m; benefit 3.25 + 3.75 + 0.5 * 2 = 8, cost 1.275.
+     *
+     * The selection lands at 2, where the stats show its benefit and cost.
+     * The mixed solver sees a smooth object too, 20 m ahead, worth
+     * (1 + eye x) r and costing r: its benefit is summed the same way, and
+     * with budget to spare it is drawn at r = 1, so the selection's benefit
+     * and cost are the node's twice and the node's + 1. */
+    static const double fov[2] = {80.0, 90.0}, back[2] = {6.22289531, 8.48528137};
+    static const double sample[2][2] = {{2.25, 2.75}, {3.25, 3.75}};
+    static const double benefit[2] = {8.0, 10.0}, cost[2] = {1.275, 1.375};
+    int morph, mixed;
+    (void)state;
+    for (mixed = 0; mixed <= 1; ++mixed)
+        for (morph = 0; morph <= 1; ++morph) {
+            static const float tree[4] = {2.0f, 0.0f, -20.0f, 1.0f};
+            recording_host h;
+            tclod_scene *s = NULL;
+            tclod_scheduler *sch = NULL;
+            tclod_selector_desc sd;
+            tclod_scheduler_desc d;
+            tclod_scheduler_stats st;
+            tclod_view v;
+            tclod_id root;
+            uint32_t f, k;
+            memset(&h, 0, sizeof h);
+            assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+            assert_int_equal(tclod_scene_add_node(s, TCLOD_NONE, NULL, &root), TCLOD_OK);
+            tclod_selector_desc_default(&sd);
+            sd.callbacks.benefit = recording_benefit;
+            sd.callbacks.cost = recording_cost;
+            sd.callbacks.user = &h;
+            if (mixed) {
+                tclod_id smooth;
+                assert_int_equal(tclod_scene_add_smooth(s, tree, &smooth), TCLOD_OK);
+                sd.solver = TCLOD_SOLVER_MIXED;
+                sd.callbacks.smooth_benefit = recording_smooth_benefit;
+                sd.callbacks.smooth_cost = recording_smooth_cost;
+            }
+            tclod_scheduler_desc_default(&d);
+            d.tau = 1.0;
+            d.samples = 2;
+            d.confidence = 0.5;
+            d.max_speed = 2.0;
+            d.max_turn_rate = 5.0 * PI / 180.0;
+            d.morph = morph;
+            assert_int_equal(tclod_scheduler_create(s, &sd, &d, NULL, &sch), TCLOD_OK);
+            helper_view(&v);
+            v.fov_y = (float)(PI / 3.0);
+            for (f = 0; f <= 20u; ++f) {
+                double t = (double)f / 10.0;
+                v.eye[0] = (float)t;
+                if (f == 10u)
+                    h.benefits = h.costs = 0;
+                assert_int_equal(tclod_scheduler_update(sch, t, &v, 100.0, 0.0), TCLOD_OK);
+                if (f != 10u)
+                    continue;
+                /* the update at the boundary 1 began and ran the selection for
+                 * the target interval: benefit under the two samples, then the
+                 * conservative camera; cost under the samples that saw the node */
+                assert_int_equal(h.benefits, 3);
+                assert_int_equal(h.costs, 2);
+                for (k = 0; k < 2u; ++k) {
+                    assert_eye(&h.benefit_view[k], sample[morph][k], 0.0, 0.0);
+                    assert_eye(&h.cost_view[k], sample[morph][k], 0.0, 0.0);
+                    assert_float_equal(h.benefit_view[k].fov_y, PI / 3.0, 1e-6);
+                    assert_memory_equal(h.benefit_view[k].forward, v.forward, sizeof v.forward);
+                }
+                assert_float_equal(h.benefit_view[2].fov_y, fov[morph] * PI / 180.0, 1e-6);
+                assert_float_equal(h.benefit_view[2].aspect, 1.0, 1e-6);
+                assert_eye(&h.benefit_view[2], 1.0, 0.0, back[morph]);
+                assert_memory_equal(h.benefit_view[2].forward, v.forward, sizeof v.forward);
+            }
+            assert_int_equal(tclod_scheduler_get_stats(sch, &st), TCLOD_OK);
+            assert_int_equal(st.selections, 2);
+            assert_float_equal(st.selection_benefit, (1 + mixed) * benefit[morph], 1e-5);
+            assert_float_equal(st.selection_cost, cost[morph] + mixed, 1e-6);
+            if (mixed)
+                assert_float_equal(tclod_scheduler_resolution(sch, 0), 1.0, 0.0);
+            tclod_scheduler_destroy(sch);
+            tclod_scene_destroy(s);
+        }
+}
+
 /* ---- timing of single morphs (Fig. 6) ------------------------------------- */
 
 static void up_morph_ends_with_its_interval_and_down_morph_before_its_interval(void **state) {
@@ -735,7 +883,8 @@ static int same_stats(const tclod_scheduler_stats *a, const tclod_scheduler_stat
            a->morphing == b->morphing && a->selections == b->selections &&
            a->unfinished == b->unfinished && a->emergencies == b->emergencies &&
            a->changes == b->changes && a->morphs == b->morphs && a->pops == b->pops &&
-           a->invalid_values == b->invalid_values;
+           a->invalid_values == b->invalid_values && a->selection_benefit == b->selection_benefit &&
+           a->selection_cost == b->selection_cost;
 }
 
 /* Asserts that two schedulers show the same draw list and stats. */
@@ -1092,6 +1241,7 @@ int main(void) {
         cmocka_unit_test(conservative_camera_widens_and_steps_back_as_seed_004_says),
         cmocka_unit_test(prediction_is_exact_on_a_straight_path),
         cmocka_unit_test(prediction_keeps_to_the_speed_and_turn_bounds),
+        cmocka_unit_test(a_selection_is_asked_for_its_target_interval_and_the_conservative_camera),
         cmocka_unit_test(up_morph_ends_with_its_interval_and_down_morph_before_its_interval),
         cmocka_unit_test(successive_monotone_up_morphs_follow_each_other),
         cmocka_unit_test(an_up_morph_overridden_by_a_down_morph_collapses),

@@ -726,6 +726,14 @@ typedef struct tclod_scheduler_stats {
     uint32_t invalid_values; /* callback values that were NaN, inf or negative, in
                               the landed selections and the scheduler's own
                               evaluations */
+    double selection_benefit; /* the newest landed (or immediate) selection's
+                              benefit and cost as its solve saw them: the
+                              benefit summed over the predicted views plus
+                              confidence times the conservative camera's, the
+                              cost the largest over the predicted views that saw
+                              a node (an immediate selection: the current
+                              view's) */
+    double selection_cost;
 } tclod_scheduler_stats;
 
 /* Creates a scheduler over scene s (which must outlive it) with a selector
