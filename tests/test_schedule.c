@@ -601,6 +601,50 @@ static void a_split_morphs_each_child_from_its_parent(void **state) {
     tclod_scene_destroy(s);
 }
 
+static void a_region_that_would_cost_more_while_it_morphs_switches(void **state) {
+    /* A costs 5 and its child B 2, against "a node costs no more than the
+     * nodes below it". B, wished from 3, lands as S_5: the up-morph A -> B
+     * of [5, 6) would draw A (5) at its start, more than S_5's B (2) in that
+     * region, so B is drawn as it is from 5 on: a switch, one pop. A, wished
+     * from 8, lands as S_10: the down-morph B -> A of [9, 10) would end at
+     * A (5), more than S_9's B, so B stays until A is switched in at 10:
+     * another pop. No morph at all. */
+    wish_host h;
+    tclod_scene *s;
+    tclod_scheduler *sch;
+    tclod_scheduler_stats st;
+    (void)state;
+    memset(&h, 0, sizeof h);
+    s = chain(&h, 2);
+    h.cost[0] = 5.0;
+    h.cost[1] = 2.0;
+    sch = wish_scheduler(s, &h, 1, 0);
+    run_frames(sch, 0, 30);
+    h.target = 1;
+    run_frames(sch, 30, 49);
+    expect_one(sch, 49, 0, 0, 1.0);
+    expect_one(sch, 50, 1, 1, 1.0);
+    run_frames(sch, 51, 55);
+    expect_one(sch, 55, 1, 1, 1.0);
+    assert_int_equal(tclod_scheduler_get_stats(sch, &st), TCLOD_OK);
+    assert_int_equal(st.changes, 1);
+    assert_int_equal(st.pops, 1);
+    assert_int_equal(st.morphs, 0);
+    run_frames(sch, 56, 80);
+    h.target = 0;
+    run_frames(sch, 80, 95);
+    expect_one(sch, 95, 1, 1, 1.0);
+    run_frames(sch, 96, 99);
+    expect_one(sch, 99, 1, 1, 1.0);
+    expect_one(sch, 100, 0, 0, 1.0);
+    assert_int_equal(tclod_scheduler_get_stats(sch, &st), TCLOD_OK);
+    assert_int_equal(st.changes, 2);
+    assert_int_equal(st.pops, 2);
+    assert_int_equal(st.morphs, 0);
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
 /* ---- smooth resolutions -------------------------------------------------- */
 
 static void smooth_resolutions_move_linearly_with_the_same_asymmetry(void **state) {
@@ -1247,6 +1291,7 @@ int main(void) {
         cmocka_unit_test(an_up_morph_overridden_by_a_down_morph_collapses),
         cmocka_unit_test(a_jump_of_three_levels_is_three_adjacent_morphs),
         cmocka_unit_test(a_split_morphs_each_child_from_its_parent),
+        cmocka_unit_test(a_region_that_would_cost_more_while_it_morphs_switches),
         cmocka_unit_test(smooth_resolutions_move_linearly_with_the_same_asymmetry),
         cmocka_unit_test(without_morphing_a_selection_switches_in_at_its_interval),
         cmocka_unit_test(draw_lists_stay_within_the_budget_over_random_paths),
