@@ -555,6 +555,102 @@ static void a_jump_of_three_levels_is_three_adjacent_morphs(void **state) {
     tclod_scene_destroy(s);
 }
 
+/* Runs to t = 4 from the finest of `levels` levels, as two_wishes. */
+static tclod_scheduler *from_the_finest(tclod_scene **s, wish_host *h, uint32_t levels,
+                                        uint32_t first, uint32_t second) {
+    tclod_scheduler *sch;
+    memset(h, 0, sizeof *h);
+    *s = chain(h, levels);
+    h->target = levels - 1u;
+    sch = wish_scheduler(*s, h, 1, 0);
+    two_wishes(sch, h, first, second);
+    return sch;
+}
+
+static void successive_down_morphs_each_end_when_their_interval_begins(void **state) {
+    /* C until B is wished at 3 (for [5, 6)) and A at 4 (for [6, 7)): C -> B
+     * during [4, 5), so that B is there when [5, 6) begins, then B -> A
+     * during [5, 6), A there at 6; each weight goes from 1 to 0 */
+    wish_host h;
+    tclod_scene *s;
+    tclod_scheduler *sch = from_the_finest(&s, &h, 3, 1, 0);
+    tclod_scheduler_stats st;
+    (void)state;
+    expect_one(sch, 40, 2, 2, 1.0);
+    expect_one(sch, 41, 2, 1, 0.9);
+    run_frames(sch, 42, 45);
+    expect_one(sch, 45, 2, 1, 0.5);
+    run_frames(sch, 46, 49);
+    expect_one(sch, 49, 2, 1, 0.1);
+    expect_one(sch, 50, 1, 1, 1.0);
+    expect_one(sch, 51, 1, 0, 0.9);
+    run_frames(sch, 52, 55);
+    expect_one(sch, 55, 1, 0, 0.5);
+    run_frames(sch, 56, 60);
+    expect_one(sch, 60, 0, 0, 1.0);
+    assert_int_equal(tclod_scheduler_get_stats(sch, &st), TCLOD_OK);
+    assert_int_equal(st.morphs, 2);
+    assert_int_equal(st.pops, 0);
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
+static void a_down_morph_then_an_up_morph_follow_each_other(void **state) {
+    /* C until A is wished at 3 (for [5, 6)) and B at 4 (for [6, 7)): C -> A,
+     * two levels, during [4, 5) (C from B in [4, 4.5), B from A in
+     * [4.5, 5)); A stays during [5, 6) (Fig. 7a: no conflict), and A -> B
+     * runs during [6, 7), B reached at 7 */
+    wish_host h;
+    tclod_scene *s;
+    tclod_scheduler *sch = from_the_finest(&s, &h, 3, 0, 1);
+    tclod_scheduler_stats st;
+    (void)state;
+    expect_one(sch, 40, 2, 2, 1.0);
+    run_frames(sch, 41, 42);
+    expect_one(sch, 42, 2, 1, 0.6); /* s = 2 (1 - 0.2) = 1.6 */
+    run_frames(sch, 43, 47);
+    expect_one(sch, 47, 1, 0, 0.6); /* s = 2 (1 - 0.7) = 0.6 */
+    run_frames(sch, 48, 50);
+    expect_one(sch, 50, 0, 0, 1.0);
+    run_frames(sch, 51, 55);
+    expect_one(sch, 55, 0, 0, 1.0);
+    run_frames(sch, 56, 60);
+    expect_one(sch, 60, 0, 0, 1.0);
+    expect_one(sch, 61, 1, 0, 0.1);
+    run_frames(sch, 62, 65);
+    expect_one(sch, 65, 1, 0, 0.5);
+    run_frames(sch, 66, 70);
+    expect_one(sch, 70, 1, 1, 1.0);
+    assert_int_equal(tclod_scheduler_get_stats(sch, &st), TCLOD_OK);
+    assert_int_equal(st.morphs, 2);
+    assert_int_equal(st.pops, 0);
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
+static void a_downward_jump_of_three_levels_is_three_adjacent_morphs(void **state) {
+    /* D until A is wished at 3 (for [5, 6)): during [4, 5), with
+     * s = 3 (1 - u), D from C while s > 2, C from B while s > 1, B from A
+     * after, each weight s - floor(s); A is there at 5 */
+    wish_host h;
+    tclod_scene *s;
+    tclod_scheduler *sch = from_the_finest(&s, &h, 4, 0, 0);
+    (void)state;
+    expect_one(sch, 40, 3, 3, 1.0);
+    expect_one(sch, 41, 3, 2, 0.7);
+    expect_one(sch, 42, 3, 2, 0.4);
+    expect_one(sch, 43, 3, 2, 0.1);
+    expect_one(sch, 44, 2, 1, 0.8);
+    expect_one(sch, 45, 2, 1, 0.5);
+    expect_one(sch, 46, 2, 1, 0.2);
+    expect_one(sch, 47, 1, 0, 0.9);
+    expect_one(sch, 48, 1, 0, 0.6);
+    expect_one(sch, 49, 1, 0, 0.3);
+    expect_one(sch, 50, 0, 0, 1.0);
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
 static void a_split_morphs_each_child_from_its_parent(void **state) {
     wish_host h;
     tclod_scene *s = NULL;
@@ -1290,6 +1386,9 @@ int main(void) {
         cmocka_unit_test(successive_monotone_up_morphs_follow_each_other),
         cmocka_unit_test(an_up_morph_overridden_by_a_down_morph_collapses),
         cmocka_unit_test(a_jump_of_three_levels_is_three_adjacent_morphs),
+        cmocka_unit_test(successive_down_morphs_each_end_when_their_interval_begins),
+        cmocka_unit_test(a_down_morph_then_an_up_morph_follow_each_other),
+        cmocka_unit_test(a_downward_jump_of_three_levels_is_three_adjacent_morphs),
         cmocka_unit_test(a_split_morphs_each_child_from_its_parent),
         cmocka_unit_test(a_region_that_would_cost_more_while_it_morphs_switches),
         cmocka_unit_test(smooth_resolutions_move_linearly_with_the_same_asymmetry),
