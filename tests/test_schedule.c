@@ -19,6 +19,7 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <tclod/tclod.h>
@@ -841,6 +842,60 @@ static int is_ancestor(const tclod_scene *s, tclod_id a, tclod_id b) {
     return 0;
 }
 
+/* The random world with smooth objects ("trees") at random places: object i
+ * is worth weight[i] * area * sqrt(r) (area: its projected px²) and costs
+ * k[i] r whatever the view. The nodes keep the world's own callbacks. */
+#define TREES 60u
+typedef struct tree_world {
+    world_scene w;
+    double weight[TREES], k[TREES];
+    const tclod_id *order; /* the scene's smooth order, TREES entries */
+} tree_world;
+
+static double tree_benefit(void *user, const tclod_query *q) {
+    return world_benefit(&((tree_world *)user)->w, q);
+}
+
+static double tree_cost(void *user, const tclod_query *q) {
+    return world_cost(&((tree_world *)user)->w, q);
+}
+
+static double tree_smooth_benefit(void *user, const tclod_query *q, double r, double *d_dr) {
+    const tree_world *t = (const tree_world *)user;
+    double w = 0.0, area = q->screen_area > 0.0f ? (double)q->screen_area : 0.0;
+    uint32_t k;
+    for (k = 0; k < q->count; ++k)
+        w += t->weight[q->members[k]];
+    *d_dr = 0.5 * w * area / sqrt(r);
+    return w * area * sqrt(r);
+}
+
+static double tree_smooth_cost(void *user, const tclod_query *q, double r, double *d_dr) {
+    const tree_world *t = (const tree_world *)user;
+    double k = 0.0;
+    uint32_t i;
+    for (i = 0; i < q->count; ++i)
+        k += t->k[q->members[i]];
+    *d_dr = k;
+    return k * r;
+}
+
+/* `cost` plus the cost of this frame's smooth resolutions from the trees'
+ * own formula, added in the smooth order (the order of the selection's
+ * groups, one object each without splitting), as the scheduler adds its
+ * groups' after its draw list; asserts every resolution is in [0, 1]. */
+static double check_resolutions(const tclod_scheduler *sch, const tree_world *t, double cost) {
+    uint32_t p;
+    for (p = 0; p < TREES; ++p) {
+        tclod_id i = t->order[p];
+        double r = tclod_scheduler_resolution(sch, i);
+        assert_true(r >= 0.0 && r <= 1.0);
+        if (r > 0.0)
+            cost += t->k[i] * r;
+    }
+    return cost;
+}
+
 /* Asserts the draw list is well formed and returns its cost from the
  * world's own table. */
 static double check_draws(const tclod_scheduler *sch, const world_scene *w) {
@@ -867,17 +922,37 @@ static double check_draws(const tclod_scheduler *sch, const world_scene *w) {
 }
 
 static void draw_lists_stay_within_the_budget_over_random_paths(void **state) {
+    /* 32 trials: the greedy and Robin Hood solvers over the world's nodes,
+     * and (the last 8) the mixed solver over its nodes and trees, where the
+     * draw list's cost includes the trees' at this frame's resolutions */
     world_random_desc wd;
-    world_scene w;
+    tree_world *tw = (tree_world *)calloc(1, sizeof *tw);
+    world_scene *w;
     table_rng rng;
-    uint32_t trial;
+    uint32_t trial, i, count = 0;
+    tclod_id id;
     (void)state;
+    assert_non_null(tw);
+    w = &tw->w;
     world_random_desc_default(&wd);
     wd.objects = 150;
     wd.spacing = 12.0f;
-    assert_int_equal(world_build_random(&wd, &w), TCLOD_OK);
+    assert_int_equal(world_build_random(&wd, w), TCLOD_OK);
     table_rng_seed(&rng, 4004u);
-    for (trial = 0; trial < 24u; ++trial) {
+    for (i = 0; i < TREES; ++i) {
+        float b[4];
+        b[0] = (float)table_rng_uniform(&rng, 0.0, w->side);
+        b[1] = 2.0f;
+        b[2] = (float)table_rng_uniform(&rng, 0.0, w->side);
+        b[3] = 2.0f;
+        tw->weight[i] = table_rng_uniform(&rng, 0.2, 1.0);
+        tw->k[i] = table_rng_uniform(&rng, 2e-4, 2e-3);
+        assert_int_equal(tclod_scene_add_smooth(w->scene, b, &id), TCLOD_OK);
+        assert_int_equal(id, i);
+    }
+    assert_int_equal(tclod_scene_smooth_order(w->scene, &tw->order, &count), TCLOD_OK);
+    assert_int_equal(count, TREES);
+    for (trial = 0; trial < 32u; ++trial) {
         tclod_selector_desc sd;
         tclod_scheduler_desc d;
         tclod_scheduler *sch = NULL;
@@ -885,11 +960,20 @@ static void draw_lists_stay_within_the_budget_over_random_paths(void **state) {
         tclod_view v;
         double t = 0.0, speed = table_rng_uniform(&rng, 1.0, 30.0), heading, turn;
         double budget = table_rng_uniform(&rng, 0.002, 0.05);
-        uint32_t f;
+        int mixed = trial >= 24u;
+        uint32_t f, drawn_trees = 0;
         tclod_selector_desc_default(&sd);
-        sd.callbacks = world_callbacks(&w);
+        sd.callbacks = world_callbacks(w);
         sd.solver = trial % 3u == 2u ? TCLOD_SOLVER_ROBIN_HOOD : TCLOD_SOLVER_GREEDY;
         sd.warm_start = (int)(trial % 2u);
+        if (mixed) {
+            sd.solver = TCLOD_SOLVER_MIXED;
+            sd.callbacks.benefit = tree_benefit;
+            sd.callbacks.cost = tree_cost;
+            sd.callbacks.smooth_benefit = tree_smooth_benefit;
+            sd.callbacks.smooth_cost = tree_smooth_cost;
+            sd.callbacks.user = tw;
+        }
         tclod_scheduler_desc_default(&d);
         d.tau = table_rng_uniform(&rng, 0.1, 0.6);
         d.samples = 1u + table_rng_below(&rng, TCLOD_MAX_SAMPLES);
@@ -897,10 +981,10 @@ static void draw_lists_stay_within_the_budget_over_random_paths(void **state) {
         d.max_speed = speed;
         d.max_turn_rate = 1.0;
         d.morph = trial % 4u != 3u;
-        assert_int_equal(tclod_scheduler_create(w.scene, &sd, &d, NULL, &sch), TCLOD_OK);
-        world_camera_at(&w.path, 0.0, &v);
-        v.eye[0] = (float)table_rng_uniform(&rng, 0.0, w.side);
-        v.eye[2] = (float)table_rng_uniform(&rng, 0.0, w.side);
+        assert_int_equal(tclod_scheduler_create(w->scene, &sd, &d, NULL, &sch), TCLOD_OK);
+        world_camera_at(&w->path, 0.0, &v);
+        v.eye[0] = (float)table_rng_uniform(&rng, 0.0, w->side);
+        v.eye[2] = (float)table_rng_uniform(&rng, 0.0, w->side);
         v.eye[1] = 20.0f;
         heading = table_rng_uniform(&rng, 0.0, 2.0 * PI);
         turn = table_rng_uniform(&rng, -1.0, 1.0);
@@ -921,19 +1005,28 @@ static void draw_lists_stay_within_the_budget_over_random_paths(void **state) {
             assert_int_equal(tclod_scheduler_update(sch, t, &v, budget, slice), TCLOD_OK);
             assert_int_equal(tclod_scheduler_get_stats(sch, &st), TCLOD_OK);
             {
-                double cost = check_draws(sch, &w);
+                double nodes = check_draws(sch, w), cost = check_resolutions(sch, tw, nodes);
                 if (!(cost <= budget))
                     fail_msg("trial %u frame %u: draw list costs %.17g > budget %.17g", trial, f,
                              cost, budget);
                 assert_true(st.draw_cost <= st.budget);
-                assert_float_equal(st.draw_cost, cost, 1e-12 + 1e-9 * cost);
+                if (mixed) { /* the trees' costs in st are their selection's, >= these */
+                    assert_true(cost <= st.draw_cost);
+                    drawn_trees += cost > nodes;
+                } else {
+                    assert_true(cost == nodes);
+                    assert_float_equal(st.draw_cost, cost, 1e-12 + 1e-9 * cost);
+                }
             }
         }
         assert_true(st.selections > 0u);
         assert_int_equal(st.changes, st.morphs + st.pops);
+        if (mixed)
+            assert_true(drawn_trees > 0u);
         tclod_scheduler_destroy(sch);
     }
-    world_scene_free(&w);
+    world_scene_free(w);
+    free(tw);
 }
 
 /* ---- arguments -------------------------------------------------------------- */
