@@ -410,6 +410,10 @@ struct tclod_selector {
     struct tclod_selector_saved *keep; /* see tclod_selector_keep; NULL: none */
 };
 
+/* Whether the selector can solve its scene as it is now: the mixed solver
+ * created without smooth callbacks needs a scene without smooth objects. */
+int tclod_selector_scene_ok(const tclod_selector *sel);
+
 /* Prepares the scene and grows the selector's buffers to its size, all or
  * nothing (what tclod_select_begin allocates, and nothing else): afterwards
  * a begin allocates nothing until the scene grows. */

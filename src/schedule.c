@@ -1384,7 +1384,9 @@ static void put_back(tclod_scheduler *sch) {
 tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclod_view *view,
                                     double budget, double slice_seconds) {
     tclod_status st;
-    if (!sch || !arguments_valid(sch, now, view, budget, slice_seconds)) return TCLOD_ERR_ARG;
+    if (!sch || !arguments_valid(sch, now, view, budget, slice_seconds) ||
+        !tclod_selector_scene_ok(sch->sel))
+        return TCLOD_ERR_ARG;
     if (sch->busy) return TCLOD_ERR_STATE;
     sch->busy = 1;
     st = tclod_scene_prepare(sch->scene);

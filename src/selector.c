@@ -148,7 +148,7 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
     if (!s || !d || !out || !tclod_allocator_init(&alloc, a)) return TCLOD_ERR_ARG;
     if (!tclod_solver_available(d->solver) || !d->callbacks.benefit || !d->callbacks.cost)
         return TCLOD_ERR_ARG;
-    if (d->solver == TCLOD_SOLVER_MIXED &&
+    if (d->solver == TCLOD_SOLVER_MIXED && s->smooth_count > 0 &&
         (!d->callbacks.smooth_benefit || !d->callbacks.smooth_cost))
         return TCLOD_ERR_ARG;
     if (!(d->split_threshold >= 0.0) || isinf(d->split_threshold)) return TCLOD_ERR_ARG;
@@ -237,6 +237,13 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
         if (i == 0) bind_heaps(sel);
     }
     return TCLOD_OK;
+}
+
+int tclod_selector_scene_ok(const tclod_selector *sel) {
+    /* the mixed solver without smooth callbacks solves like the greedy while
+     * the scene has no smooth objects */
+    return sel->desc.solver != TCLOD_SOLVER_MIXED || sel->scene->smooth_count == 0 ||
+           (sel->desc.callbacks.smooth_benefit && sel->desc.callbacks.smooth_cost);
 }
 
 tclod_status tclod_selector_reserve(tclod_selector *sel) {
@@ -344,6 +351,7 @@ tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f) {
     if (sel->busy || sel->pending) return TCLOD_ERR_STATE;
     status = check_frame(f);
     if (status != TCLOD_OK) return status;
+    if (!tclod_selector_scene_ok(sel)) return TCLOD_ERR_ARG;
     sel->busy = 1;
     status = tclod_scene_prepare(sel->scene);
     if (status == TCLOD_OK)

@@ -176,8 +176,10 @@ typedef struct tclod_query {
  *          negative values and derivatives are counted like the other
  *          callbacks' (one count per call, whether the value, the slope or
  *          both are bad) and make the group invisible (bad benefit) or the
- *          resolution unaffordable (bad cost). Required by the mixed solver;
- *          may be NULL for the greedy solver, which ignores smooth objects. */
+ *          resolution unaffordable (bad cost). Required by the mixed solver
+ *          over a scene with smooth objects (without them it solves like the
+ *          greedy and may go without); may be NULL for the greedy solver,
+ *          which ignores smooth objects. */
 typedef struct tclod_callbacks {
     double (*benefit)(void *user, const tclod_query *q);
     double (*cost)(void *user, const tclod_query *q);
@@ -424,9 +426,9 @@ typedef struct tclod_selector tclod_selector;
 /* Creates a selector over scene s, which must outlive it. d is copied; a may be
  * NULL (malloc/free). Errors: TCLOD_ERR_ARG (NULL s, d or out; a solver this
  * build does not provide; benefit or cost callback NULL; the mixed solver
- * without smooth_benefit or smooth_cost; split_threshold, smooth_epsilon,
- * smooth_tolerance, smooth_cull_area, value, misfit or reference_area NaN or
- * out of range), TCLOD_ERR_NOMEM. */
+ * without smooth_benefit or smooth_cost over a scene with smooth objects;
+ * split_threshold, smooth_epsilon, smooth_tolerance, smooth_cull_area, value,
+ * misfit or reference_area NaN or out of range), TCLOD_ERR_NOMEM. */
 TCLOD_API tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_desc *d,
                                              const tclod_allocator *a, tclod_selector **out);
 
@@ -445,9 +447,10 @@ TCLOD_API void tclod_selector_destroy(tclod_selector *sel);
  * and after the scene grew). A changed scene restarts from the roots.
  * st may be NULL.
  * Errors: TCLOD_ERR_ARG (NULL sel or f; budget NaN or < 0; solve_seconds NaN
- * or < 0; an invalid view), TCLOD_ERR_CALLBACK (strict mode), TCLOD_ERR_NOMEM,
- * TCLOD_ERR_STATE (re-entered from a callback). On error the previous result
- * and its stats stay as they were. */
+ * or < 0; an invalid view; the mixed solver created without smooth callbacks
+ * over a scene that has smooth objects now), TCLOD_ERR_CALLBACK (strict
+ * mode), TCLOD_ERR_NOMEM, TCLOD_ERR_STATE (re-entered from a callback). On
+ * error the previous result and its stats stay as they were. */
 TCLOD_API tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats *st);
 
 /* Resumable selection: the same solve as tclod_select, spread over several
@@ -761,8 +764,9 @@ TCLOD_API void tclod_scheduler_destroy(tclod_scheduler *sch);
  * update); all of it before anything else, so that running out of memory
  * changes nothing. Errors: TCLOD_ERR_ARG (NULL sch or view, an invalid view,
  * now NaN, inf or earlier than the last successful update's, budget NaN or
- * < 0, slice_seconds NaN, inf or < 0), TCLOD_ERR_CALLBACK (strict mode: a
- * callback returned a bad value), TCLOD_ERR_NOMEM,
+ * < 0, slice_seconds NaN, inf or < 0, the mixed solver without smooth
+ * callbacks over a scene that now has smooth objects), TCLOD_ERR_CALLBACK
+ * (strict mode: a callback returned a bad value), TCLOD_ERR_NOMEM,
  * TCLOD_ERR_STATE (called from a callback). An update is all or nothing: on
  * error the scheduler is as the last successful update left it (draw list,
  * resolutions, stats, the recorded path, the interval boundary, the landed

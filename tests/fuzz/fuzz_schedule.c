@@ -237,7 +237,7 @@ static void run(fuzz_reader *in) {
     for (i = 0; i < n; ++i)
         add_smooth(in, s, m);
 
-    invalid = desc_invalid(&sd);
+    invalid = desc_invalid(&sd, m->smooth);
     if (invalid == 0 || invalid == -1) {
         int other = schedule_desc_invalid(&d);
         invalid = other == 1 ? 1 : (invalid == -1 || other == -1 ? -1 : 0);
