@@ -214,11 +214,16 @@ void tclod_scheduler_desc_default(tclod_scheduler_desc *d) {
 
 static int finite_nonnegative(double x) { return x >= 0.0 && !isinf(x); }
 
+/* tau: a normal positive number whose horizon (up to 4 tau, the longest gap
+ * before a restart) is finite. */
+static int tau_valid(double tau) {
+    return isnormal(tau) && tau > 0.0 && !isinf(4.0 * tau);
+}
+
 static int desc_valid(const tclod_scheduler_desc *d) {
-    return d->tau > 0.0 && !isinf(d->tau) && d->samples >= 1u &&
-           d->samples <= TCLOD_MAX_SAMPLES && finite_nonnegative(d->confidence) &&
-           finite_nonnegative(d->max_speed) && finite_nonnegative(d->max_turn_rate) &&
-           (d->morph == 0 || d->morph == 1);
+    return tau_valid(d->tau) && d->samples >= 1u && d->samples <= TCLOD_MAX_SAMPLES &&
+           finite_nonnegative(d->confidence) && finite_nonnegative(d->max_speed) &&
+           finite_nonnegative(d->max_turn_rate) && (d->morph == 0 || d->morph == 1);
 }
 
 /* ---- vectors ------------------------------------------------------------------- */
@@ -399,7 +404,7 @@ static void record(tclod_scheduler *sch, double now, const tclod_view *view) {
 }
 
 tclod_status tclod_scheduler_predict(const tclod_scheduler *sch, double t, tclod_view *out) {
-    if (!sch || !out || isnan(t)) return TCLOD_ERR_ARG;
+    if (!sch || !out || isnan(t) || isinf(t)) return TCLOD_ERR_ARG;
     if (sch->p.hist_count == 0) return TCLOD_ERR_STATE;
     predict(sch, t, out);
     return TCLOD_OK;

@@ -18,6 +18,7 @@
 
 #include <cmocka.h>
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -241,6 +242,10 @@ static void prediction_is_exact_on_a_straight_path(void **state) {
     assert_memory_equal(p.forward, v.forward, sizeof v.forward);
     assert_float_equal(p.fov_y, v.fov_y, 0.0);
     assert_int_equal(tclod_scheduler_predict(sch, NAN, &p), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_predict(sch, INFINITY, &p), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_predict(sch, -INFINITY, &p), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_predict(sch, 1e300, &p), TCLOD_OK);
+    assert_int_equal(tclod_view_validate(&p), TCLOD_OK);
     tclod_scheduler_destroy(sch);
     tclod_scene_destroy(s);
 }
@@ -1051,8 +1056,29 @@ static void bad_arguments_are_refused_and_change_nothing(void **state) {
     assert_float_equal(d.tau, 0.5, 0.0);
     assert_int_equal(d.samples, 3);
     assert_int_equal(d.morph, 1);
-    d.tau = 0.0;
-    assert_int_equal(tclod_scheduler_create(s, &sd, &d, NULL, &sch), TCLOD_ERR_ARG);
+    {
+        /* tau: a normal positive number whose 4 tau is finite. 1e-310 is
+         * subnormal; DBL_MAX / 2 doubles to infinity (the pipeline restarts
+         * after a gap of 4 tau); DBL_MAX / 4 and DBL_MIN are the ends
+         * accepted */
+        static const double bad_tau[] = {0.0,           -0.5,    1e-310,   -DBL_MIN,
+                                         DBL_MAX / 2.0, DBL_MAX, INFINITY, NAN};
+        static const double good[] = {DBL_MIN, 1e-300, DBL_MAX / 4.0};
+        size_t i;
+        for (i = 0; i < sizeof bad_tau / sizeof bad_tau[0]; ++i) {
+            d.tau = bad_tau[i];
+            if (tclod_scheduler_create(s, &sd, &d, NULL, &sch) != TCLOD_ERR_ARG)
+                fail_msg("tau = %g accepted", bad_tau[i]);
+            assert_null(sch);
+        }
+        for (i = 0; i < sizeof good / sizeof good[0]; ++i) {
+            d.tau = good[i];
+            if (tclod_scheduler_create(s, &sd, &d, NULL, &sch) != TCLOD_OK)
+                fail_msg("tau = %g refused", good[i]);
+            tclod_scheduler_destroy(sch);
+            sch = NULL;
+        }
+    }
     d.tau = 0.5;
     d.samples = TCLOD_MAX_SAMPLES + 1u;
     assert_int_equal(tclod_scheduler_create(s, &sd, &d, NULL, &sch), TCLOD_ERR_ARG);

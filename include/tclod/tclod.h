@@ -674,9 +674,14 @@ typedef struct tclod_scheduler tclod_scheduler;
 #define TCLOD_MAX_SAMPLES 8u
 
 typedef struct tclod_scheduler_desc {
-    double tau;            /* seconds, > 0: the interval, horizon unit and morph
-                              duration. Default 0.5 (seed 004 §4.5: 10 frames at
-                              20 Hz) */
+    double tau;            /* seconds: the interval, horizon unit and morph
+                              duration. A normal positive number (not 0, not
+                              subnormal) with 4 tau finite (the longest gap
+                              between updates before the pipeline restarts).
+                              Updates further apart than 4 tau restart it, so a
+                              tau shorter than the time between updates selects
+                              at once in every update (counted in emergencies).
+                              Default 0.5 (seed 004 §4.5: 10 frames at 20 Hz) */
     uint32_t samples;      /* predicted views per selection, 1 .. TCLOD_MAX_SAMPLES,
                               at the middles of equal parts of the target
                               interval. Default 3 */
@@ -744,7 +749,8 @@ typedef struct tclod_scheduler_stats {
  * the predicted views, and from tclod_scheduler_update itself) and the
  * scheduling desc d; both are copied. a may be NULL (malloc/free). Errors:
  * TCLOD_ERR_ARG (NULL argument, sd rejected as tclod_selector_create rejects
- * it, a field of d out of range or NaN), TCLOD_ERR_NOMEM. */
+ * it, a field of d out of range or NaN, tau not as described above),
+ * TCLOD_ERR_NOMEM. */
 TCLOD_API tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_desc *sd,
                                               const tclod_scheduler_desc *d,
                                               const tclod_allocator *a, tclod_scheduler **out);
@@ -804,8 +810,8 @@ TCLOD_API tclod_status tclod_scheduler_get_stats(const tclod_scheduler *sch,
  * up extrapolated linearly (least squares over the views of the last tau
  * seconds, at least the last two), the motion clamped to max_speed and
  * max_turn_rate when they are > 0; the other fields are the last view's.
- * Errors: TCLOD_ERR_ARG (NULL argument, t NaN), TCLOD_ERR_STATE (no view
- * recorded yet). */
+ * Errors: TCLOD_ERR_ARG (NULL argument, t NaN or infinite), TCLOD_ERR_STATE
+ * (no view recorded yet). */
 TCLOD_API tclod_status tclod_scheduler_predict(const tclod_scheduler *sch, double t,
                                                tclod_view *out);
 

@@ -39,8 +39,9 @@
  * scheduling description; -1 when an infinite value is left open. */
 static int schedule_desc_invalid(const tclod_scheduler_desc *d) {
     const tclod_calib_desc *c = &d->calib;
-    if (!(d->tau > 0.0) || d->samples < 1 || d->samples > TCLOD_MAX_SAMPLES ||
-        !(d->confidence >= 0.0) || !(d->max_speed >= 0.0) || !(d->max_turn_rate >= 0.0))
+    if (!isnormal(d->tau) || !(d->tau > 0.0) || isinf(4.0 * d->tau) || d->samples < 1 ||
+        d->samples > TCLOD_MAX_SAMPLES || !(d->confidence >= 0.0) || !(d->max_speed >= 0.0) ||
+        !(d->max_turn_rate >= 0.0))
         return 1;
     if (!(c->initial_scale > 0.0) || !(c->rise_rate > 0.0 && c->rise_rate <= 1.0) ||
         !(c->fall_rate > 0.0 && c->fall_rate <= 1.0) ||
@@ -48,9 +49,8 @@ static int schedule_desc_invalid(const tclod_scheduler_desc *d) {
         !(c->logic_rate > 0.0 && c->logic_rate <= 1.0) || !(c->initial_logic >= 0.0) ||
         !(c->machine_c > 0.0))
         return 1;
-    return isinf(d->tau) || isinf(d->confidence) || isinf(d->max_speed) ||
-                   isinf(d->max_turn_rate) || isinf(c->initial_scale) || isinf(c->initial_logic) ||
-                   isinf(c->machine_c)
+    return isinf(d->confidence) || isinf(d->max_speed) || isinf(d->max_turn_rate) ||
+                   isinf(c->initial_scale) || isinf(c->initial_logic) || isinf(c->machine_c)
                ? -1
                : 0;
 }
