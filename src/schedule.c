@@ -1448,10 +1448,22 @@ double tclod_scheduler_resolution(const tclod_scheduler *sch, tclod_id smooth) {
     return from + (to - from) * sch->shown.u;
 }
 
-tclod_status tclod_scheduler_report(tclod_scheduler *sch, double render_time) {
-    if (!sch || !finite_nonnegative(render_time)) return TCLOD_ERR_ARG;
+tclod_status tclod_scheduler_report_frame(tclod_scheduler *sch, double render_time,
+                                          double logic_time) {
+    if (!sch || !finite_nonnegative(render_time) || !finite_nonnegative(logic_time))
+        return TCLOD_ERR_ARG;
     if (!sch->shown.started) return TCLOD_ERR_STATE;
-    return tclod_calib_report(sch->calib, sch->shown.stats.draw_cost, render_time, 0.0);
+    return tclod_calib_report(sch->calib, sch->shown.stats.draw_cost, render_time, logic_time);
+}
+
+tclod_status tclod_scheduler_report(tclod_scheduler *sch, double render_time) {
+    /* no logic time: the estimate stays as it is */
+    return tclod_scheduler_report_frame(sch, render_time,
+                                        tclod_calib_logic(sch ? sch->calib : NULL));
+}
+
+const tclod_calib *tclod_scheduler_calib(const tclod_scheduler *sch) {
+    return sch ? sch->calib : NULL;
 }
 
 tclod_status tclod_scheduler_get_stats(const tclod_scheduler *sch, tclod_scheduler_stats *st) {

@@ -1495,6 +1495,48 @@ static void a_slower_machine_lowers_the_budget_through_the_calibration(void **st
     tclod_scene_destroy(s);
 }
 
+static void render_and_logic_times_go_to_the_schedulers_calibration(void **state) {
+    /* The default calibration: scale 1, logic 0, rates 0.5 up, 0.2 for the
+     * logic. A frame of the one node A (cost 1) reported as 2 ms of render
+     * and 10 ms of logic: the scale rises halfway to 2, to 1.5, the logic
+     * estimate a fifth of the way to 10, to 2; a second such frame: scale
+     * 1.75, logic 3.6. tclod_scheduler_report then leaves the logic as it is
+     * (3.6) while it moves the scale (to 1.875). */
+    wish_host h;
+    tclod_scene *s;
+    tclod_scheduler *sch;
+    const tclod_calib *c;
+    tclod_view v;
+    (void)state;
+    memset(&h, 0, sizeof h);
+    s = chain(&h, 1);
+    sch = wish_scheduler(s, &h, 1, 0);
+    c = tclod_scheduler_calib(sch);
+    assert_non_null(c);
+    assert_null(tclod_scheduler_calib(NULL));
+    assert_int_equal(tclod_scheduler_report_frame(sch, 2.0, 10.0), TCLOD_ERR_STATE);
+    helper_view(&v);
+    assert_int_equal(tclod_scheduler_update(sch, 0.0, &v, 100.0, 0.0), TCLOD_OK);
+    assert_int_equal(tclod_scheduler_report_frame(sch, 2.0, 10.0), TCLOD_OK);
+    assert_float_equal(tclod_calib_scale(c), 1.5, 1e-12);
+    assert_float_equal(tclod_calib_logic(c), 2.0, 1e-12);
+    assert_int_equal(tclod_scheduler_report_frame(sch, 2.0, 10.0), TCLOD_OK);
+    assert_float_equal(tclod_calib_scale(c), 1.75, 1e-12);
+    assert_float_equal(tclod_calib_logic(c), 3.6, 1e-12);
+    assert_int_equal(tclod_scheduler_report(sch, 2.0), TCLOD_OK);
+    assert_float_equal(tclod_calib_scale(c), 1.875, 1e-12);
+    assert_float_equal(tclod_calib_logic(c), 3.6, 1e-12);
+    /* bad times change nothing */
+    assert_int_equal(tclod_scheduler_report_frame(sch, 2.0, -1.0), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_report_frame(sch, 2.0, NAN), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_report_frame(sch, INFINITY, 1.0), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_report_frame(NULL, 2.0, 1.0), TCLOD_ERR_ARG);
+    assert_float_equal(tclod_calib_scale(c), 1.875, 1e-12);
+    assert_float_equal(tclod_calib_logic(c), 3.6, 1e-12);
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(conservative_camera_widens_and_steps_back_as_seed_004_says),
@@ -1520,6 +1562,7 @@ int main(void) {
         cmocka_unit_test(a_failed_update_begins_the_lost_selection_again_with_its_views),
         cmocka_unit_test(a_failed_update_records_no_camera),
         cmocka_unit_test(a_slower_machine_lowers_the_budget_through_the_calibration),
+        cmocka_unit_test(render_and_logic_times_go_to_the_schedulers_calibration),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -795,12 +795,25 @@ TCLOD_API tclod_status tclod_scheduler_draws(const tclod_scheduler *sch, const t
  * that ignores smooth objects). O(1). */
 TCLOD_API double tclod_scheduler_resolution(const tclod_scheduler *sch, tclod_id smooth);
 
-/* Reports the measured render time of the frame drawn from the last update's
- * draw list (>= 0, the budget's unit): the calibration compares it with the
- * list's predicted cost and rescales the budget of the frames that follow.
- * Errors: TCLOD_ERR_ARG (NULL sch, render_time NaN, inf or < 0),
- * TCLOD_ERR_STATE (before the first update). */
+/* Reports the measured render and logic times of the frame drawn from the last
+ * update's draw list (>= 0, the budget's unit) to the scheduler's calibration
+ * (tclod_scheduler_calib): it compares the render time with the list's
+ * predicted cost and rescales the budget of the frames that follow, and
+ * follows the logic time. Errors: TCLOD_ERR_ARG (NULL sch, a time NaN, inf or
+ * < 0), TCLOD_ERR_STATE (before the first update); nothing changes. */
+TCLOD_API tclod_status tclod_scheduler_report_frame(tclod_scheduler *sch, double render_time,
+                                                    double logic_time);
+
+/* tclod_scheduler_report_frame without a logic time: the logic estimate stays
+ * as it is. */
 TCLOD_API tclod_status tclod_scheduler_report(tclod_scheduler *sch, double render_time);
+
+/* The scheduler's calibration, for tclod_calib_scale and tclod_calib_logic:
+ * a host that budgets a frame time gives tclod_scheduler_update the render
+ * time tclod_render_budget(frame_time, tclod_calib_logic(c), machine_c)
+ * (the update divides it by the scale itself). Valid until the scheduler is
+ * destroyed; NULL for NULL. */
+TCLOD_API const tclod_calib *tclod_scheduler_calib(const tclod_scheduler *sch);
 
 /* The scheduler's figures (tclod_scheduler_stats). Errors: TCLOD_ERR_ARG. */
 TCLOD_API tclod_status tclod_scheduler_get_stats(const tclod_scheduler *sch,
