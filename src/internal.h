@@ -28,7 +28,7 @@ typedef struct tclod_array {
 } tclod_array;
 
 /* The most arrays one block may hold. */
-#define TCLOD_MAX_ARRAYS 32
+#define TCLOD_MAX_ARRAYS 48
 
 /* Grows every array from old_cap to new_cap elements, all or nothing: either
  * every array is replaced by a larger copy (old contents kept, new elements
@@ -407,7 +407,41 @@ struct tclod_selector {
     double closure_hint;    /* the key of the last plain cold pass's first misfit:
                                DBL_MIN when it had none, 0 before the first */
     tclod_stats stats;
+    struct tclod_selector_saved *keep; /* see tclod_selector_keep; NULL: none */
 };
+
+/* Whether the selector can solve its scene as it is now: the mixed solver
+ * created without smooth callbacks needs a scene without smooth objects. */
+int tclod_selector_scene_ok(const tclod_selector *sel);
+
+/* Prepares the scene and grows the selector's buffers to its size, all or
+ * nothing (what tclod_select_begin allocates, and nothing else): afterwards
+ * a begin allocates nothing until the scene grows. */
+tclod_status tclod_selector_reserve(tclod_selector *sel);
+
+/* A selector's committed result and warm-start state, as a scheduler keeps
+ * it so that a failed update can put it back (schedule.c). The arrays are
+ * the keeper's: cut and result with room for the scene's nodes, groups for
+ * its smooth objects. */
+typedef struct tclod_selector_saved {
+    tclod_id *cut, *result;
+    tclod_smooth_group *groups;
+    uint32_t cut_count, result_count, group_count;
+    uint32_t scene_version;
+    int has_cut;
+    double closure_hint; /* as it was when the keeping began */
+    int valid;           /* a commit has happened since: the fields above hold
+                            the state before it */
+} tclod_selector_saved;
+
+/* Begins keeping (k not NULL) or stops (NULL): from now on the first commit
+ * first copies the committed state into k, so that tclod_selector_restore
+ * can put back the state of the moment this was called. */
+void tclod_selector_keep(tclod_selector *sel, tclod_selector_saved *k);
+
+/* Puts back the state kept in k (no solve may be pending): the committed
+ * result, the warm start's cut and the greedy's closure hint. */
+void tclod_selector_restore(tclod_selector *sel, const tclod_selector_saved *k);
 
 /* Calls the benefit and cost callbacks for node n once per solve and caches
  * the values in sel->node[n] (cost asked only when the benefit is > 0; a bad

@@ -31,6 +31,13 @@
  * Node relations are found with epoch marks on per-node arrays: the members
  * of a cut are marked black, and a node belongs to the meet of two cuts when
  * no proper ancestor of it is marked (seed 004 §4.4's black and grey nodes).
+ *
+ * An update is all or nothing. It grows every buffer (the selector's too)
+ * before it changes anything; it keeps the pipeline's state from its start,
+ * makes its plan in a second plan buffer, copies a finished selection out of
+ * the selector at once, and has the selector keep its committed state before
+ * the first commit, so that a failure puts everything back. Only a selection
+ * under way cannot be kept: the next update begins it again.
  */
 #include "internal.h"
 
@@ -59,7 +66,11 @@ typedef struct region {
 } region;
 
 /* Generations kept: the three the pipeline works with, the three the outputs
- * show (the same unless an update failed), and one to land into. */
+ * show (the same unless an update is under way), and one for a selection
+ * that has finished and waits to land. An update that crosses several
+ * boundaries lands one selection at each, leaving the pipeline a slot ahead
+ * of the outputs every time; it can cross four before it restarts, and the
+ * seven slots hold that. */
 #define GEN_SLOTS 7u
 
 /* A landed selection: its visible cut with the costs of this selection, the
@@ -73,6 +84,55 @@ typedef struct generation {
     uint32_t groups;
 } generation;
 
+/* The plan of an interval: its regions and the predicted costs of the nodes
+ * they draw. Two are kept, the one the outputs were made with and the one an
+ * update makes, so that a failed update leaves the first as it was. */
+typedef struct plan_state {
+    region *regions;
+    uint32_t region_count;
+    tclod_id *nodes;     /* 3 per node: the regions' node lists */
+    double *memo_cost;   /* predicted cost of a node for the plan */
+    uint32_t *memo_mark; /* epoch marks of memo_cost */
+    uint8_t *memo_visible;
+    uint32_t memo_epoch;
+} plan_state;
+
+/* The plan in use. */
+#define PLAN(sch) ((sch)->p.plan)
+
+/* The views the callbacks answer for, set when a selection begins. */
+typedef struct solve_views {
+    uint32_t count;
+    tclod_view views[TCLOD_MAX_SAMPLES];
+    tclod_view_cache caches[TCLOD_MAX_SAMPLES];
+    tclod_view conservative; /* the solve's frame view */
+    tclod_view_cache conservative_cache;
+} solve_views;
+
+/* What an update changes besides the buffers. tclod_scheduler_update keeps a
+ * copy from its start and puts it back when it fails, so that the next update
+ * goes on as if the failed one had not been made. */
+typedef struct pipeline {
+    int started;
+    double boundary;                    /* b_j, the start of the current interval */
+    double now, budget;                 /* of the last update; budget in cost units */
+    uint32_t scene_version;             /* of the landed selections */
+    uint32_t prev, cur, next;           /* S_{j-1}, S_j, S_{j+1} in gen[] (may coincide) */
+    int ready;                          /* the pending selection finished: it lands next, ... */
+    uint32_t landing;                   /* ... from gen[landing] */
+    uint32_t landed_invalid;            /* the bad values it saw ... */
+    double landed_benefit, landed_cost; /* ... and its benefit and cost */
+    double u;                           /* position in the current interval, [0, 1] */
+    struct plan_state *plan;            /* the plan in use, one of plans[] */
+    double pending_budget;              /* the budget the pending selection began with */
+    int lost;                           /* the pending selection went with a failed update:
+                                           the next update begins it again */
+    int redo;                           /* the pending selection is one begun again: it runs
+                                           to its end when it lands */
+    uint32_t hist_count, hist_next;     /* the recorded camera path's ring */
+    tclod_scheduler_stats stats;
+} pipeline;
+
 struct tclod_scheduler {
     tclod_allocator alloc;
     tclod_scheduler_desc desc;
@@ -84,31 +144,33 @@ struct tclod_scheduler {
 
     /* the views the callbacks answer for */
     int current_only;          /* pass the host's values through */
-    uint32_t view_count;
-    tclod_view views[TCLOD_MAX_SAMPLES];
-    tclod_view_cache caches[TCLOD_MAX_SAMPLES];
-    tclod_view conservative;   /* the solve's frame view */
-    tclod_view_cache conservative_cache;
+    solve_views sv;
     tclod_id asked;            /* the node of the last benefit call ... */
     uint32_t asked_mask;       /* ... and the views that saw it (benefit > 0) */
 
-    /* the recorded camera path, a ring */
+    /* the recorded camera path, a ring (its count and next slot in p) */
     double hist_t[HISTORY];
     tclod_view hist_v[HISTORY];
-    uint32_t hist_count, hist_next;
 
-    /* the pipeline */
-    int started;
-    double boundary;           /* b_j, the start of the current interval */
-    double now, budget;        /* of the last update; budget in cost units */
-    uint32_t scene_version;    /* of the landed selections */
+    pipeline p;
     generation gen[GEN_SLOTS];
-    uint32_t prev, cur, next;  /* S_{j-1}, S_j, S_{j+1} in gen[] (may coincide) */
-    int ready;                 /* the pending selection finished: it lands next */
-    uint32_t landed_invalid;   /* the bad values it saw */
-    double u;                  /* position in the current interval, [0, 1] */
+    plan_state plans[2];
     int failed;                /* strict mode: the scheduler's own evaluations saw a
                                   bad value during this update */
+
+    /* what a failed update puts back: the pipeline, the views (once a
+     * selection began), the slot the update recorded into, and the
+     * selector's committed state (kept by the selector before its first
+     * commit in the update) */
+    pipeline saved;
+    solve_views saved_views;
+    int views_saved;
+    double saved_hist_t;
+    tclod_view saved_hist_v;
+    int touched;          /* the update called the selector */
+    int pending_at_start; /* a selection was pending when it began */
+    tclod_selector_saved kept;
+
     /* what the outputs show: the last successful update's */
     struct {
         int started;
@@ -124,17 +186,9 @@ struct tclod_scheduler {
     uint32_t depth_version;    /* scene version depth[] describes, +1; 0 none */
     uint32_t *mark_a, *mark_b, *mark_c, *done; /* epoch marks */
     uint32_t *region_of, *region_mark;
-    double *memo_cost;         /* predicted cost of a node for the plan */
-    uint32_t *memo_mark;
-    uint8_t *memo_visible;
     uint32_t epoch;
     tclod_id *list_x, *list_y; /* X_j and Y_j, or other pairs of cuts */
     tclod_id *list_r;          /* the region roots */
-    uint32_t memo_epoch;       /* of the current plan's predicted costs */
-    region *regions;
-    uint32_t region_count;
-    tclod_id *nodes;           /* 3 per node: the regions' node lists */
-    uint32_t node_total;
     uint32_t *counts;          /* 3 per node: per-region counts while bucketing */
     tclod_draw *items[2];      /* 3 per node each: the shown draw list, and the next */
     uint32_t item_count[2];
@@ -142,8 +196,6 @@ struct tclod_scheduler {
 
     /* per smooth object, smooth_cap elements */
     uint32_t smooth_cap;
-
-    tclod_scheduler_stats stats;
 };
 
 /* ---- desc ------------------------------------------------------------------- */
@@ -162,11 +214,16 @@ void tclod_scheduler_desc_default(tclod_scheduler_desc *d) {
 
 static int finite_nonnegative(double x) { return x >= 0.0 && !isinf(x); }
 
+/* tau: a normal positive number whose horizon (up to 4 tau, the longest gap
+ * before a restart) is finite. */
+static int tau_valid(double tau) {
+    return isnormal(tau) && tau > 0.0 && !isinf(4.0 * tau);
+}
+
 static int desc_valid(const tclod_scheduler_desc *d) {
-    return d->tau > 0.0 && !isinf(d->tau) && d->samples >= 1u &&
-           d->samples <= TCLOD_MAX_SAMPLES && finite_nonnegative(d->confidence) &&
-           finite_nonnegative(d->max_speed) && finite_nonnegative(d->max_turn_rate) &&
-           (d->morph == 0 || d->morph == 1);
+    return tau_valid(d->tau) && d->samples >= 1u && d->samples <= TCLOD_MAX_SAMPLES &&
+           finite_nonnegative(d->confidence) && finite_nonnegative(d->max_speed) &&
+           finite_nonnegative(d->max_turn_rate) && (d->morph == 0 || d->morph == 1);
 }
 
 /* ---- vectors ------------------------------------------------------------------- */
@@ -255,9 +312,9 @@ static void turn_towards(const double a[3], const double b[3], double angle, dou
  * and at least the last two. Returns their count; index 0 is the newest. */
 static uint32_t history_window(const tclod_scheduler *sch, uint32_t *slots) {
     uint32_t n = 0, k;
-    for (k = 0; k < sch->hist_count; ++k) {
-        uint32_t slot = (sch->hist_next + HISTORY - 1u - k) % HISTORY;
-        if (n >= 2u && sch->hist_t[slot] < sch->now - sch->desc.tau) break;
+    for (k = 0; k < sch->p.hist_count; ++k) {
+        uint32_t slot = (sch->p.hist_next + HISTORY - 1u - k) % HISTORY;
+        if (n >= 2u && sch->hist_t[slot] < sch->p.now - sch->desc.tau) break;
         slots[n++] = slot;
     }
     return n;
@@ -340,15 +397,15 @@ static void predict(const tclod_scheduler *sch, double t, tclod_view *out) {
 }
 
 static void record(tclod_scheduler *sch, double now, const tclod_view *view) {
-    sch->hist_t[sch->hist_next] = now;
-    sch->hist_v[sch->hist_next] = *view;
-    sch->hist_next = (sch->hist_next + 1u) % HISTORY;
-    if (sch->hist_count < HISTORY) sch->hist_count++;
+    sch->hist_t[sch->p.hist_next] = now;
+    sch->hist_v[sch->p.hist_next] = *view;
+    sch->p.hist_next = (sch->p.hist_next + 1u) % HISTORY;
+    if (sch->p.hist_count < HISTORY) sch->p.hist_count++;
 }
 
 tclod_status tclod_scheduler_predict(const tclod_scheduler *sch, double t, tclod_view *out) {
-    if (!sch || !out || isnan(t)) return TCLOD_ERR_ARG;
-    if (sch->hist_count == 0) return TCLOD_ERR_STATE;
+    if (!sch || !out || isnan(t) || isinf(t)) return TCLOD_ERR_ARG;
+    if (sch->p.hist_count == 0) return TCLOD_ERR_STATE;
     predict(sch, t, out);
     return TCLOD_OK;
 }
@@ -363,9 +420,9 @@ static double saturate(double sum) { return sum < HUGE_VAL ? sum : DBL_MAX; }
 /* q re-measured for view k. */
 static tclod_query query_for(const tclod_scheduler *sch, const tclod_query *q, uint32_t k) {
     tclod_query r = *q;
-    r.view = &sch->views[k];
+    r.view = &sch->sv.views[k];
     if (q->bounds)
-        tclod_view_cache_measure(&sch->caches[k], q->bounds, &r.screen_area, &r.distance);
+        tclod_view_cache_measure(&sch->sv.caches[k], q->bounds, &r.screen_area, &r.distance);
     return r;
 }
 
@@ -381,7 +438,7 @@ static double wrap_benefit(void *user, const tclod_query *q) {
     if (sch->current_only || !q->view) return sch->host.benefit(sch->host.user, q);
     sch->asked = q->id;
     sch->asked_mask = 0;
-    for (k = 0; k < sch->view_count; ++k) {
+    for (k = 0; k < sch->sv.count; ++k) {
         tclod_query r = query_for(sch, q, k);
         v = sch->host.benefit(sch->host.user, &r);
         if (value_bad(v)) return v;
@@ -403,8 +460,8 @@ static double wrap_cost(void *user, const tclod_query *q) {
     int any = 0;
     if (sch->current_only || !q->view) return sch->host.cost(sch->host.user, q);
     /* the views in which the benefit was > 0 (all, if that is not known) */
-    mask = sch->asked == q->id ? sch->asked_mask : (1u << sch->view_count) - 1u;
-    for (k = 0; k < sch->view_count; ++k) {
+    mask = sch->asked == q->id ? sch->asked_mask : (1u << sch->sv.count) - 1u;
+    for (k = 0; k < sch->sv.count; ++k) {
         tclod_query r;
         if (!(mask & (1u << k))) continue;
         r = query_for(sch, q, k);
@@ -422,7 +479,7 @@ static double wrap_smooth_benefit(void *user, const tclod_query *q, double r, do
     double sum = 0.0, slope = 0.0, v, d;
     uint32_t k;
     if (sch->current_only || !q->view) return sch->host.smooth_benefit(sch->host.user, q, r, d_dr);
-    for (k = 0; k < sch->view_count; ++k) {
+    for (k = 0; k < sch->sv.count; ++k) {
         tclod_query s = query_for(sch, q, k);
         d = 0.0;
         v = sch->host.smooth_benefit(sch->host.user, &s, r, &d);
@@ -454,7 +511,7 @@ static double wrap_smooth_cost(void *user, const tclod_query *q, double r, doubl
     int any = 0;
     if (sch->current_only || !q->view) return sch->host.smooth_cost(sch->host.user, q, r, d_dr);
     /* the views whose frustum holds the group */
-    for (k = 0; k < sch->view_count; ++k) {
+    for (k = 0; k < sch->sv.count; ++k) {
         tclod_query s = query_for(sch, q, k);
         if (q->bounds && !(s.screen_area > 0.0f)) continue;
         d = 0.0;
@@ -491,17 +548,22 @@ static size_t node_arrays(tclod_scheduler *sch, tclod_array out[TCLOD_MAX_ARRAYS
     out[n++] = (tclod_array){(void **)&sch->done, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&sch->region_of, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&sch->region_mark, sizeof(uint32_t), 0};
-    out[n++] = (tclod_array){(void **)&sch->memo_cost, sizeof(double), 0};
-    out[n++] = (tclod_array){(void **)&sch->memo_mark, sizeof(uint32_t), 0};
-    out[n++] = (tclod_array){(void **)&sch->memo_visible, sizeof(uint8_t), 0};
     out[n++] = (tclod_array){(void **)&sch->list_x, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sch->list_y, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sch->list_r, sizeof(tclod_id), -1};
-    out[n++] = (tclod_array){(void **)&sch->regions, sizeof(region), -1};
-    out[n++] = (tclod_array){(void **)&sch->nodes, 3 * sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sch->counts, 3 * sizeof(uint32_t), -1};
     out[n++] = (tclod_array){(void **)&sch->items[0], 3 * sizeof(tclod_draw), -1};
     out[n++] = (tclod_array){(void **)&sch->items[1], 3 * sizeof(tclod_draw), -1};
+    out[n++] = (tclod_array){(void **)&sch->kept.cut, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&sch->kept.result, sizeof(tclod_id), -1};
+    for (g = 0; g < 2u; ++g) {
+        plan_state *P = &sch->plans[g];
+        out[n++] = (tclod_array){(void **)&P->regions, sizeof(region), -1};
+        out[n++] = (tclod_array){(void **)&P->nodes, 3 * sizeof(tclod_id), -1};
+        out[n++] = (tclod_array){(void **)&P->memo_cost, sizeof(double), 0};
+        out[n++] = (tclod_array){(void **)&P->memo_mark, sizeof(uint32_t), 0};
+        out[n++] = (tclod_array){(void **)&P->memo_visible, sizeof(uint8_t), 0};
+    }
     for (g = 0; g < GEN_SLOTS; ++g) {
         out[n++] = (tclod_array){(void **)&sch->gen[g].ids, sizeof(tclod_id), -1};
         out[n++] = (tclod_array){(void **)&sch->gen[g].cost, sizeof(double), -1};
@@ -513,10 +575,12 @@ static size_t node_arrays(tclod_scheduler *sch, tclod_array out[TCLOD_MAX_ARRAYS
 static size_t smooth_arrays(tclod_scheduler *sch, tclod_array out[TCLOD_MAX_ARRAYS]) {
     size_t n = 0;
     uint32_t g;
+    out[n++] = (tclod_array){(void **)&sch->kept.groups, sizeof(tclod_smooth_group), -1};
     for (g = 0; g < GEN_SLOTS; ++g) {
         out[n++] = (tclod_array){(void **)&sch->gen[g].res, sizeof(double), 0};
         out[n++] = (tclod_array){(void **)&sch->gen[g].group_cost, sizeof(double), -1};
     }
+    assert(n <= TCLOD_MAX_ARRAYS);
     return n;
 }
 
@@ -525,8 +589,11 @@ static uint32_t grown(uint32_t cap, uint32_t need) {
     return cap;
 }
 
-/* Grows the per-node and per-smooth-object buffers to the scene's size, all
- * or nothing. */
+/* Grows the per-node and per-smooth-object buffers, the scheduler's and its
+ * selector's, to the scene's size, all or nothing: the scheduler's are
+ * allocated first and replace the old ones only once the selector's have
+ * grown too, so that a failure leaves every buffer as it was. Afterwards
+ * nothing in the update allocates. */
 static tclod_status reserve(tclod_scheduler *sch) {
     tclod_array nodes[TCLOD_MAX_ARRAYS], smooth[TCLOD_MAX_ARRAYS];
     void *fresh_n[TCLOD_MAX_ARRAYS], *fresh_s[TCLOD_MAX_ARRAYS];
@@ -534,20 +601,26 @@ static tclod_status reserve(tclod_scheduler *sch) {
     uint32_t need_n = sch->scene->node_count, need_s = sch->scene->smooth_count;
     uint32_t cap_n = need_n > sch->node_cap ? grown(sch->node_cap, need_n) : sch->node_cap;
     uint32_t cap_s = need_s > sch->smooth_cap ? grown(sch->smooth_cap, need_s) : sch->smooth_cap;
+    int grow_n = cap_n != sch->node_cap, grow_s = cap_s != sch->smooth_cap;
+    tclod_status st;
     if (need_n > UINT32_MAX / 3u) return TCLOD_ERR_NOMEM;
-    if (cap_n != sch->node_cap &&
-        tclod_arrays_alloc(&sch->alloc, nodes, nn, cap_n, fresh_n) != TCLOD_OK)
+    if (grow_n && tclod_arrays_alloc(&sch->alloc, nodes, nn, cap_n, fresh_n) != TCLOD_OK)
         return TCLOD_ERR_NOMEM;
-    if (cap_s != sch->smooth_cap &&
-        tclod_arrays_alloc(&sch->alloc, smooth, ns, cap_s, fresh_s) != TCLOD_OK) {
-        if (cap_n != sch->node_cap) tclod_arrays_discard(&sch->alloc, nodes, nn, cap_n, fresh_n);
+    if (grow_s && tclod_arrays_alloc(&sch->alloc, smooth, ns, cap_s, fresh_s) != TCLOD_OK) {
+        if (grow_n) tclod_arrays_discard(&sch->alloc, nodes, nn, cap_n, fresh_n);
         return TCLOD_ERR_NOMEM;
     }
-    if (cap_n != sch->node_cap) {
+    st = tclod_selector_reserve(sch->sel);
+    if (st != TCLOD_OK) {
+        if (grow_s) tclod_arrays_discard(&sch->alloc, smooth, ns, cap_s, fresh_s);
+        if (grow_n) tclod_arrays_discard(&sch->alloc, nodes, nn, cap_n, fresh_n);
+        return st;
+    }
+    if (grow_n) {
         tclod_arrays_commit(&sch->alloc, nodes, nn, sch->node_cap, cap_n, fresh_n);
         sch->node_cap = cap_n;
     }
-    if (cap_s != sch->smooth_cap) {
+    if (grow_s) {
         tclod_arrays_commit(&sch->alloc, smooth, ns, sch->smooth_cap, cap_s, fresh_s);
         sch->smooth_cap = cap_s;
     }
@@ -572,7 +645,8 @@ tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_d
     sch->desc = *d;
     sch->host = sd->callbacks;
     sch->scene = (tclod_scene *)(uintptr_t)s;
-    sch->prev = sch->cur = sch->next = 0;
+    sch->p.prev = sch->p.cur = sch->p.next = 0;
+    sch->p.plan = &sch->plans[0];
     sch->back = 1;
     inner = *sd;
     inner.callbacks.user = sch;
@@ -622,13 +696,20 @@ static uint32_t next_epoch(tclod_scheduler *sch) {
     return sch->epoch;
 }
 
+/* Makes the plan in use one the update may write: not the one the outputs
+ * were made with, which a failed update must leave as it was. */
+static void writable_plan(tclod_scheduler *sch) {
+    if (sch->p.plan == sch->saved.plan)
+        sch->p.plan = sch->p.plan == &sch->plans[0] ? &sch->plans[1] : &sch->plans[0];
+}
+
 /* A fresh epoch for the predicted costs of a plan. */
 static uint32_t next_memo_epoch(tclod_scheduler *sch) {
-    if (++sch->memo_epoch == 0u) {
-        memset(sch->memo_mark, 0, sizeof(uint32_t) * sch->node_cap);
-        sch->memo_epoch = 1;
+    if (++PLAN(sch)->memo_epoch == 0u) {
+        memset(PLAN(sch)->memo_mark, 0, sizeof(uint32_t) * sch->node_cap);
+        PLAN(sch)->memo_epoch = 1;
     }
-    return sch->memo_epoch;
+    return PLAN(sch)->memo_epoch;
 }
 
 /* The depth of every node, when the scene changed. */
@@ -645,18 +726,22 @@ static void update_depths(tclod_scheduler *sch) {
  * interval, and the conservative camera as the frame's view. */
 static void set_views(tclod_scheduler *sch, const tclod_view *view) {
     const tclod_scheduler_desc *d = &sch->desc;
-    double lag = d->morph ? 2.0 : 1.0, start = sch->boundary + lag * d->tau;
+    double lag = d->morph ? 2.0 : 1.0, start = sch->p.boundary + lag * d->tau;
     uint32_t k;
+    if (!sch->views_saved) { /* those of the selection pending before the update */
+        sch->saved_views = sch->sv;
+        sch->views_saved = 1;
+    }
     sch->current_only = 0;
-    sch->view_count = d->samples;
+    sch->sv.count = d->samples;
     for (k = 0; k < d->samples; ++k) {
-        predict(sch, start + ((double)k + 0.5) * d->tau / (double)d->samples, &sch->views[k]);
-        tclod_view_cache_init(&sch->caches[k], &sch->views[k]);
+        predict(sch, start + ((double)k + 0.5) * d->tau / (double)d->samples, &sch->sv.views[k]);
+        tclod_view_cache_init(&sch->sv.caches[k], &sch->sv.views[k]);
     }
     if (tclod_conservative_view(view, (lag + 1.0) * d->tau, d->max_speed, d->max_turn_rate,
-                                &sch->conservative) != TCLOD_OK)
-        sch->conservative = *view;
-    tclod_view_cache_init(&sch->conservative_cache, &sch->conservative);
+                                &sch->sv.conservative) != TCLOD_OK)
+        sch->sv.conservative = *view;
+    tclod_view_cache_init(&sch->sv.conservative_cache, &sch->sv.conservative);
     sch->asked = TCLOD_NONE;
 }
 
@@ -665,8 +750,25 @@ static tclod_status begin(tclod_scheduler *sch, const tclod_view *view) {
     tclod_frame f;
     set_views(sch, view);
     memset(&f, 0, sizeof f);
-    f.view = &sch->conservative;
-    f.budget = sch->budget;
+    f.view = &sch->sv.conservative;
+    f.budget = sch->p.budget;
+    sch->p.pending_budget = f.budget;
+    sch->p.redo = 0;
+    sch->touched = 1;
+    return tclod_select_begin(sch->sel, &f);
+}
+
+/* Begins again the selection a failed update lost, with the views and the
+ * budget it began with; it runs to its end when it lands. */
+static tclod_status begin_again(tclod_scheduler *sch) {
+    tclod_frame f;
+    memset(&f, 0, sizeof f);
+    f.view = &sch->sv.conservative;
+    f.budget = sch->p.pending_budget;
+    sch->asked = TCLOD_NONE;
+    sch->touched = 1;
+    sch->p.lost = 0;
+    sch->p.redo = 1;
     return tclod_select_begin(sch->sel, &f);
 }
 
@@ -699,8 +801,8 @@ static void store(tclod_scheduler *sch, uint32_t g) {
 static uint32_t fresh_slot(const tclod_scheduler *sch) {
     uint32_t g;
     for (g = 0; g < GEN_SLOTS; ++g)
-        if (g != sch->prev && g != sch->cur && g != sch->next && g != sch->shown.prev &&
-            g != sch->shown.cur && g != sch->shown.next)
+        if (g != sch->p.prev && g != sch->p.cur && g != sch->p.next && g != sch->shown.prev &&
+            g != sch->shown.cur && g != sch->shown.next && (!sch->p.ready || g != sch->p.landing))
             return g;
     assert(0);
     return 0;
@@ -750,15 +852,16 @@ static uint32_t partition(tclod_scheduler *sch, const tclod_id *const lists[3],
                           const uint32_t sizes[3]) {
     uint32_t roots = meet(sch, lists[0], sizes[0], lists[1], sizes[1], sch->list_r);
     uint32_t e = next_epoch(sch), r, l, i, total = 0;
+    writable_plan(sch);
     for (i = 0; i < sizes[0]; ++i) sch->mark_b[lists[0][i]] = e;
     for (i = 0; i < sizes[1]; ++i) sch->mark_c[lists[1][i]] = e;
     for (r = 0; r < roots; ++r) {
         tclod_id q = sch->list_r[r];
         sch->region_mark[q] = e;
         sch->region_of[q] = r;
-        sch->regions[r].root = q;
-        sch->regions[r].kind = REGION_STATIC;
-        sch->regions[r].depth = 0;
+        PLAN(sch)->regions[r].root = q;
+        PLAN(sch)->regions[r].kind = REGION_STATIC;
+        PLAN(sch)->regions[r].depth = 0;
         sch->counts[3u * r] = sch->counts[3u * r + 1u] = sch->counts[3u * r + 2u] = 0;
     }
     for (l = 0; l < 3u; ++l)
@@ -769,8 +872,8 @@ static uint32_t partition(tclod_scheduler *sch, const tclod_id *const lists[3],
     for (r = 0; r < roots; ++r) { /* counts become each list's write position */
         uint32_t c0 = sch->counts[3u * r], c1 = sch->counts[3u * r + 1u];
         uint32_t c2 = sch->counts[3u * r + 2u];
-        sch->regions[r].first = total;
-        sch->regions[r].count = c0 + c1 + c2;
+        PLAN(sch)->regions[r].first = total;
+        PLAN(sch)->regions[r].count = c0 + c1 + c2;
         sch->counts[3u * r] = total;
         sch->counts[3u * r + 1u] = total + c0;
         sch->counts[3u * r + 2u] = total + c0 + c1;
@@ -779,17 +882,17 @@ static uint32_t partition(tclod_scheduler *sch, const tclod_id *const lists[3],
     for (l = 0; l < 3u; ++l)
         for (i = 0; i < sizes[l]; ++i) {
             r = region_at(sch, e, lists[l][i]);
-            if (r != TCLOD_NONE) sch->nodes[sch->counts[3u * r + l]++] = lists[l][i];
+            if (r != TCLOD_NONE) PLAN(sch)->nodes[sch->counts[3u * r + l]++] = lists[l][i];
         }
-    sch->region_count = roots;
+    PLAN(sch)->region_count = roots;
     return e;
 }
 
-/* The nodes of list l in region r after partition(): sch->nodes[*first ..
+/* The nodes of list l in region r after partition(): PLAN(sch)->nodes[*first ..
  * *first + *count). */
 static void region_list(const tclod_scheduler *sch, uint32_t r, uint32_t l, uint32_t *first,
                         uint32_t *count) {
-    uint32_t start = l == 0u ? sch->regions[r].first : sch->counts[3u * r + l - 1u];
+    uint32_t start = l == 0u ? PLAN(sch)->regions[r].first : sch->counts[3u * r + l - 1u];
     *first = start;
     *count = sch->counts[3u * r + l] - start;
 }
@@ -808,11 +911,11 @@ static int same_nodes(tclod_scheduler *sch, const tclod_id *a, uint32_t na, cons
 
 /* Counts one level change, morphed or switched. */
 static void count_change(tclod_scheduler *sch, int morphed) {
-    sch->stats.changes++;
+    sch->p.stats.changes++;
     if (morphed)
-        sch->stats.morphs++;
+        sch->p.stats.morphs++;
     else
-        sch->stats.pops++;
+        sch->p.stats.pops++;
 }
 
 /* Counts the level changes of a switch from cut a to cut b: the regions in
@@ -827,8 +930,8 @@ static void count_switches(tclod_scheduler *sch, const tclod_id *a, uint32_t na,
     sizes[0] = na;
     sizes[1] = sizes[2] = nb;
     e = partition(sch, lists, sizes);
-    for (r = 0; r < sch->region_count; ++r) {
-        tclod_id q = sch->regions[r].root;
+    for (r = 0; r < PLAN(sch)->region_count; ++r) {
+        tclod_id q = PLAN(sch)->regions[r].root;
         uint32_t f, n0, n1;
         int in_a = sch->mark_b[q] == e, in_b = sch->mark_c[q] == e;
         region_list(sch, r, 0, &f, &n0);
@@ -840,15 +943,16 @@ static void count_switches(tclod_scheduler *sch, const tclod_id *a, uint32_t na,
 /* ---- predicted costs ------------------------------------------------------------------------- */
 
 static void memo_set(tclod_scheduler *sch, tclod_id n, double cost) {
-    sch->memo_mark[n] = sch->memo_epoch;
-    sch->memo_cost[n] = cost;
-    sch->memo_visible[n] = 1;
+    plan_state *P = PLAN(sch);
+    P->memo_mark[n] = P->memo_epoch;
+    P->memo_cost[n] = cost;
+    P->memo_visible[n] = 1;
 }
 
 /* Counts a bad value from the scheduler's own evaluations; strict mode fails
  * the update. */
 static void bad_value(tclod_scheduler *sch) {
-    sch->stats.invalid_values++;
+    sch->p.stats.invalid_values++;
     if (sch->sel->desc.strict) sch->failed = 1;
 }
 
@@ -856,18 +960,19 @@ static void bad_value(tclod_scheduler *sch) {
  * selection drew it with, else the callbacks' for the latest selection's
  * views; *visible is 0 (and the cost 0) when those views do not see it. */
 static double memo(tclod_scheduler *sch, tclod_id n, int *visible) {
-    if (sch->memo_mark[n] != sch->memo_epoch) {
+    plan_state *P = PLAN(sch);
+    if (P->memo_mark[n] != P->memo_epoch) {
         const float *b = &sch->scene->bounds[4u * n];
         tclod_query q;
         double benefit, cost = 0.0;
         memset(&q, 0, sizeof q);
         q.id = n;
         q.count = 1;
-        q.view = &sch->conservative;
+        q.view = &sch->sv.conservative;
         q.screen_area = q.distance = -1.0f;
         q.bounds = b[3] >= 0.0f ? b : NULL;
         if (q.bounds)
-            tclod_view_cache_measure(&sch->conservative_cache, b, &q.screen_area, &q.distance);
+            tclod_view_cache_measure(&sch->sv.conservative_cache, b, &q.screen_area, &q.distance);
         benefit = wrap_benefit(sch, &q);
         if (value_bad(benefit)) {
             bad_value(sch);
@@ -880,12 +985,12 @@ static double memo(tclod_scheduler *sch, tclod_id n, int *visible) {
                 cost = HUGE_VAL;
             }
         }
-        sch->memo_mark[n] = sch->memo_epoch;
-        sch->memo_cost[n] = cost;
-        sch->memo_visible[n] = benefit > 0.0;
+        P->memo_mark[n] = P->memo_epoch;
+        P->memo_cost[n] = cost;
+        P->memo_visible[n] = benefit > 0.0;
     }
-    *visible = sch->memo_visible[n];
-    return sch->memo_cost[n];
+    *visible = P->memo_visible[n];
+    return P->memo_cost[n];
 }
 
 /* The ancestor of v at depth `depth` (<= v's). */
@@ -907,6 +1012,7 @@ static void morph_state(tclod_scheduler *sch, const region *R, double s, emit_fn
     uint32_t base = sch->depth[R->root], k, i, stamp;
     float w;
     int vis;
+    const plan_state *P = PLAN(sch);
     if (s <= 0.0) {
         memo(sch, R->root, &vis);
         if (vis) emit(sch, R->root, R->root, 1.0f, ctx);
@@ -921,7 +1027,7 @@ static void morph_state(tclod_scheduler *sch, const region *R, double s, emit_fn
     }
     stamp = next_epoch(sch);
     for (i = 0; i < R->count; ++i) {
-        tclod_id leaf = sch->nodes[R->first + i], m;
+        tclod_id leaf = P->nodes[R->first + i], m;
         if (sch->depth[leaf] - base <= k) {
             memo(sch, leaf, &vis);
             if (vis) emit(sch, leaf, leaf, 1.0f, ctx);
@@ -949,7 +1055,7 @@ static void add_cost(tclod_scheduler *sch, tclod_id fine, tclod_id coarse, float
  * its Y side (list 1) -- when every state it passes through costs no more
  * than S_j's nodes in it (list 2); else S_j's nodes as they are. */
 static void plan_region(tclod_scheduler *sch, uint32_t r, uint32_t e) {
-    region *R = &sch->regions[r], plan = *R;
+    region *R = &PLAN(sch)->regions[r], plan = *R;
     tclod_id q = R->root;
     uint32_t fx, nx, fy, ny, fc, nc, i;
     int in_x = sch->mark_b[q] == e, in_y = sch->mark_c[q] == e, vis;
@@ -957,7 +1063,7 @@ static void plan_region(tclod_scheduler *sch, uint32_t r, uint32_t e) {
     region_list(sch, r, 0, &fx, &nx);
     region_list(sch, r, 1, &fy, &ny);
     region_list(sch, r, 2, &fc, &nc);
-    for (i = 0; i < nc; ++i) allowed += memo(sch, sch->nodes[fc + i], &vis);
+    for (i = 0; i < nc; ++i) allowed += memo(sch, PLAN(sch)->nodes[fc + i], &vis);
     if (in_x && !in_y && ny > 0) {
         plan.kind = REGION_UP;
         plan.first = fy;
@@ -977,7 +1083,7 @@ static void plan_region(tclod_scheduler *sch, uint32_t r, uint32_t e) {
         uint32_t k;
         plan.depth = 0;
         for (i = 0; i < plan.count; ++i) {
-            uint32_t rel = sch->depth[sch->nodes[plan.first + i]] - sch->depth[q];
+            uint32_t rel = sch->depth[PLAN(sch)->nodes[plan.first + i]] - sch->depth[q];
             if (rel > plan.depth) plan.depth = rel;
         }
         /* the states: q, each level's morph, the fine side */
@@ -996,9 +1102,9 @@ static void plan_region(tclod_scheduler *sch, uint32_t r, uint32_t e) {
     }
     /* too dear somewhere: S_j's nodes, switched to at the start and from at
      * the end */
-    if (nx > 0 && nc > 0 && !same_nodes(sch, sch->nodes + fx, nx, sch->nodes + fc, nc))
+    if (nx > 0 && nc > 0 && !same_nodes(sch, PLAN(sch)->nodes + fx, nx, PLAN(sch)->nodes + fc, nc))
         count_change(sch, 0);
-    if (ny > 0 && nc > 0 && !same_nodes(sch, sch->nodes + fc, nc, sch->nodes + fy, ny))
+    if (ny > 0 && nc > 0 && !same_nodes(sch, PLAN(sch)->nodes + fc, nc, PLAN(sch)->nodes + fy, ny))
         count_change(sch, 0);
     R->kind = REGION_STATIC;
     R->first = fc;
@@ -1009,12 +1115,13 @@ static void plan_region(tclod_scheduler *sch, uint32_t r, uint32_t e) {
 /* The plan of the current interval: with morphing from
  * X_j = meet(S_{j-1}, S_j) to Y_j = meet(S_j, S_{j+1}); without, S_j. */
 static void make_plan(tclod_scheduler *sch) {
-    const generation *P = &sch->gen[sch->prev], *C = &sch->gen[sch->cur];
-    const generation *N = &sch->gen[sch->next];
+    const generation *P = &sch->gen[sch->p.prev], *C = &sch->gen[sch->p.cur];
+    const generation *N = &sch->gen[sch->p.next];
     const generation *by_priority[3];
     const tclod_id *lists[3];
     uint32_t sizes[3], e, r, i;
     int g;
+    writable_plan(sch);
     update_depths(sch);
     next_memo_epoch(sch);
     /* predicted costs: S_j's where it drew the node, else the newest's */
@@ -1036,7 +1143,7 @@ static void make_plan(tclod_scheduler *sch) {
     lists[2] = C->ids;
     sizes[2] = C->count;
     e = partition(sch, lists, sizes);
-    for (r = 0; r < sch->region_count; ++r) plan_region(sch, r, e);
+    for (r = 0; r < PLAN(sch)->region_count; ++r) plan_region(sch, r, e);
 }
 
 /* ---- the draw list ----------------------------------------------------------------------------- */
@@ -1059,24 +1166,25 @@ static void make_draws(tclod_scheduler *sch) {
     const tclod_draw *items = sch->items[sch->back];
     double cost = 0.0;
     uint32_t r, i, morphing = 0;
+    const plan_state *P = PLAN(sch);
     sch->item_count[sch->back] = 0;
-    for (r = 0; r < sch->region_count; ++r) {
-        const region *R = &sch->regions[r];
+    for (r = 0; r < P->region_count; ++r) {
+        const region *R = &P->regions[r];
         if (R->kind == REGION_STATIC) {
             for (i = 0; i < R->count; ++i) {
-                tclod_id n = sch->nodes[R->first + i];
+                tclod_id n = P->nodes[R->first + i];
                 emit_item(sch, n, n, 1.0f, &cost);
             }
             continue;
         }
-        morph_state(sch, R, (double)R->depth * (R->kind == REGION_UP ? sch->u : 1.0 - sch->u),
+        morph_state(sch, R, (double)R->depth * (R->kind == REGION_UP ? sch->p.u : 1.0 - sch->p.u),
                     emit_item, &cost);
     }
     for (i = 0; i < sch->item_count[sch->back]; ++i) morphing += items[i].fine != items[i].coarse;
-    for (i = 0; i < sch->gen[sch->cur].groups; ++i) cost += sch->gen[sch->cur].group_cost[i];
-    sch->stats.draw_cost = cost;
-    sch->stats.draws = sch->item_count[sch->back];
-    sch->stats.morphing = morphing;
+    for (i = 0; i < sch->gen[sch->p.cur].groups; ++i) cost += sch->gen[sch->p.cur].group_cost[i];
+    sch->p.stats.draw_cost = cost;
+    sch->p.stats.draws = sch->item_count[sch->back];
+    sch->p.stats.morphing = morphing;
 }
 
 /* ---- the pipeline ------------------------------------------------------------------------------- */
@@ -1086,7 +1194,7 @@ static void make_draws(tclod_scheduler *sch) {
 static double clock_in(void) { return tclod_now(); }
 
 static void clock_out(tclod_scheduler *sch, double start) {
-    sch->stats.select_seconds += tclod_now() - start;
+    sch->p.stats.select_seconds += tclod_now() - start;
 }
 
 /* Selects at once for the current view alone and draws that from now on,
@@ -1096,28 +1204,33 @@ static tclod_status select_now(tclod_scheduler *sch, const tclod_view *view, int
     tclod_frame f;
     tclod_stats stats;
     tclod_status st;
-    uint32_t i, n, g = fresh_slot(sch);
+    uint32_t i, n, g;
     double start = clock_in();
+    sch->touched = 1;
     tclod_select_cancel(sch->sel);
-    sch->ready = 0;
+    sch->p.ready = 0;
+    sch->p.lost = 0;
+    g = fresh_slot(sch);
     memset(&f, 0, sizeof f);
     f.view = view;
-    f.budget = sch->budget;
+    f.budget = sch->p.budget;
     sch->current_only = 1;
     st = tclod_select(sch->sel, &f, &stats);
     sch->current_only = 0;
     clock_out(sch, start);
     if (st != TCLOD_OK) return st;
-    sch->stats.invalid_values += stats.invalid_values;
-    sch->stats.emergencies++;
+    sch->p.stats.invalid_values += stats.invalid_values;
+    sch->p.stats.emergencies++;
+    sch->p.stats.selection_benefit = stats.benefit;
+    sch->p.stats.selection_cost = stats.cost;
     store(sch, g);
     if (count_pops) { /* from what this frame would have drawn */
         n = sch->item_count[sch->back];
         for (i = 0; i < n; ++i) sch->list_x[i] = sch->items[sch->back][i].fine;
         count_switches(sch, sch->list_x, n, sch->gen[g].ids, sch->gen[g].count);
     }
-    sch->prev = sch->cur = sch->next = g;
-    sch->scene_version = sch->scene->version;
+    sch->p.prev = sch->p.cur = sch->p.next = g;
+    sch->p.scene_version = sch->scene->version;
     make_plan(sch);
     start = clock_in();
     st = begin(sch, view);
@@ -1125,56 +1238,66 @@ static tclod_status select_now(tclod_scheduler *sch, const tclod_view *view, int
     return st;
 }
 
-/* At a boundary: the pending selection ends (early if need be) and joins the
- * landed ones; the plan of the new interval is made. A selection that fails
- * in strict mode is dropped, and fails the update. */
-static void land(tclod_scheduler *sch) {
-    uint32_t fresh = sch->next;
-    if (tclod_select_pending(sch->sel)) {
+/* The pending selection has finished (stats st): its result is copied now,
+ * while the selector's costs are this solve's, and lands at the next
+ * boundary. */
+static void finished(tclod_scheduler *sch, const tclod_stats *st) {
+    sch->p.landing = fresh_slot(sch);
+    store(sch, sch->p.landing);
+    sch->p.ready = 1;
+    sch->p.landed_invalid = st->invalid_values;
+    sch->p.landed_benefit = st->benefit;
+    sch->p.landed_cost = st->cost;
+}
+
+/* At a boundary: the pending selection ends (early if need be; one begun
+ * again after a failed update runs to its end) and joins the landed ones;
+ * the plan of the new interval is made. A selection that fails in strict
+ * mode fails the update. */
+static tclod_status land(tclod_scheduler *sch) {
+    uint32_t fresh;
+    if (!sch->p.ready) {
         tclod_stats st;
+        tclod_status status;
+        int done = 0;
         double start = clock_in();
-        tclod_status status = tclod_select_finish(sch->sel, &st);
-        if (status == TCLOD_OK) {
-            sch->ready = 1;
-            sch->landed_invalid = st.invalid_values;
-            if (st.stop_reason == TCLOD_STOP_FINISHED) sch->stats.unfinished++;
-        } else if (status == TCLOD_ERR_CALLBACK) {
-            sch->failed = 1;
-        }
+        sch->touched = 1;
+        if (sch->p.redo)
+            status = tclod_select_step(sch->sel, 0.0, 0, &done, &st);
+        else
+            status = tclod_select_finish(sch->sel, &st);
         clock_out(sch, start);
+        if (status != TCLOD_OK) return status;
+        if (st.stop_reason == TCLOD_STOP_FINISHED) sch->p.stats.unfinished++;
+        finished(sch, &st);
     }
-    if (sch->ready) { /* else the selection failed: the newest stays */
-        fresh = fresh_slot(sch);
-        store(sch, fresh);
-        sch->stats.invalid_values += sch->landed_invalid;
-    }
+    fresh = sch->p.landing;
+    sch->p.stats.invalid_values += sch->p.landed_invalid;
+    sch->p.stats.selection_benefit = sch->p.landed_benefit;
+    sch->p.stats.selection_cost = sch->p.landed_cost;
     if (sch->desc.morph) {
         /* S_{j-1}, S_j, S_{j+1} <- S_j, S_{j+1}, the new one */
-        sch->prev = sch->cur;
-        sch->cur = sch->next;
-        sch->next = fresh;
+        sch->p.prev = sch->p.cur;
+        sch->p.cur = sch->p.next;
+        sch->p.next = fresh;
     } else {
-        sch->prev = sch->cur;
-        sch->cur = sch->next = fresh;
-        count_switches(sch, sch->gen[sch->prev].ids, sch->gen[sch->prev].count,
-                       sch->gen[sch->cur].ids, sch->gen[sch->cur].count);
+        sch->p.prev = sch->p.cur;
+        sch->p.cur = sch->p.next = fresh;
+        count_switches(sch, sch->gen[sch->p.prev].ids, sch->gen[sch->p.prev].count,
+                       sch->gen[sch->p.cur].ids, sch->gen[sch->p.cur].count);
     }
-    sch->ready = 0;
-    sch->stats.selections++;
+    sch->p.ready = 0;
+    sch->p.redo = 0;
+    sch->p.stats.selections++;
     make_plan(sch);
+    return TCLOD_OK;
 }
 
 static int arguments_valid(const tclod_scheduler *sch, double now, const tclod_view *view,
                            double budget, double slice) {
     if (!view || tclod_view_validate(view) != TCLOD_OK) return 0;
-    if (isnan(now) || isinf(now) || (sch->shown.started && now < sch->now)) return 0;
+    if (isnan(now) || isinf(now) || (sch->shown.started && now < sch->p.now)) return 0;
     return budget >= 0.0 && slice >= 0.0 && !isinf(slice);
-}
-
-/* Undoes record(): a failed update leaves the path as it was. */
-static void unrecord(tclod_scheduler *sch) {
-    sch->hist_next = (sch->hist_next + HISTORY - 1u) % HISTORY;
-    sch->hist_count--;
 }
 
 /* The pipeline's work of one update; the outputs are made in the back
@@ -1186,58 +1309,90 @@ static tclod_status advance(tclod_scheduler *sch, double now, const tclod_view *
     /* a restart: the first update, a changed scene, a long gap, or times so
      * large that tau no longer moves the boundary (checked at every step:
      * rounding to even can move it once and then not again) */
-    int restart = !sch->started || sch->scene_version != sch->scene->version ||
-                  now - sch->boundary > (MAX_GAP + 1.0) * tau;
-    while (!restart && now >= sch->boundary + tau) {
+    int restart = !sch->p.started || sch->p.scene_version != sch->scene->version ||
+                  now - sch->p.boundary > (MAX_GAP + 1.0) * tau;
+    if (!restart && sch->p.lost) {
+        double start = clock_in();
+        st = begin_again(sch);
+        clock_out(sch, start);
+        if (st != TCLOD_OK) return st;
+    }
+    while (!restart && now >= sch->p.boundary + tau) {
         double start;
-        if (!(sch->boundary + tau > sch->boundary)) {
+        if (!(sch->p.boundary + tau > sch->p.boundary)) {
             restart = 1;
             break;
         }
-        sch->boundary += tau;
-        land(sch);
+        sch->p.boundary += tau;
+        st = land(sch);
+        if (st != TCLOD_OK) return st;
         start = clock_in();
         st = begin(sch, view);
         clock_out(sch, start);
         if (st != TCLOD_OK) return st;
     }
     if (restart) {
-        sch->boundary = now;
+        sch->p.boundary = now;
         sch->item_count[sch->back] = 0;
         st = select_now(sch, view, 0);
         if (st != TCLOD_OK) return st;
-        sch->started = 1;
+        sch->p.started = 1;
     }
-    sch->u = (now - sch->boundary) / tau;
-    if (!(sch->u >= 0.0)) sch->u = 0.0;
-    if (sch->u > 1.0) sch->u = 1.0;
+    sch->p.u = (now - sch->p.boundary) / tau;
+    if (!(sch->p.u >= 0.0)) sch->p.u = 0.0;
+    if (sch->p.u > 1.0) sch->p.u = 1.0;
     make_draws(sch);
-    if (sch->stats.draw_cost > sch->budget) {
+    if (sch->p.stats.draw_cost > sch->p.budget) {
         st = select_now(sch, view, 1);
         if (st != TCLOD_OK) return st;
         make_draws(sch);
     }
-    if (tclod_select_pending(sch->sel)) {
+    if (!sch->p.ready) {
         tclod_stats stats;
         int done = 0;
         double start = clock_in();
+        sch->touched = 1;
         st = tclod_select_step(sch->sel, slice_seconds, 0, &done, &stats);
         clock_out(sch, start);
-        if (st == TCLOD_OK && done) {
-            sch->ready = 1;
-            sch->landed_invalid = stats.invalid_values;
-        }
+        if (st == TCLOD_OK && done) finished(sch, &stats);
     }
     return st;
+}
+
+/* Keeps what an update may change, so that a failure can put it back. */
+static void keep(tclod_scheduler *sch) {
+    sch->saved = sch->p;
+    sch->saved_hist_t = sch->hist_t[sch->p.hist_next];
+    sch->saved_hist_v = sch->hist_v[sch->p.hist_next];
+    sch->views_saved = 0;
+    sch->touched = 0;
+    sch->pending_at_start = tclod_select_pending(sch->sel);
+    tclod_selector_keep(sch->sel, &sch->kept);
+}
+
+/* Puts back what keep() kept: the update failed. The selection pending
+ * before it is lost if the update called the selector (it may have ended,
+ * landed or been dropped): the next update begins it again. */
+static void put_back(tclod_scheduler *sch) {
+    sch->p = sch->saved;
+    sch->hist_t[sch->p.hist_next] = sch->saved_hist_t;
+    sch->hist_v[sch->p.hist_next] = sch->saved_hist_v;
+    if (sch->views_saved) sch->sv = sch->saved_views;
+    if (sch->touched) {
+        tclod_select_cancel(sch->sel);
+        tclod_selector_restore(sch->sel, &sch->kept);
+        if (sch->pending_at_start) sch->p.lost = 1;
+    }
+    sch->asked = TCLOD_NONE;
 }
 
 tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclod_view *view,
                                     double budget, double slice_seconds) {
     tclod_status st;
-    double last_now;
-    if (!sch || !arguments_valid(sch, now, view, budget, slice_seconds)) return TCLOD_ERR_ARG;
+    if (!sch || !arguments_valid(sch, now, view, budget, slice_seconds) ||
+        !tclod_selector_scene_ok(sch->sel))
+        return TCLOD_ERR_ARG;
     if (sch->busy) return TCLOD_ERR_STATE;
-    last_now = sch->now;
     sch->busy = 1;
     st = tclod_scene_prepare(sch->scene);
     if (st == TCLOD_OK) st = reserve(sch);
@@ -1245,27 +1400,28 @@ tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclo
         sch->busy = 0;
         return st;
     }
-    sch->stats.select_seconds = 0.0;
-    sch->budget = budget / tclod_calib_scale(sch->calib);
-    sch->stats.budget = sch->budget;
-    sch->now = now;
+    keep(sch);
+    sch->p.stats.select_seconds = 0.0;
+    sch->p.budget = budget / tclod_calib_scale(sch->calib);
+    sch->p.stats.budget = sch->p.budget;
+    sch->p.now = now;
     sch->failed = 0;
     record(sch, now, view);
     st = advance(sch, now, view, slice_seconds);
     if (st == TCLOD_OK && sch->failed) st = TCLOD_ERR_CALLBACK;
     if (st == TCLOD_OK) { /* the outputs show this update */
         sch->shown.started = 1;
-        sch->shown.prev = sch->prev;
-        sch->shown.cur = sch->cur;
-        sch->shown.next = sch->next;
-        sch->shown.u = sch->u;
+        sch->shown.prev = sch->p.prev;
+        sch->shown.cur = sch->p.cur;
+        sch->shown.next = sch->p.next;
+        sch->shown.u = sch->p.u;
         sch->shown.items = sch->back;
-        sch->shown.stats = sch->stats;
+        sch->shown.stats = sch->p.stats;
         sch->back = 1u - sch->back;
     } else {
-        unrecord(sch);
-        sch->now = last_now;
+        put_back(sch);
     }
+    tclod_selector_keep(sch->sel, NULL);
     sch->busy = 0;
     return st;
 }
@@ -1292,10 +1448,22 @@ double tclod_scheduler_resolution(const tclod_scheduler *sch, tclod_id smooth) {
     return from + (to - from) * sch->shown.u;
 }
 
-tclod_status tclod_scheduler_report(tclod_scheduler *sch, double render_time) {
-    if (!sch || !finite_nonnegative(render_time)) return TCLOD_ERR_ARG;
+tclod_status tclod_scheduler_report_frame(tclod_scheduler *sch, double render_time,
+                                          double logic_time) {
+    if (!sch || !finite_nonnegative(render_time) || !finite_nonnegative(logic_time))
+        return TCLOD_ERR_ARG;
     if (!sch->shown.started) return TCLOD_ERR_STATE;
-    return tclod_calib_report(sch->calib, sch->shown.stats.draw_cost, render_time, 0.0);
+    return tclod_calib_report(sch->calib, sch->shown.stats.draw_cost, render_time, logic_time);
+}
+
+tclod_status tclod_scheduler_report(tclod_scheduler *sch, double render_time) {
+    /* no logic time: the estimate stays as it is */
+    return tclod_scheduler_report_frame(sch, render_time,
+                                        tclod_calib_logic(sch ? sch->calib : NULL));
+}
+
+const tclod_calib *tclod_scheduler_calib(const tclod_scheduler *sch) {
+    return sch ? sch->calib : NULL;
 }
 
 tclod_status tclod_scheduler_get_stats(const tclod_scheduler *sch, tclod_scheduler_stats *st) {

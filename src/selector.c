@@ -151,7 +151,7 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
     if (!s || !d || !out || !tclod_allocator_init(&alloc, a)) return TCLOD_ERR_ARG;
     if (!tclod_solver_available(d->solver) || !d->callbacks.benefit || !d->callbacks.cost)
         return TCLOD_ERR_ARG;
-    if (d->solver == TCLOD_SOLVER_MIXED &&
+    if (d->solver == TCLOD_SOLVER_MIXED && s->smooth_count > 0 &&
         (!d->callbacks.smooth_benefit || !d->callbacks.smooth_cost))
         return TCLOD_ERR_ARG;
     if (!flag(d->warm_start) || !flag(d->split_smooth) || !flag(d->strict) ||
@@ -245,6 +245,43 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
     return TCLOD_OK;
 }
 
+int tclod_selector_scene_ok(const tclod_selector *sel) {
+    /* the mixed solver without smooth callbacks solves like the greedy while
+     * the scene has no smooth objects */
+    return sel->desc.solver != TCLOD_SOLVER_MIXED || sel->scene->smooth_count == 0 ||
+           (sel->desc.callbacks.smooth_benefit && sel->desc.callbacks.smooth_cost);
+}
+
+tclod_status tclod_selector_reserve(tclod_selector *sel) {
+    tclod_status status = tclod_scene_prepare(sel->scene);
+    if (status != TCLOD_OK) return status;
+    return reserve(sel, sel->scene->node_count, sel->scene->smooth_count);
+}
+
+void tclod_selector_keep(tclod_selector *sel, tclod_selector_saved *keep) {
+    sel->keep = keep;
+    if (!keep) return;
+    keep->valid = 0;
+    keep->closure_hint = sel->closure_hint; /* a solve writes it before its commit */
+}
+
+/* Copies the committed state into sel->keep, once, before a commit replaces
+ * it. */
+static void keep_committed(tclod_selector *sel) {
+    tclod_selector_saved *k = sel->keep;
+    if (!k || k->valid) return;
+    if (sel->prev_count) memcpy(k->cut, sel->prev_cut, sizeof(tclod_id) * sel->prev_count);
+    if (sel->result_count) memcpy(k->result, sel->result, sizeof(tclod_id) * sel->result_count);
+    if (sel->group_count)
+        memcpy(k->groups, sel->groups, sizeof(tclod_smooth_group) * sel->group_count);
+    k->cut_count = sel->prev_count;
+    k->result_count = sel->result_count;
+    k->group_count = sel->group_count;
+    k->scene_version = sel->scene_version;
+    k->has_cut = sel->has_cut;
+    k->valid = 1;
+}
+
 static tclod_status check_frame(const tclod_frame *f) {
     if (!(f->budget >= 0.0)) return TCLOD_ERR_ARG;
     if (!(f->solve_seconds >= 0.0)) return TCLOD_ERR_ARG;
@@ -264,10 +301,26 @@ static void roll_back(tclod_selector *sel) {
     for (i = 0; i < sel->cut_count; ++i) sel->node[sel->cut[i]].cut_pos = i;
 }
 
+void tclod_selector_restore(tclod_selector *sel, const tclod_selector_saved *k) {
+    assert(!sel->pending && !sel->busy);
+    sel->closure_hint = k->closure_hint;
+    if (!k->valid) return; /* nothing was committed since */
+    if (k->cut_count) memcpy(sel->prev_cut, k->cut, sizeof(tclod_id) * k->cut_count);
+    sel->prev_count = k->cut_count;
+    roll_back(sel);
+    if (k->result_count) memcpy(sel->result, k->result, sizeof(tclod_id) * k->result_count);
+    if (k->group_count) memcpy(sel->groups, k->groups, sizeof(tclod_smooth_group) * k->group_count);
+    sel->result_count = k->result_count;
+    sel->group_count = k->group_count;
+    sel->scene_version = k->scene_version;
+    sel->has_cut = k->has_cut;
+}
+
 /* The working cut becomes the result: visible, kept nodes in cut order. */
 static void commit(tclod_selector *sel) {
     uint32_t i, n = 0;
     double benefit = 0.0, cost = 0.0;
+    keep_committed(sel);
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id id = sel->cut[i];
         if (!(sel->node[id].benefit > 0.0) || (sel->flags[id] & TCLOD_FLAG_DROPPED)) continue;
@@ -304,6 +357,7 @@ tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f) {
     if (sel->busy || sel->pending) return TCLOD_ERR_STATE;
     status = check_frame(f);
     if (status != TCLOD_OK) return status;
+    if (!tclod_selector_scene_ok(sel)) return TCLOD_ERR_ARG;
     sel->busy = 1;
     status = tclod_scene_prepare(sel->scene);
     if (status == TCLOD_OK)

@@ -11,7 +11,8 @@
  * The allocating entry points: tclod_scene_create, tclod_scene_add_node,
  * tclod_scene_add_smooth, tclod_scene_prepare, tclod_scene_smooth_order,
  * tclod_selector_create, tclod_select and tclod_select_begin (each solver),
- * tclod_scheduler_create, tclod_scheduler_update and tclod_calib_create.
+ * tclod_scheduler_create, tclod_scheduler_update (each solver) and
+ * tclod_calib_create.
  * A selector that saw failures must then go on exactly like one that never
  * did.
  */
@@ -791,17 +792,19 @@ static void assert_same_draws(const draws_copy *a, const draws_copy *b, uint32_t
                      (unsigned long)i, a->resolution[i], b->resolution[i]);
 }
 
-static void scheduler_calls_report_nomem_and_change_nothing(void **state) {
-    /* tclod_scheduler_create, then 24 updates at 20 Hz over three intervals
-     * of tau = 0.5 s with the mixed solver, the scene growing before update
-     * 12: create and the updates that must allocate (the first, and the one
-     * after the growth) are retried with the k-th allocation failing, in both
-     * modes. A failure returns TCLOD_ERR_NOMEM and keeps the draw list; the
-     * other updates succeed with every allocation failing; after every
-     * success the draw list is that of a scheduler that never failed, given
-     * the same successful updates; at the end no byte is left. */
+/* Whether two scheduler stats are the same but for the time they measure. */
+static int same_scheduler_stats(const tclod_scheduler_stats *a, const tclod_scheduler_stats *b) {
+    return a->draw_cost == b->draw_cost && a->budget == b->budget && a->draws == b->draws &&
+           a->morphing == b->morphing && a->selections == b->selections &&
+           a->unfinished == b->unfinished && a->emergencies == b->emergencies &&
+           a->changes == b->changes && a->morphs == b->morphs && a->pops == b->pops &&
+           a->invalid_values == b->invalid_values && a->selection_benefit == b->selection_benefit &&
+           a->selection_cost == b->selection_cost;
+}
+
+/* The scheduler calls over `solver` under failure, in both modes (below). */
+static void scheduler_calls_under_failure(tclod_solver solver) {
     int mode;
-    (void)state;
     for (mode = TRANSIENT; mode <= PERSISTENT; ++mode) {
         test_alloc t;
         tclod_allocator hooks;
@@ -815,6 +818,7 @@ static void scheduler_calls_report_nomem_and_change_nothing(void **state) {
         draws_copy *before = (draws_copy *)malloc(sizeof *before);
         draws_copy *after = (draws_copy *)malloc(sizeof *after);
         draws_copy *expect = (draws_copy *)malloc(sizeof *expect);
+        tclod_scheduler_stats stats_before, stats_after;
         size_t k;
         int u, allocating = 0;
         assert_non_null(before);
@@ -825,7 +829,7 @@ static void scheduler_calls_report_nomem_and_change_nothing(void **state) {
         table_init(&m);
         assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
         build_scene(&m, s, 91, 40, 60, 30);
-        selector_desc(&sd, TCLOD_SOLVER_MIXED, &m);
+        selector_desc(&sd, solver, &m);
         tclod_scheduler_desc_default(&d);
         d.max_speed = 10.0;
         d.max_turn_rate = 0.5;
@@ -855,15 +859,27 @@ static void scheduler_calls_report_nomem_and_change_nothing(void **state) {
             }
             side_view(&v, u % 12);
             take_draws(sch, m.smooth.count, before);
+            assert_int_equal(tclod_scheduler_get_stats(sch, &stats_before), TCLOD_OK);
             for (k = 1; k <= MAX_ALLOCATIONS_PER_CALL; ++k) {
+                size_t bytes = t.outstanding_bytes, blocks = t.outstanding_blocks;
                 tclod_status status;
                 arm(&t, (failure_mode)mode, k);
                 status = tclod_scheduler_update(sch, now, &v, budget, 0.0);
                 if (status == TCLOD_OK)
                     break;
                 assert_int_equal(status, TCLOD_ERR_NOMEM);
+                if (t.outstanding_bytes != bytes || t.outstanding_blocks != blocks)
+                    fail_msg("solver %d, %s, update %d, allocation %lu failing: %lu bytes in %lu "
+                             "blocks held, %lu in %lu before",
+                             solver, mode_name[mode], u, (unsigned long)k,
+                             (unsigned long)t.outstanding_bytes,
+                             (unsigned long)t.outstanding_blocks, (unsigned long)bytes,
+                             (unsigned long)blocks);
                 take_draws(sch, m.smooth.count, after);
                 assert_same_draws(before, after, m.smooth.count, mode_name[mode], u);
+                assert_int_equal(tclod_scheduler_get_stats(sch, &stats_after), TCLOD_OK);
+                assert_true(same_scheduler_stats(&stats_before, &stats_after) &&
+                            stats_before.select_seconds == stats_after.select_seconds);
                 failures++;
             }
             test_alloc_fail_from(&t, 0);
@@ -877,6 +893,9 @@ static void scheduler_calls_report_nomem_and_change_nothing(void **state) {
             take_draws(ref, m.smooth.count, expect);
             assert_same_draws(expect, after, m.smooth.count,
                               "against a scheduler that never failed", u);
+            assert_int_equal(tclod_scheduler_get_stats(sch, &stats_after), TCLOD_OK);
+            assert_int_equal(tclod_scheduler_get_stats(ref, &stats_before), TCLOD_OK);
+            assert_true(same_scheduler_stats(&stats_before, &stats_after));
         }
         assert_int_equal(allocating, 2);
         tclod_scheduler_destroy(ref);
@@ -888,6 +907,26 @@ static void scheduler_calls_report_nomem_and_change_nothing(void **state) {
         free(after);
         free(before);
     }
+}
+
+static void scheduler_calls_report_nomem_and_change_nothing_for_every_solver(void **state) {
+    /* For each solver: tclod_scheduler_create, then 24 updates at 20 Hz over
+     * three intervals of tau = 0.5 s, the scene growing before update 12:
+     * create and the updates that must allocate (the first, and the one after
+     * the growth) are retried with the k-th allocation failing, in both
+     * modes. A failure returns TCLOD_ERR_NOMEM, holds no more memory than
+     * before the call (the scheduler's buffers and its selector's grow
+     * together or not at all) and keeps the draw list and the stats; the
+     * other updates succeed with every allocation failing; after every
+     * success the draw list and the stats are those of a scheduler that
+     * never failed, given the same successful updates; at the end no byte is
+     * left. */
+    static const tclod_solver solvers[3] = {TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_MIXED,
+                                            TCLOD_SOLVER_ROBIN_HOOD};
+    int solver;
+    (void)state;
+    for (solver = 0; solver < 3; ++solver)
+        scheduler_calls_under_failure(solvers[solver]);
 }
 
 /* ---- calibration ------------------------------------------------------------ */
@@ -948,7 +987,7 @@ int main(void) {
         cmocka_unit_test(selects_sharing_the_scene_allocator_leak_nothing_for_every_solver),
         cmocka_unit_test(select_begin_reports_nomem_and_steps_allocate_nothing_for_every_solver),
         cmocka_unit_test(robin_hood_selects_after_the_first_allocate_nothing),
-        cmocka_unit_test(scheduler_calls_report_nomem_and_change_nothing),
+        cmocka_unit_test(scheduler_calls_report_nomem_and_change_nothing_for_every_solver),
         cmocka_unit_test(calib_create_reports_nomem_transient_and_persistent),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

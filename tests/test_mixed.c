@@ -3,8 +3,9 @@
  * search of eq. 8.14 on a hand-worked two-variable case, the choice between a
  * discrete step and a smooth one by their slopes (eq. 8.8-8.11), saturation
  * and the barrier of eq. 8.13, a kinked setup cost (eq. 8.18) against a
- * hand-computed optimum, and random separable concave instances against the
- * closed-form Lagrangian optimum.
+ * hand-computed optimum, random separable concave instances against the
+ * closed-form Lagrangian optimum, and a scene without smooth objects, which
+ * needs no smooth callbacks.
  *
  * Smooth objects come from the table model: benefit w r^p or w ln(1 + p r),
  * cost k r, or steep r before a kink. "Papers' loop" is smooth_precondition 0
@@ -456,6 +457,68 @@ static void without_smooth_objects_the_mixed_solver_keeps_the_greedys_safeguard(
     }
 }
 
+static void without_smooth_objects_the_mixed_solver_needs_no_smooth_callbacks(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* The scene of the safeguard test above, and the host's callbacks
+     * without smooth ones: the mixed solver is created and selects what the
+     * greedy does, {B, A1, A2}, benefit 158, alone and under a scheduler.
+     * Once the scene has a smooth object, which it cannot draw, a select, a
+     * begin and a scheduler update fail with TCLOD_ERR_ARG and keep what
+     * they showed; a new mixed selector is refused. */
+    tclod_id a = helper_add(f, TCLOD_NONE, 19.0, 29.0), b = helper_add(f, TCLOD_NONE, 50.0, 60.0);
+    tclod_id a1 = helper_add(f, a, 59.018, 61.0), a2 = helper_add(f, a, 48.982, 53.0);
+    tclod_id expected[3];
+    tclod_selector_desc d;
+    tclod_scheduler_desc sd;
+    tclod_selector *sel = NULL, *other = NULL;
+    tclod_scheduler *sch[2] = {NULL, NULL};
+    tclod_frame frame = helper_frame(NULL, 176.0);
+    tclod_stats st;
+    tclod_view v;
+    const tclod_draw *items[2];
+    size_t n[2];
+    int k;
+    helper_add(f, b, 32.4828, 21.0);
+    helper_add(f, b, 33.5172, 51.0);
+    expected[0] = b;
+    expected[1] = a1;
+    expected[2] = a2;
+    tclod_selector_desc_default(&d);
+    table_callbacks(&f->model, &d.callbacks);
+    assert_null(d.callbacks.smooth_benefit);
+    d.solver = TCLOD_SOLVER_MIXED;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_OK);
+    helper_assert_cut(sel, expected, 3);
+    assert_near(st.benefit, 158.0, 1e-12, "benefit");
+    tclod_scheduler_desc_default(&sd);
+    helper_view(&v);
+    for (k = 0; k < 2; ++k) {
+        d.solver = k ? TCLOD_SOLVER_GREEDY : TCLOD_SOLVER_MIXED;
+        assert_int_equal(tclod_scheduler_create(f->scene, &d, &sd, NULL, &sch[k]), TCLOD_OK);
+        assert_int_equal(tclod_scheduler_update(sch[k], 0.0, &v, 176.0, 0.0), TCLOD_OK);
+        assert_int_equal(tclod_scheduler_update(sch[k], 1.2, &v, 176.0, 0.0), TCLOD_OK);
+        assert_int_equal(tclod_scheduler_draws(sch[k], &items[k], &n[k]), TCLOD_OK);
+    }
+    assert_int_equal(n[0], 3);
+    assert_int_equal(n[0], n[1]);
+    assert_memory_equal(items[0], items[1], n[0] * sizeof(tclod_draw));
+    add_sqrt(f, 1.0, 1.0);
+    assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_ERR_ARG);
+    helper_assert_cut(sel, expected, 3);
+    assert_int_equal(tclod_select_begin(sel, &frame), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_select_pending(sel), 0);
+    assert_int_equal(tclod_scheduler_update(sch[0], 1.3, &v, 176.0, 0.0), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_draws(sch[0], &items[0], &n[0]), TCLOD_OK);
+    assert_int_equal(n[0], 3);
+    d.solver = TCLOD_SOLVER_MIXED;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &other), TCLOD_ERR_ARG);
+    assert_null(other);
+    tclod_scheduler_destroy(sch[1]);
+    tclod_scheduler_destroy(sch[0]);
+    tclod_selector_destroy(sel);
+}
+
 /* Chains P0 (b 1, c 1) -> P1 (1.5, 3) -> P2 (9, 5) and Q0 (1, 1) -> Q1 (3, 3),
  * and a smooth object of benefit r / 2 and cost r (slope 1/2 throughout, cost
  * 1 at most); budget 6, the roots cost 2. One level down P gains 0.5 for 2
@@ -509,6 +572,7 @@ int main(void) {
         FIXTURE_TEST(zero_budget_draws_no_smooth_object),
         FIXTURE_TEST(iteration_limits_stop_with_a_feasible_selection),
         FIXTURE_TEST(without_smooth_objects_the_mixed_solver_keeps_the_greedys_safeguard),
+        FIXTURE_TEST(without_smooth_objects_the_mixed_solver_needs_no_smooth_callbacks),
         FIXTURE_TEST(lookahead_increments_compete_with_smooth_steps_by_their_slope),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -176,8 +176,10 @@ typedef struct tclod_query {
  *          negative values and derivatives are counted like the other
  *          callbacks' (one count per call, whether the value, the slope or
  *          both are bad) and make the group invisible (bad benefit) or the
- *          resolution unaffordable (bad cost). Required by the mixed solver;
- *          may be NULL for the greedy solver, which ignores smooth objects. */
+ *          resolution unaffordable (bad cost). Required by the mixed solver
+ *          over a scene with smooth objects (without them it solves like the
+ *          greedy and may go without); may be NULL for the greedy solver,
+ *          which ignores smooth objects. */
 typedef struct tclod_callbacks {
     double (*benefit)(void *user, const tclod_query *q);
     double (*cost)(void *user, const tclod_query *q);
@@ -424,11 +426,11 @@ typedef struct tclod_selector tclod_selector;
 /* Creates a selector over scene s, which must outlive it. d is copied; a may be
  * NULL (malloc/free). Errors: TCLOD_ERR_ARG (NULL s, d or out; a solver this
  * build does not provide; benefit or cost callback NULL; the mixed solver
- * without smooth_benefit or smooth_cost; warm_start, split_smooth, strict or
- * smooth_precondition other than 0 or 1; lookahead or restarts above their
- * maximum; split_threshold, smooth_epsilon, smooth_tolerance,
- * smooth_cull_area, value, misfit or reference_area NaN or out of range),
- * TCLOD_ERR_NOMEM. */
+ * without smooth_benefit or smooth_cost over a scene with smooth objects;
+ * warm_start, split_smooth, strict or smooth_precondition other than 0 or 1;
+ * lookahead or restarts above their maximum; split_threshold,
+ * smooth_epsilon, smooth_tolerance, smooth_cull_area, value, misfit or
+ * reference_area NaN or out of range), TCLOD_ERR_NOMEM. */
 TCLOD_API tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_desc *d,
                                              const tclod_allocator *a, tclod_selector **out);
 
@@ -447,10 +449,12 @@ TCLOD_API void tclod_selector_destroy(tclod_selector *sel);
  * and after the scene grew). A changed scene restarts from the roots.
  * st may be NULL.
  * Errors: TCLOD_ERR_ARG (NULL sel or f; budget NaN or < 0; solve_seconds NaN
- * or < 0; an invalid view), TCLOD_ERR_CALLBACK (strict mode), TCLOD_ERR_NOMEM,
- * TCLOD_ERR_STATE (re-entered from a callback, or a callback changed the
- * scene during the solve: the next solve starts over from the roots). On error
- * the previous result and its stats stay as they were. */
+ * or < 0; an invalid view; the mixed solver created without smooth callbacks
+ * over a scene that has smooth objects now), TCLOD_ERR_CALLBACK (strict
+ * mode), TCLOD_ERR_NOMEM, TCLOD_ERR_STATE (re-entered from a callback, or a
+ * callback changed the scene during the solve: the next solve starts over
+ * from the roots). On error the previous result and its stats stay as they
+ * were. */
 TCLOD_API tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats *st);
 
 /* Resumable selection: the same solve as tclod_select, spread over several
@@ -675,9 +679,14 @@ typedef struct tclod_scheduler tclod_scheduler;
 #define TCLOD_MAX_SAMPLES 8u
 
 typedef struct tclod_scheduler_desc {
-    double tau;            /* seconds, > 0: the interval, horizon unit and morph
-                              duration. Default 0.5 (seed 004 §4.5: 10 frames at
-                              20 Hz) */
+    double tau;            /* seconds: the interval, horizon unit and morph
+                              duration. A normal positive number (not 0, not
+                              subnormal) with 4 tau finite (the longest gap
+                              between updates before the pipeline restarts).
+                              Updates further apart than 4 tau restart it, so a
+                              tau shorter than the time between updates selects
+                              at once in every update (counted in emergencies).
+                              Default 0.5 (seed 004 §4.5: 10 frames at 20 Hz) */
     uint32_t samples;      /* predicted views per selection, 1 .. TCLOD_MAX_SAMPLES,
                               at the middles of equal parts of the target
                               interval. Default 3 */
@@ -730,6 +739,14 @@ typedef struct tclod_scheduler_stats {
     uint32_t invalid_values; /* callback values that were NaN, inf or negative, in
                               the landed selections and the scheduler's own
                               evaluations */
+    double selection_benefit; /* the newest landed (or immediate) selection's
+                              benefit and cost as its solve saw them: the
+                              benefit summed over the predicted views plus
+                              confidence times the conservative camera's, the
+                              cost the largest over the predicted views that saw
+                              a node (an immediate selection: the current
+                              view's) */
+    double selection_cost;
 } tclod_scheduler_stats;
 
 /* Creates a scheduler over scene s (which must outlive it) with a selector
@@ -737,7 +754,8 @@ typedef struct tclod_scheduler_stats {
  * the predicted views, and from tclod_scheduler_update itself) and the
  * scheduling desc d; both are copied. a may be NULL (malloc/free). Errors:
  * TCLOD_ERR_ARG (NULL argument, sd rejected as tclod_selector_create rejects
- * it, a field of d out of range or NaN), TCLOD_ERR_NOMEM. */
+ * it, a field of d out of range or NaN, tau not as described above),
+ * TCLOD_ERR_NOMEM. */
 TCLOD_API tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_desc *sd,
                                               const tclod_scheduler_desc *d,
                                               const tclod_allocator *a, tclod_scheduler **out);
@@ -754,13 +772,19 @@ TCLOD_API void tclod_scheduler_destroy(tclod_scheduler *sch);
  * does an update after a changed scene or a gap of more than 3 tau. The
  * scheduler also calls the host's callbacks itself, for the nodes a morph
  * passes through. Allocates only when the scene grew (and on the first
- * update). Errors: TCLOD_ERR_ARG (NULL sch or view, an invalid view, now NaN,
- * inf or earlier than the last successful update's, budget NaN or < 0,
- * slice_seconds NaN, inf or < 0), TCLOD_ERR_CALLBACK (strict mode: a callback
- * returned a bad value; the selection that saw it is dropped), TCLOD_ERR_NOMEM,
- * TCLOD_ERR_STATE (called from a callback). On error the outputs stay as the
- * last successful update left them: draw list, resolutions, stats and the
- * recorded path. */
+ * update); all of it before anything else, so that running out of memory
+ * changes nothing. Errors: TCLOD_ERR_ARG (NULL sch or view, an invalid view,
+ * now NaN, inf or earlier than the last successful update's, budget NaN or
+ * < 0, slice_seconds NaN, inf or < 0, the mixed solver without smooth
+ * callbacks over a scene that now has smooth objects), TCLOD_ERR_CALLBACK
+ * (strict mode: a callback returned a bad value), TCLOD_ERR_NOMEM,
+ * TCLOD_ERR_STATE (called from a callback). An update is all or nothing: on
+ * error the scheduler is as the last successful update left it (draw list,
+ * resolutions, stats, the recorded path, the interval boundary, the landed
+ * selections and the memory held), so that the next update goes on as if the
+ * failed one had not been made. The one thing a failed update cannot keep is
+ * the progress of a selection under way; the next update begins it again and
+ * runs it to its end when it lands. */
 TCLOD_API tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now,
                                              const tclod_view *view, double budget,
                                              double slice_seconds);
@@ -776,12 +800,25 @@ TCLOD_API tclod_status tclod_scheduler_draws(const tclod_scheduler *sch, const t
  * that ignores smooth objects). O(1). */
 TCLOD_API double tclod_scheduler_resolution(const tclod_scheduler *sch, tclod_id smooth);
 
-/* Reports the measured render time of the frame drawn from the last update's
- * draw list (>= 0, the budget's unit): the calibration compares it with the
- * list's predicted cost and rescales the budget of the frames that follow.
- * Errors: TCLOD_ERR_ARG (NULL sch, render_time NaN, inf or < 0),
- * TCLOD_ERR_STATE (before the first update). */
+/* Reports the measured render and logic times of the frame drawn from the last
+ * update's draw list (>= 0, the budget's unit) to the scheduler's calibration
+ * (tclod_scheduler_calib): it compares the render time with the list's
+ * predicted cost and rescales the budget of the frames that follow, and
+ * follows the logic time. Errors: TCLOD_ERR_ARG (NULL sch, a time NaN, inf or
+ * < 0), TCLOD_ERR_STATE (before the first update); nothing changes. */
+TCLOD_API tclod_status tclod_scheduler_report_frame(tclod_scheduler *sch, double render_time,
+                                                    double logic_time);
+
+/* tclod_scheduler_report_frame without a logic time: the logic estimate stays
+ * as it is. */
 TCLOD_API tclod_status tclod_scheduler_report(tclod_scheduler *sch, double render_time);
+
+/* The scheduler's calibration, for tclod_calib_scale and tclod_calib_logic:
+ * a host that budgets a frame time gives tclod_scheduler_update the render
+ * time tclod_render_budget(frame_time, tclod_calib_logic(c), machine_c)
+ * (the update divides it by the scale itself). Valid until the scheduler is
+ * destroyed; NULL for NULL. */
+TCLOD_API const tclod_calib *tclod_scheduler_calib(const tclod_scheduler *sch);
 
 /* The scheduler's figures (tclod_scheduler_stats). Errors: TCLOD_ERR_ARG. */
 TCLOD_API tclod_status tclod_scheduler_get_stats(const tclod_scheduler *sch,
@@ -791,8 +828,8 @@ TCLOD_API tclod_status tclod_scheduler_get_stats(const tclod_scheduler *sch,
  * up extrapolated linearly (least squares over the views of the last tau
  * seconds, at least the last two), the motion clamped to max_speed and
  * max_turn_rate when they are > 0; the other fields are the last view's.
- * Errors: TCLOD_ERR_ARG (NULL argument, t NaN), TCLOD_ERR_STATE (no view
- * recorded yet). */
+ * Errors: TCLOD_ERR_ARG (NULL argument, t NaN or infinite), TCLOD_ERR_STATE
+ * (no view recorded yet). */
 TCLOD_API tclod_status tclod_scheduler_predict(const tclod_scheduler *sch, double t,
                                                tclod_view *out);
 

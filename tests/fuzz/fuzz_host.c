@@ -188,13 +188,17 @@ double option_value(fuzz_reader *in, double def) {
 /* Whether the header promises TCLOD_ERR_ARG for this description; -1 when it
  * leaves the value open (an infinite threshold, cull area or reference area:
  * "NaN or out of range" with ranges written as ">= 0" and "> 0"). */
-int desc_invalid(const tclod_selector_desc *d) {
+int smooth_callbacks_missing(const tclod_selector_desc *d, uint32_t smooth) {
+    return d->solver == TCLOD_SOLVER_MIXED && smooth > 0 &&
+           (!d->callbacks.smooth_benefit || !d->callbacks.smooth_cost);
+}
+
+int desc_invalid(const tclod_selector_desc *d, uint32_t smooth) {
     int open = 0;
     if (!tclod_solver_available(d->solver) || !d->callbacks.benefit || !d->callbacks.cost ||
         d->lookahead > TCLOD_MAX_LOOKAHEAD || d->restarts > TCLOD_MAX_RESTARTS)
         return 1;
-    if (d->solver == TCLOD_SOLVER_MIXED &&
-        (!d->callbacks.smooth_benefit || !d->callbacks.smooth_cost))
+    if (smooth_callbacks_missing(d, smooth))
         return 1;
     if (!(d->split_threshold >= 0.0) || !(d->smooth_epsilon >= 0.0 && d->smooth_epsilon < 1.0) ||
         !(d->smooth_tolerance >= 0.0 && d->smooth_tolerance < 1.0) ||

@@ -91,10 +91,15 @@ double host_smooth_cost(void *user, const tclod_query *q, double r, double *d_dr
  * the rest special ones (bad ones among them). */
 double option_value(fuzz_reader *in, double def);
 
-/* Whether the header promises TCLOD_ERR_ARG for this description; -1 when it
- * leaves the value open (an infinite threshold, cull area or reference area:
- * "NaN or out of range" with ranges written as ">= 0" and "> 0"). */
-int desc_invalid(const tclod_selector_desc *d);
+/* Whether the header promises TCLOD_ERR_ARG for this description over a
+ * scene of `smooth` smooth objects; -1 when it leaves the value open (an
+ * infinite threshold, cull area or reference area: "NaN or out of range" with
+ * ranges written as ">= 0" and "> 0"). */
+int desc_invalid(const tclod_selector_desc *d, uint32_t smooth);
+
+/* Whether a selector of this (valid) description refuses to solve a scene of
+ * `smooth` smooth objects: the mixed solver without smooth callbacks. */
+int smooth_callbacks_missing(const tclod_selector_desc *d, uint32_t smooth);
 
 /* A selector description from the input: solver (sometimes an unknown
  * one), flags, value and misfit policies, options (sometimes out of range),

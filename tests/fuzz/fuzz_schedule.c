@@ -12,7 +12,8 @@
  *  - an update fails with TCLOD_ERR_ARG for a bad view, time, budget or
  *    slice, with TCLOD_ERR_CALLBACK in strict mode exactly when a callback
  *    returned a bad value, and otherwise succeeds; a failed update keeps the
- *    last draw list;
+ *    last draw list and stats, and records no camera (a later update may be
+ *    as early as the last successful one);
  *  - a draw list names known nodes whose fine sides form an antichain, each
  *    drawn as itself with weight 1 or morphing towards its parent with a
  *    weight in [0, 1], never a node whose cost is bad; its predicted cost is
@@ -38,8 +39,9 @@
  * scheduling description; -1 when an infinite value is left open. */
 static int schedule_desc_invalid(const tclod_scheduler_desc *d) {
     const tclod_calib_desc *c = &d->calib;
-    if (!(d->tau > 0.0) || d->samples < 1 || d->samples > TCLOD_MAX_SAMPLES ||
-        !(d->confidence >= 0.0) || !(d->max_speed >= 0.0) || !(d->max_turn_rate >= 0.0))
+    if (!isnormal(d->tau) || !(d->tau > 0.0) || isinf(4.0 * d->tau) || d->samples < 1 ||
+        d->samples > TCLOD_MAX_SAMPLES || !(d->confidence >= 0.0) || !(d->max_speed >= 0.0) ||
+        !(d->max_turn_rate >= 0.0))
         return 1;
     if (!(c->initial_scale > 0.0) || !(c->rise_rate > 0.0 && c->rise_rate <= 1.0) ||
         !(c->fall_rate > 0.0 && c->fall_rate <= 1.0) ||
@@ -47,9 +49,8 @@ static int schedule_desc_invalid(const tclod_scheduler_desc *d) {
         !(c->logic_rate > 0.0 && c->logic_rate <= 1.0) || !(c->initial_logic >= 0.0) ||
         !(c->machine_c > 0.0))
         return 1;
-    return isinf(d->tau) || isinf(d->confidence) || isinf(d->max_speed) ||
-                   isinf(d->max_turn_rate) || isinf(c->initial_scale) || isinf(c->initial_logic) ||
-                   isinf(c->machine_c)
+    return isinf(d->confidence) || isinf(d->max_speed) || isinf(d->max_turn_rate) ||
+                   isinf(c->initial_scale) || isinf(c->initial_logic) || isinf(c->machine_c)
                ? -1
                : 0;
 }
@@ -220,7 +221,7 @@ static void run(fuzz_reader *in) {
     tclod_scheduler_desc d;
     tclod_scheduler *sch[2] = {NULL, NULL};
     tclod_scene *s = NULL;
-    double now = 0.0, last_ok = 0.0, last_any = 0.0;
+    double now = 0.0, last_ok = 0.0;
     uint32_t n, i, updates, u;
     int invalid, compare = 1, updated = 0, tried = 0, reported = 0;
     tclod_status st;
@@ -236,7 +237,7 @@ static void run(fuzz_reader *in) {
     for (i = 0; i < n; ++i)
         add_smooth(in, s, m);
 
-    invalid = desc_invalid(&sd);
+    invalid = desc_invalid(&sd, m->smooth);
     if (invalid == 0 || invalid == -1) {
         int other = schedule_desc_invalid(&d);
         invalid = other == 1 ? 1 : (invalid == -1 || other == -1 ? -1 : 0);
@@ -275,7 +276,7 @@ static void run(fuzz_reader *in) {
         const tclod_view *v;
         double budget, slice, scale = 0.0, t;
         uint8_t b = fuzz_u8(in);
-        int bad, open;
+        int bad;
 
         /* time: a step from the table, sometimes NaN or backwards */
         t = (b & 0xe0) == 0xe0 ? ((b & 1) ? (double)NAN : now - 1.0) : now + steps[b & 7u];
@@ -291,22 +292,24 @@ static void run(fuzz_reader *in) {
         slice = b < 200 ? 0.0 : (b < 250 ? 1e-300 : (b & 1 ? -1.0 : (double)NAN));
         if (slice > 0.0)
             compare = 0; /* the slice's end depends on the clock */
-        /* "now NaN or earlier than the last update's": certainly bad when
-         * earlier than the last successful update; open when only an update
-         * that failed in its callbacks (and may have recorded its camera) was
-         * later */
+        /* "now NaN or earlier than the last successful update's": a failed
+         * update records nothing, so only the successful ones count */
         bad = v == NULL || tclod_view_validate(v) != TCLOD_OK || t != t ||
               (updated && t < last_ok) || !(budget >= 0.0) || !(slice >= 0.0);
-        open = !bad && tried && t < last_any;
 
         for (i = 0; i < 2; ++i) {
             probe *p = &state.probes[i];
             double in_force = -1.0;
+            tclod_scheduler_stats before, after;
+            memset(&before, 0, sizeof before); /* padding compares equal */
+            memset(&after, 0, sizeof after);
             take_draws(sch[i], m->smooth, &state.before);
+            FUZZ_CHECK(tclod_scheduler_get_stats(sch[i], &before) == TCLOD_OK, "get_stats");
             probe_reset(p, v);
             st = tclod_scheduler_update(sch[i], t, v, budget, slice);
             take_draws(sch[i], m->smooth, &state.after[i]);
-            if (bad || (open && st == TCLOD_ERR_ARG)) {
+            FUZZ_CHECK(tclod_scheduler_get_stats(sch[i], &after) == TCLOD_OK, "get_stats");
+            if (bad) {
                 FUZZ_CHECK(st == TCLOD_ERR_ARG && p->calls == 0,
                            "update(t %g after %g, budget %g, slice %g) gave %d after %u calls", t,
                            last_ok, budget, slice, (int)st, (unsigned)p->calls);
@@ -318,8 +321,9 @@ static void run(fuzz_reader *in) {
                            sd.strict, (unsigned)p->bad);
             }
             if (st != TCLOD_OK) {
-                FUZZ_CHECK(same_draws(&state.before, &state.after[i], m->smooth),
-                           "a failed update changed the draw list");
+                FUZZ_CHECK(same_draws(&state.before, &state.after[i], m->smooth) &&
+                               memcmp(&before, &after, sizeof before) == 0,
+                           "a failed update changed the draw list or the stats");
                 continue;
             }
             if (!reported && d.calib.initial_scale >= DBL_MIN)
@@ -331,7 +335,6 @@ static void run(fuzz_reader *in) {
             updated = 1;
         }
         if (st == TCLOD_OK || st == TCLOD_ERR_CALLBACK) {
-            last_any = tried && last_any > t ? last_any : t;
             tried = 1;
         }
         if (compare)

@@ -264,7 +264,7 @@ static void run(fuzz_reader *in) {
     for (i = 0; i < n; ++i)
         add_smooth(in, s, m);
 
-    invalid = desc_invalid(&d);
+    invalid = desc_invalid(&d, m->smooth);
     for (i = 0; i < 2; ++i) {
         tclod_selector *const sentinel = (tclod_selector *)(void *)&state;
         sel[i] = sentinel;
@@ -344,7 +344,8 @@ static void run(fuzz_reader *in) {
         if (fr.view && tclod_view_validate(fr.view) == TCLOD_OK)
             check_view_helpers(fr.view, m);
         bad_frame = !(fr.budget >= 0.0) || !(fr.solve_seconds >= 0.0) ||
-                    (fr.view && tclod_view_validate(fr.view) != TCLOD_OK);
+                    (fr.view && tclod_view_validate(fr.view) != TCLOD_OK) ||
+                    smooth_callbacks_missing(&d, m->smooth);
 
         how = fuzz_u8(in);
         for (i = 0; i < 2; ++i) {
