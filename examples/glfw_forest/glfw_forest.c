@@ -1469,7 +1469,8 @@ int main(int argc, char **argv) {
             const tclod_draw *items;
             size_t n_items;
             tclod_scheduler_stats ss;
-            tclod_render_budget(a.opt.target_ms, tclod_calib_logic(a.calib), 1.0, &budget);
+            tclod_render_budget(a.opt.target_ms, tclod_calib_logic(tclod_scheduler_calib(a.sch)),
+                                1.0, &budget);
             st = tclod_scheduler_update(a.sch, now, &view, budget,
                                         SLICE_SHARE * a.opt.target_ms * 1e-3);
             if (st != TCLOD_OK) {
@@ -1526,8 +1527,8 @@ int main(int argc, char **argv) {
             hud.filled ? (double)hud.frame_ms[(hud.next + GRAPH_FRAMES - 1) % GRAPH_FRAMES] : 0.0;
         hf.target_ms = a.opt.target_ms;
         hf.budget = budget;
-        hf.scale = tclod_calib_scale(a.calib);
-        hf.logic_ms = tclod_calib_logic(a.calib);
+        hf.scale = tclod_calib_scale(a.sch ? tclod_scheduler_calib(a.sch) : a.calib);
+        hf.logic_ms = tclod_calib_logic(a.sch ? tclod_scheduler_calib(a.sch) : a.calib);
         hf.select_us = stats.solve_seconds * 1e6;
         hf.solver = solver_names[a.solver];
         hf.morph = a.opt.morph;
@@ -1553,10 +1554,12 @@ int main(int argc, char **argv) {
             tclod_calib_report(a.calib, predicted, tm.last_render_ms,
                                frame_ms > tm.last_render_ms ? frame_ms - tm.last_render_ms : 0.0);
         }
-        /* the scheduler's own calibration: with GPU timing the latest measured
-         * frame, a frame or two old, stands in for this one */
+        /* the scheduler's own calibration, render and logic time: with GPU timing
+         * the latest measured frame, a frame or two old, stands in for this one */
         if (a.sch)
-            tclod_scheduler_report(a.sch, tm.last_render_ms);
+            tclod_scheduler_report_frame(a.sch, tm.last_render_ms,
+                                         frame_ms > tm.last_render_ms ? frame_ms - tm.last_render_ms
+                                                                      : 0.0);
         hud.frame_ms[hud.next] = (float)frame_ms;
         hud.target_ms[hud.next] = (float)a.opt.target_ms;
         hud.next = (hud.next + 1) % GRAPH_FRAMES;
