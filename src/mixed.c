@@ -193,7 +193,7 @@ static double model_spend(const tclod_vars *V, double lambda) {
  * jump; the method then halves). */
 static double level(const tclod_selector *sel, double left, double guess) {
     const tclod_vars *V = &sel->vars;
-    double tol = 1e-3 * fabs(sel->frame->budget), lo, hi, flo, fhi;
+    double tol = 1e-3 * fabs(sel->frame->budget), lo, hi, flo, fhi, spent;
     uint32_t k;
     int side = 0;
     if (!(model_spend(V, 0.0) > left)) return 0.0;
@@ -215,7 +215,9 @@ static double level(const tclod_selector *sel, double left, double guess) {
             lo -= 4.0;
         }
     }
-    for (k = 0; k < 64 && hi - lo > 1e-9 && -fhi > tol; ++k) {
+    /* spent: the spend at hi as evaluated; fhi may be halved by the Illinois
+     * correction, and only steers the next point */
+    for (k = 0, spent = fhi; k < 64 && hi - lo > 1e-9 && -spent > tol; ++k) {
         double u = lo + (hi - lo) * flo / (flo - fhi), f;
         if (!(u > lo && u < hi)) u = 0.5 * (lo + hi);
         f = model_spend(V, exp(u)) - left;
@@ -226,7 +228,7 @@ static double level(const tclod_selector *sel, double left, double guess) {
             side = 1;
         } else {
             hi = u;
-            fhi = f;
+            fhi = spent = f;
             if (side < 0) flo *= 0.5;
             side = -1;
         }
@@ -487,7 +489,10 @@ static int seek_budget(tclod_selector *sel, line *L, line_point *lo, line_point 
     for (k = 0; k < REFINE_STEPS; ++k) {
         double w = hi.t - lo->t, t, f;
         line_point p;
-        if (w <= 1e-12 * L->t_sat || flo >= -1e-12 * fabs(L->limit)) break;
+        /* the test reads lo's own cost: flo may be halved by the Illinois
+         * correction */
+        if (w <= 1e-12 * L->t_sat || L->other_cost + lo->cost - L->limit >= -1e-12 * fabs(L->limit))
+            break;
         t = isfinite(fhi) ? lo->t + w * (-flo) / (fhi - flo) : lo->t + 0.5 * w;
         if (!(t > lo->t && t < hi.t)) t = lo->t + 0.5 * w;
         if (line_eval(sel, L, t, &p) != 0) return -1;

@@ -293,6 +293,27 @@ static void kinked_cost_reaches_the_hand_computed_optimum(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* Preconditioned loop: four objects of weight 1 and twelve of 0.01 (w sqrt(r),
+ * costs r), budget 4. At slope lambda each takes r = w^2 / (4 lambda^2), and
+ * the budget is spent where 1 / (4 lambda^2) = 4 / (4 + 12 * 10^-4) =
+ * 0.999700 (below 1): r = 0.999700 and 0.0000999700, benefit sqrt(4 * 4.0012)
+ * = 4.000600. The models are exact for square roots, so the smooth step aimed
+ * at the slope at which they spend the budget lands there. */
+static void preconditioned_loop_spends_the_budget_at_the_slope_its_models_predict(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *sel;
+    tclod_stats st;
+    tclod_id i;
+    for (i = 0; i < 16; ++i) add_sqrt(f, i % 4 == 0 ? 1.0 : 0.01, 1.0);
+    sel = mixed_selector(f, 1, 0.0);
+    select_mixed(sel, 4.0, 0, &st);
+    for (i = 0; i < 16; ++i)
+        assert_near(resolution(sel, i), i % 4 == 0 ? 0.999700 : 0.0000999700, 1e-6, "resolution");
+    assert_near(st.benefit, 4.000600, 1e-7, "benefit");
+    assert_true(st.cost <= 4.0);
+    tclod_selector_destroy(sel);
+}
+
 /* ---- random separable concave instances ------------------------------------------ */
 
 /* The closed-form resolution of object i at slope lambda: where its benefit
@@ -504,6 +525,7 @@ int main(void) {
         FIXTURE_TEST(saturated_variable_stays_at_one_and_the_rest_goes_to_the_others),
         FIXTURE_TEST(barrier_moves_resolution_away_from_a_variable_close_to_one),
         FIXTURE_TEST(kinked_cost_reaches_the_hand_computed_optimum),
+        FIXTURE_TEST(preconditioned_loop_spends_the_budget_at_the_slope_its_models_predict),
         cmocka_unit_test(separable_concave_instances_reach_99_percent_of_the_lagrangian_optimum),
         FIXTURE_TEST(unlimited_budget_draws_everything_at_full_resolution),
         FIXTURE_TEST(zero_budget_draws_no_smooth_object),
