@@ -3,12 +3,13 @@
  * src/scene.c): quadtree order, frustum and small-detail culling, and the
  * splitting criterion of docs/mixed.md, worked out by hand:
  *
- *   a node of n objects with children of benefit scales C_i (benefit at full
- *   resolution) and n_i objects keeps one variable when
- *     L = sqrt(X) (sqrt(sum C_i^2 / n_i) - sum C_i / sqrt(n))
+ *   a node of n objects with benefit scales c_j (benefit at full resolution),
+ *   C = sum c_j, Q = sum c_j^2, keeps one variable when
+ *     L = sqrt(X) (sqrt(Q) - C / sqrt(n))
  *   is at most its share of theta * C_root * sqrt(X_root / n_root), with
  *   X_root = n_root * min(1, budget / cost of the root group at full
- *   resolution).
+ *   resolution); a split node hands each of its v visible children theta / v
+ *   and X_i = X (C_i^2 / n_i) / sum_k (C_k^2 / n_k), at most n_i.
  *
  * Smooth objects come from the table model (benefit w sqrt(r), cost k r; a
  * group's values are the sums over its members), so C_i is the sum of the
@@ -233,6 +234,60 @@ static void a_dominant_object_splits_its_group(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* The sixteen objects of a 4 x 4 grid; each 2 x 2 block (a quadrant of the
+ * root) holds one object of weight 1 and three of 0.01. Every child of the
+ * root looks alike (C_i = 1.03, n_i = 4), but the objects inside do not: at
+ * the root Q = 4 (1 + 3 * 10^-4) = 4.0012, C = 4.12, n = 16, so L = sqrt(X)
+ * (2.000300 - 1.03) > 0, and in each block L = sqrt(X_i) (1.000150 - 0.515)
+ * > 0. With theta = 0 no loss is allowed: every object gets a variable of its
+ * own. Budget 4, costs r: the optimum gives r_j = X c_j^2 / Q (all below 1),
+ * 0.999700 and 0.0000999700, benefit sqrt(X Q) = sqrt(16.0048) = 4.000600;
+ * one shared variable (r = 1/4) would give 4.12 / 2 = 2.06. */
+static void theta_zero_splits_down_to_objects_unlike_inside_alike_blocks(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *sel;
+    tclod_stats st;
+    uint32_t i, j;
+    for (i = 0; i < 4; ++i)
+        for (j = 0; j < 4; ++j)
+            add_object(f, (float)i, 0.0f, (float)j, 0.1f, i % 2 == 0 && j % 2 == 0 ? 1.0 : 0.01);
+    sel = split_selector(f, 1, 0.0);
+    select_view(sel, NULL, 4.0, &st);
+    assert_int_equal(st.variables, 16);
+    if (!(fabs(st.benefit - 4.000600) <= 1e-6))
+        fail_msg("benefit %.9g, the optimum 4.000600", st.benefit);
+    assert_true(st.cost <= 4.0);
+    tclod_selector_destroy(sel);
+}
+
+/* A 4 x 4 grid whose 2 x 2 blocks hold alike objects, of weights 1, 2, 3, 4
+ * by block. At the root Q = 4 (1 + 4 + 9 + 16) = 120, C = 40, n = 16; budget
+ * 8 of the 16 everything costs: X = 8. L = sqrt(8) (sqrt(120) - 10) =
+ * 2.699601 against theta * 40 * sqrt(8 / 16) = 28.284271 theta: the root
+ * stays one variable from theta = 0.0954451 on. Below, it splits into its
+ * four blocks, each of alike objects (L = 0), one variable each. */
+static void alike_blocks_share_a_variable_while_their_spread_is_within_theta(void **state) {
+    static const double thetas[2] = {0.0954, 0.0955};
+    static const uint32_t expected[2] = {4, 1};
+    int k;
+    (void)state;
+    for (k = 0; k < 2; ++k) {
+        helper_fixture *f;
+        tclod_selector *sel;
+        tclod_stats st;
+        uint32_t i, j;
+        assert_int_equal(helper_fixture_setup((void **)&f), 0);
+        for (i = 0; i < 4; ++i)
+            for (j = 0; j < 4; ++j)
+                add_object(f, (float)i, 0.0f, (float)j, 0.1f, 1.0 + (double)(i / 2 + 2 * (j / 2)));
+        sel = split_selector(f, 1, thetas[k]);
+        select_view(sel, NULL, 8.0, &st);
+        assert_int_equal(st.variables, expected[k]);
+        tclod_selector_destroy(sel);
+        helper_fixture_teardown((void **)&f);
+    }
+}
+
 /* ---- splitting against one variable per object ------------------------------------ */
 
 /* 64 objects on an 8 x 8 grid whose weights vary smoothly, as screen sizes do
@@ -294,6 +349,8 @@ int main(void) {
         FIXTURE_TEST(alike_objects_share_one_variable),
         cmocka_unit_test(a_pair_splits_once_its_spread_outweighs_the_threshold),
         FIXTURE_TEST(a_dominant_object_splits_its_group),
+        FIXTURE_TEST(theta_zero_splits_down_to_objects_unlike_inside_alike_blocks),
+        cmocka_unit_test(alike_blocks_share_a_variable_while_their_spread_is_within_theta),
         FIXTURE_TEST(splitting_keeps_the_benefit_within_the_threshold),
         FIXTURE_TEST(resolutions_read_zero_after_the_scene_changed),
     };
