@@ -356,9 +356,10 @@ struct tclod_selector {
     uint32_t *split_node;          /* split.c's stack: quadtree nodes ... */
     double *split_x, *split_theta; /* ... their expected resolution and loss share */
     uint32_t *split_order;         /* split.c, per quadtree node (2 per object): the inner
-                                      nodes reached, in order; and by node, */
+                                      nodes reached, in order; and by node: */
     double *split_c, *split_q;     /* the sums of its visible objects' benefit scales
-                                      and of their squares */
+                                      and of their squares, */
+    uint8_t *split_whole;          /* 1 when all of its objects are visible */
 
     /* Robin Hood (robin_hood.c): rh_cap elements each, rh_cap >= nodes + smooth */
     uint32_t rh_cap;

@@ -9,9 +9,9 @@
  * Without splitting every visible object is a variable of its own. With
  * splitting, a first pass asks every visible object's benefit scale c_j (its
  * benefit at full resolution) and sums C = sum c_j and Q = sum c_j^2 up the
- * tree; then a node whose n objects are expected to receive a total
- * resolution X keeps one shared variable when what sharing loses against a
- * variable per object,
+ * tree; then a node whose n objects are all visible and expected to receive a
+ * total resolution X keeps one shared variable when what sharing loses
+ * against a variable per object,
  *     L = sqrt(X) * (sqrt(Q) - C / sqrt(n)),
  * is within its share of the threshold; otherwise its visible children are
  * visited with X_i = X * (C_i^2 / n_i) / sum (C_j^2 / n_j) (at most n_i) and
@@ -105,10 +105,10 @@ static int object_scale(tclod_selector *sel, uint32_t pos, const float bounds[4]
 /* The first pass: every visible object's benefit scale c_j into
  * vars.ratio[position] (scratch until the solve; 0 when culled), and for every
  * quadtree node reached, the sums C = sum c_j and Q = sum c_j^2 over its
- * visible objects (split_c, split_q). Culled nodes are not descended into;
- * their records say nothing visible. Inner nodes are listed in split_order in
- * the order they were reached (a parent before its children) and summed up in
- * reverse. */
+ * objects and whether all of them are visible (split_c, split_q,
+ * split_whole). Culled nodes are not descended into; their records say
+ * nothing visible. Inner nodes are listed in split_order in the order they
+ * were reached (a parent before its children) and summed up in reverse. */
 static int gather(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
     double *scale = sel->vars.ratio;
@@ -119,18 +119,21 @@ static int gather(tclod_selector *sel) {
         const tclod_smooth_node *node = &s->qt[k];
         float area, distance;
         double c = 0.0, q = 0.0;
+        int whole = 1;
         measure(sel, node->bounds, &area, &distance);
         if (culled(sel, area)) {
-            /* nothing visible */
+            whole = 0;
         } else if (node->count == 1) {
             if (object_scale(sel, node->first, node->bounds, &scale[node->first]) != 0) return -1;
             c = scale[node->first];
             q = c * c;
+            whole = c > 0.0;
         } else if (node->child_count == 0) {
             for (i = node->first; i < node->first + node->count; ++i) {
                 if (object_scale(sel, i, object_bounds(s, i), &scale[i]) != 0) return -1;
                 c += scale[i];
                 q += scale[i] * scale[i];
+                whole &= scale[i] > 0.0;
             }
         } else {
             sel->split_order[inner++] = k;
@@ -139,17 +142,21 @@ static int gather(tclod_selector *sel) {
         }
         sel->split_c[k] = c;
         sel->split_q[k] = q;
+        sel->split_whole[k] = (uint8_t)whole;
     }
     while (inner-- > 0) {
         uint32_t k = sel->split_order[inner];
         const tclod_smooth_node *node = &s->qt[k];
         double c = 0.0, q = 0.0;
+        int whole = 1;
         for (i = node->child; i < node->child + node->child_count; ++i) {
             c += sel->split_c[i];
             q += sel->split_q[i];
+            whole &= sel->split_whole[i];
         }
         sel->split_c[k] = c;
         sel->split_q[k] = q;
+        sel->split_whole[k] = (uint8_t)whole;
     }
     return 0;
 }
@@ -176,8 +183,9 @@ static void share_resolution(const tclod_selector *sel, const tclod_smooth_node 
 }
 
 /* Decides for quadtree node k, expected to receive the total resolution x and
- * allowed the loss theta: one shared variable when the loss of sharing
- * against a variable per object (docs/mixed.md),
+ * allowed the loss theta: one shared variable when all of its objects are
+ * visible (a culled object in a group would be drawn and paid for) and the
+ * loss of sharing against a variable per object (docs/mixed.md),
  *     sqrt(x) * (sqrt(Q) - C / sqrt(n)),
  * is within theta; otherwise its visible children onto the stack (objects of a
  * leaf become variables). The margin of 1e-12 of the group's benefit keeps
@@ -188,8 +196,9 @@ static void split_node(tclod_selector *sel, uint32_t k, double x, double theta, 
     double c = sel->split_c[k], n = (double)node->count, xi[4];
     uint32_t i, visible = 0;
     float area, distance;
-    if (node->count == 1 ||
-        sqrt(x) * (sqrt(sel->split_q[k]) - c / sqrt(n)) <= theta + 1e-12 * c * sqrt(x / n)) {
+    if (node->count == 1 || (sel->split_whole[k] &&
+                             sqrt(x) * (sqrt(sel->split_q[k]) - c / sqrt(n)) <=
+                                 theta + 1e-12 * c * sqrt(x / n))) {
         measure(sel, node->bounds, &area, &distance);
         add_variable(sel, node->first, node->count, node->bounds, area, distance);
         return;

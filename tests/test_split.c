@@ -4,7 +4,7 @@
  * splitting criterion of docs/mixed.md, worked out by hand:
  *
  *   a node of n objects with benefit scales c_j (benefit at full resolution),
- *   C = sum c_j, Q = sum c_j^2, keeps one variable when
+ *   C = sum c_j, Q = sum c_j^2, all of them visible, keeps one variable when
  *     L = sqrt(X) (sqrt(Q) - C / sqrt(n))
  *   is at most its share of theta * C_root * sqrt(X_root / n_root), with
  *   X_root = n_root * min(1, budget / cost of the root group at full
@@ -288,6 +288,43 @@ static void alike_blocks_share_a_variable_while_their_spread_is_within_theta(voi
     }
 }
 
+/* Three objects in front of the reference view (z = -10) and one behind it
+ * (z = +10), all of weight 1, splitting with theta = 10 (any spread would be
+ * allowed). The quadtree's cell is the square of side 20 from (-1, -10), so
+ * the root has two quadrants: the three in front, and the one behind, which
+ * is culled. The root holds it, so it must not become a group (the culled
+ * object would be drawn and paid for): it splits, the three in front are one
+ * group (alike, all visible) and the object behind gets nothing. Budget 1.5,
+ * costs r: the three visible objects at r = 0.5 each (1.5 in all), the one
+ * behind at 0. */
+static void a_group_never_holds_a_culled_object(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id a = add_object(f, -1.0f, 0.0f, -10.0f, 0.5f, 1.0);
+    tclod_id b = add_object(f, 0.0f, 0.0f, -10.0f, 0.5f, 1.0);
+    tclod_id c = add_object(f, 1.0f, 0.0f, -10.0f, 0.5f, 1.0);
+    tclod_id behind = add_object(f, 0.0f, 0.0f, 10.0f, 0.5f, 1.0);
+    tclod_selector *sel = split_selector(f, 1, 10.0);
+    const tclod_smooth_group *groups;
+    tclod_view view;
+    tclod_stats st;
+    size_t n, i;
+    helper_view(&view);
+    select_view(sel, &view, 1.5, &st);
+    assert_int_equal(st.variables, 1);
+    assert_true(tclod_selector_resolution(sel, behind) == 0.0);
+    assert_true(fabs(tclod_selector_resolution(sel, a) - 0.5) < 1e-6);
+    assert_true(fabs(tclod_selector_resolution(sel, b) - 0.5) < 1e-6);
+    assert_true(fabs(tclod_selector_resolution(sel, c) - 0.5) < 1e-6);
+    assert_int_equal(tclod_selector_smooth_groups(sel, &groups, &n), TCLOD_OK);
+    for (i = 0; i < n; ++i) {
+        uint32_t p;
+        for (p = groups[i].first; p < groups[i].first + groups[i].count; ++p)
+            assert_true(p != position_of(f, behind));
+    }
+    assert_true(fabs(st.cost - 1.5) < 1e-6);
+    tclod_selector_destroy(sel);
+}
+
 /* ---- splitting against one variable per object ------------------------------------ */
 
 /* 64 objects on an 8 x 8 grid whose weights vary smoothly, as screen sizes do
@@ -351,6 +388,7 @@ int main(void) {
         FIXTURE_TEST(a_dominant_object_splits_its_group),
         FIXTURE_TEST(theta_zero_splits_down_to_objects_unlike_inside_alike_blocks),
         cmocka_unit_test(alike_blocks_share_a_variable_while_their_spread_is_within_theta),
+        FIXTURE_TEST(a_group_never_holds_a_culled_object),
         FIXTURE_TEST(splitting_keeps_the_benefit_within_the_threshold),
         FIXTURE_TEST(resolutions_read_zero_after_the_scene_changed),
     };
