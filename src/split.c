@@ -14,8 +14,8 @@
  * against a variable per object,
  *     L = sqrt(X) * (sqrt(Q) - C / sqrt(n)),
  * is within its share of the threshold; otherwise its visible children are
- * visited with X_i = X * (C_i^2 / n_i) / sum (C_j^2 / n_j) (at most n_i) and
- * an equal part of the share. docs/mixed.md
+ * visited with X_i = X * (C_i^2 / n_i) / sum (C_j^2 / n_j) (at most n_i, the
+ * excess handed to the others) and an equal part of the share. docs/mixed.md
  * derives L from eq. 8.22 for the square-root benefit of eq. 8.20: it is the
  * loss at the per-object optimum, never more than eq. 8.23's worst case
  * C sqrt(X) (1 - 1/sqrt(n)), which it equals when one object holds all the
@@ -162,24 +162,45 @@ static int gather(tclod_selector *sel) {
 }
 
 /* The expected resolutions of a quadtree node's children, x_i = x w_i /
- * sum w_j with w_i = C_i^2 / n_i (docs/mixed.md), each at most n_i. Children
- * with nothing visible get nothing. */
+ * sum w_j with w_i = C_i^2 / n_i (docs/mixed.md), each at most n_i: what a
+ * capped child cannot take goes to the others in proportion to their w_i
+ * (the level x / sum w only rises as children are capped, so a child capped
+ * once stays capped). Children with nothing visible get nothing. The sum of
+ * the open children's w is summed again each round rather than decreased,
+ * which could leave it 0 by cancellation. */
 static void share_resolution(const tclod_selector *sel, const tclod_smooth_node *node, double x,
                              double xi[4]) {
     const tclod_scene *s = sel->scene;
-    double w[4], wsum = 0.0;
+    double w[4], wsum;
     uint32_t i, n = node->child_count;
+    int open[4], changed = 1;
     assert(n <= 4u);
     for (i = 0; i < n; ++i) {
         double c = sel->split_c[node->child + i];
         w[i] = c * c / (double)s->qt[node->child + i].count;
-        wsum += w[i];
+        open[i] = w[i] > 0.0;
+        xi[i] = 0.0;
     }
-    for (i = 0; i < n; ++i) {
-        double count = (double)s->qt[node->child + i].count;
-        xi[i] = w[i] > 0.0 ? x * w[i] / wsum : 0.0;
-        if (xi[i] > count) xi[i] = count;
+    while (changed) {
+        changed = 0;
+        for (wsum = 0.0, i = 0; i < n; ++i)
+            if (open[i])
+                wsum += w[i];
+        for (i = 0; i < n; ++i) {
+            double count = (double)s->qt[node->child + i].count;
+            if (!open[i] || !(x * w[i] > count * wsum)) continue;
+            xi[i] = count;
+            open[i] = 0;
+            x -= count;
+            changed = 1;
+            break; /* the others against the new level */
+        }
     }
+    for (wsum = 0.0, i = 0; i < n; ++i)
+        if (open[i])
+            wsum += w[i];
+    for (i = 0; i < n; ++i)
+        if (open[i]) xi[i] = x * w[i] / wsum;
 }
 
 /* Decides for quadtree node k, expected to receive the total resolution x and

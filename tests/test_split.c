@@ -9,7 +9,8 @@
  *   is at most its share of theta * C_root * sqrt(X_root / n_root), with
  *   X_root = n_root * min(1, budget / cost of the root group at full
  *   resolution); a split node hands each of its v visible children theta / v
- *   and X_i = X (C_i^2 / n_i) / sum_k (C_k^2 / n_k), at most n_i.
+ *   and X_i = X (C_i^2 / n_i) / sum_k (C_k^2 / n_k), at most n_i, what a
+ *   capped child cannot take going to the others.
  *
  * Smooth objects come from the table model (benefit w sqrt(r), cost k r; a
  * group's values are the sums over its members), so C_i is the sum of the
@@ -325,6 +326,29 @@ static void a_group_never_holds_a_culled_object(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* A child's expected resolution is at most its object count; what it cannot
+ * take goes to its siblings. D (weight 10) alone in one quadrant, the pair G
+ * (weights 1 and 2) in another; budget 2.4 of the 3 everything costs: X =
+ * 2.4, theta = 0.015. The root splits: L = sqrt(2.4) (sqrt(105) - 13 /
+ * sqrt(3)) = 4.246954 > 0.015 * 13 * sqrt(0.8) = 0.174413. By C_i^2 / n_i
+ * (100 and 4.5), D would get 2.296651 > 1: it takes 1, and G the other 1.4
+ * (without the hand-over 0.103349). G's loss sqrt(1.4) (sqrt(5) - 3 /
+ * sqrt(2)) = 0.135771 is above its share 0.174413 / 2 = 0.087207, so G splits
+ * too (at X = 0.103349 it would have been 0.036889, within it): three
+ * variables. */
+static void a_capped_child_hands_its_excess_resolution_to_the_others(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *sel;
+    tclod_stats st;
+    add_object(f, 0.0f, 0.0f, 0.0f, 0.1f, 10.0);
+    add_object(f, 10.0f, 0.0f, 0.0f, 0.1f, 1.0);
+    add_object(f, 10.0f, 0.0f, 1.0f, 0.1f, 2.0);
+    sel = split_selector(f, 1, 0.015);
+    select_view(sel, NULL, 2.4, &st);
+    assert_int_equal(st.variables, 3);
+    tclod_selector_destroy(sel);
+}
+
 /* ---- splitting against one variable per object ------------------------------------ */
 
 /* 64 objects on an 8 x 8 grid whose weights vary smoothly, as screen sizes do
@@ -389,6 +413,7 @@ int main(void) {
         FIXTURE_TEST(theta_zero_splits_down_to_objects_unlike_inside_alike_blocks),
         cmocka_unit_test(alike_blocks_share_a_variable_while_their_spread_is_within_theta),
         FIXTURE_TEST(a_group_never_holds_a_culled_object),
+        FIXTURE_TEST(a_capped_child_hands_its_excess_resolution_to_the_others),
         FIXTURE_TEST(splitting_keeps_the_benefit_within_the_threshold),
         FIXTURE_TEST(resolutions_read_zero_after_the_scene_changed),
     };
