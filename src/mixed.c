@@ -19,16 +19,22 @@
  * the budget left (the final state the papers' interleaving reaches); line
  * searches move the variables, all at once, towards the model's targets only
  * when the budget binds, and a last pairwise exchange evens out the slopes the
- * models got wrong. Kinked costs make the slope along a line jump, so line
- * searches bracket the crossings they find and keep the best local maximum.
+ * models got wrong. Kinked costs make the slope along a line jump up, so a
+ * line search brackets the kinks it finds where the cost's slope along the
+ * line falls, and keeps the best of the local maxima on either side of them.
  * Every step keeps the selection within the budget.
  */
 #include "internal.h"
 
 #include <math.h>
 
-/* Points at which a line search samples the slope between 0 and t_max. */
-#define LINE_SAMPLES 2u
+/* Kinks a line search brackets at most, where the cost slope along the line
+ * falls (line_best); the relative change of the cost slope below which it is
+ * no kink, and how far a bracket's points lie from the kink, relative to the
+ * piece it is put in. */
+#define LINE_KINKS 4u
+#define KINK_DROP 1e-6
+#define KINK_BRACKET 1e-7
 /* Secant/bisection steps that refine one crossing or the budget's edge. */
 #define REFINE_STEPS 64u
 /* The line search keeps this far (relative) inside the budget, so that the
@@ -553,6 +559,88 @@ static int seek_slope(tclod_selector *sel, line *L, line_point a, line_point b, 
     return 0;
 }
 
+/* Whether the slope along the line may fall to lambda or below somewhere in
+ * (p, q) and rise above it again: the line's cost slope fell from p to q (a
+ * variable passed a kink where its cost gets cheaper, as eq. 8.18's setup
+ * ends, and the slope of phi jumps up there), and phi's slope is not surely
+ * positive all the way (benefit slopes fall along the line, so it is at least
+ * q's benefit slope less lambda times the larger cost slope). */
+static int may_hide_kink(const line *L, const line_point *p, const line_point *q) {
+    double steepest = p->slope_c > q->slope_c ? p->slope_c : q->slope_c;
+    return p->slope_c - q->slope_c > KINK_DROP * (p->abs_c + q->abs_c) &&
+           !(q->slope_b - L->lambda * steepest > 0.0);
+}
+
+/* A point of line_best's list, and whether the piece up to the next point is
+ * settled: one kink, bracketed, lies just past the point. */
+typedef struct line_node {
+    line_point p;
+    int settled;
+} line_node;
+
+/* The best point of phi on [origin, top] (eq. 8.14, kinked costs included).
+ * Breakpoints first: where the line's cost slope falls between two points
+ * (may_hide_kink), a kink is put where the two points' cost tangents meet
+ * (exactly there for one kink of a piecewise-linear cost) and a point just
+ * before it is evaluated, at most LINE_KINKS times. If that point still lies
+ * on p's tangent, the piece up to it is linear and the kink is the only one
+ * up to q: bracketed. Past the kink the slope of phi is higher than just
+ * before it, so a point just after it is needed only when phi falls just
+ * before it (another crossing may follow). Then on every piece between two
+ * points at which the slope falls from above lambda to below it, the crossing
+ * is refined; every crossing and every point is a candidate, and the one with
+ * the largest phi wins (the earliest of equal ones). Without a kink this is
+ * the plain eq. 8.14: t_max when the slope there still beats lambda, else the
+ * one crossing. */
+static int line_best(tclod_selector *sel, line *L, const line_point *origin, const line_point *top,
+                     line_point *best) {
+    line_node pts[2u + 2u * LINE_KINKS];
+    uint32_t count = 2, kinks = 0, i, j;
+    pts[0].p = *origin;
+    pts[1].p = *top;
+    pts[0].settled = pts[1].settled = 0;
+    for (i = 0; i + 1u < count && kinks < LINE_KINKS;) {
+        const line_point *p = &pts[i].p, *q = &pts[i + 1u].p;
+        double t, w = q->t - p->t, scale = p->abs_c + q->abs_c;
+        line_node at[2];
+        uint32_t added = 0;
+        if (pts[i].settled || !may_hide_kink(L, p, q)) {
+            ++i;
+            continue;
+        }
+        kinks++;
+        t = (q->cost - p->cost + p->slope_c * p->t - q->slope_c * q->t) / (p->slope_c - q->slope_c);
+        if (!(t > p->t + KINK_BRACKET * w && t < q->t)) t = p->t + 0.5 * w;
+        if (line_eval(sel, L, t - KINK_BRACKET * w, &at[0].p) != 0) return -1;
+        if (!line_fits(L, &at[0].p)) break; /* a cost that is not monotone: no bracket */
+        at[0].settled =
+            fabs(at[0].p.slope_c - p->slope_c) <= KINK_DROP * scale &&
+            fabs(at[0].p.cost - p->cost - p->slope_c * (at[0].p.t - p->t)) <= KINK_DROP * scale * w;
+        added = 1;
+        if (at[0].settled && !(line_slope(L, &at[0].p) > 0.0)) {
+            if (line_eval(sel, L, t + KINK_BRACKET * w, &at[1].p) != 0) return -1;
+            at[1].settled = 0;
+            added += (uint32_t)line_fits(L, &at[1].p);
+        }
+        /* the points after p move up to make room, in order */
+        for (j = count; j-- > i + 1u;) pts[j + added] = pts[j];
+        for (j = 0; j < added; ++j) pts[i + 1u + j] = at[j];
+        count += added;
+    }
+    *best = pts[0].p;
+    for (i = 0; i < count; ++i) {
+        const line_point *p = &pts[i].p;
+        if (i > 0 && line_slope(L, &pts[i - 1u].p) > 0.0 && !(line_slope(L, p) > 0.0) &&
+            !slope_matched(L, p) && !slope_matched(L, &pts[i - 1u].p)) {
+            line_point found;
+            if (seek_slope(sel, L, pts[i - 1u].p, *p, &found) != 0) return -1;
+            if (line_value(L, &found) > line_value(L, best)) *best = found;
+        }
+        if (line_value(L, p) > line_value(L, best)) *best = *p;
+    }
+    return 0;
+}
+
 /* One line search over the n moving variables. Returns 1 when they moved (the
  * new resolutions and values are in place), 0 when no step fits, -1 on a strict
  * error. *budget_bound says whether t_max came from the budget; *matched
@@ -564,7 +652,7 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
     double budget = sel->frame->budget, moving_cost = 0.0;
     line_point origin, top, best;
     line L;
-    uint32_t i, k;
+    uint32_t i;
     int limited = 0;
     L.n = n;
     L.lambda = lambda;
@@ -603,31 +691,8 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
             return 0;
         }
     }
-    best = top;
-    if (!(line_slope(&L, &top) > 0.0) && !slope_matched(&L, &top)) {
-        /* eq. 8.14: the slope falls to lambda before t_max. Sampled, because
-         * a kinked cost can make it rise above lambda again further on. */
-        line_point prev = origin, p, found;
-        int have = 0;
-        for (k = 1; k <= LINE_SAMPLES; ++k) {
-            if (k < LINE_SAMPLES) {
-                if (line_eval(sel, &L, top.t * (double)k / (double)LINE_SAMPLES, &p) != 0)
-                    return -1;
-                if (!line_fits(&L, &p)) break;
-            } else {
-                p = top;
-            }
-            if (line_slope(&L, &prev) > 0.0 && !(line_slope(&L, &p) > 0.0)) {
-                if (seek_slope(sel, &L, prev, p, &found) != 0) return -1;
-                if (!have || line_value(&L, &found) > line_value(&L, &best)) best = found;
-                have = 1;
-            }
-            if (!have || line_value(&L, &p) > line_value(&L, &best)) best = p;
-            have = 1;
-            prev = p;
-        }
-        *matched = best.t < top.t;
-    }
+    if (line_best(sel, &L, &origin, &top, &best) != 0) return -1;
+    *matched = best.t < top.t;
     *budget_bound = limited && !*matched;
     /* no step at all when the line only loses (its slope starts below lambda) */
     if (!(best.t > 0.0) || !(line_value(&L, &best) > line_value(&L, &origin))) return 0;
@@ -891,6 +956,7 @@ enum {
     MIXED_POLISH,
     MIXED_FINISH
 };
+
 
 static int mixed_start(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;

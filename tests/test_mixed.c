@@ -293,6 +293,173 @@ static void kinked_cost_reaches_the_hand_computed_optimum(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* Papers' loop, one line search. R (b 1, c 1) with child C (b 1.5, c 1.5):
+ * slope_d = 1. One smooth object sqrt(r) costing 2 r up to the kink r = 0.3,
+ * then 0.6 + 0.45 (r - 0.3); the budget (10) does not bind, so t_max = 1 (the
+ * direction is a = 1). The line search maximises phi(r) = sqrt(r) - c(r):
+ *   before the kink phi' = 1/(2 sqrt r) - 2 falls to 0 at r = 1/16 = 0.0625,
+ *     phi(0.0625) = 0.25 - 0.125 = 0.125 (a local maximum);
+ *   at the kink phi' jumps from 0.912871 - 2 < 0 to 0.912871 - 0.45 > 0, and
+ *     stays positive up to r = 1 (0.5 - 0.45 = 0.05): phi(1) = 1 - 0.6 - 0.315
+ *     = 0.085, the other local maximum;
+ * so the optimum of the line is r = 0.0625. The slope at t_max is above
+ * slope_d, which eq. 8.14 alone would take for the answer. */
+static void line_search_brackets_a_kink_and_keeps_the_better_local_maximum(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id root = helper_add(f, TCLOD_NONE, 1.0, 1.0), s;
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, root, 1.5, 1.5);
+    s = add_smooth(f, TABLE_POWER, 1.0, 0.5, 0.45, 2.0, 0.3);
+    sel = mixed_selector(f, 0, 0.0);
+    select_mixed(sel, 10.0, 1, &st);
+    assert_int_equal(st.line_searches, 1);
+    assert_near(resolution(sel, s), 0.0625, 5e-3, "r after the line search");
+    assert_int_equal(only_node(sel), root);
+    tclod_selector_destroy(sel);
+}
+
+/* ---- random kinked instances against brute force --------------------------------- */
+
+/* The cost of smooth object i at r. */
+static double kinked_cost(const table_smooth *t, tclod_id i, double r) {
+    return r < t->kink[i] ? t->steep[i] * r : t->steep[i] * t->kink[i] + t->k[i] * (r - t->kink[i]);
+}
+
+
+/* The papers' direction from resolution 0 as the library computes it (no
+ * barrier): every object's benefit slope where slopes are asked (10^-9),
+ * scaled to a largest component of 1. */
+static void direction_from_zero(const table_model *m, double *a) {
+    double largest = 0.0;
+    tclod_id i;
+    for (i = 0; i < m->smooth.count; ++i) {
+        table_smooth_benefit_of(m, i, 1e-9, &a[i]);
+        if (a[i] > largest) largest = a[i];
+    }
+    for (i = 0; i < m->smooth.count; ++i) a[i] /= largest;
+}
+
+/* Benefit less lambda times cost of the smooth objects at r = t a, and their
+ * cost alone. */
+static double line_phi(const table_model *m, const double *a, double t, double lambda,
+                       double *cost) {
+    double sum = 0.0;
+    tclod_id i;
+    *cost = 0.0;
+    for (i = 0; i < m->smooth.count; ++i) {
+        double r = t * a[i] < 1.0 ? t * a[i] : 1.0;
+        *cost += kinked_cost(&m->smooth, i, r);
+        sum += table_smooth_benefit_of(m, i, r, NULL);
+    }
+    return sum - lambda * *cost;
+}
+
+/* Papers' loop, one line search, 300 random instances. One to three smooth
+ * objects, benefits
+ * w r^p or w ln(1 + p r), costs with a setup (steep, 2 to 20 times the slope
+ * after it, up to a kink in [0.02, 0.3]); R (b 1, c 1) with one child of
+ * slope_d = lambda, 0.05 to 0.9 times the slope along the gradient at 0 (so
+ * that the smooth step comes first); budgets that fit R and the increment,
+ * from where the line reaches the budget early to where it does not bind.
+ * The line search goes along the
+ * gradient a from 0 and should stop at the best point of phi(t) = benefit -
+ * lambda cost on [0, t_max] (t_max: the first object at 1, or the budget left
+ * after R, less the line search's margin of 1e-9 of the budget). Brute force:
+ * phi on 20000 equal steps of [0, t_max], plus each kink's two sides and t_max
+ * itself. The line search's point (every object on the line) must be within
+ * 1e-4 of the benefits' scale of that maximum (the refinement of a crossing
+ * stops within 10^-3 of the slope's terms; at 0 nothing moves, and the
+ * increment follows in the same iteration). */
+static void line_search_on_kinked_instances_finds_the_best_point_of_the_line(void **state) {
+    table_rng rng;
+    int instance;
+    (void)state;
+    table_rng_seed(&rng, 8018);
+    for (instance = 0; instance < 300; ++instance) {
+        helper_fixture *f;
+        tclod_selector *sel;
+        tclod_stats st;
+        tclod_id root, i;
+        double lambda, dc = table_rng_uniform(&rng, 0.1, 1.0), slope_b = 0.0, slope_c = 0.0;
+        double a[3], full = 0.0, scale = 0.0, budget, limit, t_max = HUGE_VAL, lo, hi, cost;
+        double best, got, t, got_cost;
+        uint32_t n = 1u + table_rng_below(&rng, 3), k;
+        assert_int_equal(helper_fixture_setup((void **)&f), 0);
+        for (i = 0; i < n; ++i) {
+            table_shape shape = table_rng_below(&rng, 2) ? TABLE_LOG : TABLE_POWER;
+            double p = shape == TABLE_POWER ? table_rng_uniform(&rng, 0.3, 0.8)
+                                            : table_rng_uniform(&rng, 1.0, 20.0);
+            double k_after = table_rng_uniform(&rng, 0.5, 2.0);
+            double steep = k_after * table_rng_uniform(&rng, 2.0, 20.0);
+            double kink = table_rng_uniform(&rng, 0.02, 0.3);
+            add_smooth(f, shape, table_rng_uniform(&rng, 0.5, 5.0), p, k_after, steep, kink);
+            full += kinked_cost(&f->model.smooth, i, 1.0);
+            scale += table_smooth_benefit_of(&f->model, i, 1.0, NULL);
+        }
+        direction_from_zero(&f->model, a);
+        for (i = 0; i < n; ++i) { /* the slope along a at 0, which slope_d must not beat */
+            double db;
+            table_smooth_benefit_of(&f->model, i, 1e-9, &db);
+            slope_b += a[i] * db;
+            slope_c += a[i] * f->model.smooth.steep[i];
+        }
+        lambda = slope_b / slope_c * table_rng_uniform(&rng, 0.05, 0.9);
+        root = helper_add(f, TCLOD_NONE, 1.0, 1.0);
+        helper_add(f, root, 1.0 + lambda * dc, 1.0 + dc);
+        /* the increment fits, so that it is the line search's slope_d */
+        budget = 1.0 + dc + full * table_rng_uniform(&rng, 0.05, 1.2);
+        limit = budget - 1e-9 * budget - 1.0;
+        for (i = 0; i < n; ++i)
+            if (1.0 / a[i] < t_max) t_max = 1.0 / a[i];
+        line_phi(&f->model, a, t_max, lambda, &cost);
+        if (cost > limit) { /* the budget's edge: bisection on the cost */
+            for (lo = 0.0, hi = t_max, k = 0; k < 200; ++k) {
+                line_phi(&f->model, a, 0.5 * (lo + hi), lambda, &cost);
+                if (cost <= limit)
+                    lo = 0.5 * (lo + hi);
+                else
+                    hi = 0.5 * (lo + hi);
+            }
+            t_max = lo;
+        }
+        best = line_phi(&f->model, a, t_max, lambda, &cost);
+        for (k = 0; k < 20000; ++k) {
+            double v = line_phi(&f->model, a, t_max * (double)k / 20000.0, lambda, &cost);
+            if (v > best) best = v;
+        }
+        for (i = 0; i < n; ++i) {
+            double tk = f->model.smooth.kink[i] / a[i];
+            int side;
+            for (side = -1; side <= 1; side += 2) {
+                double v, at = tk * (1.0 + 1e-12 * side);
+                if (!(at < t_max)) continue;
+                v = line_phi(&f->model, a, at, lambda, &cost);
+                if (v > best) best = v;
+            }
+        }
+        sel = mixed_selector(f, 0, 0.0);
+        select_mixed(sel, budget, 1, &st);
+        assert_int_equal(st.line_searches, 1);
+        for (t = 0.0, i = 0; i < n; ++i)
+            if (a[i] == 1.0) t = resolution(sel, i);
+        /* on the line, but never asked below 10^-9 */
+        for (i = 0; i < n; ++i) assert_true(fabs(resolution(sel, i) - t * a[i]) <= 1.1e-9);
+        for (got = got_cost = 0.0, i = 0; i < n; ++i) {
+            double r = resolution(sel, i);
+            got_cost += kinked_cost(&f->model.smooth, i, r);
+            got += table_smooth_benefit_of(&f->model, i, r, NULL);
+        }
+        got -= lambda * got_cost;
+        if (!(got >= best - 1e-4 * scale))
+            fail_msg("instance %d: phi %.12g at t = %.9g, the line's best is %.12g", instance, got,
+                     t, best);
+        assert_true(got_cost <= limit + 1e-12 * budget);
+        tclod_selector_destroy(sel);
+        helper_fixture_teardown((void **)&f);
+    }
+}
+
 /* Preconditioned loop: four objects of weight 1 and twelve of 0.01 (w sqrt(r),
  * costs r), budget 4. At slope lambda each takes r = w^2 / (4 lambda^2), and
  * the budget is spent where 1 / (4 lambda^2) = 4 / (4 + 12 * 10^-4) =
@@ -525,6 +692,8 @@ int main(void) {
         FIXTURE_TEST(saturated_variable_stays_at_one_and_the_rest_goes_to_the_others),
         FIXTURE_TEST(barrier_moves_resolution_away_from_a_variable_close_to_one),
         FIXTURE_TEST(kinked_cost_reaches_the_hand_computed_optimum),
+        FIXTURE_TEST(line_search_brackets_a_kink_and_keeps_the_better_local_maximum),
+        cmocka_unit_test(line_search_on_kinked_instances_finds_the_best_point_of_the_line),
         FIXTURE_TEST(preconditioned_loop_spends_the_budget_at_the_slope_its_models_predict),
         cmocka_unit_test(separable_concave_instances_reach_99_percent_of_the_lagrangian_optimum),
         FIXTURE_TEST(unlimited_budget_draws_everything_at_full_resolution),
