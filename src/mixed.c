@@ -311,6 +311,7 @@ static int start_variables(tclod_selector *sel) {
     for (v = 0; v < V->count; ++v) {
         double b, c = 0.0, db = 0.0, dc = 0.0;
         tclod_var_model *m = &V->model[v];
+        if (V->state[v] == TCLOD_VAR_DEAD) continue; /* known invisible: not asked again */
         if (var_call(sel, v, 0.0, &b, &V->db[v], &c, &V->dc[v]) ||
             var_call(sel, v, 1.0, &b, &db, &c, &dc)) {
             V->state[v] = TCLOD_VAR_DEAD; /* a model of no gain, from no value it was not given */
@@ -954,9 +955,67 @@ enum {
     MIXED_REST,     /* spend_the_rest */
     MIXED_FILL,
     MIXED_POLISH,
+    MIXED_SAFEGUARD,
     MIXED_FINISH
 };
 
+/* The benefit of the working selection: the cut's and the drawn variables'. */
+static double working_benefit(const tclod_selector *sel) {
+    const tclod_vars *V = &sel->vars;
+    double sum = sel->benefit_sum;
+    uint32_t v;
+    for (v = 0; v < V->count; ++v)
+        if (V->r[v] > 0.0) sum += V->b[v];
+    return sum;
+}
+
+/* Every variable back at resolution 0 (a variable with a bad benefit stays
+ * invisible), its model made again. */
+static int restart_variables(tclod_selector *sel) {
+    tclod_vars *V = &sel->vars;
+    tclod_resume *R = &sel->resume;
+    uint32_t v;
+    for (v = 0; v < V->count; ++v) {
+        if (V->state[v] != TCLOD_VAR_DEAD) V->state[v] = TCLOD_VAR_LIVE;
+        V->r[v] = V->b[v] = V->c[v] = 0.0;
+    }
+    sel->reserved = 0.0;
+    R->skipped = R->smooth_done = 0;
+    R->run = 0;
+    R->matched = TCLOD_NONE;
+    R->guess = 1.0;
+    return start_variables(sel);
+}
+
+/* The greedy's safeguard after the solve (docs/mixed.md): ratio order can be
+ * arbitrarily bad for a knapsack, so the selection is compared with the best
+ * skipped increment's selection alone, T(n) (the roots, n's increment and the
+ * increments above it, the smooth variables at 0). When T(n) is worth more,
+ * the solve starts again from it: a second pass of the same stages, whose
+ * cut only grows from T(n) and whose smooth variables only add to it. After
+ * that pass (*next = MIXED_FINISH), should it still end below T(n) (its
+ * result repaired to the budget, say), T(n) alone is the result. A solve
+ * stopped by a limit makes no second pass. Returns -1 on a strict error. */
+static int safeguard(tclod_selector *sel, int *next) {
+    tclod_resume *R = &sel->resume;
+    double alt = 0.0, now = working_benefit(sel);
+    tclod_id n;
+    *next = MIXED_FINISH;
+    if (R->alt_pass) {
+        uint32_t v;
+        if (now >= R->alt_benefit) return 0;
+        for (v = 0; v < sel->vars.count; ++v) sel->vars.r[v] = sel->vars.b[v] = sel->vars.c[v] = 0.0;
+        sel->reserved = 0.0;
+        return tclod_greedy_force(sel, R->alt_node);
+    }
+    if (sel->stopped) return 0;
+    n = tclod_greedy_alternative(sel, &alt);
+    if (n == TCLOD_NONE || !(alt > now * (1.0 + 1e-12))) return 0;
+    R->alt_pass = 1;
+    if (tclod_greedy_force(sel, n) != 0 || restart_variables(sel) != 0) return -1;
+    *next = MIXED_IMPROVE;
+    return 0;
+}
 
 static int mixed_start(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
@@ -976,7 +1035,10 @@ static int mixed_start(tclod_selector *sel) {
         return 0;
     }
     if (rc == 0) rc = tclod_greedy_start(sel);
-    if (rc == 0) rc = start_variables(sel);
+    if (rc == 0) {
+        tclod_greedy_track(sel);
+        rc = start_variables(sel);
+    }
     return rc;
 }
 
@@ -997,7 +1059,7 @@ tclod_status tclod_mixed_solve(tclod_selector *sel) {
             break;
         case MIXED_IMPROVE:
             rc = modelled ? improve_modelled(sel) : improve_gradient(sel);
-            next = modelled ? MIXED_REST : MIXED_FINISH;
+            next = modelled ? MIXED_REST : MIXED_SAFEGUARD;
             break;
         case MIXED_REST:
             rc = spend_the_rest(sel);
@@ -1009,7 +1071,10 @@ tclod_status tclod_mixed_solve(tclod_selector *sel) {
             break;
         case MIXED_POLISH:
             rc = polish(sel);
-            next = MIXED_FINISH;
+            next = MIXED_SAFEGUARD;
+            break;
+        case MIXED_SAFEGUARD:
+            rc = safeguard(sel, &next);
             break;
         default:
             rc = finish(sel);

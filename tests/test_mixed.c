@@ -170,22 +170,57 @@ static void discrete_step_first_when_its_slope_beats_the_smooth_slope(void **sta
  * (r = 2/1.5 - 1 = 1/3), but then the increment (cost 1) no longer fits the
  * 2/3 left, which the smooth object takes: r = 1. The preconditioned loop sees
  * at once that after paying for the increment nothing would be left for the
- * steeper smooth object, and gets there directly. Either way: cut {R}, r = 1
- * (less the line search's margin of 1e-9 of the budget), benefit 1 + 2 ln 2. */
+ * steeper smooth object, and gets there directly. Either way the interleaving
+ * ends at cut {R}, r = 1 (less the line search's margin of 1e-9 of the
+ * budget), benefit 1 + 2 ln 2 = 2.386294. The skipped increment's selection
+ * alone, T(C) = {C} with nothing smooth, costs 2 <= 2 and is worth 2.5: the
+ * safeguard makes it the result. It is the optimum: with {R} the smooth object
+ * gets at most r = 1 (2.386294); with {C} nothing is left for it. */
 static void smooth_step_first_when_its_slope_beats_the_discrete_slope(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
-    tclod_id root = helper_add(f, TCLOD_NONE, 1.0, 1.0), s;
+    tclod_id root = helper_add(f, TCLOD_NONE, 1.0, 1.0), child, s;
     int precondition;
-    helper_add(f, root, 2.5, 2.0);
+    child = helper_add(f, root, 2.5, 2.0);
     s = add_smooth(f, TABLE_LOG, 2.0, 1.0, 1.0, 1.0, 0.0);
     for (precondition = 0; precondition <= 1; ++precondition) {
         tclod_selector *sel = mixed_selector(f, precondition, 0.0);
         tclod_stats st;
         select_mixed(sel, 2.0, 0, &st);
-        assert_int_equal(only_node(sel), root);
-        assert_near(resolution(sel, s), 1.0, 1e-8, "smooth resolution");
-        assert_near(st.benefit, 1.0 + 2.0 * log(2.0), 1e-8, "benefit");
+        assert_int_equal(only_node(sel), child);
+        assert_true(resolution(sel, s) == 0.0);
+        assert_true(st.benefit == 2.5);
         assert_true(st.cost <= 2.0);
+        tclod_selector_destroy(sel);
+    }
+}
+
+/* The safeguard's comparison is with the interleaving's final result, smooth
+ * part included. Two roots: A (b 1, c 1) with child A1 (b 11, c 9), an
+ * increment of +10 for +8 (ratio 1.25), and B (b 1, c 1) with child B1 (b 4,
+ * c 2), +3 for +1 (ratio 3); one smooth object 2 ln(1 + r) costing r (slope 2
+ * at 0). Budget 10. Best ratio first: B's increment (the cut then costs 3),
+ * then the smooth object, whose slope (2 at most) beats A's 1.25, up to r = 1
+ * (cost 1); A's increment (+8) does not fit the 7 left at any point: benefit
+ * 1 + 4 + 2 ln 2 = 6.386294 for a cost of 4. T(A1) = {A1, B}, cost 9 + 1 = 10,
+ * is worth 11 + 1 = 12; the second pass starts there, and nothing is left for
+ * B's increment or the smooth object: benefit 12, the optimum (with A1 the 0
+ * left buys nothing; without it, at most 1 + 4 + 2 ln 2). */
+static void mixed_solve_keeps_the_best_skipped_increment_taken_alone(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id a = helper_add(f, TCLOD_NONE, 1.0, 1.0), b = helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    tclod_id a1 = helper_add(f, a, 11.0, 9.0), s, expected[2];
+    int precondition;
+    helper_add(f, b, 4.0, 2.0);
+    s = add_smooth(f, TABLE_LOG, 2.0, 1.0, 1.0, 1.0, 0.0);
+    expected[0] = b;
+    expected[1] = a1;
+    for (precondition = 0; precondition <= 1; ++precondition) {
+        tclod_selector *sel = mixed_selector(f, precondition, 0.0);
+        tclod_stats st;
+        select_mixed(sel, 10.0, 0, &st);
+        helper_assert_cut(sel, expected, 2);
+        assert_true(resolution(sel, s) == 0.0);
+        assert_true(st.benefit == 12.0 && st.cost == 10.0);
         tclod_selector_destroy(sel);
     }
 }
@@ -700,6 +735,7 @@ int main(void) {
         FIXTURE_TEST(zero_budget_draws_no_smooth_object),
         FIXTURE_TEST(iteration_limits_stop_with_a_feasible_selection),
         FIXTURE_TEST(without_smooth_objects_the_mixed_solver_keeps_the_greedys_safeguard),
+        FIXTURE_TEST(mixed_solve_keeps_the_best_skipped_increment_taken_alone),
         FIXTURE_TEST(lookahead_increments_compete_with_smooth_steps_by_their_slope),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

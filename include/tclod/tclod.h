@@ -321,7 +321,9 @@ typedef struct tclod_selector_desc {
                                   whose selection alone (it with the increments
                                   above it) is worth most, when that beats the plain
                                   result: what keeps the greedy within half of the
-                                  optimum (docs/greedy.md). With restarts > 1 the
+                                  optimum (docs/greedy.md). The mixed solver makes
+                                  that pass too, with its smooth variables, when
+                                  restarts > 0 (docs/mixed.md). With restarts > 1 the
                                   others search depth first, each pass forcing or
                                   leaving out the first increment that did not fit
                                   in the pass above it, while the linear
