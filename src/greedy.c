@@ -1099,12 +1099,38 @@ tclod_id tclod_greedy_candidate(tclod_selector *sel, double *ratio, int *skipped
         /* smooth steps only add cost too: a misfit never fits again */
         pop_increment(sel);
         sel->stats.iterations++;
+        if (sel->resume.use_alt) consider_alternative(sel, n);
     }
 }
 
 void tclod_greedy_skip(tclod_selector *sel) {
-    pop_increment(sel);
+    tclod_id n = pop_increment(sel);
     sel->stats.iterations++;
+    if (sel->resume.use_alt) consider_alternative(sel, n);
+}
+
+void tclod_greedy_track(tclod_selector *sel) {
+    tclod_resume *R = &sel->resume;
+    R->alt_node = TCLOD_NONE;
+    R->alt_benefit = 0.0;
+    R->alt_roots_b = sel->benefit_sum;
+    R->alt_roots_c = sel->cost_sum;
+    R->use_alt = sel->stats.dropped_roots == 0 && sel->desc.restarts > 0;
+}
+
+tclod_id tclod_greedy_alternative(tclod_selector *sel, double *benefit) {
+    tclod_resume *R = &sel->resume;
+    uint32_t i;
+    if (!R->use_alt) return TCLOD_NONE;
+    for (i = 0; i < sel->inc.count; ++i) consider_alternative(sel, sel->inc.items[i].id);
+    *benefit = R->alt_benefit;
+    return R->alt_node;
+}
+
+int tclod_greedy_force(tclod_selector *sel, tclod_id n) {
+    sel->resume.picks = sel->resume.left_out = 0;
+    if (start_cold(sel) != 0) return -1;
+    return force_path(sel, n) != 0 ? -1 : 0;
 }
 
 int tclod_greedy_take(tclod_selector *sel, tclod_id n) {

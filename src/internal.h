@@ -276,6 +276,8 @@ typedef struct tclod_resume {
     int warm;              /* greedy: the solve started from the previous cut */
     int skipped;           /* an increment did not fit */
     int smooth_done;       /* papers' loop: the smooth variables stopped */
+    int alt_pass;          /* mixed solver: the pass from the best skipped
+                              increment's selection alone is under way (1) */
     uint32_t run;          /* smooth steps since the last increment */
     uint32_t k;            /* steps of a bounded stage, or the next instance */
     tclod_id matched;      /* papers' loop: the increment whose slope was matched */
@@ -355,6 +357,11 @@ struct tclod_selector {
     uint32_t group_count;
     uint32_t *split_node;          /* split.c's stack: quadtree nodes ... */
     double *split_x, *split_theta; /* ... their expected resolution and loss share */
+    uint32_t *split_order;         /* split.c, per quadtree node (2 per object): the inner
+                                      nodes reached, in order; and by node: */
+    double *split_c, *split_q;     /* the sums of its visible objects' benefit scales
+                                      and of their squares, */
+    uint8_t *split_whole;          /* 1 when all of its objects are visible */
 
     /* Robin Hood (robin_hood.c): rh_cap elements each, rh_cap >= nodes + smooth */
     uint32_t rh_cap;
@@ -466,6 +473,17 @@ int tclod_greedy_start(tclod_selector *sel);   /* cut = the roots, increments qu
 tclod_id tclod_greedy_candidate(tclod_selector *sel, double *ratio, int *skipped);
 int tclod_greedy_take(tclod_selector *sel, tclod_id n); /* applies a candidate */
 void tclod_greedy_skip(tclod_selector *sel);            /* drops the best candidate */
+/* The greedy's safeguard for the mixed solver: after tclod_greedy_start,
+ * tclod_greedy_track records every increment that candidate and skip drop
+ * (and, in tclod_greedy_alternative, those still queued) with the increments
+ * above it, as a cold greedy solve does. tclod_greedy_alternative returns the
+ * one whose selection alone (the roots, it and those above it) fits the
+ * budget and is worth most, with that worth in *benefit; TCLOD_NONE when none
+ * fits, or when roots were dropped or restarts is 0. tclod_greedy_force
+ * starts from the roots again with n's increment and those above it taken. */
+void tclod_greedy_track(tclod_selector *sel);
+tclod_id tclod_greedy_alternative(tclod_selector *sel, double *benefit);
+int tclod_greedy_force(tclod_selector *sel, tclod_id n);
 /* Repairs the exact sum of the cut's costs to be within the budget. */
 int tclod_greedy_enforce(tclod_selector *sel);
 void tclod_greedy_end(tclod_selector *sel); /* empties the heaps after a solve */

@@ -19,16 +19,22 @@
  * the budget left (the final state the papers' interleaving reaches); line
  * searches move the variables, all at once, towards the model's targets only
  * when the budget binds, and a last pairwise exchange evens out the slopes the
- * models got wrong. Kinked costs make the slope along a line jump, so line
- * searches bracket the crossings they find and keep the best local maximum.
+ * models got wrong. Kinked costs make the slope along a line jump up, so a
+ * line search brackets the kinks it finds where the cost's slope along the
+ * line falls, and keeps the best of the local maxima on either side of them.
  * Every step keeps the selection within the budget.
  */
 #include "internal.h"
 
 #include <math.h>
 
-/* Points at which a line search samples the slope between 0 and t_max. */
-#define LINE_SAMPLES 2u
+/* Kinks a line search brackets at most, where the cost slope along the line
+ * falls (line_best); the relative change of the cost slope below which it is
+ * no kink, and how far a bracket's points lie from the kink, relative to the
+ * piece it is put in. */
+#define LINE_KINKS 4u
+#define KINK_DROP 1e-6
+#define KINK_BRACKET 1e-7
 /* Secant/bisection steps that refine one crossing or the budget's edge. */
 #define REFINE_STEPS 64u
 /* The line search keeps this far (relative) inside the budget, so that the
@@ -193,7 +199,7 @@ static double model_spend(const tclod_vars *V, double lambda) {
  * jump; the method then halves). */
 static double level(const tclod_selector *sel, double left, double guess) {
     const tclod_vars *V = &sel->vars;
-    double tol = 1e-3 * fabs(sel->frame->budget), lo, hi, flo, fhi;
+    double tol = 1e-3 * fabs(sel->frame->budget), lo, hi, flo, fhi, spent;
     uint32_t k;
     int side = 0;
     if (!(model_spend(V, 0.0) > left)) return 0.0;
@@ -215,7 +221,9 @@ static double level(const tclod_selector *sel, double left, double guess) {
             lo -= 4.0;
         }
     }
-    for (k = 0; k < 64 && hi - lo > 1e-9 && -fhi > tol; ++k) {
+    /* spent: the spend at hi as evaluated; fhi may be halved by the Illinois
+     * correction, and only steers the next point */
+    for (k = 0, spent = fhi; k < 64 && hi - lo > 1e-9 && -spent > tol; ++k) {
         double u = lo + (hi - lo) * flo / (flo - fhi), f;
         if (!(u > lo && u < hi)) u = 0.5 * (lo + hi);
         f = model_spend(V, exp(u)) - left;
@@ -226,7 +234,7 @@ static double level(const tclod_selector *sel, double left, double guess) {
             side = 1;
         } else {
             hi = u;
-            fhi = f;
+            fhi = spent = f;
             if (side < 0) flo *= 0.5;
             side = -1;
         }
@@ -303,6 +311,7 @@ static int start_variables(tclod_selector *sel) {
     for (v = 0; v < V->count; ++v) {
         double b, c = 0.0, db = 0.0, dc = 0.0;
         tclod_var_model *m = &V->model[v];
+        if (V->state[v] == TCLOD_VAR_DEAD) continue; /* known invisible: not asked again */
         if (var_call(sel, v, 0.0, &b, &V->db[v], &c, &V->dc[v]) ||
             var_call(sel, v, 1.0, &b, &db, &c, &dc)) {
             V->state[v] = TCLOD_VAR_DEAD; /* a model of no gain, from no value it was not given */
@@ -487,7 +496,10 @@ static int seek_budget(tclod_selector *sel, line *L, line_point *lo, line_point 
     for (k = 0; k < REFINE_STEPS; ++k) {
         double w = hi.t - lo->t, t, f;
         line_point p;
-        if (w <= 1e-12 * L->t_sat || flo >= -1e-12 * fabs(L->limit)) break;
+        /* the test reads lo's own cost: flo may be halved by the Illinois
+         * correction */
+        if (w <= 1e-12 * L->t_sat || L->other_cost + lo->cost - L->limit >= -1e-12 * fabs(L->limit))
+            break;
         t = isfinite(fhi) ? lo->t + w * (-flo) / (fhi - flo) : lo->t + 0.5 * w;
         if (!(t > lo->t && t < hi.t)) t = lo->t + 0.5 * w;
         if (line_eval(sel, L, t, &p) != 0) return -1;
@@ -548,6 +560,88 @@ static int seek_slope(tclod_selector *sel, line *L, line_point a, line_point b, 
     return 0;
 }
 
+/* Whether the slope along the line may fall to lambda or below somewhere in
+ * (p, q) and rise above it again: the line's cost slope fell from p to q (a
+ * variable passed a kink where its cost gets cheaper, as eq. 8.18's setup
+ * ends, and the slope of phi jumps up there), and phi's slope is not surely
+ * positive all the way (benefit slopes fall along the line, so it is at least
+ * q's benefit slope less lambda times the larger cost slope). */
+static int may_hide_kink(const line *L, const line_point *p, const line_point *q) {
+    double steepest = p->slope_c > q->slope_c ? p->slope_c : q->slope_c;
+    return p->slope_c - q->slope_c > KINK_DROP * (p->abs_c + q->abs_c) &&
+           !(q->slope_b - L->lambda * steepest > 0.0);
+}
+
+/* A point of line_best's list, and whether the piece up to the next point is
+ * settled: one kink, bracketed, lies just past the point. */
+typedef struct line_node {
+    line_point p;
+    int settled;
+} line_node;
+
+/* The best point of phi on [origin, top] (eq. 8.14, kinked costs included).
+ * Breakpoints first: where the line's cost slope falls between two points
+ * (may_hide_kink), a kink is put where the two points' cost tangents meet
+ * (exactly there for one kink of a piecewise-linear cost) and a point just
+ * before it is evaluated, at most LINE_KINKS times. If that point still lies
+ * on p's tangent, the piece up to it is linear and the kink is the only one
+ * up to q: bracketed. Past the kink the slope of phi is higher than just
+ * before it, so a point just after it is needed only when phi falls just
+ * before it (another crossing may follow). Then on every piece between two
+ * points at which the slope falls from above lambda to below it, the crossing
+ * is refined; every crossing and every point is a candidate, and the one with
+ * the largest phi wins (the earliest of equal ones). Without a kink this is
+ * the plain eq. 8.14: t_max when the slope there still beats lambda, else the
+ * one crossing. */
+static int line_best(tclod_selector *sel, line *L, const line_point *origin, const line_point *top,
+                     line_point *best) {
+    line_node pts[2u + 2u * LINE_KINKS];
+    uint32_t count = 2, kinks = 0, i, j;
+    pts[0].p = *origin;
+    pts[1].p = *top;
+    pts[0].settled = pts[1].settled = 0;
+    for (i = 0; i + 1u < count && kinks < LINE_KINKS;) {
+        const line_point *p = &pts[i].p, *q = &pts[i + 1u].p;
+        double t, w = q->t - p->t, scale = p->abs_c + q->abs_c;
+        line_node at[2];
+        uint32_t added = 0;
+        if (pts[i].settled || !may_hide_kink(L, p, q)) {
+            ++i;
+            continue;
+        }
+        kinks++;
+        t = (q->cost - p->cost + p->slope_c * p->t - q->slope_c * q->t) / (p->slope_c - q->slope_c);
+        if (!(t > p->t + KINK_BRACKET * w && t < q->t)) t = p->t + 0.5 * w;
+        if (line_eval(sel, L, t - KINK_BRACKET * w, &at[0].p) != 0) return -1;
+        if (!line_fits(L, &at[0].p)) break; /* a cost that is not monotone: no bracket */
+        at[0].settled =
+            fabs(at[0].p.slope_c - p->slope_c) <= KINK_DROP * scale &&
+            fabs(at[0].p.cost - p->cost - p->slope_c * (at[0].p.t - p->t)) <= KINK_DROP * scale * w;
+        added = 1;
+        if (at[0].settled && !(line_slope(L, &at[0].p) > 0.0)) {
+            if (line_eval(sel, L, t + KINK_BRACKET * w, &at[1].p) != 0) return -1;
+            at[1].settled = 0;
+            added += (uint32_t)line_fits(L, &at[1].p);
+        }
+        /* the points after p move up to make room, in order */
+        for (j = count; j-- > i + 1u;) pts[j + added] = pts[j];
+        for (j = 0; j < added; ++j) pts[i + 1u + j] = at[j];
+        count += added;
+    }
+    *best = pts[0].p;
+    for (i = 0; i < count; ++i) {
+        const line_point *p = &pts[i].p;
+        if (i > 0 && line_slope(L, &pts[i - 1u].p) > 0.0 && !(line_slope(L, p) > 0.0) &&
+            !slope_matched(L, p) && !slope_matched(L, &pts[i - 1u].p)) {
+            line_point found;
+            if (seek_slope(sel, L, pts[i - 1u].p, *p, &found) != 0) return -1;
+            if (line_value(L, &found) > line_value(L, best)) *best = found;
+        }
+        if (line_value(L, p) > line_value(L, best)) *best = *p;
+    }
+    return 0;
+}
+
 /* One line search over the n moving variables. Returns 1 when they moved (the
  * new resolutions and values are in place), 0 when no step fits, -1 on a strict
  * error. *budget_bound says whether t_max came from the budget; *matched
@@ -559,7 +653,7 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
     double budget = sel->frame->budget, moving_cost = 0.0;
     line_point origin, top, best;
     line L;
-    uint32_t i, k;
+    uint32_t i;
     int limited = 0;
     L.n = n;
     L.lambda = lambda;
@@ -598,31 +692,8 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
             return 0;
         }
     }
-    best = top;
-    if (!(line_slope(&L, &top) > 0.0) && !slope_matched(&L, &top)) {
-        /* eq. 8.14: the slope falls to lambda before t_max. Sampled, because
-         * a kinked cost can make it rise above lambda again further on. */
-        line_point prev = origin, p, found;
-        int have = 0;
-        for (k = 1; k <= LINE_SAMPLES; ++k) {
-            if (k < LINE_SAMPLES) {
-                if (line_eval(sel, &L, top.t * (double)k / (double)LINE_SAMPLES, &p) != 0)
-                    return -1;
-                if (!line_fits(&L, &p)) break;
-            } else {
-                p = top;
-            }
-            if (line_slope(&L, &prev) > 0.0 && !(line_slope(&L, &p) > 0.0)) {
-                if (seek_slope(sel, &L, prev, p, &found) != 0) return -1;
-                if (!have || line_value(&L, &found) > line_value(&L, &best)) best = found;
-                have = 1;
-            }
-            if (!have || line_value(&L, &p) > line_value(&L, &best)) best = p;
-            have = 1;
-            prev = p;
-        }
-        *matched = best.t < top.t;
-    }
+    if (line_best(sel, &L, &origin, &top, &best) != 0) return -1;
+    *matched = best.t < top.t;
     *budget_bound = limited && !*matched;
     /* no step at all when the line only loses (its slope starts below lambda) */
     if (!(best.t > 0.0) || !(line_value(&L, &best) > line_value(&L, &origin))) return 0;
@@ -884,8 +955,67 @@ enum {
     MIXED_REST,     /* spend_the_rest */
     MIXED_FILL,
     MIXED_POLISH,
+    MIXED_SAFEGUARD,
     MIXED_FINISH
 };
+
+/* The benefit of the working selection: the cut's and the drawn variables'. */
+static double working_benefit(const tclod_selector *sel) {
+    const tclod_vars *V = &sel->vars;
+    double sum = sel->benefit_sum;
+    uint32_t v;
+    for (v = 0; v < V->count; ++v)
+        if (V->r[v] > 0.0) sum += V->b[v];
+    return sum;
+}
+
+/* Every variable back at resolution 0 (a variable with a bad benefit stays
+ * invisible), its model made again. */
+static int restart_variables(tclod_selector *sel) {
+    tclod_vars *V = &sel->vars;
+    tclod_resume *R = &sel->resume;
+    uint32_t v;
+    for (v = 0; v < V->count; ++v) {
+        if (V->state[v] != TCLOD_VAR_DEAD) V->state[v] = TCLOD_VAR_LIVE;
+        V->r[v] = V->b[v] = V->c[v] = 0.0;
+    }
+    sel->reserved = 0.0;
+    R->skipped = R->smooth_done = 0;
+    R->run = 0;
+    R->matched = TCLOD_NONE;
+    R->guess = 1.0;
+    return start_variables(sel);
+}
+
+/* The greedy's safeguard after the solve (docs/mixed.md): ratio order can be
+ * arbitrarily bad for a knapsack, so the selection is compared with the best
+ * skipped increment's selection alone, T(n) (the roots, n's increment and the
+ * increments above it, the smooth variables at 0). When T(n) is worth more,
+ * the solve starts again from it: a second pass of the same stages, whose
+ * cut only grows from T(n) and whose smooth variables only add to it. After
+ * that pass (*next = MIXED_FINISH), should it still end below T(n) (its
+ * result repaired to the budget, say), T(n) alone is the result. A solve
+ * stopped by a limit makes no second pass. Returns -1 on a strict error. */
+static int safeguard(tclod_selector *sel, int *next) {
+    tclod_resume *R = &sel->resume;
+    double alt = 0.0, now = working_benefit(sel);
+    tclod_id n;
+    *next = MIXED_FINISH;
+    if (R->alt_pass) {
+        uint32_t v;
+        if (now >= R->alt_benefit) return 0;
+        for (v = 0; v < sel->vars.count; ++v) sel->vars.r[v] = sel->vars.b[v] = sel->vars.c[v] = 0.0;
+        sel->reserved = 0.0;
+        return tclod_greedy_force(sel, R->alt_node);
+    }
+    if (sel->stopped) return 0;
+    n = tclod_greedy_alternative(sel, &alt);
+    if (n == TCLOD_NONE || !(alt > now * (1.0 + 1e-12))) return 0;
+    R->alt_pass = 1;
+    if (tclod_greedy_force(sel, n) != 0 || restart_variables(sel) != 0) return -1;
+    *next = MIXED_IMPROVE;
+    return 0;
+}
 
 static int mixed_start(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
@@ -905,7 +1035,10 @@ static int mixed_start(tclod_selector *sel) {
         return 0;
     }
     if (rc == 0) rc = tclod_greedy_start(sel);
-    if (rc == 0) rc = start_variables(sel);
+    if (rc == 0) {
+        tclod_greedy_track(sel);
+        rc = start_variables(sel);
+    }
     return rc;
 }
 
@@ -926,7 +1059,7 @@ tclod_status tclod_mixed_solve(tclod_selector *sel) {
             break;
         case MIXED_IMPROVE:
             rc = modelled ? improve_modelled(sel) : improve_gradient(sel);
-            next = modelled ? MIXED_REST : MIXED_FINISH;
+            next = modelled ? MIXED_REST : MIXED_SAFEGUARD;
             break;
         case MIXED_REST:
             rc = spend_the_rest(sel);
@@ -938,7 +1071,10 @@ tclod_status tclod_mixed_solve(tclod_selector *sel) {
             break;
         case MIXED_POLISH:
             rc = polish(sel);
-            next = MIXED_FINISH;
+            next = MIXED_SAFEGUARD;
+            break;
+        case MIXED_SAFEGUARD:
+            rc = safeguard(sel, &next);
             break;
         default:
             rc = finish(sel);

@@ -105,6 +105,10 @@ static size_t smooth_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRA
     out[n++] = (tclod_array){(void **)&sel->split_node, 2 * sizeof(uint32_t), -1};
     out[n++] = (tclod_array){(void **)&sel->split_x, 2 * sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&sel->split_theta, 2 * sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&sel->split_order, 2 * sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&sel->split_c, 2 * sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&sel->split_q, 2 * sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&sel->split_whole, 2 * sizeof(uint8_t), -1};
     return n;
 }
 

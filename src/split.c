@@ -7,17 +7,19 @@
  * A frame walks it from the root with an explicit stack: nodes outside the
  * frustum or smaller on screen than the small-detail area produce no variable.
  * Without splitting every visible object is a variable of its own. With
- * splitting, a node whose n objects are expected to receive a total resolution
- * X keeps one shared variable when the benefit that sharing loses against a
- * variable per child,
- *     L = sqrt(X) * (sqrt(sum C_i^2 / n_i) - sum C_i / sqrt(n)),
- * is within its share of the threshold; otherwise its children are visited
- * with X_i = X * (C_i^2 / n_i) / sum (C_j^2 / n_j) and an equal part of the
- * share. C_i is a child's benefit scale (its benefit at full resolution) and
- * n_i its object count. docs/mixed.md derives L and X_i from eq. 8.22-8.23 for
- * the square-root benefit of eq. 8.20: L is the exact loss when each child's
- * objects are alike, and eq. 8.23's worst case C sqrt(X) (1 - 1/sqrt(n)) when
- * a single object holds all the benefit.
+ * splitting, a first pass asks every visible object's benefit scale c_j (its
+ * benefit at full resolution) and sums C = sum c_j and Q = sum c_j^2 up the
+ * tree; then a node whose n objects are all visible and expected to receive a
+ * total resolution X keeps one shared variable when what sharing loses
+ * against a variable per object,
+ *     L = sqrt(X) * (sqrt(Q) - C / sqrt(n)),
+ * is within its share of the threshold; otherwise its visible children are
+ * visited with X_i = X * (C_i^2 / n_i) / sum (C_j^2 / n_j) (at most n_i, the
+ * excess handed to the others) and an equal part of the share. docs/mixed.md
+ * derives L from eq. 8.22 for the square-root benefit of eq. 8.20: it is the
+ * loss at the per-object optimum, never more than eq. 8.23's worst case
+ * C sqrt(X) (1 - 1/sqrt(n)), which it equals when one object holds all the
+ * benefit.
  */
 #include "internal.h"
 
@@ -87,118 +89,187 @@ static void split_flat(tclod_selector *sel) {
     }
 }
 
-/* Benefit scale of a group: its benefit at full resolution; 0 when culled or
- * its benefit is bad. Returns -1 on a strict error. */
-static int scale_of(tclod_selector *sel, uint32_t first, uint32_t count, const float bounds[4],
-                    double *scale) {
+/* Benefit scale of one object (a leaf of one, with the leaf's bounds, or an
+ * object of a leaf of several, with its own): its benefit at full resolution,
+ * 0 when culled or its benefit is bad. Returns -1 on a strict error. */
+static int object_scale(tclod_selector *sel, uint32_t pos, const float bounds[4], double *scale) {
     float area, distance;
     double db;
     *scale = 0.0;
     measure(sel, bounds, &area, &distance);
     if (culled(sel, area)) return 0;
-    tclod_smooth_call(sel, first, count, bounds, area, distance, 1.0, scale, &db, NULL, NULL);
+    tclod_smooth_call(sel, pos, 1, bounds, area, distance, 1.0, scale, &db, NULL, NULL);
     return sel->failed ? -1 : 0;
 }
 
-/* One child of a node being split: a quadtree node, or an object of a leaf
- * that holds several. */
-static void child_range(const tclod_scene *s, const tclod_smooth_node *node, uint32_t i,
-                        uint32_t *first, uint32_t *count, const float **bounds) {
-    if (node->child_count > 0) {
-        const tclod_smooth_node *c = &s->qt[node->child + i];
-        *first = c->first;
-        *count = c->count;
-        *bounds = c->bounds;
-    } else {
-        *first = node->first + i;
-        *count = 1;
-        *bounds = object_bounds(s, node->first + i);
-    }
-}
-
-/* Decides for the node on top of the stack: one shared variable, or its
- * visible children onto the stack (objects of a leaf become variables). */
-static int split_node(tclod_selector *sel, uint32_t k, double x, double theta, uint32_t *top) {
+/* The first pass: every visible object's benefit scale c_j into
+ * vars.ratio[position] (scratch until the solve; 0 when culled), and for every
+ * quadtree node reached, the sums C = sum c_j and Q = sum c_j^2 over its
+ * objects and whether all of them are visible (split_c, split_q,
+ * split_whole). Culled nodes are not descended into; their records say
+ * nothing visible. Inner nodes are listed in split_order in the order they
+ * were reached (a parent before its children) and summed up in reverse. */
+static int gather(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
-    const tclod_smooth_node *node = &s->qt[k];
-    uint32_t children = node->child_count > 0 ? node->child_count : node->count;
-    uint32_t i, visible = 0;
-    double sum = 0.0, spread = 0.0, loss, *scale = sel->vars.ratio; /* scratch until the solve */
-    float area, distance;
-    measure(sel, node->bounds, &area, &distance);
-    if (node->count == 1) {
-        add_variable(sel, node->first, 1, node->bounds, area, distance);
-        return 0;
-    }
-    for (i = 0; i < children; ++i) {
-        uint32_t first, count;
-        const float *b;
-        child_range(s, node, i, &first, &count, &b);
-        if (scale_of(sel, first, count, b, &scale[i]) != 0) return -1;
-        if (scale[i] > 0.0) {
-            visible++;
-            sum += scale[i];
-            spread += scale[i] * scale[i] / (double)count;
-        }
-    }
-    if (visible == 0) return 0;
-    loss = sqrt(x) * (sqrt(spread) - sum / sqrt((double)node->count));
-    if (loss <= theta) {
-        add_variable(sel, node->first, node->count, node->bounds, area, distance);
-        return 0;
-    }
-    for (i = children; i-- > 0;) {
-        uint32_t first, count;
-        const float *b;
-        double xi;
-        if (!(scale[i] > 0.0)) continue;
-        child_range(s, node, i, &first, &count, &b);
-        if (node->child_count == 0) {
-            /* an object of a leaf: pushed as such, decided when popped */
+    double *scale = sel->vars.ratio;
+    uint32_t top = 0, inner = 0, i;
+    sel->split_node[top++] = 0;
+    while (top > 0) {
+        uint32_t k = sel->split_node[--top];
+        const tclod_smooth_node *node = &s->qt[k];
+        float area, distance;
+        double c = 0.0, q = 0.0;
+        int whole = 1;
+        measure(sel, node->bounds, &area, &distance);
+        if (culled(sel, area)) {
+            whole = 0;
+        } else if (node->count == 1) {
+            if (object_scale(sel, node->first, node->bounds, &scale[node->first]) != 0) return -1;
+            c = scale[node->first];
+            q = c * c;
+            whole = c > 0.0;
+        } else if (node->child_count == 0) {
+            for (i = node->first; i < node->first + node->count; ++i) {
+                if (object_scale(sel, i, object_bounds(s, i), &scale[i]) != 0) return -1;
+                c += scale[i];
+                q += scale[i] * scale[i];
+                whole &= scale[i] > 0.0;
+            }
+        } else {
+            sel->split_order[inner++] = k;
+            for (i = node->child_count; i-- > 0;) sel->split_node[top++] = node->child + i;
             continue;
         }
-        xi = x * (scale[i] * scale[i] / (double)count) / spread;
-        if (xi > (double)count) xi = (double)count;
-        sel->split_node[*top] = node->child + i;
-        sel->split_x[*top] = xi;
-        sel->split_theta[*top] = theta / (double)visible;
-        (*top)++;
+        sel->split_c[k] = c;
+        sel->split_q[k] = q;
+        sel->split_whole[k] = (uint8_t)whole;
     }
-    if (node->child_count == 0) /* objects of a leaf, in order */
-        for (i = 0; i < children; ++i)
-            if (scale[i] > 0.0) {
-                const float *b = object_bounds(s, node->first + i);
-                measure(sel, b, &area, &distance);
-                add_variable(sel, node->first + i, 1, b, area, distance);
-            }
+    while (inner-- > 0) {
+        uint32_t k = sel->split_order[inner];
+        const tclod_smooth_node *node = &s->qt[k];
+        double c = 0.0, q = 0.0;
+        int whole = 1;
+        for (i = node->child; i < node->child + node->child_count; ++i) {
+            c += sel->split_c[i];
+            q += sel->split_q[i];
+            whole &= sel->split_whole[i];
+        }
+        sel->split_c[k] = c;
+        sel->split_q[k] = q;
+        sel->split_whole[k] = (uint8_t)whole;
+    }
     return 0;
 }
 
-/* Algorithm 3 from the root. The root's expected resolution X is what the
- * budget buys if all of it went to the smooth objects, and the loss allowed
- * in all is theta times the root's benefit at the mean resolution X / n. */
+/* The expected resolutions of a quadtree node's children, x_i = x w_i /
+ * sum w_j with w_i = C_i^2 / n_i (docs/mixed.md), each at most n_i: what a
+ * capped child cannot take goes to the others in proportion to their w_i
+ * (the level x / sum w only rises as children are capped, so a child capped
+ * once stays capped). Children with nothing visible get nothing. The sum of
+ * the open children's w is summed again each round rather than decreased,
+ * which could leave it 0 by cancellation. */
+static void share_resolution(const tclod_selector *sel, const tclod_smooth_node *node, double x,
+                             double xi[4]) {
+    const tclod_scene *s = sel->scene;
+    double w[4], wsum;
+    uint32_t i, n = node->child_count;
+    int open[4], changed = 1;
+    assert(n <= 4u);
+    for (i = 0; i < n; ++i) {
+        double c = sel->split_c[node->child + i];
+        w[i] = c * c / (double)s->qt[node->child + i].count;
+        open[i] = w[i] > 0.0;
+        xi[i] = 0.0;
+    }
+    while (changed) {
+        changed = 0;
+        for (wsum = 0.0, i = 0; i < n; ++i)
+            if (open[i])
+                wsum += w[i];
+        for (i = 0; i < n; ++i) {
+            double count = (double)s->qt[node->child + i].count;
+            if (!open[i] || !(x * w[i] > count * wsum)) continue;
+            xi[i] = count;
+            open[i] = 0;
+            x -= count;
+            changed = 1;
+            break; /* the others against the new level */
+        }
+    }
+    for (wsum = 0.0, i = 0; i < n; ++i)
+        if (open[i])
+            wsum += w[i];
+    for (i = 0; i < n; ++i)
+        if (open[i]) xi[i] = x * w[i] / wsum;
+}
+
+/* Decides for quadtree node k, expected to receive the total resolution x and
+ * allowed the loss theta: one shared variable when all of its objects are
+ * visible (a culled object in a group would be drawn and paid for) and the
+ * loss of sharing against a variable per object (docs/mixed.md),
+ *     sqrt(x) * (sqrt(Q) - C / sqrt(n)),
+ * is within theta; otherwise its visible children onto the stack (objects of a
+ * leaf become variables). The margin of 1e-12 of the group's benefit keeps
+ * rounding from splitting alike objects at theta = 0. */
+static void split_node(tclod_selector *sel, uint32_t k, double x, double theta, uint32_t *top) {
+    const tclod_scene *s = sel->scene;
+    const tclod_smooth_node *node = &s->qt[k];
+    double c = sel->split_c[k], n = (double)node->count, xi[4];
+    uint32_t i, visible = 0;
+    float area, distance;
+    if (node->count == 1 || (sel->split_whole[k] &&
+                             sqrt(x) * (sqrt(sel->split_q[k]) - c / sqrt(n)) <=
+                                 theta + 1e-12 * c * sqrt(x / n))) {
+        measure(sel, node->bounds, &area, &distance);
+        add_variable(sel, node->first, node->count, node->bounds, area, distance);
+        return;
+    }
+    if (node->child_count == 0) { /* the visible objects of a leaf, in order */
+        for (i = node->first; i < node->first + node->count; ++i)
+            if (sel->vars.ratio[i] > 0.0) {
+                const float *b = object_bounds(s, i);
+                measure(sel, b, &area, &distance);
+                add_variable(sel, i, 1, b, area, distance);
+            }
+        return;
+    }
+    for (i = 0; i < node->child_count; ++i) visible += sel->split_c[node->child + i] > 0.0;
+    share_resolution(sel, node, x, xi);
+    /* reverse, so that the stack hands them out in order */
+    for (i = node->child_count; i-- > 0;) {
+        if (!(sel->split_c[node->child + i] > 0.0)) continue;
+        sel->split_node[*top] = node->child + i;
+        sel->split_x[*top] = xi[i];
+        sel->split_theta[*top] = theta / (double)visible;
+        (*top)++;
+    }
+}
+
+/* Algorithm 3 from the root, after the first pass. The root's expected
+ * resolution X is what the budget buys if all of it went to the smooth
+ * objects, and the loss allowed in all is theta times the visible objects'
+ * benefit at the mean resolution X / n. */
 static int split_tree(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
     const tclod_smooth_node *root = &s->qt[0];
-    double n = (double)root->count, scale, cost, db, dc, x = n, budget = sel->frame->budget;
+    double n = (double)root->count, b, cost, db, dc, x = n, budget = sel->frame->budget;
     float area, distance;
     uint32_t top = 0;
     measure(sel, root->bounds, &area, &distance);
     if (culled(sel, area)) return 0;
-    tclod_smooth_call(sel, root->first, root->count, root->bounds, area, distance, 1.0, &scale,
-                      &db, &cost, &dc);
+    if (gather(sel) != 0) return -1;
+    if (!(sel->split_c[0] > 0.0)) return 0;
+    tclod_smooth_call(sel, root->first, root->count, root->bounds, area, distance, 1.0, &b, &db,
+                      &cost, &dc);
     if (sel->failed) return -1;
-    if (!(scale > 0.0)) return 0;
     if (cost > 0.0 && budget < cost) x = n * budget / cost;
     sel->split_node[top] = 0;
     sel->split_x[top] = x;
-    sel->split_theta[top] = sel->desc.split_threshold * scale * sqrt(x / n);
+    sel->split_theta[top] = sel->desc.split_threshold * sel->split_c[0] * sqrt(x / n);
     top++;
     while (top > 0) {
         --top;
-        if (split_node(sel, sel->split_node[top], sel->split_x[top], sel->split_theta[top],
-                       &top) != 0)
-            return -1;
+        split_node(sel, sel->split_node[top], sel->split_x[top], sel->split_theta[top], &top);
     }
     return 0;
 }

@@ -171,22 +171,57 @@ static void discrete_step_first_when_its_slope_beats_the_smooth_slope(void **sta
  * (r = 2/1.5 - 1 = 1/3), but then the increment (cost 1) no longer fits the
  * 2/3 left, which the smooth object takes: r = 1. The preconditioned loop sees
  * at once that after paying for the increment nothing would be left for the
- * steeper smooth object, and gets there directly. Either way: cut {R}, r = 1
- * (less the line search's margin of 1e-9 of the budget), benefit 1 + 2 ln 2. */
+ * steeper smooth object, and gets there directly. Either way the interleaving
+ * ends at cut {R}, r = 1 (less the line search's margin of 1e-9 of the
+ * budget), benefit 1 + 2 ln 2 = 2.386294. The skipped increment's selection
+ * alone, T(C) = {C} with nothing smooth, costs 2 <= 2 and is worth 2.5: the
+ * safeguard makes it the result. It is the optimum: with {R} the smooth object
+ * gets at most r = 1 (2.386294); with {C} nothing is left for it. */
 static void smooth_step_first_when_its_slope_beats_the_discrete_slope(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
-    tclod_id root = helper_add(f, TCLOD_NONE, 1.0, 1.0), s;
+    tclod_id root = helper_add(f, TCLOD_NONE, 1.0, 1.0), child, s;
     int precondition;
-    helper_add(f, root, 2.5, 2.0);
+    child = helper_add(f, root, 2.5, 2.0);
     s = add_smooth(f, TABLE_LOG, 2.0, 1.0, 1.0, 1.0, 0.0);
     for (precondition = 0; precondition <= 1; ++precondition) {
         tclod_selector *sel = mixed_selector(f, precondition, 0.0);
         tclod_stats st;
         select_mixed(sel, 2.0, 0, &st);
-        assert_int_equal(only_node(sel), root);
-        assert_near(resolution(sel, s), 1.0, 1e-8, "smooth resolution");
-        assert_near(st.benefit, 1.0 + 2.0 * log(2.0), 1e-8, "benefit");
+        assert_int_equal(only_node(sel), child);
+        assert_true(resolution(sel, s) == 0.0);
+        assert_true(st.benefit == 2.5);
         assert_true(st.cost <= 2.0);
+        tclod_selector_destroy(sel);
+    }
+}
+
+/* The safeguard's comparison is with the interleaving's final result, smooth
+ * part included. Two roots: A (b 1, c 1) with child A1 (b 11, c 9), an
+ * increment of +10 for +8 (ratio 1.25), and B (b 1, c 1) with child B1 (b 4,
+ * c 2), +3 for +1 (ratio 3); one smooth object 2 ln(1 + r) costing r (slope 2
+ * at 0). Budget 10. Best ratio first: B's increment (the cut then costs 3),
+ * then the smooth object, whose slope (2 at most) beats A's 1.25, up to r = 1
+ * (cost 1); A's increment (+8) does not fit the 7 left at any point: benefit
+ * 1 + 4 + 2 ln 2 = 6.386294 for a cost of 4. T(A1) = {A1, B}, cost 9 + 1 = 10,
+ * is worth 11 + 1 = 12; the second pass starts there, and nothing is left for
+ * B's increment or the smooth object: benefit 12, the optimum (with A1 the 0
+ * left buys nothing; without it, at most 1 + 4 + 2 ln 2). */
+static void mixed_solve_keeps_the_best_skipped_increment_taken_alone(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id a = helper_add(f, TCLOD_NONE, 1.0, 1.0), b = helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    tclod_id a1 = helper_add(f, a, 11.0, 9.0), s, expected[2];
+    int precondition;
+    helper_add(f, b, 4.0, 2.0);
+    s = add_smooth(f, TABLE_LOG, 2.0, 1.0, 1.0, 1.0, 0.0);
+    expected[0] = b;
+    expected[1] = a1;
+    for (precondition = 0; precondition <= 1; ++precondition) {
+        tclod_selector *sel = mixed_selector(f, precondition, 0.0);
+        tclod_stats st;
+        select_mixed(sel, 10.0, 0, &st);
+        helper_assert_cut(sel, expected, 2);
+        assert_true(resolution(sel, s) == 0.0);
+        assert_true(st.benefit == 12.0 && st.cost == 10.0);
         tclod_selector_destroy(sel);
     }
 }
@@ -291,6 +326,194 @@ static void kinked_cost_reaches_the_hand_computed_optimum(void **state) {
     assert_near(resolution(sel, b), 0.88, 2e-3, "B");
     assert_near(st.benefit, 2.345208, 1e-4, "benefit");
     assert_true(st.cost <= 2.0);
+    tclod_selector_destroy(sel);
+}
+
+/* Papers' loop, one line search. R (b 1, c 1) with child C (b 1.5, c 1.5):
+ * slope_d = 1. One smooth object sqrt(r) costing 2 r up to the kink r = 0.3,
+ * then 0.6 + 0.45 (r - 0.3); the budget (10) does not bind, so t_max = 1 (the
+ * direction is a = 1). The line search maximises phi(r) = sqrt(r) - c(r):
+ *   before the kink phi' = 1/(2 sqrt r) - 2 falls to 0 at r = 1/16 = 0.0625,
+ *     phi(0.0625) = 0.25 - 0.125 = 0.125 (a local maximum);
+ *   at the kink phi' jumps from 0.912871 - 2 < 0 to 0.912871 - 0.45 > 0, and
+ *     stays positive up to r = 1 (0.5 - 0.45 = 0.05): phi(1) = 1 - 0.6 - 0.315
+ *     = 0.085, the other local maximum;
+ * so the optimum of the line is r = 0.0625. The slope at t_max is above
+ * slope_d, which eq. 8.14 alone would take for the answer. */
+static void line_search_brackets_a_kink_and_keeps_the_better_local_maximum(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id root = helper_add(f, TCLOD_NONE, 1.0, 1.0), s;
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, root, 1.5, 1.5);
+    s = add_smooth(f, TABLE_POWER, 1.0, 0.5, 0.45, 2.0, 0.3);
+    sel = mixed_selector(f, 0, 0.0);
+    select_mixed(sel, 10.0, 1, &st);
+    assert_int_equal(st.line_searches, 1);
+    assert_near(resolution(sel, s), 0.0625, 5e-3, "r after the line search");
+    assert_int_equal(only_node(sel), root);
+    tclod_selector_destroy(sel);
+}
+
+/* ---- random kinked instances against brute force --------------------------------- */
+
+/* The cost of smooth object i at r. */
+static double kinked_cost(const table_smooth *t, tclod_id i, double r) {
+    return r < t->kink[i] ? t->steep[i] * r : t->steep[i] * t->kink[i] + t->k[i] * (r - t->kink[i]);
+}
+
+
+/* The papers' direction from resolution 0 as the library computes it (no
+ * barrier): every object's benefit slope where slopes are asked (10^-9),
+ * scaled to a largest component of 1. */
+static void direction_from_zero(const table_model *m, double *a) {
+    double largest = 0.0;
+    tclod_id i;
+    for (i = 0; i < m->smooth.count; ++i) {
+        table_smooth_benefit_of(m, i, 1e-9, &a[i]);
+        if (a[i] > largest) largest = a[i];
+    }
+    for (i = 0; i < m->smooth.count; ++i) a[i] /= largest;
+}
+
+/* Benefit less lambda times cost of the smooth objects at r = t a, and their
+ * cost alone. */
+static double line_phi(const table_model *m, const double *a, double t, double lambda,
+                       double *cost) {
+    double sum = 0.0;
+    tclod_id i;
+    *cost = 0.0;
+    for (i = 0; i < m->smooth.count; ++i) {
+        double r = t * a[i] < 1.0 ? t * a[i] : 1.0;
+        *cost += kinked_cost(&m->smooth, i, r);
+        sum += table_smooth_benefit_of(m, i, r, NULL);
+    }
+    return sum - lambda * *cost;
+}
+
+/* Papers' loop, one line search, 300 random instances. One to three smooth
+ * objects, benefits
+ * w r^p or w ln(1 + p r), costs with a setup (steep, 2 to 20 times the slope
+ * after it, up to a kink in [0.02, 0.3]); R (b 1, c 1) with one child of
+ * slope_d = lambda, 0.05 to 0.9 times the slope along the gradient at 0 (so
+ * that the smooth step comes first); budgets that fit R and the increment,
+ * from where the line reaches the budget early to where it does not bind.
+ * The line search goes along the
+ * gradient a from 0 and should stop at the best point of phi(t) = benefit -
+ * lambda cost on [0, t_max] (t_max: the first object at 1, or the budget left
+ * after R, less the line search's margin of 1e-9 of the budget). Brute force:
+ * phi on 20000 equal steps of [0, t_max], plus each kink's two sides and t_max
+ * itself. The line search's point (every object on the line) must be within
+ * 1e-4 of the benefits' scale of that maximum (the refinement of a crossing
+ * stops within 10^-3 of the slope's terms; at 0 nothing moves, and the
+ * increment follows in the same iteration). */
+static void line_search_on_kinked_instances_finds_the_best_point_of_the_line(void **state) {
+    table_rng rng;
+    int instance;
+    (void)state;
+    table_rng_seed(&rng, 8018);
+    for (instance = 0; instance < 300; ++instance) {
+        helper_fixture *f;
+        tclod_selector *sel;
+        tclod_stats st;
+        tclod_id root, i;
+        double lambda, dc = table_rng_uniform(&rng, 0.1, 1.0), slope_b = 0.0, slope_c = 0.0;
+        double a[3], full = 0.0, scale = 0.0, budget, limit, t_max = HUGE_VAL, lo, hi, cost;
+        double best, got, t, got_cost;
+        uint32_t n = 1u + table_rng_below(&rng, 3), k;
+        assert_int_equal(helper_fixture_setup((void **)&f), 0);
+        for (i = 0; i < n; ++i) {
+            table_shape shape = table_rng_below(&rng, 2) ? TABLE_LOG : TABLE_POWER;
+            double p = shape == TABLE_POWER ? table_rng_uniform(&rng, 0.3, 0.8)
+                                            : table_rng_uniform(&rng, 1.0, 20.0);
+            double k_after = table_rng_uniform(&rng, 0.5, 2.0);
+            double steep = k_after * table_rng_uniform(&rng, 2.0, 20.0);
+            double kink = table_rng_uniform(&rng, 0.02, 0.3);
+            add_smooth(f, shape, table_rng_uniform(&rng, 0.5, 5.0), p, k_after, steep, kink);
+            full += kinked_cost(&f->model.smooth, i, 1.0);
+            scale += table_smooth_benefit_of(&f->model, i, 1.0, NULL);
+        }
+        direction_from_zero(&f->model, a);
+        for (i = 0; i < n; ++i) { /* the slope along a at 0, which slope_d must not beat */
+            double db;
+            table_smooth_benefit_of(&f->model, i, 1e-9, &db);
+            slope_b += a[i] * db;
+            slope_c += a[i] * f->model.smooth.steep[i];
+        }
+        lambda = slope_b / slope_c * table_rng_uniform(&rng, 0.05, 0.9);
+        root = helper_add(f, TCLOD_NONE, 1.0, 1.0);
+        helper_add(f, root, 1.0 + lambda * dc, 1.0 + dc);
+        /* the increment fits, so that it is the line search's slope_d */
+        budget = 1.0 + dc + full * table_rng_uniform(&rng, 0.05, 1.2);
+        limit = budget - 1e-9 * budget - 1.0;
+        for (i = 0; i < n; ++i)
+            if (1.0 / a[i] < t_max) t_max = 1.0 / a[i];
+        line_phi(&f->model, a, t_max, lambda, &cost);
+        if (cost > limit) { /* the budget's edge: bisection on the cost */
+            for (lo = 0.0, hi = t_max, k = 0; k < 200; ++k) {
+                line_phi(&f->model, a, 0.5 * (lo + hi), lambda, &cost);
+                if (cost <= limit)
+                    lo = 0.5 * (lo + hi);
+                else
+                    hi = 0.5 * (lo + hi);
+            }
+            t_max = lo;
+        }
+        best = line_phi(&f->model, a, t_max, lambda, &cost);
+        for (k = 0; k < 20000; ++k) {
+            double v = line_phi(&f->model, a, t_max * (double)k / 20000.0, lambda, &cost);
+            if (v > best) best = v;
+        }
+        for (i = 0; i < n; ++i) {
+            double tk = f->model.smooth.kink[i] / a[i];
+            int side;
+            for (side = -1; side <= 1; side += 2) {
+                double v, at = tk * (1.0 + 1e-12 * side);
+                if (!(at < t_max)) continue;
+                v = line_phi(&f->model, a, at, lambda, &cost);
+                if (v > best) best = v;
+            }
+        }
+        sel = mixed_selector(f, 0, 0.0);
+        select_mixed(sel, budget, 1, &st);
+        assert_int_equal(st.line_searches, 1);
+        for (t = 0.0, i = 0; i < n; ++i)
+            if (a[i] == 1.0) t = resolution(sel, i);
+        /* on the line, but never asked below 10^-9 */
+        for (i = 0; i < n; ++i) assert_true(fabs(resolution(sel, i) - t * a[i]) <= 1.1e-9);
+        for (got = got_cost = 0.0, i = 0; i < n; ++i) {
+            double r = resolution(sel, i);
+            got_cost += kinked_cost(&f->model.smooth, i, r);
+            got += table_smooth_benefit_of(&f->model, i, r, NULL);
+        }
+        got -= lambda * got_cost;
+        if (!(got >= best - 1e-4 * scale))
+            fail_msg("instance %d: phi %.12g at t = %.9g, the line's best is %.12g", instance, got,
+                     t, best);
+        assert_true(got_cost <= limit + 1e-12 * budget);
+        tclod_selector_destroy(sel);
+        helper_fixture_teardown((void **)&f);
+    }
+}
+
+/* Preconditioned loop: four objects of weight 1 and twelve of 0.01 (w sqrt(r),
+ * costs r), budget 4. At slope lambda each takes r = w^2 / (4 lambda^2), and
+ * the budget is spent where 1 / (4 lambda^2) = 4 / (4 + 12 * 10^-4) =
+ * 0.999700 (below 1): r = 0.999700 and 0.0000999700, benefit sqrt(4 * 4.0012)
+ * = 4.000600. The models are exact for square roots, so the smooth step aimed
+ * at the slope at which they spend the budget lands there. */
+static void preconditioned_loop_spends_the_budget_at_the_slope_its_models_predict(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *sel;
+    tclod_stats st;
+    tclod_id i;
+    for (i = 0; i < 16; ++i) add_sqrt(f, i % 4 == 0 ? 1.0 : 0.01, 1.0);
+    sel = mixed_selector(f, 1, 0.0);
+    select_mixed(sel, 4.0, 0, &st);
+    for (i = 0; i < 16; ++i)
+        assert_near(resolution(sel, i), i % 4 == 0 ? 0.999700 : 0.0000999700, 1e-6, "resolution");
+    assert_near(st.benefit, 4.000600, 1e-7, "benefit");
+    assert_true(st.cost <= 4.0);
     tclod_selector_destroy(sel);
 }
 
@@ -567,12 +790,16 @@ int main(void) {
         FIXTURE_TEST(saturated_variable_stays_at_one_and_the_rest_goes_to_the_others),
         FIXTURE_TEST(barrier_moves_resolution_away_from_a_variable_close_to_one),
         FIXTURE_TEST(kinked_cost_reaches_the_hand_computed_optimum),
+        FIXTURE_TEST(line_search_brackets_a_kink_and_keeps_the_better_local_maximum),
+        cmocka_unit_test(line_search_on_kinked_instances_finds_the_best_point_of_the_line),
+        FIXTURE_TEST(preconditioned_loop_spends_the_budget_at_the_slope_its_models_predict),
         cmocka_unit_test(separable_concave_instances_reach_99_percent_of_the_lagrangian_optimum),
         FIXTURE_TEST(unlimited_budget_draws_everything_at_full_resolution),
         FIXTURE_TEST(zero_budget_draws_no_smooth_object),
         FIXTURE_TEST(iteration_limits_stop_with_a_feasible_selection),
         FIXTURE_TEST(without_smooth_objects_the_mixed_solver_keeps_the_greedys_safeguard),
         FIXTURE_TEST(without_smooth_objects_the_mixed_solver_needs_no_smooth_callbacks),
+        FIXTURE_TEST(mixed_solve_keeps_the_best_skipped_increment_taken_alone),
         FIXTURE_TEST(lookahead_increments_compete_with_smooth_steps_by_their_slope),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

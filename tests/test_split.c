@@ -3,12 +3,14 @@
  * src/scene.c): quadtree order, frustum and small-detail culling, and the
  * splitting criterion of docs/mixed.md, worked out by hand:
  *
- *   a node of n objects with children of benefit scales C_i (benefit at full
- *   resolution) and n_i objects keeps one variable when
- *     L = sqrt(X) (sqrt(sum C_i^2 / n_i) - sum C_i / sqrt(n))
+ *   a node of n objects with benefit scales c_j (benefit at full resolution),
+ *   C = sum c_j, Q = sum c_j^2, all of them visible, keeps one variable when
+ *     L = sqrt(X) (sqrt(Q) - C / sqrt(n))
  *   is at most its share of theta * C_root * sqrt(X_root / n_root), with
  *   X_root = n_root * min(1, budget / cost of the root group at full
- *   resolution).
+ *   resolution); a split node hands each of its v visible children theta / v
+ *   and X_i = X (C_i^2 / n_i) / sum_k (C_k^2 / n_k), at most n_i, what a
+ *   capped child cannot take going to the others.
  *
  * Smooth objects come from the table model (benefit w sqrt(r), cost k r; a
  * group's values are the sums over its members), so C_i is the sum of the
@@ -233,6 +235,120 @@ static void a_dominant_object_splits_its_group(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* The sixteen objects of a 4 x 4 grid; each 2 x 2 block (a quadrant of the
+ * root) holds one object of weight 1 and three of 0.01. Every child of the
+ * root looks alike (C_i = 1.03, n_i = 4), but the objects inside do not: at
+ * the root Q = 4 (1 + 3 * 10^-4) = 4.0012, C = 4.12, n = 16, so L = sqrt(X)
+ * (2.000300 - 1.03) > 0, and in each block L = sqrt(X_i) (1.000150 - 0.515)
+ * > 0. With theta = 0 no loss is allowed: every object gets a variable of its
+ * own. Budget 4, costs r: the optimum gives r_j = X c_j^2 / Q (all below 1),
+ * 0.999700 and 0.0000999700, benefit sqrt(X Q) = sqrt(16.0048) = 4.000600;
+ * one shared variable (r = 1/4) would give 4.12 / 2 = 2.06. */
+static void theta_zero_splits_down_to_objects_unlike_inside_alike_blocks(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *sel;
+    tclod_stats st;
+    uint32_t i, j;
+    for (i = 0; i < 4; ++i)
+        for (j = 0; j < 4; ++j)
+            add_object(f, (float)i, 0.0f, (float)j, 0.1f, i % 2 == 0 && j % 2 == 0 ? 1.0 : 0.01);
+    sel = split_selector(f, 1, 0.0);
+    select_view(sel, NULL, 4.0, &st);
+    assert_int_equal(st.variables, 16);
+    if (!(fabs(st.benefit - 4.000600) <= 1e-6))
+        fail_msg("benefit %.9g, the optimum 4.000600", st.benefit);
+    assert_true(st.cost <= 4.0);
+    tclod_selector_destroy(sel);
+}
+
+/* A 4 x 4 grid whose 2 x 2 blocks hold alike objects, of weights 1, 2, 3, 4
+ * by block. At the root Q = 4 (1 + 4 + 9 + 16) = 120, C = 40, n = 16; budget
+ * 8 of the 16 everything costs: X = 8. L = sqrt(8) (sqrt(120) - 10) =
+ * 2.699601 against theta * 40 * sqrt(8 / 16) = 28.284271 theta: the root
+ * stays one variable from theta = 0.0954451 on. Below, it splits into its
+ * four blocks, each of alike objects (L = 0), one variable each. */
+static void alike_blocks_share_a_variable_while_their_spread_is_within_theta(void **state) {
+    static const double thetas[2] = {0.0954, 0.0955};
+    static const uint32_t expected[2] = {4, 1};
+    int k;
+    (void)state;
+    for (k = 0; k < 2; ++k) {
+        helper_fixture *f;
+        tclod_selector *sel;
+        tclod_stats st;
+        uint32_t i, j;
+        assert_int_equal(helper_fixture_setup((void **)&f), 0);
+        for (i = 0; i < 4; ++i)
+            for (j = 0; j < 4; ++j)
+                add_object(f, (float)i, 0.0f, (float)j, 0.1f, 1.0 + (double)(i / 2 + 2 * (j / 2)));
+        sel = split_selector(f, 1, thetas[k]);
+        select_view(sel, NULL, 8.0, &st);
+        assert_int_equal(st.variables, expected[k]);
+        tclod_selector_destroy(sel);
+        helper_fixture_teardown((void **)&f);
+    }
+}
+
+/* Three objects in front of the reference view (z = -10) and one behind it
+ * (z = +10), all of weight 1, splitting with theta = 10 (any spread would be
+ * allowed). The quadtree's cell is the square of side 20 from (-1, -10), so
+ * the root has two quadrants: the three in front, and the one behind, which
+ * is culled. The root holds it, so it must not become a group (the culled
+ * object would be drawn and paid for): it splits, the three in front are one
+ * group (alike, all visible) and the object behind gets nothing. Budget 1.5,
+ * costs r: the three visible objects at r = 0.5 each (1.5 in all), the one
+ * behind at 0. */
+static void a_group_never_holds_a_culled_object(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id a = add_object(f, -1.0f, 0.0f, -10.0f, 0.5f, 1.0);
+    tclod_id b = add_object(f, 0.0f, 0.0f, -10.0f, 0.5f, 1.0);
+    tclod_id c = add_object(f, 1.0f, 0.0f, -10.0f, 0.5f, 1.0);
+    tclod_id behind = add_object(f, 0.0f, 0.0f, 10.0f, 0.5f, 1.0);
+    tclod_selector *sel = split_selector(f, 1, 10.0);
+    const tclod_smooth_group *groups;
+    tclod_view view;
+    tclod_stats st;
+    size_t n, i;
+    helper_view(&view);
+    select_view(sel, &view, 1.5, &st);
+    assert_int_equal(st.variables, 1);
+    assert_true(tclod_selector_resolution(sel, behind) == 0.0);
+    assert_true(fabs(tclod_selector_resolution(sel, a) - 0.5) < 1e-6);
+    assert_true(fabs(tclod_selector_resolution(sel, b) - 0.5) < 1e-6);
+    assert_true(fabs(tclod_selector_resolution(sel, c) - 0.5) < 1e-6);
+    assert_int_equal(tclod_selector_smooth_groups(sel, &groups, &n), TCLOD_OK);
+    for (i = 0; i < n; ++i) {
+        uint32_t p;
+        for (p = groups[i].first; p < groups[i].first + groups[i].count; ++p)
+            assert_true(p != position_of(f, behind));
+    }
+    assert_true(fabs(st.cost - 1.5) < 1e-6);
+    tclod_selector_destroy(sel);
+}
+
+/* A child's expected resolution is at most its object count; what it cannot
+ * take goes to its siblings. D (weight 10) alone in one quadrant, the pair G
+ * (weights 1 and 2) in another; budget 2.4 of the 3 everything costs: X =
+ * 2.4, theta = 0.015. The root splits: L = sqrt(2.4) (sqrt(105) - 13 /
+ * sqrt(3)) = 4.246954 > 0.015 * 13 * sqrt(0.8) = 0.174413. By C_i^2 / n_i
+ * (100 and 4.5), D would get 2.296651 > 1: it takes 1, and G the other 1.4
+ * (without the hand-over 0.103349). G's loss sqrt(1.4) (sqrt(5) - 3 /
+ * sqrt(2)) = 0.135771 is above its share 0.174413 / 2 = 0.087207, so G splits
+ * too (at X = 0.103349 it would have been 0.036889, within it): three
+ * variables. */
+static void a_capped_child_hands_its_excess_resolution_to_the_others(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *sel;
+    tclod_stats st;
+    add_object(f, 0.0f, 0.0f, 0.0f, 0.1f, 10.0);
+    add_object(f, 10.0f, 0.0f, 0.0f, 0.1f, 1.0);
+    add_object(f, 10.0f, 0.0f, 1.0f, 0.1f, 2.0);
+    sel = split_selector(f, 1, 0.015);
+    select_view(sel, NULL, 2.4, &st);
+    assert_int_equal(st.variables, 3);
+    tclod_selector_destroy(sel);
+}
+
 /* ---- splitting against one variable per object ------------------------------------ */
 
 /* 64 objects on an 8 x 8 grid whose weights vary smoothly, as screen sizes do
@@ -294,6 +410,10 @@ int main(void) {
         FIXTURE_TEST(alike_objects_share_one_variable),
         cmocka_unit_test(a_pair_splits_once_its_spread_outweighs_the_threshold),
         FIXTURE_TEST(a_dominant_object_splits_its_group),
+        FIXTURE_TEST(theta_zero_splits_down_to_objects_unlike_inside_alike_blocks),
+        cmocka_unit_test(alike_blocks_share_a_variable_while_their_spread_is_within_theta),
+        FIXTURE_TEST(a_group_never_holds_a_culled_object),
+        FIXTURE_TEST(a_capped_child_hands_its_excess_resolution_to_the_others),
         FIXTURE_TEST(splitting_keeps_the_benefit_within_the_threshold),
         FIXTURE_TEST(resolutions_read_zero_after_the_scene_changed),
     };

@@ -299,8 +299,10 @@ typedef struct tclod_selector_desc {
     double split_threshold;    /* theta: the benefit loss that sharing variables may
                                   cause by the splitting estimate (docs/mixed.md), as
                                   a fraction of the smooth objects' predicted benefit,
-                                  >= 0. The estimate is cautious: on the thesis scene
-                                  0.1 loses 0.5 % (docs/benchmarks.md). Default 0.1 */
+                                  >= 0; 0 keeps only groups of alike objects. On the
+                                  thesis scene 0.1 loses 0.06 % against a variable
+                                  per object, 1 loses 0.2 % (docs/benchmarks.md).
+                                  Default 0.1 */
     int strict;                /* 1: a bad callback value fails the call with
                                   TCLOD_ERR_CALLBACK (previous result kept);
                                   0: it is sanitised and counted. Default 0 */
@@ -323,7 +325,9 @@ typedef struct tclod_selector_desc {
                                   whose selection alone (it with the increments
                                   above it) is worth most, when that beats the plain
                                   result: what keeps the greedy within half of the
-                                  optimum (docs/greedy.md). With restarts > 1 the
+                                  optimum (docs/greedy.md). The mixed solver makes
+                                  that pass too, with its smooth variables, when
+                                  restarts > 0 (docs/mixed.md). With restarts > 1 the
                                   others search depth first, each pass forcing or
                                   leaving out the first increment that did not fit
                                   in the pass above it, while the linear

@@ -272,11 +272,11 @@ static config configs[] = {
     {FLYOVER, TCLOD_SOLVER_MIXED, 0, 0, 0, 2.0, 0x06746d86a0a5600cull},
     {FLYOVER, TCLOD_SOLVER_ROBIN_HOOD, 0, 0, 0, 2.0, 0x84f83d6cb091b443ull},
     {THESIS, TCLOD_SOLVER_GREEDY, 1, 0, 0, 2.0, 0x8642485f87b8f76cull},
-    {THESIS, TCLOD_SOLVER_MIXED, 0, 0, 0, 40.0, 0xf26f6c1a09102171ull},
-    {THESIS, TCLOD_SOLVER_MIXED, 0, 1, 0, 40.0, 0xcddef0e0144651b6ull},
+    {THESIS, TCLOD_SOLVER_MIXED, 0, 0, 0, 40.0, 0x0b5eaaf2f8200ee9ull},
+    {THESIS, TCLOD_SOLVER_MIXED, 0, 1, 0, 40.0, 0x0d1835629c645db3ull},
     {THESIS, TCLOD_SOLVER_ROBIN_HOOD, 0, 0, 0, 40.0, 0x7eb75f54bb322d35ull},
     {FLYOVER, TCLOD_SOLVER_GREEDY, 1, 0, 1, 2.0, 0xc17e206dd2d3d628ull},
-    {THESIS, TCLOD_SOLVER_MIXED, 0, 1, 1, 40.0, 0xd4ef8f3593b3b7a0ull},
+    {THESIS, TCLOD_SOLVER_MIXED, 0, 1, 1, 40.0, 0xeb7379cf290334b1ull},
 };
 
 static const char *const config_names[] = {
