@@ -77,7 +77,7 @@ families = "uncorrelated weak strong not_diminishing"
 do for [shape in "chains trees"] {
     methods = shape eq "chains" ? \
         "greedy greedy_lookahead greedy_restarts mixed robin_hood pq_stop flat" : \
-        "greedy greedy_restarts mixed robin_hood pq_stop"
+        "greedy greedy_lookahead greedy_restarts mixed robin_hood pq_stop"
     do for [f = 1:words(families)] {
         do for [m = 1:words(methods)] {
             cond = sprintf("strcol(1) eq 'families' && strcol(2) eq '%s' && " . \

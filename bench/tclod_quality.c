@@ -18,7 +18,8 @@
  *
  * Methods: the library's solvers (greedy cold, mixed, robin_hood, all with their default
  * options; greedy_lookahead: the greedy with tclod_selector_desc.lookahead = 8, more
- * levels than any chain has; greedy_restarts: the same with restarts = TCLOD_MAX_RESTARTS)
+ * levels than any chain or tree of the families has, or --lookahead N; greedy_restarts:
+ * the same with restarts = TCLOD_MAX_RESTARTS)
  * and the baselines of bench/baselines.h (threshold_tuned, threshold_fixed and
  * pq_stop need screen sizes and run only where there is a view, except pq_stop, which
  * then orders by benefit; flat needs objects that are chains: the chain families and the
@@ -94,9 +95,10 @@ static const char *const method_names[METHOD_COUNT] = {
 
 /* The methods that are the library's solvers come first. */
 #define LIBRARY_METHODS 5
-/* greedy_lookahead and greedy_restarts: the greedy with this lookahead (more than any
- * chain's levels); greedy_restarts also with the most restarts. */
-#define LOOKAHEAD 8u
+/* greedy_lookahead and greedy_restarts: the greedy with this lookahead (--lookahead; by
+ * default more than any chain's or tree's levels); greedy_restarts also with the most
+ * restarts. */
+static unsigned lookahead = 8u;
 
 /* The samples of one row. */
 typedef struct cell {
@@ -198,7 +200,7 @@ static tclod_status solvers_create(const tclod_scene *s, tclod_callbacks cb, sol
         d.callbacks = cb;
         d.warm_start = 0; /* every budget and view on its own */
         if (i >= METHOD_GREEDY_LOOKAHEAD)
-            d.lookahead = LOOKAHEAD;
+            d.lookahead = lookahead;
         if (i == METHOD_GREEDY_RESTARTS)
             d.restarts = TCLOD_MAX_RESTARTS;
         st = tclod_selector_create(s, &d, NULL, &out->sel[i]);
@@ -546,7 +548,7 @@ static int run_worlds(int quick, unsigned views) {
 static void usage(FILE *out) {
     fprintf(out,
             "usage: tclod_quality [--quick] [--suite families|world] [--instances N]\n"
-            "                     [--views N] [--help]\n"
+            "                     [--views N] [--lookahead N] [--help]\n"
             "\n"
             "Benefit of every solver and baseline as a fraction of the exact optimum on random\n"
             "instance families, and of an upper bound on the benchmark's scenes; CSV on stdout.\n"
@@ -555,6 +557,8 @@ static void usage(FILE *out) {
             "  --suite NAME    families or world only\n"
             "  --instances N   instances per family (default 200)\n"
             "  --views N       views per world scene and budget (default 16)\n"
+            "  --lookahead N   the lookahead of greedy_lookahead and greedy_restarts, in\n"
+            "                  [1, TCLOD_MAX_LOOKAHEAD] (default 8)\n"
             "  --help          print this text and exit\n");
 }
 
@@ -597,6 +601,13 @@ int main(int argc, char **argv) {
         } else if (strcmp(argv[i], "--views") == 0) {
             if (!parse_count("--views", val, &views))
                 return 2;
+            ++i;
+        } else if (strcmp(argv[i], "--lookahead") == 0) {
+            if (!parse_count("--lookahead", val, &lookahead) || lookahead > TCLOD_MAX_LOOKAHEAD) {
+                fprintf(stderr, "tclod_quality: --lookahead expects an integer in [1, %u]\n",
+                        (unsigned)TCLOD_MAX_LOOKAHEAD);
+                return 2;
+            }
             ++i;
         } else {
             fprintf(stderr, "tclod_quality: unknown option '%s' (try --help)\n", argv[i]);

@@ -11,7 +11,10 @@
  * within half of the optimum when benefits show diminishing returns. The
  * increments keyed above the previous cold solve's first misfit, the heap's
  * first pops, are taken without ordering them when they surely fit
- * (take_closure). A warm solve starts from the previous cut: it re-evaluates
+ * (take_closure). With lookahead an increment may replace its node by the
+ * best-ratio cut of its subtree a few levels deep (Dinkelbach's method over
+ * the subtree's dynamic program, lookahead_key), for benefits whose returns
+ * do not diminish. A warm solve starts from the previous cut: it re-evaluates
  * only the frontier (cut nodes, their children and their collapsible
  * parents), applies decrements (children -> parent, least benefit lost per
  * cost saved first) while over budget, then increments and
@@ -189,39 +192,6 @@ static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
     return dc > 0.0 ? db / dc : HUGE_VAL;
 }
 
-/* With lookahead: the increment of cut node n whose only child is c (visible
- * and affordable, its one-level increment in n's delta_b/delta_c) may reach
- * further down the chain of single children below c, to the visible,
- * affordable level with the best ratio (the shallowest of equal ones). The
- * depth beyond c goes into n's flags. Returns the key as increment_key. */
-static double jump_key(tclod_selector *sel, tclod_id n, tclod_id c, int *failed) {
-    const tclod_scene *s = sel->scene;
-    tclod_node_state *node = sel->node;
-    double key = ratio_key(node[n].delta_b, node[n].delta_c);
-    uint32_t k, best = 0;
-    for (k = 1; k <= sel->desc.lookahead; ++k) {
-        double db, dc, q;
-        if (s->child_first[c + 1u] - s->child_first[c] != 1u) break;
-        c = s->children[s->child_first[c]];
-        if (node[c].stamp != sel->solve_id && evaluate_fresh(sel, c) != 0) {
-            *failed = 1;
-            return (double)NAN;
-        }
-        if (!(node[c].benefit > 0.0) || unaffordable(node[c].cost)) break;
-        db = node[c].benefit - node[n].benefit;
-        dc = node[c].cost - node[n].cost;
-        q = ratio_key(db, dc);
-        if (q > key || (q == q && key != key)) {
-            key = q;
-            best = k;
-            node[n].delta_b = db;
-            node[n].delta_c = dc;
-        }
-    }
-    sel->flags[n] |= (uint8_t)(best << TCLOD_FLAG_JUMP_SHIFT);
-    return key;
-}
-
 /* A function the compiler must not inline: one kept off the common path. */
 #if defined(__GNUC__) || defined(__clang__)
 #define NOINLINE __attribute__((noinline))
@@ -229,26 +199,186 @@ static double jump_key(tclod_selector *sel, tclod_id n, tclod_id c, int *failed)
 #define NOINLINE
 #endif
 
-/* increment_key with lookahead: a cut node with a single child, visible and
- * affordable, may jump further down its chain. */
-static NOINLINE double lookahead_key(tclod_selector *sel, tclod_id n, int *failed) {
+/* The lookahead's frames: a node and its children still to visit, for the
+ * nodes on the way from a cut node down to the deepest level it looks at. */
+#define LOOK_FRAMES (TCLOD_MAX_LOOKAHEAD + 1u)
+/* Dinkelbach iterations of one key at most (each is a valid increment; they
+ * converge in a few). */
+#define LOOK_ITERATIONS 16u
+/* Relative margin by which a deeper cut's ratio must beat the one before it,
+ * and within which two cuts' values tie (the shallower is kept): rounding
+ * never makes a deeper cut of an equal ratio win. */
+#define LOOK_MARGIN 1e-12
+
+typedef struct look_frame {
+    tclod_id id;
+    uint32_t next, end; /* its children still to visit: children[next .. end) */
+    int blocked;        /* a child is unaffordable: the node stays */
+    double b, c;        /* the best cuts of the visited children's subtrees */
+} look_frame;
+
+/* One pass of the lookahead's dynamic program over cut node n's subtree, its
+ * children at level 1 and nodes down to level lookahead + 1: at multiplier
+ * lambda every node m below n either stays or is replaced by the best cuts of
+ * its children's subtrees, whichever has the larger b - lambda c (m stays
+ * when they are within tol of each other, or when a child is unaffordable);
+ * n itself is always replaced. Invisible nodes stay and cost nothing. The
+ * benefit and cost of the resulting cut go to *b and *c; with `write` every
+ * node visited records in TCLOD_FLAG_REFINE whether it is replaced. Returns 1
+ * when a node below n is replaced, 0 when the cut is n's children, -1 on a
+ * strict error. No recursion: the frames live on the stack, one per level. */
+static int look_pass(tclod_selector *sel, tclod_id n, double weight, double lambda, double tol,
+                     int write, double *b, double *c) {
     const tclod_scene *s = sel->scene;
-    uint32_t first = s->child_first[n];
-    double key = increment_key(sel, n, failed);
-    tclod_id c;
-    sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED; /* no jump */
-    if (*failed || s->child_first[n + 1u] - first != 1u || !counts(sel, n)) return key;
-    c = s->children[first];
-    if (!(sel->node[c].benefit > 0.0) || unaffordable(sel->node[c].cost) ||
-        !isfinite(sel->node[n].delta_c))
-        return key;
-    return jump_key(sel, n, c, failed);
+    tclod_node_state *node = sel->node;
+    look_frame st[LOOK_FRAMES];
+    uint32_t top = 0, limit = sel->desc.lookahead;
+    int deeper = 0;
+    st[0].id = n;
+    st[0].next = s->child_first[n];
+    st[0].end = s->child_first[n + 1u];
+    st[0].blocked = 0;
+    st[0].b = st[0].c = 0.0;
+    for (;;) {
+        look_frame *f = &st[top];
+        if (f->next < f->end) {
+            tclod_id m = s->children[f->next++];
+            uint32_t first, end;
+            if (evaluate(sel, m) != 0)
+                return -1;
+            if (write)
+                sel->flags[m] &= (uint8_t)~TCLOD_FLAG_REFINE;
+            if (unaffordable(node[m].cost)) {
+                f->blocked = 1;
+                f->next = f->end; /* f stays: its other children do not matter */
+                continue;
+            }
+            first = s->child_first[m];
+            end = s->child_first[m + 1u];
+            if (top == limit || first == end || !(node[m].benefit > 0.0)) {
+                f->b += node[m].benefit; /* invisible: +0 */
+                f->c += node[m].cost;
+                continue;
+            }
+            f = &st[++top];
+            f->id = m;
+            f->next = first;
+            f->end = end;
+            f->blocked = 0;
+            f->b = f->c = 0.0;
+            continue;
+        }
+        if (top == 0)
+            break;
+        {
+            tclod_id m = f->id;
+            double own = weight * node[m].benefit - lambda * node[m].cost;
+            double below = weight * f->b - lambda * f->c;
+            double scale = weight * (node[m].benefit + f->b) + lambda * (node[m].cost + f->c);
+            int refine = !f->blocked && below > own + tol * scale;
+            look_frame *up = &st[--top];
+            if (write && refine)
+                sel->flags[m] |= (uint8_t)TCLOD_FLAG_REFINE;
+            deeper |= refine;
+            up->b += refine ? f->b : node[m].benefit;
+            up->c += refine ? f->c : node[m].cost;
+        }
+    }
+    *b = st[0].b;
+    *c = st[0].c;
+    return deeper;
 }
 
-/* The key of cut node n's increment (increment_key, with the lookahead when
- * the selector has one). */
-static double key_of(tclod_selector *sel, tclod_id n, int *failed) {
-    return sel->desc.lookahead > 0 ? lookahead_key(sel, n, failed) : increment_key(sel, n, failed);
+/* look_pass over a subtree visited before in this solve: every node in it is
+ * evaluated, so no callback is called and no strict error can arise. */
+static int look_again(tclod_selector *sel, tclod_id n, double weight, double lambda, double tol,
+                      int write, double *b, double *c) {
+    int rc = look_pass(sel, n, weight, lambda, tol, write, b, c);
+    assert(rc >= 0);
+    return rc;
+}
+
+/* increment_key with lookahead: the increment of cut node n may replace it by
+ * the cut of its subtree down to lookahead levels below its children with the
+ * best ratio (b(Q) - b(n)) / (c(Q) - c(n)), found by Dinkelbach's method:
+ * from lambda = the plain increment's ratio (0 when it gains nothing), the
+ * cut Q maximising b(Q) - lambda c(Q) (look_pass) has a ratio above lambda
+ * unless lambda is the best; lambda moves to it until it no longer rises. Of
+ * the cuts of the best ratio the shallowest is taken (docs/greedy.md). A jump
+ * sets TCLOD_FLAG_JUMP on n and TCLOD_FLAG_REFINE on the nodes it passes
+ * over; its Δb and Δc go to n's delta_b and delta_c. Returns the key as
+ * increment_key. */
+static NOINLINE double lookahead_key(tclod_selector *sel, tclod_id n, int *failed) {
+    const tclod_scene *s = sel->scene;
+    tclod_node_state *node = sel->node;
+    uint32_t first = s->child_first[n], end = s->child_first[n + 1u], i, it;
+    double key = increment_key(sel, n, failed), best, lambda, at = 0.0, b, c, q;
+    int deep = 0, rc;
+    sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED; /* no jump */
+    if (*failed || first == end || !counts(sel, n) || key == HUGE_VAL || !isfinite(node[n].delta_c))
+        return key;
+    for (i = first; i < end; ++i) {
+        tclod_id m = s->children[i];
+        if (unaffordable(node[m].cost))
+            return key; /* no increment passes one */
+        deep |= node[m].benefit > 0.0 && s->child_first[m + 1u] != s->child_first[m];
+    }
+    if (!deep)
+        return key;
+    best = key;
+    lambda = key == key ? key : 0.0;
+    deep = 0;
+    /* the first pass evaluates the subtree; the others find it evaluated */
+    rc = look_pass(sel, n, 1.0, lambda, 0.0, 0, &b, &c);
+    if (rc < 0) {
+        *failed = 1;
+        return (double)NAN;
+    }
+    for (it = 0; it < LOOK_ITERATIONS; ++it) {
+        if (it > 0)
+            rc = look_again(sel, n, 1.0, lambda, 0.0, 0, &b, &c);
+        q = ratio_key(b - node[n].benefit, c - node[n].cost);
+        if (rc == 0 || q != q || (best == best && !(q > best * (1.0 + LOOK_MARGIN))))
+            break;
+        best = q;
+        at = lambda;
+        deep = 1;
+        if (q == HUGE_VAL)
+            break;
+        lambda = q;
+    }
+    if (!deep)
+        return key;
+    /* The shallowest cut of the best ratio: ties at lambda = best stay. If
+     * rounding leaves that one short of it, the cut found at `at` is taken. */
+    rc = best < HUGE_VAL ? look_again(sel, n, 1.0, best, LOOK_MARGIN, 1, &b, &c) : 0;
+    q = rc > 0 ? ratio_key(b - node[n].benefit, c - node[n].cost) : (double)NAN;
+    if (!(q >= best * (1.0 - LOOK_MARGIN))) {
+        look_again(sel, n, 1.0, at, 0.0, 1, &b, &c);
+        q = best;
+    }
+    node[n].delta_b = b - node[n].benefit;
+    node[n].delta_c = c - node[n].cost;
+    sel->flags[n] |= (uint8_t)TCLOD_FLAG_JUMP;
+    return q;
+}
+
+/* The cheapest increment cut node n may make: what orders it in the by-cost
+ * heap, which ends the fill when even it does not fit. A lookahead increment
+ * that does not fit may give way to a cheaper cut (refit_jump), the cheapest
+ * of which is its children's or below them (look_pass without benefits). */
+static NOINLINE double cheapest_jump(tclod_selector *sel, tclod_id n) {
+    double b, c;
+    look_again(sel, n, 0.0, 1.0, 0.0, 0, &b, &c);
+    return c - sel->node[n].cost;
+}
+
+/* The by-cost heap's key of queued increment n; `look`: the selector has a
+ * lookahead (a constant wherever this is inlined). */
+static inline double cheap_key(tclod_selector *sel, tclod_id n, int look) {
+    if (look && (sel->flags[n] & TCLOD_FLAG_JUMP))
+        return -cheapest_jump(sel, n);
+    return -sel->node[n].delta_c;
 }
 
 /* 1 when an increment of this key waits in the plain pass's closure queue
@@ -257,12 +387,11 @@ static int closes(const tclod_selector *sel, double key) {
     return sel->resume.closing && key >= sel->resume.closure_key;
 }
 
-/* Queues n's increment if it is a candidate (append: heap order restored by
- * the caller; otherwise pushed). The by-cost heap exists only once the fill
- * has begun (see increment_may_fit). */
-static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
+/* queue_increment for a selector with (look) or without a lookahead: two
+ * copies, so that the common one stays as it was without it. */
+static inline int queue_as(tclod_selector *sel, tclod_id n, int append, int look) {
     int failed;
-    double key = key_of(sel, n, &failed);
+    double key = look ? lookahead_key(sel, n, &failed) : increment_key(sel, n, &failed);
     if (failed) return -1;
     if (closes(sel, key)) {
         sel->scratch[sel->resume.closure_tail++] = n;
@@ -271,26 +400,49 @@ static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
             tclod_heap_append(&sel->inc, n, key);
         else
             tclod_heap_push(&sel->inc, n, key);
-        if (sel->cheap_live) tclod_heap_push(&sel->cheap, n, -sel->node[n].delta_c);
+        if (sel->cheap_live)
+            tclod_heap_push(&sel->cheap, n, cheap_key(sel, n, look));
     }
     return 0;
+}
+
+static NOINLINE int queue_looking(tclod_selector *sel, tclod_id n, int append) {
+    return queue_as(sel, n, append, 1);
+}
+
+/* Queues n's increment if it is a candidate (append: heap order restored by
+ * the caller; otherwise pushed). The by-cost heap exists only once the fill
+ * has begun (see increment_may_fit). */
+static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
+    return sel->desc.lookahead > 0 ? queue_looking(sel, n, append) : queue_as(sel, n, append, 0);
+}
+
+/* requeue_increment with or without a lookahead, as queue_as. */
+static inline int requeue_as(tclod_selector *sel, tclod_id n, tclod_id *held, int look) {
+    int failed;
+    double key;
+    assert(!sel->resume.closing); /* the closure takes only increments it queued */
+    key = look ? lookahead_key(sel, n, &failed) : increment_key(sel, n, &failed);
+    if (failed) return -1;
+    if (key == key) {
+        tclod_heap_replace(&sel->inc, *held, n, key);
+        if (sel->cheap_live)
+            tclod_heap_replace(&sel->cheap, *held, n, cheap_key(sel, n, look));
+        *held = TCLOD_NONE;
+    }
+    return 0;
+}
+
+static NOINLINE int requeue_looking(tclod_selector *sel, tclod_id n, tclod_id *held) {
+    return requeue_as(sel, n, held, 1);
 }
 
 /* Queues n's increment, if it is a candidate, in the place of old's queued
  * one, which is then gone (*held = TCLOD_NONE); otherwise pushes it. */
 static int requeue_increment(tclod_selector *sel, tclod_id n, tclod_id *held) {
-    int failed;
-    double key;
-    if (*held == TCLOD_NONE) return queue_increment(sel, n, 0);
-    assert(!sel->resume.closing); /* the closure takes only increments it queued */
-    key = key_of(sel, n, &failed);
-    if (failed) return -1;
-    if (key == key) {
-        tclod_heap_replace(&sel->inc, *held, n, key);
-        if (sel->cheap_live) tclod_heap_replace(&sel->cheap, *held, n, -sel->node[n].delta_c);
-        *held = TCLOD_NONE;
-    }
-    return 0;
+    if (*held == TCLOD_NONE)
+        return queue_increment(sel, n, 0);
+    return sel->desc.lookahead > 0 ? requeue_looking(sel, n, held) : requeue_as(sel, n, held, 0);
 }
 
 static void unqueue_increment(tclod_selector *sel, tclod_id n) {
@@ -312,6 +464,73 @@ static tclod_id pop_increment(tclod_selector *sel) {
     return n;
 }
 
+/* A lookahead increment n that does not fit the room left: its node's
+ * increment becomes the cut of its subtree that gains most among those on
+ * the upper hull of the cuts' (cost, benefit) that fit (look_pass's
+ * multipliers select exactly the hull's vertices). The search runs over the
+ * breakpoints between the jump, too dear (a), and the cheapest cut (b): the
+ * multiplier of the segment a-b selects a vertex between them, or ties them
+ * when they are adjacent and b is the answer. Returns its key, NaN when no
+ * cut that fits gains (n's increment unchanged then). */
+static NOINLINE double refit_jump(tclod_selector *sel, tclod_id n) {
+    tclod_node_state *node = sel->node;
+    double ab = node[n].delta_b, ac = node[n].delta_c, bb, bc, b, c, weight = 0.0, lambda = 1.0;
+    double key;
+    uint32_t it;
+    int rc;
+    if (sel->unaffordable != 0)
+        return (double)NAN;
+    look_again(sel, n, 0.0, 1.0, 0.0, 0, &b, &c); /* the cheapest cut */
+    bb = b - node[n].benefit;
+    bc = c - node[n].cost;
+    if (!(sel->cost_sum + bc <= cut_budget(sel)))
+        return (double)NAN;
+    for (it = 0; it < LOOK_ITERATIONS && ab > bb; ++it) {
+        double l = (ab - bb) / (ac - bc), db, dc, gap;
+        look_again(sel, n, 1.0, l, 0.0, 0, &b, &c);
+        db = b - node[n].benefit;
+        dc = c - node[n].cost;
+        gap = (db - l * dc) - (bb - l * bc);
+        if (!(gap > LOOK_MARGIN * (fabs(db) + fabs(bb) + l * (fabs(dc) + fabs(bc)))))
+            break;
+        if (sel->cost_sum + dc <= cut_budget(sel)) { /* as increment_fits */
+            bb = db;
+            bc = dc;
+            weight = 1.0;
+            lambda = l;
+        } else {
+            ab = db;
+            ac = dc;
+        }
+    }
+    key = ratio_key(bb, bc);
+    if (key != key)
+        return key;
+    rc = look_again(sel, n, weight, lambda, 0.0, 1, &b, &c);
+    node[n].delta_b = b - node[n].benefit;
+    node[n].delta_c = c - node[n].cost;
+    sel->flags[n] |= (uint8_t)TCLOD_FLAG_REFIT;
+    if (rc == 0)
+        sel->flags[n] &= (uint8_t)~TCLOD_FLAG_JUMP;
+    return key;
+}
+
+/* Pops misfit n; a lookahead increment is queued again as a cut that fits
+ * (refit_jump), when one gains. */
+static void skip_misfit(tclod_selector *sel, tclod_id n) {
+    double key;
+    pop_increment(sel);
+    sel->stats.iterations++;
+    if (!(sel->flags[n] & TCLOD_FLAG_JUMP))
+        return;
+    key = refit_jump(sel, n);
+    if (key == key) {
+        tclod_heap_push(&sel->inc, n, key);
+        if (sel->cheap_live)
+            tclod_heap_push(&sel->cheap, n, cheap_key(sel, n, 1));
+    }
+}
+
 /* 1 when increment n fits the remaining budget. */
 static int increment_fits(const tclod_selector *sel, tclod_id n) {
     return sel->unaffordable == 0 && sel->cost_sum + sel->node[n].delta_c <= cut_budget(sel);
@@ -324,9 +543,16 @@ static int increment_fits(const tclod_selector *sel, tclod_id n) {
 static int increment_may_fit(tclod_selector *sel) {
     if (!sel->cheap_live) {
         uint32_t i;
-        for (i = 0; i < sel->inc.count; ++i) {
-            tclod_id n = sel->inc.items[i].id;
-            tclod_heap_append(&sel->cheap, n, -sel->node[n].delta_c);
+        if (sel->desc.lookahead > 0) {
+            for (i = 0; i < sel->inc.count; ++i) {
+                tclod_id n = sel->inc.items[i].id;
+                tclod_heap_append(&sel->cheap, n, cheap_key(sel, n, 1));
+            }
+        } else {
+            for (i = 0; i < sel->inc.count; ++i) {
+                tclod_id n = sel->inc.items[i].id;
+                tclod_heap_append(&sel->cheap, n, -sel->node[n].delta_c);
+            }
         }
         tclod_heap_build(&sel->cheap);
         sel->cheap_live = 1;
@@ -385,36 +611,84 @@ static int queue_decrement(tclod_selector *sel, tclod_id p, int append) {
     return 0;
 }
 
-/* Replaces cut node n by its children. The first child with a candidate
- * increment takes the place of n's queued increment: one heap update instead
- * of a removal and an insertion. */
+/* A lookahead increment (TCLOD_FLAG_JUMP or REFIT): replaces cut node n by
+ * the cut its key or refit_jump found, walking down through the nodes
+ * flagged TCLOD_FLAG_REFINE (frames on the stack, one per level); the other
+ * nodes it meets enter the cut. The first with a candidate increment takes
+ * n's heap entry (*held). A warm start queues the decrements of the nodes
+ * passed over whose children all entered the cut. Below a refit no skipped
+ * increment's T(n) is recorded (its path cost is made infinite): a pass that
+ * forces it would take n's own increment, not the refit. */
+static NOINLINE int apply_jump(tclod_selector *sel, tclod_id n, int track_dec, tclod_id *held,
+                               double path_b, double path_c) {
+    const tclod_scene *s = sel->scene;
+    struct {
+        tclod_id id;
+        uint32_t next, end;
+    } st[LOOK_FRAMES];
+    uint32_t top = 0;
+    if (sel->flags[n] & TCLOD_FLAG_REFIT)
+        path_c = HUGE_VAL;
+    sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED;
+    st[0].id = n;
+    st[0].next = s->child_first[n];
+    st[0].end = s->child_first[n + 1u];
+    for (;;) {
+        if (st[top].next < st[top].end) {
+            tclod_id m = s->children[st[top].next++];
+            if (sel->flags[m] & TCLOD_FLAG_REFINE) {
+                assert(top + 1u < LOOK_FRAMES);
+                ++top;
+                st[top].id = m;
+                st[top].next = s->child_first[m];
+                st[top].end = s->child_first[m + 1u];
+                continue;
+            }
+            cut_add(sel, m);
+            sel->path[2u * m] = path_b;
+            sel->path[2u * m + 1u] = path_c;
+            if (requeue_increment(sel, m, held) != 0)
+                return -1;
+            continue;
+        }
+        if (track_dec && queue_decrement(sel, st[top].id, 0) != 0)
+            return -1;
+        if (top == 0)
+            return 0;
+        --top;
+    }
+}
+
+/* Replaces cut node n by its children (or, with lookahead, by the deeper cut
+ * its key found). The first child with a candidate increment takes the place
+ * of n's queued increment: one heap update instead of a removal and an
+ * insertion. */
 static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
-    uint32_t count, i, jump = (uint32_t)sel->flags[n] >> TCLOD_FLAG_JUMP_SHIFT;
+    uint32_t count, i;
     const tclod_id *ch = children_of(sel, n, &count);
-    tclod_id parent = sel->scene->parent[n], above = n;
+    tclod_id parent = sel->scene->parent[n];
     tclod_id held = tclod_heap_contains(&sel->inc, n) ? n : TCLOD_NONE;
     double path_b = sel->path[2u * n] + sel->node[n].delta_b;
     double path_c = sel->path[2u * n + 1u] + sel->node[n].delta_c;
     cut_remove(sel, n);
-    if (jump > 0) sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED;
-    for (i = 0; i < jump; ++i) { /* a lookahead increment: down the chain */
-        above = ch[0];
-        ch = children_of(sel, above, &count);
-        assert(count == 1u);
-    }
-    for (i = 0; i < count; ++i) {
-        cut_add(sel, ch[i]);
-        sel->path[2u * ch[i]] = path_b;
-        sel->path[2u * ch[i] + 1u] = path_c;
-        if (requeue_increment(sel, ch[i], &held) != 0) return -1;
+    if (sel->flags[n] & (TCLOD_FLAG_JUMP | TCLOD_FLAG_REFIT)) {
+        if (apply_jump(sel, n, track_dec, &held, path_b, path_c) != 0)
+            return -1;
+    } else {
+        for (i = 0; i < count; ++i) {
+            cut_add(sel, ch[i]);
+            sel->path[2u * ch[i]] = path_b;
+            sel->path[2u * ch[i] + 1u] = path_c;
+            if (requeue_increment(sel, ch[i], &held) != 0)
+                return -1;
+        }
+        if (track_dec && queue_decrement(sel, n, 0) != 0)
+            return -1;
     }
     if (held != TCLOD_NONE) unqueue_increment(sel, held);
     sel->stats.increments++;
-    if (track_dec) {
-        if (parent != TCLOD_NONE && tclod_heap_contains(&sel->dec, parent))
-            tclod_heap_remove(&sel->dec, parent);
-        if (queue_decrement(sel, above, 0) != 0) return -1;
-    }
+    if (track_dec && parent != TCLOD_NONE && tclod_heap_contains(&sel->dec, parent))
+        tclod_heap_remove(&sel->dec, parent);
     return 0;
 }
 
@@ -699,13 +973,14 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
 }
 
 /* A cold solve records the best single skipped increment with the increments
- * above it (sel->resume.alt_*). */
+ * above it (sel->resume.alt_*): one that a pass forcing it reproduces, so not
+ * a refit (apply_jump keeps those below one out). */
 static void consider_alternative(tclod_selector *sel, tclod_id n) {
     tclod_resume *R = &sel->resume;
     const double *path = &sel->path[2u * n];
     double c = R->alt_roots_c + path[1] + sel->node[n].delta_c;
     double b = R->alt_roots_b + path[0] + sel->node[n].delta_b;
-    if (c <= sel->frame->budget && b > R->alt_benefit) {
+    if (c <= sel->frame->budget && b > R->alt_benefit && !(sel->flags[n] & TCLOD_FLAG_REFIT)) {
         R->alt_node = n;
         R->alt_benefit = b;
     }
@@ -804,10 +1079,9 @@ static int improve(tclod_selector *sel, int warm, int alt) {
         }
         if (!warm) note_misfit(sel, n);
         if (increment_may_fit(sel)) { /* fill: skip the misfit, try smaller ones */
-            pop_increment(sel);
-            sel->stats.iterations++;
             *skipped = 1;
             if (alt) consider_alternative(sel, n);
+            skip_misfit(sel, n);
             continue;
         }
         *skipped = 1;
@@ -841,6 +1115,12 @@ static int force_path(tclod_selector *sel, tclod_id n) {
         a = sel->scratch[depth];
         /* taken already, or passed over by a lookahead increment above */
         if (sel->node[a].cut_pos == TCLOD_NONE) continue;
+        /* n's own lookahead increment, when it does not fit: the cut that does */
+        if (depth == 0 && (sel->flags[a] & TCLOD_FLAG_JUMP) && !increment_fits(sel, a)) {
+            double key = refit_jump(sel, a);
+            if (key != key)
+                return 1;
+        }
         sel->stats.iterations++;
         if (apply_increment(sel, a, 0) != 0) return -1;
     }
@@ -1097,9 +1377,8 @@ tclod_id tclod_greedy_candidate(tclod_selector *sel, double *ratio, int *skipped
         *skipped = 1;
         if (!increment_may_fit(sel)) return TCLOD_NONE;
         /* smooth steps only add cost too: a misfit never fits again */
-        pop_increment(sel);
-        sel->stats.iterations++;
         if (sel->resume.use_alt) consider_alternative(sel, n);
+        skip_misfit(sel, n);
     }
 }
 

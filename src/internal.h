@@ -251,9 +251,16 @@ enum {
 #define TCLOD_SLOPE_FLOOR 1e-9
 
 /* Per-node flags (tclod_selector.flags): a root left out of the selection;
- * and, in the bits from TCLOD_FLAG_JUMP_SHIFT on, how many levels beyond its
- * child the greedy's queued increment of the node reaches (lookahead). */
-enum { TCLOD_FLAG_DROPPED = 1u, TCLOD_FLAG_JUMP_SHIFT = 1u };
+ * with lookahead, a cut node whose queued increment reaches below its
+ * children (the greedy's JUMP), one whose increment gave way to a cut that
+ * fits (REFIT), and a node below a cut node that its increment passes over
+ * (REFINE: replaced by its children's cuts). */
+enum {
+    TCLOD_FLAG_DROPPED = 1u,
+    TCLOD_FLAG_JUMP = 2u,
+    TCLOD_FLAG_REFINE = 4u,
+    TCLOD_FLAG_REFIT = 8u
+};
 
 /* What a selector knows of one node, packed in one record because the solver
  * touches these fields together at random ids; what an evaluation writes
@@ -263,7 +270,8 @@ typedef struct tclod_node_state {
                                   cost 0 when invisible, +inf when unaffordable */
     uint32_t stamp;
     uint32_t cut_pos;          /* slot in cut[], or TCLOD_NONE */
-    double delta_b, delta_c;   /* increment of the node: its children replace it */
+    double delta_b, delta_c;   /* increment of the node: its children (with
+                                  lookahead, the cut its key found) replace it */
     float area, distance;      /* the query's screen_area and distance in this solve:
                                   a child with the same bounds reuses them */
 } tclod_node_state;

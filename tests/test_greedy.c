@@ -3,6 +3,9 @@
  * by hand, fill past increments that do not fit, culling of invisible
  * subtrees, dropping of roots that do not fit, the ½-of-optimum bound (on an
  * adversarial instance and against a brute-force optimum on random trees),
+ * the lookahead (jumps worked out by hand on chains and trees, refits of
+ * jumps that do not fit, its key against a brute-force best ratio, the ½
+ * bound without diminishing returns, nothing changed with them), the search,
  * warm starts with decrements, the anytime limits and stop reasons, and the
  * one-call-per-node rule for callbacks.
  *
@@ -25,6 +28,7 @@
 #include <tclod/tclod.h>
 
 #include "exact.h"
+#include "family_scene.h"
 #include "helpers.h"
 #include "table_scene.h"
 
@@ -1074,6 +1078,397 @@ static void lookahead_keeps_the_order_under_diminishing_returns(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* Three hierarchies, ids in creation order (b, c):
+ *   A 0 (10, 10) -> A1 3 (5, 8) -> A1a 7 (15, 6), A1b 8 (15, 6) -> A1b1 11 (21, 8)
+ *                -> A2 4 (5, 8) -> A2a 9 (7, 5), A2b 10 (7, 5)
+ *   B 1 (4, 4) -> B1 5 (8, 6);   C 2 (4, 4) -> C1 6 (8, 6)
+ * Roots: b 18, c 18. One level down A's increment gains 5 + 5 - 10 = 0 for
+ * 16 - 10 = 6: no candidate, so without lookahead only B and C refine (each
+ * +4 for +2), whatever the search: b 26, c 22. A1's own step gains 25 for 4,
+ * A2's 9 for 2, A1b's 6 for 2. With lookahead 1 A's increment may replace A
+ * by any cut of its subtree down to the grandchildren, (Δc, Δb):
+ *   {A1, A2} (6, 0), {A1a, A1b, A2} (10, 25), {A1, A2a, A2b} (8, 9),
+ *   {A1a, A1b, A2a, A2b} (12, 34);
+ * the best ratio is the last one's, 34 / 12 = 2.83 > 2. Budget 30 leaves 12,
+ * which it takes whole: b 52, c 30; then nothing fits. Budget 32 leaves 2
+ * more, for A1b's step (ratio 3, ahead of B and C): b 58, c 32. Budget 28
+ * leaves 10: the jump does not fit, and A's increment becomes the cut that
+ * gains most among the vertices of the hull of these points that fit. The
+ * hull from (6, 0) runs to (10, 25) (slope 6.25), then to (12, 34) (4.5);
+ * (8, 9) lies below it. So {A1a, A1b, A2}, ratio 2.5, still ahead of B and C:
+ * b 18 + 25 = 43, c 28. All three are the optimum (the brute force agrees).
+ * They need neither the safeguard nor the search: without restarts they come
+ * too. */
+static void tree_lookahead_finds_a_refinement_whose_gain_comes_below_its_children(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const tclod_id one_level[] = {0, 5, 6};
+    static const tclod_id whole[] = {1, 2, 7, 8, 9, 10};
+    static const tclod_id deeper[] = {1, 2, 7, 9, 10, 11};
+    static const tclod_id refit[] = {1, 2, 4, 7, 8};
+    static const double budgets[3] = {30.0, 32.0, 28.0}, benefits[3] = {52.0, 58.0, 43.0};
+    static const tclod_id *const cuts[3] = {whole, deeper, refit};
+    static const size_t sizes[3] = {6, 6, 5};
+    static const uint32_t restarts[2] = {0, 32}; /* 32: the default */
+    tclod_selector *plain, *look;
+    tclod_stats st;
+    int k, r;
+    helper_add(f, TCLOD_NONE, 10.0, 10.0); /* 0 A */
+    helper_add(f, TCLOD_NONE, 4.0, 4.0);   /* 1 B */
+    helper_add(f, TCLOD_NONE, 4.0, 4.0);   /* 2 C */
+    helper_add(f, 0, 5.0, 8.0);            /* 3 A1 */
+    helper_add(f, 0, 5.0, 8.0);            /* 4 A2 */
+    helper_add(f, 1, 8.0, 6.0);            /* 5 B1 */
+    helper_add(f, 2, 8.0, 6.0);            /* 6 C1 */
+    helper_add(f, 3, 15.0, 6.0);           /* 7 A1a */
+    helper_add(f, 3, 15.0, 6.0);           /* 8 A1b */
+    helper_add(f, 4, 7.0, 5.0);            /* 9 A2a */
+    helper_add(f, 4, 7.0, 5.0);            /* 10 A2b */
+    helper_add(f, 8, 21.0, 8.0);           /* 11 A1b1 */
+    plain = tuned_selector(f->scene, &f->model, 0, 0, TCLOD_MAX_RESTARTS);
+    for (k = 0; k < 3; ++k) {
+        assert_true(exact_optimum(&f->model, budgets[k], NULL) == benefits[k]);
+        select_frame(plain, budgets[k], 0, &st);
+        helper_assert_cut(plain, one_level, 3);
+        assert_totals(&st, 26.0, 22.0);
+        for (r = 0; r < 2; ++r) {
+            look = tuned_selector(f->scene, &f->model, 0, 1, restarts[r]);
+            table_reset_counts(&f->model);
+            select_frame(look, budgets[k], 0, &st);
+            helper_assert_cut(look, cuts[k], sizes[k]);
+            assert_totals(&st, benefits[k], budgets[k]);
+            assert_true(table_max_calls(&f->model) <= 1);
+            assert_int_equal(st.evaluations, 12); /* A's key evaluates its subtree */
+            tclod_selector_destroy(look);
+        }
+    }
+    tclod_selector_destroy(plain);
+}
+
+/* A's hierarchy of the test above alone: A 0 (10, 10) -> A1 1 (5, 8),
+ * A2 2 (5, 8); A1 -> A1a 3, A1b 4 (15, 6 each); A2 -> A2a 5, A2b 6 (7, 5
+ * each). With lookahead 1 A's increment is the jump to the four grandchildren
+ * (+34 for +12). Budget 20 leaves 10: the jump does not fit, but its cheapest
+ * cut, A's children (+6), does, so the fill goes on and the increment becomes
+ * {A1a, A1b, A2} (+25 for +10): b 35, c 20. Budget 15 leaves 5, less than any
+ * cut of A's costs: A alone, b 10. No restarts: the plain pass does it. */
+static void a_lookahead_increment_too_dear_gives_way_to_the_best_cut_that_fits(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const tclod_id refit[] = {2, 3, 4};
+    static const tclod_id alone[] = {0};
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 10.0, 10.0); /* 0 A */
+    helper_add(f, 0, 5.0, 8.0);            /* 1 A1 */
+    helper_add(f, 0, 5.0, 8.0);            /* 2 A2 */
+    helper_add(f, 1, 15.0, 6.0);           /* 3 A1a */
+    helper_add(f, 1, 15.0, 6.0);           /* 4 A1b */
+    helper_add(f, 2, 7.0, 5.0);            /* 5 A2a */
+    helper_add(f, 2, 7.0, 5.0);            /* 6 A2b */
+    sel = tuned_selector(f->scene, &f->model, 0, 1, 0);
+    select_frame(sel, 20.0, 0, &st);
+    helper_assert_cut(sel, refit, 3);
+    assert_totals(&st, 35.0, 20.0);
+    select_frame(sel, 15.0, 0, &st);
+    helper_assert_cut(sel, alone, 1);
+    assert_totals(&st, 10.0, 10.0);
+    tclod_selector_destroy(sel);
+}
+
+/* P 0 (b 1, c 1) -> P1 2 (3, 2): +2 for +1. Q 1 (1, 1) -> Qa 3, Qb 4 (2.5,
+ * 2.5 each): +4 for +4; Qa -> Qa1 5 and Qb -> Qb1 6 (10, 5.5 each): +7.5 for
+ * +3 each. Q's cuts: {Qa, Qb} (+4 for +4, ratio 1), one of them refined
+ * (+11.5 for +7), both (+19 for +10, ratio 1.9), so with lookahead 1 Q's
+ * increment is the last, behind P's (2). Budget 6 leaves 4: P goes first,
+ * then Q's increment misfits and no cut of Q fits the 3 left: b 4, c 3. The
+ * optimum, 6, leaves P and refines Q one level (c 6). The search finds it: it
+ * forces Q's increment, which does not fit as it is, so the pass takes the
+ * cut of Q that fits the 4 left, {Qa, Qb}; then P's step no longer fits. */
+static void the_search_forces_the_cut_that_fits_of_a_lookahead_increment(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const tclod_id blocked[] = {1, 2};
+    static const tclod_id best[] = {0, 3, 4};
+    helper_add(f, TCLOD_NONE, 1.0, 1.0); /* 0 P */
+    helper_add(f, TCLOD_NONE, 1.0, 1.0); /* 1 Q */
+    helper_add(f, 0, 3.0, 2.0);          /* 2 P1 */
+    helper_add(f, 1, 2.5, 2.5);          /* 3 Qa */
+    helper_add(f, 1, 2.5, 2.5);          /* 4 Qb */
+    helper_add(f, 3, 10.0, 5.5);         /* 5 Qa1 */
+    helper_add(f, 4, 10.0, 5.5);         /* 6 Qb1 */
+    assert_true(exact_optimum(&f->model, 6.0, NULL) == 6.0);
+    {
+        tclod_selector *one = tuned_selector(f->scene, &f->model, 0, 1, 1);
+        tclod_selector *search = tuned_selector(f->scene, &f->model, 0, 1, 32);
+        tclod_stats st;
+        select_frame(one, 6.0, 0, &st);
+        helper_assert_cut(one, blocked, 2);
+        assert_totals(&st, 4.0, 3.0);
+        select_frame(search, 6.0, 0, &st);
+        helper_assert_cut(search, best, 3);
+        assert_totals(&st, 6.0, 6.0);
+        tclod_selector_destroy(one);
+        tclod_selector_destroy(search);
+    }
+}
+
+/* The adversarial instance of the half-optimum bound with a refinement whose
+ * first step gains little: A 0 (b 0.125, c 0.125) -> A1 1 (1.375, 1.125),
+ * +1.25 for +1; B 2 (0.125, 0.125) -> B1 3 (0.625, 50.125), +0.5 for +50 ->
+ * B2 4 (100.125, 100.125), +100 for +100 from B. Budget 100.75. With
+ * lookahead 1 B's increment reaches B2 (ratio 1), behind A's (1.25): A1 is
+ * taken, then B's jump misfits and gives way to B1, which fits: b 2, c 51.25.
+ * T(B) alone, {A, B2}, costs 100.25 and gains 100.25, so the safeguard's pass
+ * (one restart) reaches it, the optimum. Without restarts: 2. */
+static void the_safeguard_keeps_a_lookahead_within_half_of_the_optimum(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const tclod_id refit[] = {1, 3};
+    static const tclod_id best[] = {0, 4};
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 0.125, 0.125); /* 0 A */
+    helper_add(f, 0, 1.375, 1.125);          /* 1 A1 */
+    helper_add(f, TCLOD_NONE, 0.125, 0.125); /* 2 B */
+    helper_add(f, 2, 0.625, 50.125);         /* 3 B1 */
+    helper_add(f, 3, 100.125, 100.125);      /* 4 B2 */
+    assert_true(exact_optimum(&f->model, 100.75, NULL) == 100.25);
+    sel = tuned_selector(f->scene, &f->model, 0, 1, 0);
+    select_frame(sel, 100.75, 0, &st);
+    helper_assert_cut(sel, refit, 2);
+    assert_totals(&st, 2.0, 51.25);
+    tclod_selector_destroy(sel);
+    sel = tuned_selector(f->scene, &f->model, 0, 1, 1);
+    select_frame(sel, 100.75, 0, &st);
+    helper_assert_cut(sel, best, 2);
+    assert_totals(&st, 100.25, 100.25);
+    tclod_selector_destroy(sel);
+}
+
+/* One chain X0 (b 1, c 1), X1 (1.5, 2), X2 (5, 3), X3 (9, 5). From X0 the
+ * levels gain 0.5 for 1, 4 for 2 and 8 for 4: X2 and X3 share the best ratio,
+ * 2. Dinkelbach's method starts at X1's ratio, 0.5, where X3 is the best
+ * (9 - 0.5 x 5 = 6.5 against 5 - 1.5 = 3.5), so the ratio it finds first
+ * belongs to the deeper of the two; at 2 both give b - 2c = -1. The increment
+ * takes the shallower, X2: the next vertex of the chain's hull. */
+static void lookahead_takes_the_shallower_of_equal_best_ratios_found_from_below(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const tclod_id x2[] = {2};
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 1.0, 1.0); /* 0 X0 */
+    helper_add(f, 0, 1.5, 2.0);          /* 1 X1 */
+    helper_add(f, 1, 5.0, 3.0);          /* 2 X2 */
+    helper_add(f, 2, 9.0, 5.0);          /* 3 X3 */
+    sel = lookahead_selector(f->scene, &f->model, 0, 2);
+    select_frame(sel, INFINITY, 1, &st);
+    assert_int_equal(st.increments, 1);
+    helper_assert_cut(sel, x2, 1);
+    assert_totals(&st, 5.0, 3.0);
+    tclod_selector_destroy(sel);
+}
+
+/* Random hierarchies of `nodes` nodes and `roots` roots whose returns need
+ * not diminish (TABLE_RISING): every increment gains and costs more, but a
+ * step may gain up to 5 times more per cost than its parent's. */
+static void rising_scene(table_model *m, tclod_scene **s, uint64_t seed, uint32_t nodes,
+                         uint32_t roots) {
+    table_rng rng;
+    table_rng_seed(&rng, seed);
+    table_init(m);
+    assert_int_equal(tclod_scene_create(NULL, s), TCLOD_OK);
+    assert_int_equal(table_random_hierarchy(m, *s, &rng, nodes, roots, TABLE_RISING), TCLOD_OK);
+}
+
+/* With the lookahead reaching every level, an increment is the cut of its
+ * node's subtree with the best ratio (Dinkelbach's method, docs/greedy.md):
+ * on random single hierarchies whose returns need not diminish, the first
+ * increment of a solve (max_iterations 1, no budget limit) gains at the best
+ * ratio a brute-force enumeration of every cut below the root finds. */
+static void tree_lookahead_takes_the_best_ratio_of_every_cut_below(void **state) {
+    uint64_t seed;
+    (void)state;
+    for (seed = 1; seed <= 300; ++seed) {
+        tclod_scene *s = NULL;
+        tclod_selector *sel;
+        table_model m;
+        tclod_stats st;
+        double best, ratio;
+        rising_scene(&m, &s, seed * 6151u, 2 + (uint32_t)(seed % (EXACT_MAX_NODES - 1u)), 1);
+        best = exact_best_ratio(&m, 0);
+        assert_true(best > 0.0); /* every increment gains */
+        sel = tuned_selector(s, &m, 0, TCLOD_MAX_LOOKAHEAD, 32);
+        select_frame(sel, INFINITY, 1, &st);
+        assert_int_equal(st.increments, 1);
+        ratio = (st.benefit - m.benefit[0]) / (st.cost - m.cost[0]);
+        if (!(fabs(ratio - best) <= 1e-9 * best))
+            fail_msg("seed %u, %u nodes: first increment's ratio %.17g, best %.17g", (unsigned)seed,
+                     (unsigned)m.count, ratio, best);
+        tclod_selector_destroy(sel);
+        tclod_scene_destroy(s);
+        table_free(&m);
+    }
+}
+
+/* What refining root r's whole hierarchy to its leaves adds to the cost. */
+static double refine_whole(const table_model *m, tclod_id r) {
+    double sum = 0.0;
+    tclod_id v, u;
+    for (v = 0; v < m->count; ++v) {
+        int leaf = 1;
+        for (u = v + 1u; u < m->count && leaf; ++u)
+            leaf = m->parent[u] != v;
+        for (u = v; m->parent[u] != TCLOD_NONE;)
+            u = m->parent[u];
+        if (leaf && u == r)
+            sum += m->cost[v];
+    }
+    return sum - m->cost[r];
+}
+
+/* The half-optimum bound without diminishing returns (docs/greedy.md): with
+ * the lookahead reaching every level and refinements that always cost more,
+ * the keys are the slopes of the hulls of the subtrees, a cold pass takes
+ * them in falling order up to its first misfit s, the optimum is below the
+ * benefit there plus Δb(s), and T(s) fits whenever any one hierarchy refined
+ * to its leaves fits with the other roots. Random hierarchies of 6 to 16 nodes
+ * (TABLE_RISING), budgets from there up to every leaf's cost, against the
+ * brute-force optimum. */
+static void tree_lookahead_is_within_half_of_the_optimum_without_diminishing_returns(void **state) {
+    enum { seeds = 300, budgets = 4 };
+    static double ratios[2][seeds * budgets];
+    size_t count = 0;
+    uint64_t seed;
+    (void)state;
+    for (seed = 1; seed <= seeds; ++seed) {
+        tclod_scene *s = NULL;
+        tclod_selector *look, *plain;
+        table_model m;
+        table_rng rng;
+        uint32_t r, nodes;
+        double lo = 0.0, hi;
+        int b;
+        table_rng_seed(&rng, seed);
+        nodes = 6 + table_rng_below(&rng, EXACT_MAX_NODES - 5u);
+        rising_scene(&m, &s, seed * 7907u, nodes, 3 + table_rng_below(&rng, 3));
+        for (r = 0; r < m.count; ++r)
+            if (m.parent[r] == TCLOD_NONE && refine_whole(&m, r) > lo)
+                lo = refine_whole(&m, r);
+        lo += table_roots_cost(&m);
+        hi = table_leaves_cost(&m);
+        look = tuned_selector(s, &m, 0, TCLOD_MAX_LOOKAHEAD, 32);
+        plain = tuned_selector(s, &m, 0, 0, 32);
+        for (b = 0; b < budgets; ++b) {
+            /* 1e-12 above: at exactly a cut's cost, whether it fits is decided
+             * by rounding, which the order of the sums decides */
+            double budget = table_rng_uniform(&rng, lo, hi) * (1.0 + 1e-12);
+            double optimum = exact_optimum(&m, budget, NULL);
+            tclod_stats st, ref;
+            select_frame(plain, budget, 0, &ref);
+            table_reset_counts(&m);
+            select_frame(look, budget, 0, &st);
+            helper_check_result(look, &m, &st, budget, 0);
+            assert_true(table_max_calls(&m) <= 1);
+            assert_true(optimum > 0.0);
+            if (st.benefit > optimum * (1.0 + 1e-12) || st.benefit < 0.5 * optimum)
+                fail_msg("seed %u budget %.17g: benefit %.17g, optimum %.17g", (unsigned)seed,
+                         budget, st.benefit, optimum);
+            ratios[0][count] = ref.benefit / optimum;
+            ratios[1][count++] = st.benefit / optimum;
+        }
+        tclod_selector_destroy(look);
+        tclod_selector_destroy(plain);
+        tclod_scene_destroy(s);
+        table_free(&m);
+    }
+    qsort(ratios[0], count, sizeof ratios[0][0], compare_doubles);
+    qsort(ratios[1], count, sizeof ratios[1][0], compare_doubles);
+    print_message("rising returns, %u solves: greedy / optimum median %.4f, min %.4f; with "
+                  "lookahead median %.4f, min %.4f\n",
+                  (unsigned)count, ratios[0][count / 2], ratios[0][0], ratios[1][count / 2],
+                  ratios[1][0]);
+}
+
+/* Selectors without and with the deepest lookahead, cold and warm, give the
+ * same cuts and benefits at each of these budgets, in this order. */
+static void assert_lookahead_changes_nothing(const tclod_scene *s, table_model *m,
+                                             const double *budgets, int count, const char *what) {
+    enum { CAP = 256 };
+    tclod_id a[CAP], b[CAP];
+    tclod_selector *sel[4];
+    int i, k;
+    for (i = 0; i < 4; ++i) /* cold, warm; without and with lookahead */
+        sel[i] = tuned_selector(s, m, i % 2, i < 2 ? 0 : TCLOD_MAX_LOOKAHEAD, 32);
+    for (k = 0; k < count; ++k) {
+        tclod_stats st[4];
+        for (i = 0; i < 4; ++i)
+            select_frame(sel[i], budgets[k], 0, &st[i]);
+        for (i = 0; i < 2; ++i) {
+            size_t na = helper_sorted_cut(sel[i], a, CAP),
+                   nb = helper_sorted_cut(sel[i + 2], b, CAP);
+            if (na != nb || memcmp(a, b, na * sizeof *a) != 0 || st[i].benefit != st[i + 2].benefit)
+                fail_msg("%s, budget %.17g (%s): %.17g without lookahead, %.17g with", what,
+                         budgets[k], i ? "warm" : "cold", st[i].benefit, st[i + 2].benefit);
+        }
+    }
+    for (i = 0; i < 4; ++i)
+        tclod_selector_destroy(sel[i]);
+}
+
+/* With diminishing returns no cut below a node's children gains more per
+ * cost than they do (its ratio is a weighted mean of theirs and smaller
+ * ones), so the lookahead changes no key and no selection: random trees
+ * (TABLE_DIMINISHING) and the benchmark's tree families with diminishing
+ * returns, whose steps often gain exactly as much per cost as their parent's
+ * (a tie that only rounding could break), cold and warm, at budgets that
+ * rise and fall, with the default search. */
+static void tree_lookahead_changes_nothing_under_diminishing_returns(void **state) {
+    double budgets[10];
+    uint64_t seed;
+    int kind, k;
+    (void)state;
+    for (seed = 1; seed <= 100; ++seed) {
+        tclod_scene *s = NULL;
+        table_model m;
+        table_rng rng;
+        double lo, hi;
+        uint32_t nodes, roots;
+        table_rng_seed(&rng, seed * 31u);
+        table_init(&m);
+        assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+        nodes = 3 + table_rng_below(&rng, 40);
+        roots = 1 + table_rng_below(&rng, 3);
+        assert_int_equal(table_random_hierarchy(&m, s, &rng, nodes, roots, TABLE_DIMINISHING),
+                         TCLOD_OK);
+        lo = table_roots_cost(&m) * (1.0 + 1e-12);
+        hi = table_leaves_cost(&m) * 1.1;
+        for (k = 0; k < 6; ++k)
+            budgets[k] = table_rng_uniform(&rng, lo, hi);
+        assert_lookahead_changes_nothing(s, &m, budgets, 6, "random tree");
+        tclod_scene_destroy(s);
+        table_free(&m);
+    }
+    for (kind = FAMILY_UNCORRELATED; kind <= FAMILY_STRONGLY_CORRELATED; ++kind)
+        for (seed = 1; seed <= 60; ++seed) {
+            tclod_scene *s = NULL;
+            table_model m;
+            table_rng rng;
+            family_desc d;
+            double roots_cost, leaves_cost;
+            family_desc_default(&d, FAMILY_TREES, (family_kind)kind);
+            table_rng_seed(&rng, seed * 977u + (uint64_t)kind);
+            table_init(&m);
+            assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+            assert_int_equal(family_build(&d, &m, s, &rng), TCLOD_OK);
+            roots_cost = table_roots_cost(&m);
+            leaves_cost = table_leaves_cost(&m);
+            for (k = 0; k < 10; ++k) /* as tclod_quality: f = 0.05, 0.1 ... 0.9 */
+                budgets[k] =
+                    floor(roots_cost + (k == 0 ? 0.05 : 0.1 * k) * (leaves_cost - roots_cost));
+            assert_lookahead_changes_nothing(s, &m, budgets, 10,
+                                             family_kind_name((family_kind)kind));
+            tclod_scene_destroy(s);
+            table_free(&m);
+        }
+}
+
 /* n objects of two levels: roots (b 1, c 1) with ids 0 .. n - 1, then their
  * finer levels, fine[i] = {benefit, cost}, in the same order. */
 static void add_two_level_objects(helper_fixture *f, const double (*fine)[2], uint32_t n) {
@@ -1210,6 +1605,14 @@ int main(void) {
         FIXTURE_TEST(lookahead_finds_a_refinement_whose_gain_comes_at_its_second_level),
         FIXTURE_TEST(lookahead_takes_the_best_level_within_reach_and_the_shallower_of_equals),
         FIXTURE_TEST(lookahead_keeps_the_order_under_diminishing_returns),
+        FIXTURE_TEST(lookahead_takes_the_shallower_of_equal_best_ratios_found_from_below),
+        FIXTURE_TEST(tree_lookahead_finds_a_refinement_whose_gain_comes_below_its_children),
+        FIXTURE_TEST(a_lookahead_increment_too_dear_gives_way_to_the_best_cut_that_fits),
+        FIXTURE_TEST(the_search_forces_the_cut_that_fits_of_a_lookahead_increment),
+        FIXTURE_TEST(the_safeguard_keeps_a_lookahead_within_half_of_the_optimum),
+        cmocka_unit_test(tree_lookahead_takes_the_best_ratio_of_every_cut_below),
+        cmocka_unit_test(tree_lookahead_is_within_half_of_the_optimum_without_diminishing_returns),
+        cmocka_unit_test(tree_lookahead_changes_nothing_under_diminishing_returns),
         FIXTURE_TEST(restarts_try_skipped_increments_and_keep_the_best),
         FIXTURE_TEST(the_search_finds_the_pair_a_cheaper_increment_blocks),
         cmocka_unit_test(more_restarts_never_give_less),

@@ -394,6 +394,8 @@ tclod_status table_random_hierarchy(table_model *m, tclod_scene *s, table_rng *r
             double dc = c * table_rng_uniform(r, 0.5, 2.0);
             if (i < roots)
                 ratio[i] = table_rng_uniform(r, 0.5, 3.0);
+            else if (values == TABLE_RISING)
+                ratio[i] = ratio[m->parent[id] - first] * table_rng_uniform(r, 0.2, 5.0);
             else
                 ratio[i] = ratio[m->parent[id] - first] * table_rng_uniform(r, 0.3, 0.95);
             total_cost[i] = c + dc;

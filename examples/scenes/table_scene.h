@@ -151,7 +151,11 @@ typedef enum table_values {
     TABLE_DIMINISHING = 0,
     /* Benefits and costs drawn independently from [0.1, 10): increments may
      * gain nothing or even save cost. */
-    TABLE_ARBITRARY = 1
+    TABLE_ARBITRARY = 1,
+    /* Returns that need not diminish: as TABLE_DIMINISHING (every increment
+     * gains and costs more), but an increment's ratio is 0.2 to 5 times its
+     * parent's, so a poor step may lead to excellent ones. */
+    TABLE_RISING = 2
 } table_values;
 
 /* Adds `nodes` nodes without bounds to s and m: the first `roots` are roots,

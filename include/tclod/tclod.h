@@ -306,16 +306,23 @@ typedef struct tclod_selector_desc {
     int strict;                /* 1: a bad callback value fails the call with
                                   TCLOD_ERR_CALLBACK (previous result kept);
                                   0: it is sanitised and counted. Default 0 */
-    uint32_t lookahead;        /* greedy and mixed solvers: how many levels further
-                                  an increment of a node with a single child may
-                                  reach down its chain of single children. The
-                                  increment then replaces the node by the level of
-                                  that chain with the best Δbenefit/Δcost, so that a
-                                  refinement whose first level gains little but
-                                  whose next ones gain much is found (benefits
-                                  without diminishing returns, docs/greedy.md); it
-                                  evaluates those levels, up to lookahead more
-                                  nodes per increment. 0 = the papers' increment
+    uint32_t lookahead;        /* greedy and mixed solvers: how many levels below
+                                  a node's children its increment may reach. The
+                                  increment then replaces the node by the cut of
+                                  its subtree, down to that depth, with the best
+                                  Δbenefit/Δcost (on a chain of single children:
+                                  the best level), so that a refinement whose first
+                                  step gains little but whose next ones gain much
+                                  is found (benefits without diminishing returns,
+                                  docs/greedy.md); one that does not fit gives way
+                                  to the best such cut that does. Keying an
+                                  increment evaluates the node's subtree to that
+                                  depth and walks it a few times: on wide
+                                  hierarchies each level multiplies the work by
+                                  their branching. With diminishing returns the
+                                  selection is the same as with 0. 2 meets the
+                                  quality target on every instance family of
+                                  docs/benchmarks.md. 0 = the papers' increment
                                   (one level). At most TCLOD_MAX_LOOKAHEAD.
                                   Default 0 */
     uint32_t restarts;         /* greedy solver, cold solves (and the mixed solver on

@@ -144,6 +144,48 @@ double exact_optimum(const table_model *m, double budget, double *cost_out) {
     return best;
 }
 
+double exact_best_ratio(const table_model *m, tclod_id n) {
+    exact_list acc, child, next;
+    double best = -1.0;
+    int has_children = 0;
+    tclod_id c;
+    size_t k;
+
+    if (m->count > EXACT_MAX_NODES || n >= m->count)
+        return -2.0;
+    acc.items = (exact_option *)malloc(sizeof *acc.items);
+    if (acc.items == NULL)
+        return -2.0;
+    acc.items[0].benefit = 0.0;
+    acc.items[0].cost = 0.0;
+    acc.count = 1;
+    for (c = 0; c < m->count; ++c) {
+        if (m->parent[c] != n)
+            continue;
+        has_children = 1;
+        if (!exact_options(m, c, INFINITY, &child)) {
+            free(acc.items);
+            return -2.0;
+        }
+        if (!exact_product(&acc, &child, INFINITY, &next)) {
+            free(child.items);
+            free(acc.items);
+            return -2.0;
+        }
+        free(child.items);
+        free(acc.items);
+        acc = next;
+    }
+    for (k = 0; k < acc.count && has_children; ++k) {
+        double db = acc.items[k].benefit - m->benefit[n], dc = acc.items[k].cost - m->cost[n];
+        double ratio = dc > 0.0 ? db / dc : INFINITY;
+        if (db > 0.0 && ratio > best)
+            best = ratio;
+    }
+    free(acc.items);
+    return best;
+}
+
 /* A benefit the library draws: finite and > 0 (anything else is culled). */
 static int exact_visible(double benefit) {
     return benefit > 0.0 && benefit < INFINITY;

@@ -22,6 +22,12 @@
 #define EXACT_MAX_NODES 16u
 double exact_optimum(const table_model *m, double budget, double *cost_out);
 
+/* The best ratio (b(Q) - b(n)) / (c(Q) - c(n)) over every cut Q of node n's
+ * subtree other than n alone, among the cuts that gain (b(Q) > b(n)); +inf
+ * for one that gains at no extra cost. -1 when no cut gains (or n has no
+ * children); -2 as exact_optimum. */
+double exact_best_ratio(const table_model *m, tclod_id n);
+
 /* 1 when ids[0..n) are the visible nodes of a cut of m: every id exists and is
  * listed once, no listed node is an ancestor of another, and every root-to-leaf
  * path that contains no invisible node (benefit 0, or NaN, inf or negative)
