@@ -205,6 +205,11 @@ typedef struct tclod_var_model {
 } tclod_var_model;
 
 /* A node whose children share the time of the instance that ended at it. */
+/* Where the chain of single children starting at a node lies in rh_chain. */
+typedef struct tclod_rh_chain {
+    uint32_t at, len;
+} tclod_rh_chain;
+
 typedef struct tclod_rh_frame {
     tclod_id branch;    /* the node */
     uint32_t next;      /* its next child to place */
@@ -361,10 +366,10 @@ struct tclod_selector {
     uint32_t rh_version;      /* scene version the chains and the order describe; 0: none */
     uint32_t rh_order_count;
     uint32_t *rh_chain;       /* every chain of single children, coarse to fine, end to end */
-    uint32_t *rh_chain_at;    /* per node that starts a chain: where it starts in rh_chain */
-    uint32_t *rh_chain_len;   /* ... and its length */
-    tclod_id *rh_child;       /* per node with several children: them, least complex first
-                                 (in the scene's child ranges) */
+    tclod_rh_chain *rh_chains; /* per node that starts a chain: where it is in rh_chain */
+    uint32_t *rh_child;       /* per node with several children: the slots of them in the
+                                 scene's children[], least complex first (in the scene's
+                                 child ranges) */
     uint32_t *rh_order;       /* the instances, least complex first: root ids, and smooth
                                  ids + node count */
     double *rh_key;           /* 2 per element: complexities and order keys while
@@ -375,7 +380,7 @@ struct tclod_selector {
     /* The Robin Hood solver also keeps, in the per-node buffers it does not
      * otherwise use: the level each chain took last in the delta_b of the
      * chain's first node; the values of a branch's children in scratch_key, by
-     * id; the ring of its third cycle's candidates in scratch and path. */
+     * slot in the scene's children[]; the ring of its third cycle's candidates in scratch and path. */
 
     uint32_t cut_count, prev_count, result_count;
     uint32_t solve_id;
@@ -414,6 +419,47 @@ struct tclod_selector {
  * benefit counts as 0, a bad cost as +inf). Returns 0, or -1 when strict mode
  * saw a bad value. */
 int tclod_evaluate_node(tclod_selector *sel, tclod_id n);
+
+/* The callbacks of node n, not evaluated in this solve yet, with the screen
+ * area and distance of its bounds already measured (-1 without bounds or
+ * view): what tclod_evaluate_node does once it has measured. Inline for the
+ * solvers' inner loops. */
+static inline int tclod_evaluate_measured(tclod_selector *sel, tclod_id n, float area,
+                                          float distance) {
+    const tclod_callbacks *cb = &sel->desc.callbacks;
+    const float *bounds = &sel->scene->bounds[4u * n];
+    tclod_node_state *st = &sel->node[n];
+    tclod_query q;
+    double b, c = 0.0;
+    st->stamp = sel->solve_id;
+    st->area = area;
+    st->distance = distance;
+    q.id = n;
+    q.count = 1;
+    q.view = sel->frame->view;
+    q.screen_area = area;
+    q.distance = distance;
+    q.members = NULL;
+    q.bounds = bounds[3] >= 0.0f ? bounds : NULL;
+    sel->stats.evaluations++;
+    b = cb->benefit(cb->user, &q);
+    if (!(b >= 0.0 && b < HUGE_VAL)) { /* NaN, infinite or negative */
+        sel->stats.invalid_values++;
+        b = 0.0;
+        if (sel->desc.strict) sel->failed = 1;
+    }
+    if (b > 0.0) {
+        c = cb->cost(cb->user, &q);
+        if (!(c >= 0.0 && c < HUGE_VAL)) {
+            sel->stats.invalid_values++;
+            c = HUGE_VAL;
+            if (sel->desc.strict) sel->failed = 1;
+        }
+    }
+    st->benefit = b;
+    st->cost = c;
+    return sel->failed ? -1 : 0;
+}
 
 /* Runs TCLOD_SOLVER_GREEDY for sel->frame into the working cut, from where
  * sel->resume says it stands. Returns TCLOD_OK or TCLOD_ERR_CALLBACK (strict);

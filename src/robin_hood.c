@@ -42,6 +42,8 @@
  * what is left, the smooth objects whatever the nodes' whole steps leave. */
 #define REFILL_PASSES 16u
 
+static inline int visible(const tclod_selector *sel, tclod_id n) { return sel->node[n].benefit > 0.0; }
+
 /* ---- value functions (eq. 8-11) ------------------------------------------------- */
 
 /* v / I of value function f, for valid arguments. */
@@ -62,6 +64,14 @@ double tclod_value_of(tclod_value f, double area, double depth, double distance,
         (unsigned)f > (unsigned)TCLOD_VALUE_BENEFIT)
         return 0.0;
     return value_scale(f, area, depth, distance) * importance;
+}
+
+/* The value of an instance of importance I > 0 whose bounds have radius r,
+ * depth z and distance d (both at least the near plane) under this frame's
+ * view, or, without bounds or view, the defaults a = 1, z = d = 1. */
+static inline double value_at(const tclod_selector *sel, double area, double depth,
+                              double distance, double importance) {
+    return value_scale(sel->desc.value, area, depth, distance) * importance;
 }
 
 /* The value of an instance with bounds b (NULL or radius < 0: none) and
@@ -89,7 +99,51 @@ static inline double instance_value(const tclod_selector *sel, const float *b, d
             }
         }
     }
-    return value_scale(f, area, depth, distance) * importance;
+    return value_at(sel, area, depth, distance, importance);
+}
+
+/* ---- evaluation ------------------------------------------------------------------- */
+
+/* Node n, which starts an instance, evaluated once per solve (as
+ * tclod_evaluate_node would), with the instance's value in *value (0 when it
+ * is not visible). The projection that measures its screen area also gives
+ * the depth and distance its value needs. Returns -1 on a strict error. */
+static inline int evaluate_head(tclod_selector *sel, tclod_id n, double *value) {
+    const float *b = &sel->scene->bounds[4u * n];
+    const tclod_view_cache *c = &sel->view;
+    double p[3], r, d2, z, d, scale;
+    float area;
+    if (sel->node[n].stamp == sel->solve_id || !sel->has_view || !(b[3] >= 0.0f)) {
+        if (sel->node[n].stamp != sel->solve_id && tclod_evaluate_node(sel, n) != 0) return -1;
+        *value = visible(sel, n) ? instance_value(sel, b, sel->node[n].benefit) : 0.0;
+        return 0;
+    }
+    r = (double)b[3];
+    p[0] = (double)b[0] - c->eye[0];
+    p[1] = (double)b[1] - c->eye[1];
+    p[2] = (double)b[2] - c->eye[2];
+    d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+    d = sqrt(d2);
+    z = p[0] * c->forward[0] + p[1] * c->forward[1] + p[2] * c->forward[2];
+    area = tclod_view_cache_visible(c, p, r) ? (float)tclod_view_cache_area(c, d2, r) : 0.0f;
+    /* v / I before the callbacks, so that nothing but it lives across them */
+    scale = value_scale(sel->desc.value, 3.14159265358979323846 * r * r,
+                        z < c->near_z ? c->near_z : z, d < c->near_z ? c->near_z : d);
+    if (tclod_evaluate_measured(sel, n, area, (float)d) != 0) return -1;
+    *value = visible(sel, n) ? scale * sel->node[n].benefit : 0.0;
+    return 0;
+}
+
+/* Node n, a finer level of the instance starting at head (evaluated in this
+ * solve), evaluated once per solve. A level with the head's bounds takes its
+ * screen area and distance. Returns -1 on a strict error. */
+static inline int evaluate_level(tclod_selector *sel, tclod_id n, tclod_id head) {
+    const float *bounds = sel->scene->bounds;
+    if (sel->node[n].stamp == sel->solve_id) return 0;
+    if (sel->has_view && bounds[4u * n + 3u] >= 0.0f &&
+        memcmp(&bounds[4u * n], &bounds[4u * head], 4u * sizeof(float)) == 0)
+        return tclod_evaluate_measured(sel, n, sel->node[head].area, sel->node[head].distance);
+    return tclod_evaluate_node(sel, n);
 }
 
 /* ---- instances and their order (once per scene change) -------------------------- */
@@ -167,21 +221,22 @@ static void prepare(tclod_selector *sel) {
     for (id = 0; id < n; ++id) {
         tclod_id m;
         if (!is_head(s, id)) continue;
-        sel->rh_chain_at[id] = used;
+        sel->rh_chains[id].at = used;
         for (m = id;; m = s->children[s->child_first[m]]) {
             sel->rh_chain[used++] = m;
             if (child_count(s, m) != 1u) break;
         }
-        sel->rh_chain_len[id] = used - sel->rh_chain_at[id];
+        sel->rh_chains[id].len = used - sel->rh_chains[id].at;
         sel->rh_key[id] = node_complexity(sel, id, m);
     }
     assert(used == n);
-    /* each branch's children, least complex first (ties: smaller id) */
+    /* each branch's children, least complex first (ties: smaller id, which is the
+     * smaller slot: a child range lists its ids in order) */
     for (id = 0; id < n; ++id) {
         uint32_t first = s->child_first[id], k = child_count(s, id), j;
         if (k < 2u) continue;
         for (j = 0; j < k; ++j) {
-            sel->rh_child[first + j] = s->children[first + j];
+            sel->rh_child[first + j] = first + j;
             sel->scratch_key[first + j] = -sel->rh_key[s->children[first + j]];
         }
         tclod_sort_by_key(sel->rh_child + first, sel->scratch_key + first, k);
@@ -212,8 +267,6 @@ static void prepare(tclod_selector *sel) {
 static double *cut_costs(tclod_selector *sel) {
     return sel->rh_key ? sel->rh_key + sel->rh_cap : NULL; /* NULL: an empty scene */
 }
-
-static int visible(const tclod_selector *sel, tclod_id n) { return sel->node[n].benefit > 0.0; }
 
 static void cut_add(tclod_selector *sel, tclod_id n, uint8_t flags) {
     uint32_t pos = sel->cut_count++;
@@ -285,21 +338,17 @@ static void node_candidate(tclod_selector *sel, tclod_id head, tclod_id n, doubl
 
 /* ---- the first cycle: shares ------------------------------------------------------ */
 
-/* Node n's callbacks, asked once per solve. Returns -1 on a strict error. */
-static int evaluate(tclod_selector *sel, tclod_id n) {
-    return sel->node[n].stamp == sel->solve_id ? 0 : tclod_evaluate_node(sel, n);
-}
-
-/* 1 when node n's cost is at most `time`, 0 when not, -1 on a strict error. */
-static int fits(tclod_selector *sel, tclod_id n, double time) {
-    if (evaluate(sel, n) != 0) return -1;
+/* 1 when node n, a level of head's chain, costs at most `time`, 0 when not,
+ * -1 on a strict error. */
+static inline int fits(tclod_selector *sel, tclod_id n, tclod_id head, double time) {
+    if (evaluate_level(sel, n, head) != 0) return -1;
     return sel->node[n].cost <= time;
 }
 
 /* The level head's chain took last (kept in the delta_b of its first node). */
 static uint32_t last_level(const tclod_selector *sel, tclod_id head) {
     double l = sel->node[head].delta_b;
-    return l > 0.0 && l < (double)sel->rh_chain_len[head] ? (uint32_t)l : 0u;
+    return l > 0.0 && l < (double)sel->rh_chains[head].len ? (uint32_t)l : 0u;
 }
 
 /* The finest level of head's chain (chain[0 .. len)) whose cost is at most
@@ -318,7 +367,7 @@ static int finest_level(tclod_selector *sel, tclod_id head, const tclod_id *chai
     /* from here on chain[lo] fits; chain[hi] does not, or is past the end */
     guess = last_level(sel, head);
     if (guess > 0u) {
-        if ((f = fits(sel, chain[guess], time)) < 0) return -1;
+        if ((f = fits(sel, chain[guess], head, time)) < 0) return -1;
         if (f)
             lo = guess;
         else
@@ -326,7 +375,7 @@ static int finest_level(tclod_selector *sel, tclod_id head, const tclod_id *chai
     }
     if (hi == len) { /* up from lo */
         for (; d < hi - lo; d *= 2u) {
-            if ((f = fits(sel, chain[lo + d], time)) < 0) return -1;
+            if ((f = fits(sel, chain[lo + d], head, time)) < 0) return -1;
             if (!f) {
                 hi = lo + d;
                 break;
@@ -335,7 +384,7 @@ static int finest_level(tclod_selector *sel, tclod_id head, const tclod_id *chai
         }
     } else { /* down from hi */
         for (; d < hi - lo; d *= 2u) {
-            if ((f = fits(sel, chain[hi - d], time)) < 0) return -1;
+            if ((f = fits(sel, chain[hi - d], head, time)) < 0) return -1;
             if (f) {
                 lo = hi - d;
                 break;
@@ -345,7 +394,7 @@ static int finest_level(tclod_selector *sel, tclod_id head, const tclod_id *chai
     }
     while (hi - lo > 1u) {
         uint32_t mid = lo + (hi - lo) / 2u;
-        if ((f = fits(sel, chain[mid], time)) < 0) return -1;
+        if ((f = fits(sel, chain[mid], head, time)) < 0) return -1;
         if (f)
             lo = mid;
         else
@@ -360,7 +409,7 @@ static int finest_level(tclod_selector *sel, tclod_id head, const tclod_id *chai
 /* The children of branching node b, evaluated in id order while the summed
  * cost of their simplest levels, *reserve, is at most `time` (invisible
  * children: none). Returns 1 when all of them fit, with each visible child's
- * value in scratch_key[child] and their sum in *value; 0 when they do not
+ * value in scratch_key[slot] (its slot in the scene's children[]) and their sum in *value; 0 when they do not
  * (*reserve is then a lower bound of their cost); -1 on a strict error. */
 static int branch_children(tclod_selector *sel, tclod_id b, double time, double *reserve,
                            double *value) {
@@ -370,12 +419,11 @@ static int branch_children(tclod_selector *sel, tclod_id b, double time, double 
     for (j = 0; j < k; ++j) {
         tclod_id c = s->children[first + j];
         double v;
-        if (evaluate(sel, c) != 0) return -1;
+        if (evaluate_head(sel, c, &v) != 0) return -1;
         if (!visible(sel, c)) continue;
         *reserve += sel->node[c].cost;
         if (!(*reserve <= time)) return 0;
-        v = instance_value(sel, &s->bounds[4u * c], sel->node[c].benefit);
-        sel->scratch_key[c] = v;
+        sel->scratch_key[first + j] = v;
         *value += v;
     }
     return isfinite(*reserve);
@@ -392,8 +440,8 @@ static int place_node(tclod_selector *sel, tclod_id head, double value, double t
     uint32_t top = 0;
     double base = 0.0; /* the cost of head's first level, as its branch counts it */
     for (;;) {
-        const tclod_id *chain = sel->rh_chain + sel->rh_chain_at[head];
-        uint32_t len = sel->rh_chain_len[head];
+        const tclod_id *chain = sel->rh_chain + sel->rh_chains[head].at;
+        uint32_t len = sel->rh_chains[head].len;
         tclod_id level, end = chain[len - 1u];
         double reserve, children, step;
         int refine = 0;
@@ -426,13 +474,14 @@ static int place_node(tclod_selector *sel, tclod_id head, double value, double t
         for (;;) {
             tclod_rh_frame *f = &stack[top - 1u];
             if (f->next < child_count(s, f->branch)) {
-                tclod_id c = sel->rh_child[s->child_first[f->branch] + f->next++];
+                uint32_t slot = sel->rh_child[s->child_first[f->branch] + f->next++];
+                tclod_id c = s->children[slot];
                 double share;
                 if (!visible(sel, c)) {
                     cut_add(sel, c, 0); /* culled: in the cut, not drawn */
                     continue;
                 }
-                value = sel->scratch_key[c];
+                value = sel->scratch_key[slot];
                 share = f->value_left > 0.0 ? value * f->extra / f->value_left : 0.0;
                 share = share > f->extra ? f->extra : (share > 0.0 ? share : 0.0);
                 f->value_left -= value;
@@ -589,9 +638,7 @@ static int values(tclod_selector *sel, double *total) {
         uint32_t id = sel->rh_order[k];
         double v;
         if (id < s->node_count) {
-            if (tclod_evaluate_node(sel, id) != 0) return -1;
-            v = visible(sel, id) ? instance_value(sel, &s->bounds[4u * id], sel->node[id].benefit)
-                                 : 0.0;
+            if (evaluate_head(sel, id, &v) != 0) return -1;
         } else {
             v = smooth_value(sel, id - s->node_count);
             if (v < 0.0) return -1;
@@ -709,7 +756,7 @@ static int share_out(tclod_selector *sel) {
  * it refined; -1 on a strict error. */
 static int refine_node(tclod_selector *sel, tclod_id head, double v, double step, double share) {
     tclod_resume *R = &sel->resume;
-    tclod_id n = sel->rh_chain[sel->rh_chain_at[head] + last_level(sel, head)];
+    tclod_id n = sel->rh_chain[sel->rh_chains[head].at + last_level(sel, head)];
     int dropped = (sel->flags[n] & TCLOD_FLAG_DROPPED) != 0;
     double held = dropped ? 0.0 : sel->node[n].cost, used;
     uint32_t at;
