@@ -94,6 +94,21 @@ struct tclod_scene {
     uint32_t index_version; /* version the child index describes */
 };
 
+/* A function of the solvers' inner loops that must be inlined where it is
+ * called, whatever the compiler's estimate of its size. */
+#if defined(__GNUC__) || defined(__clang__)
+#define TCLOD_ALWAYS_INLINE static inline __attribute__((always_inline))
+#else
+#define TCLOD_ALWAYS_INLINE static inline
+#endif
+
+/* A hint that *p will be read soon (nothing without GCC or Clang builtins). */
+#if defined(__GNUC__) || defined(__clang__)
+#define TCLOD_PREFETCH(p) __builtin_prefetch(p)
+#else
+#define TCLOD_PREFETCH(p) ((void)(p))
+#endif
+
 /* ---- view.c ---------------------------------------------------------------- */
 
 /* A validated view, orthonormalised once per frame. */
@@ -205,14 +220,29 @@ typedef struct tclod_var_model {
 } tclod_var_model;
 
 /* A node whose children share the time of the instance that ended at it. */
-/* Where the chain of single children starting at a node lies in rh_chain. */
+/* The chain of single children starting at a node (an instance): where its
+ * nodes lie in rh_chain, how many there are, and what prepare found out about
+ * them once, so that a solve need not look again (TCLOD_RH_*). */
 typedef struct tclod_rh_chain {
     uint32_t at, len;
+    uint32_t flags;
 } tclod_rh_chain;
+enum {
+    TCLOD_RH_CONSECUTIVE = 1u, /* level k is node head + k (rh_chain need not be read) */
+    TCLOD_RH_SHARED = 2u,      /* every level has the head's bounds */
+    TCLOD_RH_BRANCH = 4u       /* the last level has several children */
+};
+/* A branch's child as its instance: the child's slot in the scene's
+ * children[] and its chain. */
+typedef struct tclod_rh_child {
+    uint32_t slot;
+    tclod_rh_chain chain;
+} tclod_rh_child;
 
 typedef struct tclod_rh_frame {
     tclod_id branch;    /* the node */
-    uint32_t next;      /* its next child to place */
+    uint32_t next, end; /* its next child to place and the end of its children, as
+                           positions in rh_child (the scene's child range) */
     double extra;       /* time left beyond the children's simplest levels */
     double value_left;  /* value of the children not placed yet */
     double alloc, base; /* the time the branch's instance had, and its simplest
@@ -366,10 +396,9 @@ struct tclod_selector {
     uint32_t rh_version;      /* scene version the chains and the order describe; 0: none */
     uint32_t rh_order_count;
     uint32_t *rh_chain;       /* every chain of single children, coarse to fine, end to end */
-    tclod_rh_chain *rh_chains; /* per node that starts a chain: where it is in rh_chain */
-    uint32_t *rh_child;       /* per node with several children: the slots of them in the
-                                 scene's children[], least complex first (in the scene's
-                                 child ranges) */
+    tclod_rh_chain *rh_chains; /* per node that starts a chain: the chain */
+    tclod_rh_child *rh_child; /* per node with several children: them, least complex
+                                 first (in the scene's child ranges) */
     uint32_t *rh_order;       /* the instances, least complex first: root ids, and smooth
                                  ids + node count */
     double *rh_key;           /* 2 per element: complexities and order keys while

@@ -108,7 +108,7 @@ static inline double instance_value(const tclod_selector *sel, const float *b, d
  * tclod_evaluate_node would), with the instance's value in *value (0 when it
  * is not visible). The projection that measures its screen area also gives
  * the depth and distance its value needs. Returns -1 on a strict error. */
-static inline int evaluate_head(tclod_selector *sel, tclod_id n, double *value) {
+TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, double *value) {
     const float *b = &sel->scene->bounds[4u * n];
     const tclod_view_cache *c = &sel->view;
     double p[3], r, d2, z, d, scale;
@@ -135,15 +135,18 @@ static inline int evaluate_head(tclod_selector *sel, tclod_id n, double *value) 
 }
 
 /* Node n, a finer level of the instance starting at head (evaluated in this
- * solve), evaluated once per solve. A level with the head's bounds takes its
- * screen area and distance. Returns -1 on a strict error. */
-static inline int evaluate_level(tclod_selector *sel, tclod_id n, tclod_id head) {
+ * solve), not evaluated in this solve yet. A level with the head's bounds
+ * (`shared`: all of the chain's levels have them) takes its screen area and
+ * distance. Returns -1 on a strict error. */
+static inline int evaluate_level(tclod_selector *sel, tclod_id n, tclod_id head, int shared) {
     const float *bounds = sel->scene->bounds;
-    if (sel->node[n].stamp == sel->solve_id) return 0;
-    if (sel->has_view && bounds[4u * n + 3u] >= 0.0f &&
-        memcmp(&bounds[4u * n], &bounds[4u * head], 4u * sizeof(float)) == 0)
-        return tclod_evaluate_measured(sel, n, sel->node[head].area, sel->node[head].distance);
-    return tclod_evaluate_node(sel, n);
+    float area = sel->node[head].area, distance = sel->node[head].distance;
+    if (!shared && memcmp(&bounds[4u * n], &bounds[4u * head], 4u * sizeof(float)) != 0) {
+        area = distance = -1.0f;
+        if (sel->has_view && bounds[4u * n + 3u] >= 0.0f)
+            tclod_view_measure(&sel->view, &bounds[4u * n], &area, &distance);
+    }
+    return tclod_evaluate_measured(sel, n, area, distance);
 }
 
 /* ---- instances and their order (once per scene change) -------------------------- */
@@ -219,27 +222,39 @@ static void prepare(tclod_selector *sel) {
     double *keys;
     tclod_id id;
     for (id = 0; id < n; ++id) {
+        tclod_rh_chain *ch = &sel->rh_chains[id];
+        const float *b = &s->bounds[4u * id];
         tclod_id m;
         if (!is_head(s, id)) continue;
-        sel->rh_chains[id].at = used;
+        ch->at = used;
+        ch->flags = TCLOD_RH_CONSECUTIVE | TCLOD_RH_SHARED;
         for (m = id;; m = s->children[s->child_first[m]]) {
+            if (m != id + (used - ch->at)) ch->flags &= ~(uint32_t)TCLOD_RH_CONSECUTIVE;
+            if (memcmp(&s->bounds[4u * m], b, 4u * sizeof(float)) != 0)
+                ch->flags &= ~(uint32_t)TCLOD_RH_SHARED;
             sel->rh_chain[used++] = m;
             if (child_count(s, m) != 1u) break;
         }
-        sel->rh_chains[id].len = used - sel->rh_chains[id].at;
+        if (child_count(s, m) > 1u) ch->flags |= TCLOD_RH_BRANCH;
+        ch->len = used - ch->at;
         sel->rh_key[id] = node_complexity(sel, id, m);
     }
     assert(used == n);
     /* each branch's children, least complex first (ties: smaller id, which is the
-     * smaller slot: a child range lists its ids in order) */
+     * smaller slot: a child range lists its ids in order), sorted in scratch */
     for (id = 0; id < n; ++id) {
         uint32_t first = s->child_first[id], k = child_count(s, id), j;
         if (k < 2u) continue;
         for (j = 0; j < k; ++j) {
-            sel->rh_child[first + j] = first + j;
+            sel->scratch[first + j] = first + j;
             sel->scratch_key[first + j] = -sel->rh_key[s->children[first + j]];
         }
-        tclod_sort_by_key(sel->rh_child + first, sel->scratch_key + first, k);
+        tclod_sort_by_key(sel->scratch + first, sel->scratch_key + first, k);
+        for (j = 0; j < k; ++j) {
+            tclod_rh_child *c = &sel->rh_child[first + j];
+            c->slot = sel->scratch[first + j];
+            c->chain = sel->rh_chains[s->children[c->slot]];
+        }
     }
     /* the second half of rh_key holds the order's keys (none: an empty scene) */
     keys = sel->rh_key ? sel->rh_key + sel->rh_cap : NULL;
@@ -268,12 +283,17 @@ static double *cut_costs(tclod_selector *sel) {
     return sel->rh_key ? sel->rh_key + sel->rh_cap : NULL; /* NULL: an empty scene */
 }
 
-static void cut_add(tclod_selector *sel, tclod_id n, uint8_t flags) {
+/* cut_add with cut_costs(sel) in costs. */
+static inline void cut_add_cost(tclod_selector *sel, tclod_id n, uint8_t flags, double *costs) {
     uint32_t pos = sel->cut_count++;
     sel->node[n].cut_pos = pos;
     sel->cut[pos] = n;
     sel->flags[n] = flags;
-    cut_costs(sel)[pos] = visible(sel, n) && !(flags & TCLOD_FLAG_DROPPED) ? sel->node[n].cost : 0.0;
+    costs[pos] = visible(sel, n) && !(flags & TCLOD_FLAG_DROPPED) ? sel->node[n].cost : 0.0;
+}
+
+static void cut_add(tclod_selector *sel, tclod_id n, uint8_t flags) {
+    cut_add_cost(sel, n, flags, cut_costs(sel));
 }
 
 /* Takes n out of the cut; the last slot fills its place. */
@@ -305,8 +325,8 @@ static void cut_clear(tclod_selector *sel) {
  * most once, so node capacity suffices. */
 static void push_candidate(tclod_selector *sel, uint32_t id, double value, double step) {
     tclod_resume *R = &sel->resume;
-    uint32_t at = R->ring_first < sel->cap - R->ring_count ? R->ring_first + R->ring_count
-                                                             : R->ring_first - (sel->cap - R->ring_count);
+    uint32_t at = R->ring_first + R->ring_count; /* < 2 cap */
+    if (at >= sel->cap) at -= sel->cap;
     sel->scratch[at] = id;
     sel->path[2u * at] = value;
     sel->path[2u * at + 1u] = step;
@@ -338,36 +358,53 @@ static void node_candidate(tclod_selector *sel, tclod_id head, tclod_id n, doubl
 
 /* ---- the first cycle: shares ------------------------------------------------------ */
 
-/* 1 when node n, a level of head's chain, costs at most `time`, 0 when not,
- * -1 on a strict error. */
-static inline int fits(tclod_selector *sel, tclod_id n, tclod_id head, double time) {
-    if (evaluate_level(sel, n, head) != 0) return -1;
+/* Level k of the chain ch starting at head. */
+static inline tclod_id chain_node(const tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch,
+                                  uint32_t k) {
+    return ch->flags & TCLOD_RH_CONSECUTIVE ? head + k : sel->rh_chain[ch->at + k];
+}
+
+/* 1 when node n, a level of the chain ch starting at head, costs at most
+ * `time`, 0 when not, -1 on a strict error. */
+static inline int fits(tclod_selector *sel, tclod_id n, tclod_id head, const tclod_rh_chain *ch,
+                       double time) {
+    if (sel->node[n].stamp != sel->solve_id &&
+        evaluate_level(sel, n, head, (ch->flags & TCLOD_RH_SHARED) != 0) != 0)
+        return -1;
     return sel->node[n].cost <= time;
 }
 
-/* The level head's chain took last (kept in the delta_b of its first node). */
-static uint32_t last_level(const tclod_selector *sel, tclod_id head) {
+/* The level head's chain (of len levels) took last (kept in the delta_b of
+ * its first node). */
+static inline uint32_t last_level(const tclod_selector *sel, tclod_id head, uint32_t len) {
     double l = sel->node[head].delta_b;
-    return l > 0.0 && l < (double)sel->rh_chains[head].len ? (uint32_t)l : 0u;
+    return l > 0.0 && l < (double)len ? (uint32_t)l : 0u;
 }
 
-/* The finest level of head's chain (chain[0 .. len)) whose cost is at most
- * `time`, which must cover the first (evaluated) level. The costs grow level by level, so the
- * levels that fit are a prefix of the chain. The search starts at the level
- * the chain took last, gallops away from it and ends by bisection: two
- * evaluations when the level has not changed (one at either end of the
- * chain), about 2 log2 of the distance when it has. *step is what the next
- * level adds to the cost (HUGE_VAL at the chain's end). Returns -1 on a
- * strict error. */
-static int finest_level(tclod_selector *sel, tclod_id head, const tclod_id *chain, uint32_t len,
-                        double time, tclod_id *out, double *step) {
-    uint32_t lo = 0, hi = len, d = 1, guess;
+/* The finest level of the chain ch starting at head whose cost is at most
+ * `time`, which must cover the first (evaluated) level. The costs grow level
+ * by level, so the levels that fit are a prefix of the chain. The search
+ * starts at the level the chain took last, gallops away from it and ends by
+ * bisection: two evaluations when the level has not changed (one at either
+ * end of the chain), about 2 log2 of the distance when it has. *step is what
+ * the next level adds to the cost (HUGE_VAL at the chain's end). Returns -1
+ * on a strict error. */
+static inline int finest_level(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch,
+                               double time, tclod_id *out, double *step) {
+    uint32_t len = ch->len, lo = 0, hi = len, d = 1, guess;
+    tclod_id lo_node;
     int f;
     assert(sel->node[head].stamp == sel->solve_id && sel->node[head].cost <= time);
-    /* from here on chain[lo] fits; chain[hi] does not, or is past the end */
-    guess = last_level(sel, head);
+    if (len == 1u) { /* a single level: nothing to search */
+        *out = head;
+        sel->node[head].delta_b = 0.0;
+        *step = HUGE_VAL;
+        return 0;
+    }
+    /* from here on level lo fits; level hi does not, or is past the end */
+    guess = last_level(sel, head, len);
     if (guess > 0u) {
-        if ((f = fits(sel, chain[guess], head, time)) < 0) return -1;
+        if ((f = fits(sel, chain_node(sel, head, ch, guess), head, ch, time)) < 0) return -1;
         if (f)
             lo = guess;
         else
@@ -375,7 +412,7 @@ static int finest_level(tclod_selector *sel, tclod_id head, const tclod_id *chai
     }
     if (hi == len) { /* up from lo */
         for (; d < hi - lo; d *= 2u) {
-            if ((f = fits(sel, chain[lo + d], head, time)) < 0) return -1;
+            if ((f = fits(sel, chain_node(sel, head, ch, lo + d), head, ch, time)) < 0) return -1;
             if (!f) {
                 hi = lo + d;
                 break;
@@ -384,7 +421,7 @@ static int finest_level(tclod_selector *sel, tclod_id head, const tclod_id *chai
         }
     } else { /* down from hi */
         for (; d < hi - lo; d *= 2u) {
-            if ((f = fits(sel, chain[hi - d], head, time)) < 0) return -1;
+            if ((f = fits(sel, chain_node(sel, head, ch, hi - d), head, ch, time)) < 0) return -1;
             if (f) {
                 lo = hi - d;
                 break;
@@ -394,108 +431,129 @@ static int finest_level(tclod_selector *sel, tclod_id head, const tclod_id *chai
     }
     while (hi - lo > 1u) {
         uint32_t mid = lo + (hi - lo) / 2u;
-        if ((f = fits(sel, chain[mid], head, time)) < 0) return -1;
+        if ((f = fits(sel, chain_node(sel, head, ch, mid), head, ch, time)) < 0) return -1;
         if (f)
             lo = mid;
         else
             hi = mid;
     }
-    *out = chain[lo];
+    lo_node = chain_node(sel, head, ch, lo);
+    *out = lo_node;
     sel->node[head].delta_b = (double)lo;
-    *step = hi < len ? sel->node[chain[hi]].cost - sel->node[chain[lo]].cost : HUGE_VAL;
+    *step = hi < len ? sel->node[chain_node(sel, head, ch, hi)].cost - sel->node[lo_node].cost
+                     : HUGE_VAL;
     return 0;
 }
 
 /* The children of branching node b, evaluated in id order while the summed
  * cost of their simplest levels, *reserve, is at most `time` (invisible
  * children: none). Returns 1 when all of them fit, with each visible child's
- * value in scratch_key[slot] (its slot in the scene's children[]) and their sum in *value; 0 when they do not
- * (*reserve is then a lower bound of their cost); -1 on a strict error. */
+ * value in scratch_key[slot] (its slot in the scene's children[]) and their
+ * sum in *value; 0 when they do not (*reserve is then a lower bound of their
+ * cost); -1 on a strict error. */
 static int branch_children(tclod_selector *sel, tclod_id b, double time, double *reserve,
                            double *value) {
     const tclod_scene *s = sel->scene;
     uint32_t j, first = s->child_first[b], k = child_count(s, b);
-    *reserve = *value = 0.0;
+    double r = 0.0, sum = 0.0;
+    /* the children's records are read one after the other, and their finer
+     * levels' soon after: ask for them all now, so that the cache misses
+     * overlap */
+    for (j = 0; j < k && j < 16u; ++j) {
+        const tclod_rh_child *e = &sel->rh_child[first + j];
+        tclod_id c = s->children[e->slot];
+        TCLOD_PREFETCH(&sel->node[c]);
+        TCLOD_PREFETCH(&s->bounds[4u * c]);
+        if ((e->chain.flags & TCLOD_RH_CONSECUTIVE) && e->chain.len > 1u)
+            TCLOD_PREFETCH(&sel->node[c + (e->chain.len < 3u ? e->chain.len : 3u) - 1u]);
+    }
     for (j = 0; j < k; ++j) {
         tclod_id c = s->children[first + j];
         double v;
         if (evaluate_head(sel, c, &v) != 0) return -1;
         if (!visible(sel, c)) continue;
-        *reserve += sel->node[c].cost;
-        if (!(*reserve <= time)) return 0;
+        r += sel->node[c].cost;
+        if (!(r <= time)) {
+            *reserve = r;
+            return 0;
+        }
         sel->scratch_key[first + j] = v;
-        *value += v;
+        sum += v;
     }
-    return isfinite(*reserve);
+    *reserve = r;
+    *value = sum;
+    return isfinite(r);
 }
 
-/* Places the instance of value `value` starting at visible node `head` with
- * `time` (which covers its first level) and, below it, the instances of every
- * branch its share reaches, depth first with an explicit stack. Returns the
- * time used in *used; -1 on a strict error. */
-static int place_node(tclod_selector *sel, tclod_id head, double value, double time,
-                      double *used) {
+/* Places the instance of value `value` starting at visible node `head` (its
+ * chain ch) with `time` (which covers its first level) and, below it, the
+ * instances of every branch its share reaches, depth first with an explicit
+ * stack. Returns the time used in *used; -1 on a strict error. */
+static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch, double value,
+                      double time, double *used) {
     const tclod_scene *s = sel->scene;
     tclod_rh_frame *stack = sel->rh_stack;
+    double *costs = cut_costs(sel);
     uint32_t top = 0;
     double base = 0.0; /* the cost of head's first level, as its branch counts it */
     for (;;) {
-        const tclod_id *chain = sel->rh_chain + sel->rh_chains[head].at;
-        uint32_t len = sel->rh_chains[head].len;
-        tclod_id level, end = chain[len - 1u];
-        double reserve, children, step;
-        int refine = 0;
-        if (finest_level(sel, head, chain, len, time, &level, &step) != 0) return -1;
+        tclod_id level;
+        double step, u;
+        if (finest_level(sel, head, ch, time, &level, &step) != 0) return -1;
         sel->stats.iterations++;
-        if (level == end && child_count(s, end) > 1u) {
-            refine = branch_children(sel, end, time, &reserve, &children);
+        if ((ch->flags & TCLOD_RH_BRANCH) && level == chain_node(sel, head, ch, ch->len - 1u)) {
+            double reserve, children;
+            int refine = branch_children(sel, level, time, &reserve, &children);
             if (refine < 0) return -1;
-            step = reserve - sel->node[end].cost;
-        }
-        if (refine) { /* the children become instances sharing this one's time */
-            tclod_rh_frame *f = &stack[top++];
-            f->branch = end;
-            f->next = 0;
-            f->extra = time - reserve;
-            f->value_left = children;
-            f->alloc = time;
-            f->base = base;
-        } else {
-            double u = sel->node[level].cost;
-            cut_add(sel, level, 0);
-            node_candidate(sel, head, level, value, step);
-            if (top == 0) {
-                *used = u;
-                return 0;
+            if (refine) { /* the children become instances sharing this one's time */
+                tclod_rh_frame *f = &stack[top++];
+                f->branch = level;
+                f->next = s->child_first[level];
+                f->end = s->child_first[level + 1u];
+                f->extra = time - reserve;
+                f->value_left = children;
+                f->alloc = time;
+                f->base = base;
+                goto next;
             }
-            stack[top - 1u].extra -= u - base;
+            step = reserve - sel->node[level].cost;
         }
+        u = sel->node[level].cost;
+        cut_add_cost(sel, level, 0, costs);
+        node_candidate(sel, head, level, value, step);
+        if (top == 0) {
+            *used = u;
+            return 0;
+        }
+        stack[top - 1u].extra -= u - base;
+    next:
         /* the next child to place, closing the branches that are done */
         for (;;) {
             tclod_rh_frame *f = &stack[top - 1u];
-            if (f->next < child_count(s, f->branch)) {
-                uint32_t slot = sel->rh_child[s->child_first[f->branch] + f->next++];
-                tclod_id c = s->children[slot];
+            if (f->next < f->end) {
+                const tclod_rh_child *c = &sel->rh_child[f->next++];
+                tclod_id id = s->children[c->slot];
                 double share;
-                if (!visible(sel, c)) {
-                    cut_add(sel, c, 0); /* culled: in the cut, not drawn */
+                if (!visible(sel, id)) {
+                    cut_add_cost(sel, id, 0, costs); /* culled: in the cut, not drawn */
                     continue;
                 }
-                value = sel->scratch_key[slot];
+                value = sel->scratch_key[c->slot];
                 share = f->value_left > 0.0 ? value * f->extra / f->value_left : 0.0;
                 share = share > f->extra ? f->extra : (share > 0.0 ? share : 0.0);
                 f->value_left -= value;
-                head = c;
-                base = sel->node[c].cost;
+                head = id;
+                ch = &c->chain;
+                base = sel->node[id].cost;
                 time = base + share;
                 break;
             } else {
-                double u = f->alloc - f->extra, b = f->base;
+                double u2 = f->alloc - f->extra, b = f->base;
                 if (--top == 0) {
-                    *used = u;
+                    *used = u2;
                     return 0;
                 }
-                stack[top - 1u].extra -= u - b;
+                stack[top - 1u].extra -= u2 - b;
             }
         }
     }
@@ -718,7 +776,7 @@ static int share_out(tclod_selector *sel) {
                 continue;
             }
             if (sel->node[id].cost <= share) {
-                if (place_node(sel, id, v, share, &used) != 0) return -1;
+                if (place_node(sel, id, &sel->rh_chains[id], v, share, &used) != 0) return -1;
             } else {
                 sel->node[id].delta_b = 0.0; /* drawn, if at all, at its first level */
                 if ((sel->desc.misfit == TCLOD_MISFIT_COARSEST || stopped) &&
@@ -756,7 +814,8 @@ static int share_out(tclod_selector *sel) {
  * it refined; -1 on a strict error. */
 static int refine_node(tclod_selector *sel, tclod_id head, double v, double step, double share) {
     tclod_resume *R = &sel->resume;
-    tclod_id n = sel->rh_chain[sel->rh_chains[head].at + last_level(sel, head)];
+    const tclod_rh_chain *ch = &sel->rh_chains[head];
+    tclod_id n = chain_node(sel, head, ch, last_level(sel, head, ch->len));
     int dropped = (sel->flags[n] & TCLOD_FLAG_DROPPED) != 0;
     double held = dropped ? 0.0 : sel->node[n].cost, used;
     uint32_t at;
@@ -767,7 +826,7 @@ static int refine_node(tclod_selector *sel, tclod_id head, double v, double step
     cut_remove(sel, n);
     if (dropped) sel->stats.dropped_roots--;
     at = sel->cut_count;
-    if (place_node(sel, head, v, held + share, &used) != 0) return -1;
+    if (place_node(sel, head, ch, v, held + share, &used) != 0) return -1;
     R->pool -= used - held;
     if (R->pool < 0.0) R->pool = 0.0;
     return dropped || sel->cut_count > at + 1u || sel->cut[at] != n;

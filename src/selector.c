@@ -113,7 +113,7 @@ static size_t rh_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS])
     size_t n = 0;
     out[n++] = (tclod_array){(void **)&sel->rh_chain, sizeof(uint32_t), -1};
     out[n++] = (tclod_array){(void **)&sel->rh_chains, sizeof(tclod_rh_chain), -1};
-    out[n++] = (tclod_array){(void **)&sel->rh_child, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&sel->rh_child, sizeof(tclod_rh_child), -1};
     out[n++] = (tclod_array){(void **)&sel->rh_order, sizeof(uint32_t), -1};
     out[n++] = (tclod_array){(void **)&sel->rh_key, 2 * sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&sel->rh_stack, sizeof(tclod_rh_frame), -1};
