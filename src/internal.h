@@ -102,13 +102,6 @@ struct tclod_scene {
 #define TCLOD_ALWAYS_INLINE static inline
 #endif
 
-/* A hint that *p will be read soon (nothing without GCC or Clang builtins). */
-#if defined(__GNUC__) || defined(__clang__)
-#define TCLOD_PREFETCH(p) __builtin_prefetch(p)
-#else
-#define TCLOD_PREFETCH(p) ((void)(p))
-#endif
-
 /* ---- view.c ---------------------------------------------------------------- */
 
 /* A validated view, orthonormalised once per frame. */
@@ -137,6 +130,22 @@ static inline int tclod_view_cache_visible(const tclod_view_cache *c, const doub
     return fabs(p[0] * c->right[0] + p[1] * c->right[1] + p[2] * c->right[2]) * c->cos_x -
                z * c->sin_x <=
            r;
+}
+
+/* The sphere of radius r centred at p (relative to the eye) lies so far inside
+ * the frustum that every sphere within it passes tclod_view_cache_visible,
+ * rounding included: each signed distance is at most -r less a margin far
+ * above the rounding of the test (a sphere within it has its own distances
+ * at most those plus r, which is Lipschitz with constant 1 in p). */
+static inline int tclod_view_cache_inside(const tclod_view_cache *c, const double p[3], double r) {
+    double z = p[0] * c->forward[0] + p[1] * c->forward[1] + p[2] * c->forward[2];
+    double rm = r + 1e-6 * (fabs(p[0]) + fabs(p[1]) + fabs(p[2]) + r + c->far_z);
+    if (z - rm < c->near_z || z + rm > c->far_z) return 0;
+    if (fabs(p[0] * c->up[0] + p[1] * c->up[1] + p[2] * c->up[2]) * c->cos_y - z * c->sin_y > -rm)
+        return 0;
+    return fabs(p[0] * c->right[0] + p[1] * c->right[1] + p[2] * c->right[2]) * c->cos_x -
+               z * c->sin_x <=
+           -rm;
 }
 
 /* Projected area in px² of a sphere of radius r whose centre is d2 away from
@@ -226,6 +235,9 @@ typedef struct tclod_var_model {
 typedef struct tclod_rh_chain {
     uint32_t at, len;
     uint32_t flags;
+    float reach; /* a branch: every bounded child lies within this distance of the
+                    last level's centre (rounded up); -1 when that level has no
+                    bounds */
 } tclod_rh_chain;
 enum {
     TCLOD_RH_CONSECUTIVE = 1u, /* level k is node head + k (rh_chain need not be read) */

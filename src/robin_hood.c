@@ -27,6 +27,7 @@
  */
 #include "internal.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -107,8 +108,11 @@ static inline double instance_value(const tclod_selector *sel, const float *b, d
 /* Node n, which starts an instance, evaluated once per solve (as
  * tclod_evaluate_node would), with the instance's value in *value (0 when it
  * is not visible). The projection that measures its screen area also gives
- * the depth and distance its value needs. Returns -1 on a strict error. */
-TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, double *value) {
+ * the depth and distance its value needs. `inside`: its bounds lie in a
+ * sphere that tclod_view_cache_inside found inside the frustum, so the
+ * frustum test would pass. Returns -1 on a strict error. */
+TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int inside,
+                                      double *value) {
     const float *b = &sel->scene->bounds[4u * n];
     const tclod_view_cache *c = &sel->view;
     double p[3], r, d2, z, d, scale;
@@ -125,7 +129,8 @@ TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, double *v
     d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
     d = sqrt(d2);
     z = p[0] * c->forward[0] + p[1] * c->forward[1] + p[2] * c->forward[2];
-    area = tclod_view_cache_visible(c, p, r) ? (float)tclod_view_cache_area(c, d2, r) : 0.0f;
+    area = inside || tclod_view_cache_visible(c, p, r) ? (float)tclod_view_cache_area(c, d2, r)
+                                                        : 0.0f;
     /* v / I before the callbacks, so that nothing but it lives across them */
     scale = value_scale(sel->desc.value, 3.14159265358979323846 * r * r,
                         z < c->near_z ? c->near_z : z, d < c->near_z ? c->near_z : d);
@@ -212,6 +217,26 @@ static int with_smooth(const tclod_selector *sel) {
     return sel->desc.callbacks.smooth_benefit && sel->desc.callbacks.smooth_cost;
 }
 
+/* The distance from branching node b's centre within which every bounded
+ * child lies, padded well beyond its rounding (-1 when b has no bounds), for
+ * tclod_view_cache_inside. */
+static float branch_reach(const tclod_scene *s, tclod_id b) {
+    const float *bb = &s->bounds[4u * b];
+    uint32_t j, first = s->child_first[b], k = child_count(s, b);
+    double reach = 0.0;
+    if (!(bb[3] >= 0.0f)) return -1.0f;
+    for (j = 0; j < k; ++j) {
+        const float *cb = &s->bounds[4u * s->children[first + j]];
+        double dx = (double)cb[0] - (double)bb[0], dy = (double)cb[1] - (double)bb[1],
+               dz = (double)cb[2] - (double)bb[2], r;
+        if (!(cb[3] >= 0.0f)) continue;
+        r = sqrt(dx * dx + dy * dy + dz * dz) + (double)cb[3];
+        if (r > reach) reach = r;
+    }
+    reach += 1e-6 * (reach + fabs((double)bb[0]) + fabs((double)bb[1]) + fabs((double)bb[2]));
+    return reach < (double)FLT_MAX ? (float)reach : -1.0f;
+}
+
 /* The chains (every node belongs to the chain of the nearest instance start
  * above it), each branching node's children and the top-level instances, in
  * order of complexity. Smooth objects are identified by their position in the
@@ -235,7 +260,11 @@ static void prepare(tclod_selector *sel) {
             sel->rh_chain[used++] = m;
             if (child_count(s, m) != 1u) break;
         }
-        if (child_count(s, m) > 1u) ch->flags |= TCLOD_RH_BRANCH;
+        ch->reach = -1.0f;
+        if (child_count(s, m) > 1u) {
+            ch->flags |= TCLOD_RH_BRANCH;
+            ch->reach = branch_reach(s, m);
+        }
         ch->len = used - ch->at;
         sel->rh_key[id] = node_complexity(sel, id, m);
     }
@@ -451,26 +480,26 @@ static inline int finest_level(tclod_selector *sel, tclod_id head, const tclod_r
  * value in scratch_key[slot] (its slot in the scene's children[]) and their
  * sum in *value; 0 when they do not (*reserve is then a lower bound of their
  * cost); -1 on a strict error. */
-static int branch_children(tclod_selector *sel, tclod_id b, double time, double *reserve,
-                           double *value) {
+static int branch_children(tclod_selector *sel, tclod_id b, float reach, double time,
+                           double *reserve, double *value) {
     const tclod_scene *s = sel->scene;
     uint32_t j, first = s->child_first[b], k = child_count(s, b);
     double r = 0.0, sum = 0.0;
-    /* the children's records are read one after the other, and their finer
-     * levels' soon after: ask for them all now, so that the cache misses
-     * overlap */
-    for (j = 0; j < k && j < 16u; ++j) {
-        const tclod_rh_child *e = &sel->rh_child[first + j];
-        tclod_id c = s->children[e->slot];
-        TCLOD_PREFETCH(&sel->node[c]);
-        TCLOD_PREFETCH(&s->bounds[4u * c]);
-        if ((e->chain.flags & TCLOD_RH_CONSECUTIVE) && e->chain.len > 1u)
-            TCLOD_PREFETCH(&sel->node[c + (e->chain.len < 3u ? e->chain.len : 3u) - 1u]);
+    int inside = 0;
+    /* when the sphere around b that holds its children lies inside the
+     * frustum, none of them needs the frustum test */
+    if (sel->has_view && reach >= 0.0f) {
+        const float *bb = &s->bounds[4u * b];
+        double p[3];
+        p[0] = (double)bb[0] - sel->view.eye[0];
+        p[1] = (double)bb[1] - sel->view.eye[1];
+        p[2] = (double)bb[2] - sel->view.eye[2];
+        inside = tclod_view_cache_inside(&sel->view, p, (double)reach);
     }
     for (j = 0; j < k; ++j) {
         tclod_id c = s->children[first + j];
         double v;
-        if (evaluate_head(sel, c, &v) != 0) return -1;
+        if (evaluate_head(sel, c, inside, &v) != 0) return -1;
         if (!visible(sel, c)) continue;
         r += sel->node[c].cost;
         if (!(r <= time)) {
@@ -485,76 +514,109 @@ static int branch_children(tclod_selector *sel, tclod_id b, double time, double 
     return isfinite(r);
 }
 
+/* The instance of value `value` starting at visible node `head` (its chain
+ * ch) with `time`, which covers its first level: its finest affordable level
+ * in *level and what refining it further would add in *step (HUGE_VAL: it
+ * cannot). When that level is a branch whose children's simplest levels all
+ * fit, returns 1 with the children's summed simplest cost in *reserve and
+ * their value in *children (branch_children); else 0 (the level is drawn);
+ * -1 on a strict error. */
+static inline int place_chain(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch,
+                              double time, tclod_id *level, double *step, double *reserve,
+                              double *children) {
+    int refine;
+    if (finest_level(sel, head, ch, time, level, step) != 0) return -1;
+    sel->stats.iterations++;
+    if (!(ch->flags & TCLOD_RH_BRANCH) || *level != chain_node(sel, head, ch, ch->len - 1u))
+        return 0;
+    refine = branch_children(sel, *level, ch->reach, time, reserve, children);
+    if (refine == 0) *step = *reserve - sel->node[*level].cost;
+    return refine;
+}
+
 /* Places the instance of value `value` starting at visible node `head` (its
  * chain ch) with `time` (which covers its first level) and, below it, the
  * instances of every branch its share reaches, depth first with an explicit
- * stack. Returns the time used in *used; -1 on a strict error. */
+ * stack: a branch's children share what its time leaves beyond their
+ * simplest levels, in proportion to value and least complex first, each
+ * handing what it does not use on to the next. A leaf's level goes into the
+ * cut and, when it can refine, into the candidates of cycle 3. Returns the
+ * time used in *used; -1 on a strict error. */
 static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch, double value,
                       double time, double *used) {
     const tclod_scene *s = sel->scene;
     tclod_rh_frame *stack = sel->rh_stack;
     double *costs = cut_costs(sel);
+    double step, reserve, children;
     uint32_t top = 0;
-    double base = 0.0; /* the cost of head's first level, as its branch counts it */
-    for (;;) {
-        tclod_id level;
-        double step, u;
-        if (finest_level(sel, head, ch, time, &level, &step) != 0) return -1;
-        sel->stats.iterations++;
-        if ((ch->flags & TCLOD_RH_BRANCH) && level == chain_node(sel, head, ch, ch->len - 1u)) {
-            double reserve, children;
-            int refine = branch_children(sel, level, time, &reserve, &children);
-            if (refine < 0) return -1;
-            if (refine) { /* the children become instances sharing this one's time */
-                tclod_rh_frame *f = &stack[top++];
-                f->branch = level;
-                f->next = s->child_first[level];
-                f->end = s->child_first[level + 1u];
-                f->extra = time - reserve;
-                f->value_left = children;
-                f->alloc = time;
-                f->base = base;
-                goto next;
-            }
-            step = reserve - sel->node[level].cost;
-        }
-        u = sel->node[level].cost;
+    tclod_id level;
+    int refine = place_chain(sel, head, ch, time, &level, &step, &reserve, &children);
+    if (refine < 0) return -1;
+    if (!refine) {
         cut_add_cost(sel, level, 0, costs);
-        node_candidate(sel, head, level, value, step);
-        if (top == 0) {
-            *used = u;
-            return 0;
+        if (step < HUGE_VAL) push_candidate(sel, head, value, step);
+        *used = sel->node[level].cost;
+        return 0;
+    }
+    for (;;) {
+        tclod_rh_frame *f;
+        uint32_t next, end;
+        double extra, value_left;
+        if (refine) { /* the children of `level` become instances sharing `time` */
+            f = &stack[top++];
+            f->branch = level;
+            f->next = s->child_first[level];
+            f->end = s->child_first[level + 1u];
+            f->extra = time - reserve;
+            f->value_left = children;
+            f->alloc = time;
+            f->base = top > 1u ? sel->node[head].cost : 0.0;
+            refine = 0;
         }
-        stack[top - 1u].extra -= u - base;
-    next:
-        /* the next child to place, closing the branches that are done */
-        for (;;) {
-            tclod_rh_frame *f = &stack[top - 1u];
-            if (f->next < f->end) {
-                const tclod_rh_child *c = &sel->rh_child[f->next++];
-                tclod_id id = s->children[c->slot];
-                double share;
-                if (!visible(sel, id)) {
-                    cut_add_cost(sel, id, 0, costs); /* culled: in the cut, not drawn */
-                    continue;
-                }
-                value = sel->scratch_key[c->slot];
-                share = f->value_left > 0.0 ? value * f->extra / f->value_left : 0.0;
-                share = share > f->extra ? f->extra : (share > 0.0 ? share : 0.0);
-                f->value_left -= value;
-                head = id;
-                ch = &c->chain;
-                base = sel->node[id].cost;
-                time = base + share;
-                break;
-            } else {
-                double u2 = f->alloc - f->extra, b = f->base;
-                if (--top == 0) {
-                    *used = u2;
-                    return 0;
-                }
-                stack[top - 1u].extra -= u2 - b;
+        f = &stack[top - 1u];
+        next = f->next;
+        end = f->end;
+        extra = f->extra;
+        value_left = f->value_left;
+        for (; next < end; ++next) {
+            const tclod_rh_child *c = &sel->rh_child[next];
+            tclod_id id = s->children[c->slot];
+            double v, share, base, u;
+            if (!visible(sel, id)) {
+                cut_add_cost(sel, id, 0, costs); /* culled: in the cut, not drawn */
+                continue;
             }
+            v = sel->scratch_key[c->slot];
+            share = value_left > 0.0 ? v * extra / value_left : 0.0;
+            share = share > extra ? extra : (share > 0.0 ? share : 0.0);
+            value_left -= v;
+            base = sel->node[id].cost;
+            refine = place_chain(sel, id, &c->chain, base + share, &level, &step, &reserve,
+                                 &children);
+            if (refine < 0) return -1;
+            if (refine) {
+                head = id;
+                time = base + share;
+                ++next;
+                break;
+            }
+            u = sel->node[level].cost;
+            cut_add_cost(sel, level, 0, costs);
+            if (step < HUGE_VAL) push_candidate(sel, id, v, step);
+            extra -= u - base;
+        }
+        f->next = next;
+        f->extra = extra;
+        f->value_left = value_left;
+        if (refine) continue;
+        /* the branch is done: what its children used goes back to its parent */
+        {
+            double u = f->alloc - extra, b = f->base;
+            if (--top == 0) {
+                *used = u;
+                return 0;
+            }
+            stack[top - 1u].extra -= u - b;
         }
     }
 }
@@ -696,7 +758,7 @@ static int values(tclod_selector *sel, double *total) {
         uint32_t id = sel->rh_order[k];
         double v;
         if (id < s->node_count) {
-            if (evaluate_head(sel, id, &v) != 0) return -1;
+            if (evaluate_head(sel, id, 0, &v) != 0) return -1;
         } else {
             v = smooth_value(sel, id - s->node_count);
             if (v < 0.0) return -1;
@@ -748,10 +810,13 @@ static int robin_hood_start(tclod_selector *sel) {
 
 /* The share of the next instance, of value v: v t_r / v_f of what is left
  * (eq. 2), and never more than that. */
+static inline double share_of(double v, double pool, double value_left) {
+    double share = value_left > 0.0 ? (isinf(pool) ? pool : v * pool / value_left) : 0.0;
+    return share > pool ? pool : share;
+}
+
 static double share_for(const tclod_resume *R, double v) {
-    double share = R->value_left > 0.0 ? (isinf(R->pool) ? R->pool : v * R->pool / R->value_left)
-                                       : 0.0;
-    return share > R->pool ? R->pool : share;
+    return share_of(v, R->pool, R->value_left);
 }
 
 /* Cycle 2: least complex first, each share v_i t_r / v_f of what is left
@@ -848,6 +913,51 @@ static int refine_smooth(tclod_selector *sel, uint32_t pos, double v, double sha
     return rose;
 }
 
+/* The node candidates at the front of this pass that do not try (their step
+ * exceeds their share or what is left), with the pass's state in locals:
+ * most of a pass. One whose step exceeds what is left is done (and the
+ * instances could have refined further); one whose step exceeds its share
+ * waits at the back of the ring for the next pass. Stops at the first that
+ * tries, or at the end of the pass. */
+static void skip_waiting(tclod_selector *sel) {
+    tclod_resume *R = &sel->resume;
+    uint32_t *ids = sel->scratch;
+    double *path = sel->path;
+    uint32_t cap = sel->cap, first = R->ring_first, count = R->ring_count, left = R->pass_left;
+    double pool = R->pool, value_left = R->value_left, ring_value = R->ring_value;
+    double min_step = R->min_step;
+    int limited = R->limited;
+    while (left > 0u) {
+        double v = path[2u * first], step = path[2u * first + 1u];
+        uint32_t id, back;
+        if (step <= pool && step <= share_of(v, pool, value_left)) break; /* it tries */
+        id = ids[first];
+        first = first + 1u < cap ? first + 1u : 0u;
+        count--;
+        left--;
+        value_left -= v;
+        if (!(step <= pool)) {
+            limited = 1;
+            continue;
+        }
+        back = first + count; /* < 2 cap */
+        if (back >= cap) back -= cap;
+        ids[back] = id;
+        path[2u * back] = v;
+        path[2u * back + 1u] = step;
+        count++;
+        ring_value += v;
+        if (step < min_step) min_step = step;
+    }
+    R->ring_first = first;
+    R->ring_count = count;
+    R->pass_left = left;
+    R->value_left = value_left;
+    R->ring_value = ring_value;
+    R->min_step = min_step;
+    R->limited = limited;
+}
+
 /* Cycle 3 (seed 003 §7.2: what the instances cannot use is better spent on
  * their quality): what is left is shared out again, pass after pass, among
  * the instances that can still refine, in proportion to value and with what
@@ -884,10 +994,17 @@ static int refill(tclod_selector *sel) {
             R->k = R->smooth_open > 0u ? 0u : sel->rh_order_count;
         }
         if (R->pass_left > 0u) {
-            uint32_t at = R->ring_first, id = sel->scratch[at];
-            double v = sel->path[2u * at], step = sel->path[2u * at + 1u];
-            double share = share_for(R, v);
-            int tries = step <= R->pool && step <= share;
+            uint32_t at, id;
+            double v, step, share;
+            int tries;
+            skip_waiting(sel);
+            if (R->pass_left == 0u) continue;
+            at = R->ring_first;
+            id = sel->scratch[at];
+            v = sel->path[2u * at];
+            step = sel->path[2u * at + 1u];
+            share = share_for(R, v);
+            tries = step <= R->pool && step <= share;
             if (tries && tclod_out_of_time(sel)) return 0;
             pop_candidate(sel, &v, &step);
             R->pass_left--;
