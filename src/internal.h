@@ -442,6 +442,9 @@ struct tclod_selector {
     uint32_t step_start;    /* iteration count at the step's beginning */
     double elapsed;         /* time spent in the solve's earlier steps */
     const tclod_frame *frame; /* &frame_data while a step runs, else NULL */
+    tclod_query query;        /* a node's query while a step runs: the frame's view,
+                                 count 1, no members; tclod_evaluate_measured sets the
+                                 rest */
     tclod_view_cache view;
     int has_view;
     int failed;             /* strict mode: a bad callback value was seen */
@@ -470,27 +473,24 @@ static inline int tclod_evaluate_measured(tclod_selector *sel, tclod_id n, float
     const tclod_callbacks *cb = &sel->desc.callbacks;
     const float *bounds = &sel->scene->bounds[4u * n];
     tclod_node_state *st = &sel->node[n];
-    tclod_query q;
+    tclod_query *q = &sel->query; /* view, count and members set for the solve */
     double b, c = 0.0;
     st->stamp = sel->solve_id;
     st->area = area;
     st->distance = distance;
-    q.id = n;
-    q.count = 1;
-    q.view = sel->frame->view;
-    q.screen_area = area;
-    q.distance = distance;
-    q.members = NULL;
-    q.bounds = bounds[3] >= 0.0f ? bounds : NULL;
+    q->id = n;
+    q->screen_area = area;
+    q->distance = distance;
+    q->bounds = bounds[3] >= 0.0f ? bounds : NULL;
     sel->stats.evaluations++;
-    b = cb->benefit(cb->user, &q);
+    b = cb->benefit(cb->user, q);
     if (!(b >= 0.0 && b < HUGE_VAL)) { /* NaN, infinite or negative */
         sel->stats.invalid_values++;
         b = 0.0;
         if (sel->desc.strict) sel->failed = 1;
     }
     if (b > 0.0) {
-        c = cb->cost(cb->user, &q);
+        c = cb->cost(cb->user, q);
         if (!(c >= 0.0 && c < HUGE_VAL)) {
             sel->stats.invalid_values++;
             c = HUGE_VAL;

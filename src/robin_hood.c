@@ -474,6 +474,19 @@ static inline int finest_level(tclod_selector *sel, tclod_id head, const tclod_r
     return 0;
 }
 
+/* Whether the sphere of radius reach around branching node b, which holds
+ * its children, lies inside the frustum: then none of them needs the frustum
+ * test. */
+static int branch_inside(const tclod_selector *sel, tclod_id b, float reach) {
+    const float *bb = &sel->scene->bounds[4u * b];
+    double p[3];
+    if (!sel->has_view || !(reach >= 0.0f)) return 0;
+    p[0] = (double)bb[0] - sel->view.eye[0];
+    p[1] = (double)bb[1] - sel->view.eye[1];
+    p[2] = (double)bb[2] - sel->view.eye[2];
+    return tclod_view_cache_inside(&sel->view, p, (double)reach);
+}
+
 /* The children of branching node b, evaluated in id order while the summed
  * cost of their simplest levels, *reserve, is at most `time` (invisible
  * children: none). Returns 1 when all of them fit, with each visible child's
@@ -485,28 +498,25 @@ static int branch_children(tclod_selector *sel, tclod_id b, float reach, double 
     const tclod_scene *s = sel->scene;
     uint32_t j, first = s->child_first[b], k = child_count(s, b);
     double r = 0.0, sum = 0.0;
-    int inside = 0;
-    /* when the sphere around b that holds its children lies inside the
-     * frustum, none of them needs the frustum test */
-    if (sel->has_view && reach >= 0.0f) {
-        const float *bb = &s->bounds[4u * b];
-        double p[3];
-        p[0] = (double)bb[0] - sel->view.eye[0];
-        p[1] = (double)bb[1] - sel->view.eye[1];
-        p[2] = (double)bb[2] - sel->view.eye[2];
-        inside = tclod_view_cache_inside(&sel->view, p, (double)reach);
-    }
+    int inside = branch_inside(sel, b, reach);
     for (j = 0; j < k; ++j) {
         tclod_id c = s->children[first + j];
         double v;
-        if (evaluate_head(sel, c, inside, &v) != 0) return -1;
-        if (!visible(sel, c)) continue;
+        if (sel->node[c].stamp == sel->solve_id) {
+            /* a branch's children are evaluated here only: an earlier call for b
+             * in this solve (cycle 3 comes back to branches) kept the value */
+            if (!visible(sel, c)) continue;
+            v = sel->scratch_key[first + j];
+        } else {
+            if (evaluate_head(sel, c, inside, &v) != 0) return -1;
+            if (!visible(sel, c)) continue;
+            sel->scratch_key[first + j] = v;
+        }
         r += sel->node[c].cost;
         if (!(r <= time)) {
             *reserve = r;
             return 0;
         }
-        sel->scratch_key[first + j] = v;
         sum += v;
     }
     *reserve = r;

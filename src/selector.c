@@ -362,6 +362,9 @@ static tclod_status run(tclod_selector *sel, double slice_seconds, uint32_t slic
     }
     sel->paused = 0;
     sel->frame = &sel->frame_data;
+    sel->query.count = 1;
+    sel->query.view = sel->frame->view;
+    sel->query.members = NULL;
     switch (sel->desc.solver) {
     case TCLOD_SOLVER_MIXED: status = tclod_mixed_solve(sel); break;
     case TCLOD_SOLVER_ROBIN_HOOD: status = tclod_robin_hood_solve(sel); break;
