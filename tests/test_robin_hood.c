@@ -85,8 +85,11 @@ static void equal_values_get_equal_shares(void **state) {
  * 1), B (levels 1, 2, 3.5), C (levels 2, 4.5, 10). Budget 9:
  *   A: share 9/3 = 3, takes 1, leaves 2: pool 8;
  *   B: share 8/2 = 4, takes 3.5, leaves 0.5: pool 4.5;
- *   C: share 4.5, takes 4.5.
- * Without the leftover C would have had 9/3 = 3 and taken 2. */
+ *   C: share 4.5, takes 4.5: pool 0, nothing for cycle 3.
+ * Without the leftover passed on every share would be 9/3 = 3: A takes 1, B
+ * 2, C 2, and cycle 3 would reach the same cut from the 4 left with two
+ * increments (B's 1.5, then C's 2.5). The share pass reaches it alone: no
+ * increment. */
 static void leftover_of_a_simple_instance_reaches_a_complex_one(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
     static const double ca[1] = {1.0}, cb[3] = {1.0, 2.0, 3.5}, cc[3] = {2.0, 4.5, 10.0};
@@ -102,15 +105,19 @@ static void leftover_of_a_simple_instance_reaches_a_complex_one(void **state) {
     assert_true(listed(sel, b + 2u));
     assert_true(listed(sel, c + 1u));
     assert_true(st.cost == 1.0 + 3.5 + 4.5);
+    assert_int_equal(st.increments, 0);
     tclod_selector_destroy(sel);
 }
 
 /* Equal values, budget 10: K (levels 2, 9), created first, and S (levels 1,
  * 8; finest 8 < 9, so the simpler). Simple first: S's share 5 affords only
  * its level 0 and leaves 4, so K's share 9 takes its level 1: total 10, no
- * leftover for the second cycle. In creation order K's share 5 would take its
- * level 0 and S's 8 its level 1: also total 10. A complexity callback that
- * calls S the more complex turns the order round. */
+ * leftover for cycle 3 (no increment). In creation order K's share 5 would
+ * take its level 0 and S's 8 its level 1: also total 10. A complexity
+ * callback that calls S the more complex turns the order round. Without the
+ * leftover passed on both shares would be 5 (S 1, K 2) and cycle 3 would
+ * give the 7 left to K (one increment): the simple-first cut, by another
+ * way. */
 static double reversed_complexity(void *user, const tclod_query *q) {
     (void)user;
     return q->id == 0 ? 1.0 : 100.0; /* K (id 0) least complex */
@@ -139,12 +146,40 @@ static void instances_are_visited_simple_to_complex(void **state) {
     select_rh(sel, NULL, 10.0 * (1.0 + 1e-6), &st);
     assert_true(listed(sel, s));
     assert_true(listed(sel, k + 1u));
+    assert_int_equal(st.increments, 0);
     tclod_selector_destroy(sel);
 
     sel = reversed_selector(f);
     select_rh(sel, NULL, 10.0 * (1.0 + 1e-6), &st);
     assert_true(listed(sel, k));
     assert_true(listed(sel, s + 1u));
+    assert_int_equal(st.increments, 0);
+    tclod_selector_destroy(sel);
+}
+
+/* The order is found again when the scene changes. K (levels 2, 9) and S
+ * (levels 1, 8), equal values, budget 10: S is the simpler (8 < 9) and goes
+ * first, S's share 5 takes its level 0, K's 9 its level 1. A third level of S
+ * costing 20 makes S the more complex (20 > 9): now K goes first, K's share 5
+ * takes its level 0 (2) and S's 8 its level 1 (8), total 10 again. With the
+ * order of the first frame kept, S would still take its level 0 and K its
+ * level 1. */
+static void a_scene_change_orders_the_instances_again(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double ck[2] = {2.0, 9.0}, cs[2] = {1.0, 8.0};
+    tclod_id k = add_chain(f, 1.0, ck, 2), s = add_chain(f, 1.0, cs, 2);
+    tclod_selector *sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
+    tclod_stats st;
+    select_rh(sel, NULL, 10.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, s));
+    assert_true(listed(sel, k + 1u));
+
+    helper_add(f, s + 1u, 1.0, 20.0);
+    select_rh(sel, NULL, 10.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, k));
+    assert_true(listed(sel, s + 1u));
+    assert_true(st.cost == 10.0);
+    assert_int_equal(st.increments, 0);
     tclod_selector_destroy(sel);
 }
 
@@ -345,6 +380,104 @@ static void values_follow_the_view(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* Two objects of radius 1 (a = pi) and importance 1 under the reference view
+ * (eye at the origin, looking down -z): P on the axis at depth 5 (z = d = 5),
+ * Q off it at (6, 0, -8) (z = 8, d = 10), so depth and distance differ. A
+ * chain with the given level costs for each; P's finest is the cheaper, so P
+ * goes first. */
+static void add_off_axis_pair(helper_fixture *f, const double *cp, int np, const double *cq,
+                              int nq, tclod_id *p, tclod_id *q) {
+    static const float bp[4] = {0.0f, 0.0f, -5.0f, 1.0f}, bq[4] = {6.0f, 0.0f, -8.0f, 1.0f};
+    tclod_id prev;
+    int k;
+    assert_int_equal(table_add_node(&f->model, f->scene, TCLOD_NONE, bp, 1.0, cp[0], p), TCLOD_OK);
+    for (k = 1, prev = *p; k < np; ++k)
+        assert_int_equal(table_add_node(&f->model, f->scene, prev, bp, 1.0, cp[k], &prev), TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, TCLOD_NONE, bq, 1.0, cq[0], q), TCLOD_OK);
+    for (k = 1, prev = *q; k < nq; ++k)
+        assert_int_equal(table_add_node(&f->model, f->scene, prev, bq, 1.0, cq[k], &prev), TCLOD_OK);
+}
+
+/* a / sqrt(z) (eq. 8) with the pair above, budget 10: v_P = pi/sqrt 5 =
+ * 1.40496, v_Q = pi/sqrt 8 = 1.11072, so P's share is 10 * 1.40496 /
+ * 2.51568 = 5.5848: of P's levels 1, 5.5, 5.7 it takes 5.5, and Q the 4.5
+ * left (levels 1, 4.5, 6): total 10, no increment. With Q's distance (10) in
+ * place of its depth, v_Q = pi/sqrt 10 = 0.99346 and P's share 5.8579 would
+ * take 5.7, leaving Q 4.3 and its level 0. */
+static void area_sqrt_depth_shares_follow_the_depth_not_the_distance(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double cp[3] = {1.0, 5.5, 5.7}, cq[3] = {1.0, 4.5, 6.0};
+    tclod_id p, q;
+    tclod_selector *sel;
+    tclod_view view;
+    tclod_stats st;
+    add_off_axis_pair(f, cp, 3, cq, 3, &p, &q);
+    helper_view(&view);
+    sel = rh_selector(f, TCLOD_VALUE_AREA_SQRT_DEPTH, TCLOD_MISFIT_DROP);
+    select_rh(sel, &view, 10.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, p + 1u));
+    assert_true(listed(sel, q + 1u));
+    assert_true(st.cost == 10.0);
+    assert_int_equal(st.increments, 0);
+    tclod_selector_destroy(sel);
+}
+
+/* sqrt(a) / d² (eq. 11) with the pair above, budget 10: v_P = sqrt(pi)/25,
+ * v_Q = sqrt(pi)/100, so P's share is 10 * 4/5 = 8: of P's levels 1, 4, 7.9,
+ * 8.5 it takes 7.9, and Q the 2.1 left (levels 1, 2.1, 5, 9): total 10, no
+ * increment. With the distance left out (d = 1) the values would be equal
+ * and P's share 5; with Q's depth (8) in place of its distance, v_Q =
+ * sqrt(pi)/64 and P's share 10 * 64/89 = 7.191. Either way P would take 4 and
+ * Q 5, with 1 left that no step fits. */
+static void sqrt_area_distance2_shares_follow_the_distance(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double cp[4] = {1.0, 4.0, 7.9, 8.5}, cq[4] = {1.0, 2.1, 5.0, 9.0};
+    tclod_id p, q;
+    tclod_selector *sel;
+    tclod_view view;
+    tclod_stats st;
+    add_off_axis_pair(f, cp, 4, cq, 4, &p, &q);
+    helper_view(&view);
+    sel = rh_selector(f, TCLOD_VALUE_SQRT_AREA_DISTANCE2, TCLOD_MISFIT_DROP);
+    select_rh(sel, &view, 10.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, p + 2u));
+    assert_true(listed(sel, q + 1u));
+    assert_true(fabs(st.cost - 10.0) < 1e-12);
+    assert_int_equal(st.increments, 0);
+    tclod_selector_destroy(sel);
+}
+
+/* The pair above as smooth objects (importance w = 1, cost 10 r for P, 10.01 r
+ * for Q, so P goes first), budget 10. a / sqrt(z): P's share 5.5848 buys r =
+ * 0.55848 (with the distance for the depth, 5.8579 would buy 0.58579).
+ * sqrt(a) / d²: P's share 8 buys 0.8 (without the distance 5 would buy 0.5,
+ * with the depth 7.191 would buy 0.7191). Q takes what is left. */
+static void smooth_values_follow_the_depth_and_the_distance(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const float bp[4] = {0.0f, 0.0f, -5.0f, 1.0f}, bq[4] = {6.0f, 0.0f, -8.0f, 1.0f};
+    static const tclod_value values[2] = {TCLOD_VALUE_AREA_SQRT_DEPTH,
+                                          TCLOD_VALUE_SQRT_AREA_DISTANCE2};
+    static const double share_p[2] = {5.5848, 8.0};
+    tclod_id p, q;
+    tclod_view view;
+    int i;
+    assert_int_equal(
+        table_add_smooth(&f->model, f->scene, bp, TABLE_POWER, 1.0, 0.5, 10.0, 10.0, 0.0, &p),
+        TCLOD_OK);
+    assert_int_equal(
+        table_add_smooth(&f->model, f->scene, bq, TABLE_POWER, 1.0, 0.5, 10.01, 10.01, 0.0, &q),
+        TCLOD_OK);
+    helper_view(&view);
+    for (i = 0; i < 2; ++i) {
+        tclod_selector *sel = rh_selector(f, values[i], TCLOD_MISFIT_DROP);
+        tclod_stats st;
+        select_rh(sel, &view, 10.0, &st);
+        assert_true(fabs(tclod_selector_resolution(sel, p) - share_p[i] / 10.0) < 1e-4);
+        assert_true(fabs(tclod_selector_resolution(sel, q) - (10.0 - share_p[i]) / 10.01) < 1e-4);
+        tclod_selector_destroy(sel);
+    }
+}
+
 /* ---- the budget ------------------------------------------------------------------- */
 
 static void budget_holds_on_random_scenes(void **state) {
@@ -416,6 +549,7 @@ int main(void) {
         FIXTURE_TEST(equal_values_get_equal_shares),
         FIXTURE_TEST(leftover_of_a_simple_instance_reaches_a_complex_one),
         FIXTURE_TEST(instances_are_visited_simple_to_complex),
+        FIXTURE_TEST(a_scene_change_orders_the_instances_again),
         FIXTURE_TEST(the_leftover_refines_the_instances_that_can_refine),
         FIXTURE_TEST(shares_follow_the_values),
         FIXTURE_TEST(an_instance_whose_simplest_level_exceeds_its_share_is_dropped),
@@ -424,6 +558,9 @@ int main(void) {
         FIXTURE_TEST(a_branch_shares_its_time_among_its_children),
         cmocka_unit_test(value_functions_match_seed_003),
         FIXTURE_TEST(values_follow_the_view),
+        FIXTURE_TEST(area_sqrt_depth_shares_follow_the_depth_not_the_distance),
+        FIXTURE_TEST(sqrt_area_distance2_shares_follow_the_distance),
+        FIXTURE_TEST(smooth_values_follow_the_depth_and_the_distance),
         cmocka_unit_test(budget_holds_on_random_scenes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
