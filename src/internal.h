@@ -421,7 +421,8 @@ struct tclod_selector {
     /* The Robin Hood solver also keeps, in the per-node buffers it does not
      * otherwise use: the level each chain took last in the delta_b of the
      * chain's first node; the values of a branch's children in scratch_key, by
-     * slot in the scene's children[]; the ring of its third cycle's candidates in scratch and path. */
+     * slot in the scene's children[]; the ring of its third cycle's candidates
+     * in scratch and path. */
 
     uint32_t cut_count, prev_count, result_count;
     uint32_t solve_id;

@@ -105,20 +105,21 @@ static inline double instance_value(const tclod_selector *sel, const float *b, d
 
 /* ---- evaluation ------------------------------------------------------------------- */
 
-/* Node n, which starts an instance, evaluated once per solve (as
- * tclod_evaluate_node would), with the instance's value in *value (0 when it
- * is not visible). The projection that measures its screen area also gives
- * the depth and distance its value needs. `inside`: its bounds lie in a
- * sphere that tclod_view_cache_inside found inside the frustum, so the
- * frustum test would pass. Returns -1 on a strict error. */
+/* Node n, which starts an instance and was not evaluated in this solve yet,
+ * evaluated (as tclod_evaluate_node would), with the instance's value in
+ * *value (0 when it is not visible). The projection that measures its screen
+ * area also gives the depth and distance its value needs. `inside`: its
+ * bounds lie in a sphere that tclod_view_cache_inside found inside the
+ * frustum, so the frustum test would pass. Returns -1 on a strict error. */
 TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int inside,
                                       double *value) {
     const float *b = &sel->scene->bounds[4u * n];
     const tclod_view_cache *c = &sel->view;
     double p[3], r, d2, z, d, scale;
     float area;
-    if (sel->node[n].stamp == sel->solve_id || !sel->has_view || !(b[3] >= 0.0f)) {
-        if (sel->node[n].stamp != sel->solve_id && tclod_evaluate_node(sel, n) != 0) return -1;
+    assert(sel->node[n].stamp != sel->solve_id);
+    if (!sel->has_view || !(b[3] >= 0.0f)) {
+        if (tclod_evaluate_node(sel, n) != 0) return -1;
         *value = visible(sel, n) ? instance_value(sel, b, sel->node[n].benefit) : 0.0;
         return 0;
     }
