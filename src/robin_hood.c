@@ -105,6 +105,26 @@ static inline double instance_value(const tclod_selector *sel, const float *b, d
 
 /* ---- evaluation ------------------------------------------------------------------- */
 
+static int value_bad(double v) { return !(v >= 0.0) || isinf(v); }
+
+/* Counts a bad callback value (and fails the solve in strict mode). */
+static void bad_value(tclod_selector *sel) {
+    sel->stats.invalid_values++;
+    if (sel->desc.strict) sel->failed = 1;
+}
+
+/* The importance of the instance that query q asks about: the importance
+ * callback's value (a bad one counts and gives 0), or without one `benefit`. */
+static double importance_of(tclod_selector *sel, const tclod_query *q, double benefit) {
+    const tclod_callbacks *cb = &sel->desc.callbacks;
+    double i;
+    if (!cb->importance) return benefit;
+    i = cb->importance(cb->user, q);
+    if (!value_bad(i)) return i;
+    bad_value(sel);
+    return 0.0;
+}
+
 /* Node n, which starts an instance and was not evaluated in this solve yet,
  * evaluated (as tclod_evaluate_node would), with the instance's value in
  * *value (0 when it is not visible). The projection that measures its screen
@@ -120,8 +140,10 @@ TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int insid
     assert(sel->node[n].stamp != sel->solve_id);
     if (!sel->has_view || !(b[3] >= 0.0f)) {
         if (tclod_evaluate_node(sel, n) != 0) return -1;
-        *value = visible(sel, n) ? instance_value(sel, b, sel->node[n].benefit) : 0.0;
-        return 0;
+        *value = 0.0;
+        if (!visible(sel, n)) return 0;
+        *value = instance_value(sel, b, importance_of(sel, &sel->query, sel->node[n].benefit));
+        return sel->failed ? -1 : 0;
     }
     r = (double)b[3];
     p[0] = (double)b[0] - c->eye[0];
@@ -136,8 +158,11 @@ TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int insid
     scale = value_scale(sel->desc.value, 3.14159265358979323846 * r * r,
                         z < c->near_z ? c->near_z : z, d < c->near_z ? c->near_z : d);
     if (tclod_evaluate_measured(sel, n, area, (float)d) != 0) return -1;
-    *value = visible(sel, n) ? scale * sel->node[n].benefit : 0.0;
-    return 0;
+    *value = 0.0;
+    if (!visible(sel, n)) return 0;
+    /* the evaluation left n's query in sel->query */
+    *value = scale * importance_of(sel, &sel->query, sel->node[n].benefit);
+    return sel->failed ? -1 : 0;
 }
 
 /* Node n, a finer level of the instance starting at head (evaluated in this
@@ -165,15 +190,12 @@ static int is_head(const tclod_scene *s, tclod_id n) {
     return s->parent[n] == TCLOD_NONE || child_count(s, s->parent[n]) > 1u;
 }
 
-static int value_bad(double v) { return !(v >= 0.0) || isinf(v); }
-
 /* A sanitised complexity: NaN, infinite or negative (or, when it is a smooth
  * cost, with such a slope) counts as the most complex (visited last) and is
  * counted like any bad callback value. */
 static double complexity_value(tclod_selector *sel, double c, double slope) {
     if (!value_bad(c) && !value_bad(slope)) return c;
-    sel->stats.invalid_values++;
-    if (sel->desc.strict) sel->failed = 1;
+    bad_value(sel);
     return value_bad(c) ? HUGE_VAL : c;
 }
 
@@ -640,17 +662,30 @@ static void smooth_measure(const tclod_selector *sel, uint32_t pos, float *area,
     if (sel->has_view) tclod_view_cache_measure(&sel->view, b, area, distance);
 }
 
-/* The smooth object at sorted position pos: culled like the mixed solver's,
- * its importance the benefit at full resolution. Returns the value (0: not
- * drawn), or -1 on a strict error. */
+/* The smooth object at sorted position pos: culled like the mixed solver's
+ * (and by a benefit of 0 at full resolution), its importance the importance
+ * callback's or that benefit. Returns the value (0: not drawn), or -1 on a
+ * strict error. */
 static double smooth_value(tclod_selector *sel, uint32_t pos) {
-    const float *b = &sel->scene->smooth_bounds[4u * sel->scene->smooth_order[pos]];
-    double importance, db;
+    const tclod_scene *s = sel->scene;
+    const float *b = &s->smooth_bounds[4u * s->smooth_order[pos]];
+    double benefit, importance, db;
     float area, distance;
+    tclod_query q;
     smooth_measure(sel, pos, &area, &distance);
     if (sel->has_view && (!(area > 0.0f) || (double)area < sel->desc.smooth_cull_area))
         return 0.0;
-    tclod_smooth_call(sel, pos, 1, NULL, area, distance, 1.0, &importance, &db, NULL, NULL);
+    tclod_smooth_call(sel, pos, 1, NULL, area, distance, 1.0, &benefit, &db, NULL, NULL);
+    if (sel->failed) return -1.0;
+    if (!(benefit > 0.0)) return 0.0;
+    q.id = s->smooth_order[pos];
+    q.count = 1;
+    q.view = sel->frame->view;
+    q.screen_area = area;
+    q.distance = distance;
+    q.members = s->smooth_order + pos;
+    q.bounds = b;
+    importance = importance_of(sel, &q, benefit);
     if (sel->failed) return -1.0;
     return importance > 0.0 ? instance_value(sel, b, importance) : 0.0;
 }

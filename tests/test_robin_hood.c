@@ -24,6 +24,7 @@
 
 #include "helpers.h"
 #include "table_scene.h"
+#include "world_scene.h"
 
 /* A chain with the given level costs, every level of benefit `value`. Returns
  * the first level's id; level k is that id + k. */
@@ -478,6 +479,219 @@ static void smooth_values_follow_the_depth_and_the_distance(void **state) {
     }
 }
 
+/* ---- importance ------------------------------------------------------------------- */
+
+/* An importance callback reading importance_by_id (NaN past its end), which
+ * counts its calls and the last id it was asked about. */
+static double importance_by_id[8];
+static unsigned importance_calls;
+static tclod_id importance_last_id;
+
+static double test_importance(void *user, const tclod_query *q) {
+    (void)user;
+    importance_calls++;
+    importance_last_id = q->id;
+    return q->id < 8u ? importance_by_id[q->id] : NAN;
+}
+
+static tclod_selector *importance_selector(helper_fixture *f, tclod_value value, int strict) {
+    tclod_selector_desc d;
+    tclod_selector *sel = NULL;
+    tclod_selector_desc_default(&d);
+    d.solver = TCLOD_SOLVER_ROBIN_HOOD;
+    table_mixed_callbacks(&f->model, &d.callbacks);
+    d.callbacks.importance = test_importance;
+    d.value = value;
+    d.strict = strict;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    importance_calls = 0;
+    return sel;
+}
+
+/* Two chains with levels 1, 2, 4 and 6 and benefits 3 and 1, budget 8. With
+ * the benefits as importance the shares are 6 : 2 (the first takes 6, the
+ * second 2); with an importance of 1 for both they are 4 : 4 and each takes
+ * 4. The importance is asked once per instance (its first node), the benefit
+ * still decides visibility: a chain of benefit 0 is not asked. */
+static void the_importance_callback_sets_the_shares_instead_of_the_benefit(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double costs[4] = {1.0, 2.0, 4.0, 6.0};
+    tclod_id big = add_chain(f, 3.0, costs, 4), small = add_chain(f, 1.0, costs, 4);
+    tclod_id hidden = add_chain(f, 0.0, costs, 4);
+    tclod_selector *sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
+    tclod_stats st;
+    select_rh(sel, NULL, 8.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, big + 3u));
+    assert_true(listed(sel, small + 1u));
+    tclod_selector_destroy(sel);
+
+    importance_by_id[big] = importance_by_id[small] = 1.0;
+    importance_by_id[hidden] = 1.0;
+    sel = importance_selector(f, TCLOD_VALUE_BENEFIT, 0);
+    select_rh(sel, NULL, 8.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, big + 2u));
+    assert_true(listed(sel, small + 2u));
+    assert_true(st.cost == 8.0);
+    assert_int_equal(st.increments, 0);
+    assert_int_equal(importance_calls, 2);
+    assert_int_equal(st.invalid_values, 0);
+    tclod_selector_destroy(sel);
+}
+
+/* The importance multiplies the value function. a / z² (eq. 10) under the
+ * reference view with values_follow_the_view's two objects (depths 10 and
+ * 40, values pi/100 and pi/1600 with I = 1, levels 1, 2, 16): importance 1
+ * and 16 make the values equal, and the budget of 17 gives shares of 8.5 to
+ * each: both take 2, and cycle 3 has 13 left but no step of 14 fits. */
+static void the_importance_multiplies_the_value_function(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    float near_b[4] = {0.0f, 0.0f, -10.0f, 1.0f}, far_b[4] = {0.0f, 0.0f, -40.0f, 1.0f};
+    tclod_id near_id, far_id, prev;
+    tclod_selector *sel;
+    tclod_view view;
+    tclod_stats st;
+    assert_int_equal(table_add_node(&f->model, f->scene, TCLOD_NONE, near_b, 5.0, 1.0, &near_id),
+                     TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, near_id, near_b, 1.0, 2.0, &prev),
+                     TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, prev, near_b, 1.0, 16.0, &prev), TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, TCLOD_NONE, far_b, 5.0, 1.0, &far_id),
+                     TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, far_id, far_b, 1.0, 2.0, &prev), TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, prev, far_b, 1.0, 16.0, &prev), TCLOD_OK);
+    importance_by_id[near_id] = 1.0;
+    importance_by_id[far_id] = 16.0;
+    helper_view(&view);
+    sel = importance_selector(f, TCLOD_VALUE_AREA_DEPTH2, 0);
+    select_rh(sel, &view, 17.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, near_id + 1u));
+    assert_true(listed(sel, far_id + 1u));
+    assert_true(st.cost == 4.0);
+    assert_int_equal(importance_calls, 2);
+    tclod_selector_destroy(sel);
+}
+
+/* A NaN importance counts as a bad value and gives no share: of two single
+ * levels costing 1, budget 4, the one whose importance is NaN is dropped (its
+ * share is 0) and the other takes its level. In strict mode the call fails
+ * and the previous result stays. */
+static void a_bad_importance_is_counted_and_gives_no_share(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double c1[1] = {1.0};
+    tclod_id a = add_chain(f, 1.0, c1, 1), b = add_chain(f, 1.0, c1, 1);
+    tclod_selector *sel;
+    tclod_frame fr = helper_frame(NULL, 4.0);
+    tclod_stats st;
+    importance_by_id[a] = NAN;
+    importance_by_id[b] = 1.0;
+    sel = importance_selector(f, TCLOD_VALUE_BENEFIT, 0);
+    select_rh(sel, NULL, 4.0, &st);
+    assert_false(listed(sel, a));
+    assert_true(listed(sel, b));
+    assert_int_equal(st.invalid_values, 1);
+    assert_int_equal(st.dropped_roots, 1);
+    tclod_selector_destroy(sel);
+
+    importance_by_id[a] = 1.0;
+    sel = importance_selector(f, TCLOD_VALUE_BENEFIT, 1);
+    select_rh(sel, NULL, 4.0, &st);
+    assert_true(listed(sel, a));
+    importance_by_id[a] = -1.0;
+    assert_int_equal(tclod_select(sel, &fr, &st), TCLOD_ERR_CALLBACK);
+    assert_true(listed(sel, a));
+    tclod_selector_destroy(sel);
+}
+
+/* A smooth object's importance comes from the callback too, asked with the
+ * object's query. Two smooth objects of benefit w = 1 and 3 at r = 1, costs
+ * r and 2 r, budget 1.5: with importance 3 and 1 (the reverse of their
+ * benefits) the first's share 1.125 buys r = 1 for 1 and the second the 0.5
+ * left, r = 0.25. */
+static void the_importance_of_a_smooth_object_comes_from_the_callback(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    float b0[4] = {0.0f, 0.0f, 0.0f, 1.0f}, b1[4] = {5.0f, 0.0f, 0.0f, 1.0f};
+    tclod_id s0, s1;
+    tclod_selector *sel;
+    tclod_stats st;
+    assert_int_equal(table_add_smooth(&f->model, f->scene, b0, TABLE_POWER, 1.0, 0.5, 1.0, 1.0,
+                                      0.0, &s0),
+                     TCLOD_OK);
+    assert_int_equal(table_add_smooth(&f->model, f->scene, b1, TABLE_POWER, 3.0, 0.5, 2.0, 2.0,
+                                      0.0, &s1),
+                     TCLOD_OK);
+    importance_by_id[s0] = 3.0;
+    importance_by_id[s1] = 1.0;
+    sel = importance_selector(f, TCLOD_VALUE_BENEFIT, 0);
+    select_rh(sel, NULL, 1.5, &st);
+    assert_true(tclod_selector_resolution(sel, s0) == 1.0);
+    assert_true(fabs(tclod_selector_resolution(sel, s1) - 0.25) < 1e-6);
+    assert_int_equal(importance_calls, 2);
+    assert_int_equal(importance_last_id, s1);
+    tclod_selector_destroy(sel);
+}
+
+/* The worlds' benefit is screen area x weight; their importance is the weight
+ * alone, whatever the area the query carries, so that the area-based value
+ * functions do not count the area twice. A Robin Hood solve over the flyover
+ * asks it once per visible instance, after the benefit. */
+static unsigned world_benefit_calls, world_importance_calls;
+
+static double counted_world_benefit(void *user, const tclod_query *q) {
+    world_benefit_calls++;
+    return world_benefit(user, q);
+}
+
+static double counted_world_importance(void *user, const tclod_query *q) {
+    world_importance_calls++;
+    return world_importance(user, q);
+}
+
+static void the_worlds_give_their_weight_as_importance(void **state) {
+    world_flyover_desc fd;
+    world_scene w;
+    tclod_callbacks cb;
+    tclod_selector_desc d;
+    tclod_selector *sel;
+    tclod_view view;
+    tclod_frame fr;
+    tclod_stats st;
+    tclod_id id;
+    (void)state;
+    world_flyover_desc_default(&fd);
+    fd.terrain_depth = 3;
+    fd.objects = 200;
+    assert_int_equal(world_build_flyover(&fd, &w), TCLOD_OK);
+    cb = world_callbacks(&w);
+    assert_true(cb.importance == world_importance);
+    for (id = 0; id < w.node_count; ++id) {
+        tclod_query q;
+        memset(&q, 0, sizeof q);
+        q.id = id;
+        q.count = 1;
+        q.screen_area = 10.0f;
+        assert_true(cb.importance(cb.user, &q) == (double)w.weight[id]);
+        assert_true(cb.benefit(cb.user, &q) == 10.0 * (double)w.weight[id]);
+        q.screen_area = 1000.0f;
+        assert_true(cb.importance(cb.user, &q) == (double)w.weight[id]);
+    }
+    tclod_selector_desc_default(&d);
+    d.solver = TCLOD_SOLVER_ROBIN_HOOD;
+    d.callbacks = cb;
+    d.callbacks.benefit = counted_world_benefit;
+    d.callbacks.importance = counted_world_importance;
+    assert_int_equal(tclod_selector_create(w.scene, &d, NULL, &sel), TCLOD_OK);
+    world_camera_at(&w.path, 0.1, &view);
+    fr = helper_frame(&view, 2.0);
+    world_benefit_calls = world_importance_calls = 0;
+    assert_int_equal(tclod_select(sel, &fr, &st), TCLOD_OK);
+    assert_true(world_importance_calls > 0);
+    assert_true(world_importance_calls < world_benefit_calls);
+    assert_true(st.cost <= 2.0);
+    assert_int_equal(st.invalid_values, 0);
+    tclod_selector_destroy(sel);
+    world_scene_free(&w);
+}
+
 /* ---- the budget ------------------------------------------------------------------- */
 
 static void budget_holds_on_random_scenes(void **state) {
@@ -561,6 +775,11 @@ int main(void) {
         FIXTURE_TEST(area_sqrt_depth_shares_follow_the_depth_not_the_distance),
         FIXTURE_TEST(sqrt_area_distance2_shares_follow_the_distance),
         FIXTURE_TEST(smooth_values_follow_the_depth_and_the_distance),
+        FIXTURE_TEST(the_importance_callback_sets_the_shares_instead_of_the_benefit),
+        FIXTURE_TEST(the_importance_multiplies_the_value_function),
+        FIXTURE_TEST(a_bad_importance_is_counted_and_gives_no_share),
+        FIXTURE_TEST(the_importance_of_a_smooth_object_comes_from_the_callback),
+        cmocka_unit_test(the_worlds_give_their_weight_as_importance),
         cmocka_unit_test(budget_holds_on_random_scenes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -632,6 +632,46 @@ static void draw_lists_stay_within_the_budget_over_random_paths(void **state) {
     world_scene_free(&w);
 }
 
+/* A Robin Hood scheduler hands the host's importance callback through with
+ * the host's user pointer (it wraps the others with its own). */
+static const world_scene *importance_world;
+static unsigned importance_calls;
+
+static double checked_importance(void *user, const tclod_query *q) {
+    assert_ptr_equal(user, importance_world);
+    importance_calls++;
+    return world_importance(user, q);
+}
+
+static void the_scheduler_asks_the_hosts_importance_with_the_hosts_user(void **state) {
+    world_random_desc wd;
+    world_scene w;
+    tclod_selector_desc sd;
+    tclod_scheduler_desc d;
+    tclod_scheduler *sch = NULL;
+    tclod_view v;
+    uint32_t f;
+    (void)state;
+    world_random_desc_default(&wd);
+    wd.objects = 150;
+    assert_int_equal(world_build_random(&wd, &w), TCLOD_OK);
+    tclod_selector_desc_default(&sd);
+    sd.solver = TCLOD_SOLVER_ROBIN_HOOD;
+    sd.callbacks = world_callbacks(&w);
+    sd.callbacks.importance = checked_importance;
+    importance_world = &w;
+    importance_calls = 0;
+    tclod_scheduler_desc_default(&d);
+    assert_int_equal(tclod_scheduler_create(w.scene, &sd, &d, NULL, &sch), TCLOD_OK);
+    for (f = 0; f < 30u; ++f) {
+        world_camera_at(&w.path, (double)f / 2400.0, &v);
+        assert_int_equal(tclod_scheduler_update(sch, (double)f / 60.0, &v, 0.05, 0.0), TCLOD_OK);
+    }
+    assert_true(importance_calls > 0u);
+    tclod_scheduler_destroy(sch);
+    world_scene_free(&w);
+}
+
 /* ---- arguments -------------------------------------------------------------- */
 
 static void bad_arguments_are_refused_and_change_nothing(void **state) {
@@ -747,6 +787,7 @@ int main(void) {
         cmocka_unit_test(smooth_resolutions_move_linearly_with_the_same_asymmetry),
         cmocka_unit_test(without_morphing_a_selection_switches_in_at_its_interval),
         cmocka_unit_test(draw_lists_stay_within_the_budget_over_random_paths),
+        cmocka_unit_test(the_scheduler_asks_the_hosts_importance_with_the_hosts_user),
         cmocka_unit_test(bad_arguments_are_refused_and_change_nothing),
         cmocka_unit_test(a_slower_machine_lowers_the_budget_through_the_calibration),
     };
