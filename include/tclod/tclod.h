@@ -610,15 +610,25 @@ typedef struct tclod_calib tclod_calib;
 
 typedef struct tclod_calib_desc {
     double initial_scale; /* measured render time per unit of predicted cost to start
-                             from, > 0. Default 1 */
+                             from, > 0. Default 1. Unless initial_measured, it holds
+                             only until the first report with a predicted cost > 0,
+                             whose ratio replaces it */
     double rise_rate;     /* weight of a new measurement when the ratio rises, (0, 1].
                              Default 0.5 */
     double fall_rate;     /* weight when it falls, (0, 1]. Default 0.1 */
     double dead_band;     /* relative change of the ratio that is ignored, in [0, 1).
                              Default 0.01 */
     double logic_rate;    /* weight of a new logic-time measurement, (0, 1]. Default 0.2 */
-    double initial_logic; /* logic time to start from, >= 0, host unit. Default 0 */
+    double initial_logic; /* logic time to start from, >= 0, host unit. Default 0.
+                             Unless initial_measured, it holds only until the first
+                             report, whose logic time replaces it */
     double machine_c;     /* eq. 7's machine constant C, > 0. Default 1 */
+    int initial_measured; /* 1: initial_scale and initial_logic are measurements (of
+                             an earlier run, say), from which the first reports blend
+                             at the rates like every later one. 0: they are guesses,
+                             which the first measurements replace, so that a wrong
+                             guess costs one frame instead of the frames the rates
+                             take to converge from it. Default 0 */
 } tclod_calib_desc;
 
 /* Fills d with the defaults above. */
