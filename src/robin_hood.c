@@ -970,30 +970,31 @@ static void skip_waiting(tclod_selector *sel) {
     uint32_t *ids = sel->scratch;
     double *path = sel->path;
     uint32_t cap = sel->cap, first = R->ring_first, count = R->ring_count, left = R->pass_left;
+    uint32_t back = first + count; /* where a waiting one goes: < 2 cap */
     double pool = R->pool, value_left = R->value_left, ring_value = R->ring_value;
     double min_step = R->min_step;
     int limited = R->limited;
+    if (isinf(pool)) return; /* every step that fits tries */
+    if (back >= cap) back -= cap;
     while (left > 0u) {
         double v = path[2u * first], step = path[2u * first + 1u];
-        uint32_t id, back;
-        if (step <= pool && step <= share_of(v, pool, value_left)) break; /* it tries */
-        id = ids[first];
-        first = first + 1u < cap ? first + 1u : 0u;
-        count--;
+        if (step <= pool) {
+            /* its share, v pool / v_left as share_for has it (the cap at pool
+             * does not matter once the step fits the pool) */
+            if (step <= (value_left > 0.0 ? v * pool / value_left : 0.0)) break; /* it tries */
+            ids[back] = ids[first]; /* it waits, at the back */
+            path[2u * back] = v;
+            path[2u * back + 1u] = step;
+            if (++back == cap) back = 0;
+            ring_value += v;
+            if (step < min_step) min_step = step;
+        } else { /* done */
+            limited = 1;
+            count--;
+        }
+        if (++first == cap) first = 0;
         left--;
         value_left -= v;
-        if (!(step <= pool)) {
-            limited = 1;
-            continue;
-        }
-        back = first + count; /* < 2 cap */
-        if (back >= cap) back -= cap;
-        ids[back] = id;
-        path[2u * back] = v;
-        path[2u * back + 1u] = step;
-        count++;
-        ring_value += v;
-        if (step < min_step) min_step = step;
     }
     R->ring_first = first;
     R->ring_count = count;
