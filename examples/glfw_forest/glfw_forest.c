@@ -1099,6 +1099,7 @@ static int make_scheduler(app *a, double initial_scale) {
     sd.max_speed = 300.0;
     sd.max_turn_rate = 0.2;
     sd.calib.initial_scale = initial_scale;
+    sd.calib.initial_measured = 1; /* a measurement: blend the first frames from it */
     st = tclod_scheduler_create(a->scene.scene, &d, &sd, NULL, &sch);
     if (st != TCLOD_OK) {
         fprintf(stderr, "glfw_forest: tclod_scheduler_create failed: %s\n",
@@ -1502,6 +1503,7 @@ int main(int argc, char **argv) {
         warm_up(win, &r, &a.scene, &v, fb_w, fb_h);
         tclod_calib_desc_default(&cd);
         cd.initial_scale = probe_scale(&a, &r, &v, PROBE_SHARE * a.opt.target_ms, fb_w, fb_h);
+        cd.initial_measured = 1; /* a measurement: blend the first frames from it */
     }
     st = tclod_calib_create(&cd, NULL, &calib);
     if (st != TCLOD_OK) {
