@@ -483,7 +483,7 @@ static void smooth_values_follow_the_depth_and_the_distance(void **state) {
 
 /* An importance callback reading importance_by_id (NaN past its end), which
  * counts its calls and the last id it was asked about. */
-static double importance_by_id[8];
+static double importance_by_id[16];
 static unsigned importance_calls;
 static tclod_id importance_last_id;
 
@@ -491,7 +491,7 @@ static double test_importance(void *user, const tclod_query *q) {
     (void)user;
     importance_calls++;
     importance_last_id = q->id;
-    return q->id < 8u ? importance_by_id[q->id] : NAN;
+    return q->id < 16u ? importance_by_id[q->id] : NAN;
 }
 
 static tclod_selector *importance_selector(helper_fixture *f, tclod_value value, int strict) {
