@@ -52,7 +52,8 @@ static void measure(const tclod_selector *sel, tclod_id n, float *area, float *d
 static int evaluate_fresh(tclod_selector *sel, tclod_id n) {
     const float *bounds = &sel->scene->bounds[4u * n];
     float area = -1.0f, distance = -1.0f;
-    if (sel->has_view && bounds[3] >= 0.0f) measure(sel, n, &area, &distance);
+    if (sel->has_view && bounds[3] >= 0.0f)
+        measure(sel, n, &area, &distance);
     return tclod_evaluate_measured(sel, n, area, distance);
 }
 

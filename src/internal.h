@@ -140,7 +140,8 @@ static inline int tclod_view_cache_visible(const tclod_view_cache *c, const doub
 static inline int tclod_view_cache_inside(const tclod_view_cache *c, const double p[3], double r) {
     double z = p[0] * c->forward[0] + p[1] * c->forward[1] + p[2] * c->forward[2];
     double rm = r + 1e-6 * (fabs(p[0]) + fabs(p[1]) + fabs(p[2]) + r + c->far_z);
-    if (z - rm < c->near_z || z + rm > c->far_z) return 0;
+    if (z - rm < c->near_z || z + rm > c->far_z)
+        return 0;
     if (fabs(p[0] * c->up[0] + p[1] * c->up[1] + p[2] * c->up[2]) * c->cos_y - z * c->sin_y > -rm)
         return 0;
     return fabs(p[0] * c->right[0] + p[1] * c->right[1] + p[2] * c->right[2]) * c->cos_x -
@@ -409,8 +410,8 @@ struct tclod_selector {
     uint32_t rh_order_count;
     uint32_t *rh_chain;       /* every chain of single children, coarse to fine, end to end */
     tclod_rh_chain *rh_chains; /* per node that starts a chain: the chain */
-    tclod_rh_child *rh_child; /* per node with several children: them, least complex
-                                 first (in the scene's child ranges) */
+    tclod_rh_child *rh_child;  /* per node with several children: them, least complex
+                                  first (in the scene's child ranges) */
     uint32_t *rh_order;       /* the instances, least complex first: root ids, and smooth
                                  ids + node count */
     double *rh_key;           /* 2 per element: complexities and order keys while
@@ -488,14 +489,16 @@ static inline int tclod_evaluate_measured(tclod_selector *sel, tclod_id n, float
     if (!(b >= 0.0 && b < HUGE_VAL)) { /* NaN, infinite or negative */
         sel->stats.invalid_values++;
         b = 0.0;
-        if (sel->desc.strict) sel->failed = 1;
+        if (sel->desc.strict)
+            sel->failed = 1;
     }
     if (b > 0.0) {
         c = cb->cost(cb->user, q);
         if (!(c >= 0.0 && c < HUGE_VAL)) {
             sel->stats.invalid_values++;
             c = HUGE_VAL;
-            if (sel->desc.strict) sel->failed = 1;
+            if (sel->desc.strict)
+                sel->failed = 1;
         }
     }
     st->benefit = b;

@@ -43,7 +43,9 @@
  * what is left, the smooth objects whatever the nodes' whole steps leave. */
 #define REFILL_PASSES 16u
 
-static inline int visible(const tclod_selector *sel, tclod_id n) { return sel->node[n].benefit > 0.0; }
+static inline int visible(const tclod_selector *sel, tclod_id n) {
+    return sel->node[n].benefit > 0.0;
+}
 
 /* ---- value functions (eq. 8-11) ------------------------------------------------- */
 
@@ -70,8 +72,8 @@ double tclod_value_of(tclod_value f, double area, double depth, double distance,
 /* The value of an instance of importance I > 0 whose bounds have radius r,
  * depth z and distance d (both at least the near plane) under this frame's
  * view, or, without bounds or view, the defaults a = 1, z = d = 1. */
-static inline double value_at(const tclod_selector *sel, double area, double depth,
-                              double distance, double importance) {
+static inline double value_at(const tclod_selector *sel, double area, double depth, double distance,
+                              double importance) {
     return value_scale(sel->desc.value, area, depth, distance) * importance;
 }
 
@@ -105,12 +107,15 @@ static inline double instance_value(const tclod_selector *sel, const float *b, d
 
 /* ---- evaluation ------------------------------------------------------------------- */
 
-static int value_bad(double v) { return !(v >= 0.0) || isinf(v); }
+static int value_bad(double v) {
+    return !(v >= 0.0) || isinf(v);
+}
 
 /* Counts a bad callback value (and fails the solve in strict mode). */
 static void bad_value(tclod_selector *sel) {
     sel->stats.invalid_values++;
-    if (sel->desc.strict) sel->failed = 1;
+    if (sel->desc.strict)
+        sel->failed = 1;
 }
 
 /* The importance of the instance that query q asks about: the importance
@@ -118,9 +123,11 @@ static void bad_value(tclod_selector *sel) {
 static double importance_of(tclod_selector *sel, const tclod_query *q, double benefit) {
     const tclod_callbacks *cb = &sel->desc.callbacks;
     double i;
-    if (!cb->importance) return benefit;
+    if (!cb->importance)
+        return benefit;
     i = cb->importance(cb->user, q);
-    if (!value_bad(i)) return i;
+    if (!value_bad(i))
+        return i;
     bad_value(sel);
     return 0.0;
 }
@@ -131,17 +138,18 @@ static double importance_of(tclod_selector *sel, const tclod_query *q, double be
  * area also gives the depth and distance its value needs. `inside`: its
  * bounds lie in a sphere that tclod_view_cache_inside found inside the
  * frustum, so the frustum test would pass. Returns -1 on a strict error. */
-TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int inside,
-                                      double *value) {
+TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int inside, double *value) {
     const float *b = &sel->scene->bounds[4u * n];
     const tclod_view_cache *c = &sel->view;
     double p[3], r, d2, z, d, scale;
     float area;
     assert(sel->node[n].stamp != sel->solve_id);
     if (!sel->has_view || !(b[3] >= 0.0f)) {
-        if (tclod_evaluate_node(sel, n) != 0) return -1;
+        if (tclod_evaluate_node(sel, n) != 0)
+            return -1;
         *value = 0.0;
-        if (!visible(sel, n)) return 0;
+        if (!visible(sel, n))
+            return 0;
         *value = instance_value(sel, b, importance_of(sel, &sel->query, sel->node[n].benefit));
         return sel->failed ? -1 : 0;
     }
@@ -152,14 +160,16 @@ TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int insid
     d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
     d = sqrt(d2);
     z = p[0] * c->forward[0] + p[1] * c->forward[1] + p[2] * c->forward[2];
-    area = inside || tclod_view_cache_visible(c, p, r) ? (float)tclod_view_cache_area(c, d2, r)
-                                                        : 0.0f;
+    area =
+        inside || tclod_view_cache_visible(c, p, r) ? (float)tclod_view_cache_area(c, d2, r) : 0.0f;
     /* v / I before the callbacks, so that nothing but it lives across them */
     scale = value_scale(sel->desc.value, 3.14159265358979323846 * r * r,
                         z < c->near_z ? c->near_z : z, d < c->near_z ? c->near_z : d);
-    if (tclod_evaluate_measured(sel, n, area, (float)d) != 0) return -1;
+    if (tclod_evaluate_measured(sel, n, area, (float)d) != 0)
+        return -1;
     *value = 0.0;
-    if (!visible(sel, n)) return 0;
+    if (!visible(sel, n))
+        return 0;
     /* the evaluation left n's query in sel->query */
     *value = scale * importance_of(sel, &sel->query, sel->node[n].benefit);
     return sel->failed ? -1 : 0;
@@ -247,14 +257,17 @@ static float branch_reach(const tclod_scene *s, tclod_id b) {
     const float *bb = &s->bounds[4u * b];
     uint32_t j, first = s->child_first[b], k = child_count(s, b);
     double reach = 0.0;
-    if (!(bb[3] >= 0.0f)) return -1.0f;
+    if (!(bb[3] >= 0.0f))
+        return -1.0f;
     for (j = 0; j < k; ++j) {
         const float *cb = &s->bounds[4u * s->children[first + j]];
         double dx = (double)cb[0] - (double)bb[0], dy = (double)cb[1] - (double)bb[1],
                dz = (double)cb[2] - (double)bb[2], r;
-        if (!(cb[3] >= 0.0f)) continue;
+        if (!(cb[3] >= 0.0f))
+            continue;
         r = sqrt(dx * dx + dy * dy + dz * dz) + (double)cb[3];
-        if (r > reach) reach = r;
+        if (r > reach)
+            reach = r;
     }
     reach += 1e-6 * (reach + fabs((double)bb[0]) + fabs((double)bb[1]) + fabs((double)bb[2]));
     return reach < (double)FLT_MAX ? (float)reach : -1.0f;
@@ -277,7 +290,8 @@ static void prepare(tclod_selector *sel) {
         ch->at = used;
         ch->flags = TCLOD_RH_CONSECUTIVE | TCLOD_RH_SHARED;
         for (m = id;; m = s->children[s->child_first[m]]) {
-            if (m != id + (used - ch->at)) ch->flags &= ~(uint32_t)TCLOD_RH_CONSECUTIVE;
+            if (m != id + (used - ch->at))
+                ch->flags &= ~(uint32_t)TCLOD_RH_CONSECUTIVE;
             if (memcmp(&s->bounds[4u * m], b, 4u * sizeof(float)) != 0)
                 ch->flags &= ~(uint32_t)TCLOD_RH_SHARED;
             sel->rh_chain[used++] = m;
@@ -378,7 +392,8 @@ static void cut_clear(tclod_selector *sel) {
 static void push_candidate(tclod_selector *sel, uint32_t id, double value, double step) {
     tclod_resume *R = &sel->resume;
     uint32_t at = R->ring_first + R->ring_count; /* < 2 cap */
-    if (at >= sel->cap) at -= sel->cap;
+    if (at >= sel->cap)
+        at -= sel->cap;
     sel->scratch[at] = id;
     sel->path[2u * at] = value;
     sel->path[2u * at + 1u] = step;
@@ -411,8 +426,8 @@ static void node_candidate(tclod_selector *sel, tclod_id head, tclod_id n, doubl
 /* ---- the first cycle: shares ------------------------------------------------------ */
 
 /* Level k of the chain ch starting at head. */
-static inline tclod_id chain_node(const tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch,
-                                  uint32_t k) {
+static inline tclod_id chain_node(const tclod_selector *sel, tclod_id head,
+                                  const tclod_rh_chain *ch, uint32_t k) {
     return ch->flags & TCLOD_RH_CONSECUTIVE ? head + k : sel->rh_chain[ch->at + k];
 }
 
@@ -456,7 +471,8 @@ static inline int finest_level(tclod_selector *sel, tclod_id head, const tclod_r
     /* from here on level lo fits; level hi does not, or is past the end */
     guess = last_level(sel, head, len);
     if (guess > 0u) {
-        if ((f = fits(sel, chain_node(sel, head, ch, guess), head, ch, time)) < 0) return -1;
+        if ((f = fits(sel, chain_node(sel, head, ch, guess), head, ch, time)) < 0)
+            return -1;
         if (f)
             lo = guess;
         else
@@ -464,7 +480,8 @@ static inline int finest_level(tclod_selector *sel, tclod_id head, const tclod_r
     }
     if (hi == len) { /* up from lo */
         for (; d < hi - lo; d *= 2u) {
-            if ((f = fits(sel, chain_node(sel, head, ch, lo + d), head, ch, time)) < 0) return -1;
+            if ((f = fits(sel, chain_node(sel, head, ch, lo + d), head, ch, time)) < 0)
+                return -1;
             if (!f) {
                 hi = lo + d;
                 break;
@@ -473,7 +490,8 @@ static inline int finest_level(tclod_selector *sel, tclod_id head, const tclod_r
         }
     } else { /* down from hi */
         for (; d < hi - lo; d *= 2u) {
-            if ((f = fits(sel, chain_node(sel, head, ch, hi - d), head, ch, time)) < 0) return -1;
+            if ((f = fits(sel, chain_node(sel, head, ch, hi - d), head, ch, time)) < 0)
+                return -1;
             if (f) {
                 lo = hi - d;
                 break;
@@ -483,7 +501,8 @@ static inline int finest_level(tclod_selector *sel, tclod_id head, const tclod_r
     }
     while (hi - lo > 1u) {
         uint32_t mid = lo + (hi - lo) / 2u;
-        if ((f = fits(sel, chain_node(sel, head, ch, mid), head, ch, time)) < 0) return -1;
+        if ((f = fits(sel, chain_node(sel, head, ch, mid), head, ch, time)) < 0)
+            return -1;
         if (f)
             lo = mid;
         else
@@ -503,7 +522,8 @@ static inline int finest_level(tclod_selector *sel, tclod_id head, const tclod_r
 static int branch_inside(const tclod_selector *sel, tclod_id b, float reach) {
     const float *bb = &sel->scene->bounds[4u * b];
     double p[3];
-    if (!sel->has_view || !(reach >= 0.0f)) return 0;
+    if (!sel->has_view || !(reach >= 0.0f))
+        return 0;
     p[0] = (double)bb[0] - sel->view.eye[0];
     p[1] = (double)bb[1] - sel->view.eye[1];
     p[2] = (double)bb[2] - sel->view.eye[2];
@@ -528,11 +548,14 @@ static int branch_children(tclod_selector *sel, tclod_id b, float reach, double 
         if (sel->node[c].stamp == sel->solve_id) {
             /* a branch's children are evaluated here only: an earlier call for b
              * in this solve (cycle 3 comes back to branches) kept the value */
-            if (!visible(sel, c)) continue;
+            if (!visible(sel, c))
+                continue;
             v = sel->scratch_key[first + j];
         } else {
-            if (evaluate_head(sel, c, inside, &v) != 0) return -1;
-            if (!visible(sel, c)) continue;
+            if (evaluate_head(sel, c, inside, &v) != 0)
+                return -1;
+            if (!visible(sel, c))
+                continue;
             sel->scratch_key[first + j] = v;
         }
         r += sel->node[c].cost;
@@ -558,12 +581,14 @@ static inline int place_chain(tclod_selector *sel, tclod_id head, const tclod_rh
                               double time, tclod_id *level, double *step, double *reserve,
                               double *children) {
     int refine;
-    if (finest_level(sel, head, ch, time, level, step) != 0) return -1;
+    if (finest_level(sel, head, ch, time, level, step) != 0)
+        return -1;
     sel->stats.iterations++;
     if (!(ch->flags & TCLOD_RH_BRANCH) || *level != chain_node(sel, head, ch, ch->len - 1u))
         return 0;
     refine = branch_children(sel, *level, ch->reach, time, reserve, children);
-    if (refine == 0) *step = *reserve - sel->node[*level].cost;
+    if (refine == 0)
+        *step = *reserve - sel->node[*level].cost;
     return refine;
 }
 
@@ -584,10 +609,12 @@ static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *
     uint32_t top = 0;
     tclod_id level;
     int refine = place_chain(sel, head, ch, time, &level, &step, &reserve, &children);
-    if (refine < 0) return -1;
+    if (refine < 0)
+        return -1;
     if (!refine) {
         cut_add_cost(sel, level, 0, costs);
-        if (step < HUGE_VAL) push_candidate(sel, head, value, step);
+        if (step < HUGE_VAL)
+            push_candidate(sel, head, value, step);
         *used = sel->node[level].cost;
         return 0;
     }
@@ -624,9 +651,10 @@ static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *
             share = share > extra ? extra : (share > 0.0 ? share : 0.0);
             value_left -= v;
             base = sel->node[id].cost;
-            refine = place_chain(sel, id, &c->chain, base + share, &level, &step, &reserve,
-                                 &children);
-            if (refine < 0) return -1;
+            refine =
+                place_chain(sel, id, &c->chain, base + share, &level, &step, &reserve, &children);
+            if (refine < 0)
+                return -1;
             if (refine) {
                 head = id;
                 time = base + share;
@@ -635,13 +663,15 @@ static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *
             }
             u = sel->node[level].cost;
             cut_add_cost(sel, level, 0, costs);
-            if (step < HUGE_VAL) push_candidate(sel, id, v, step);
+            if (step < HUGE_VAL)
+                push_candidate(sel, id, v, step);
             extra -= u - base;
         }
         f->next = next;
         f->extra = extra;
         f->value_left = value_left;
-        if (refine) continue;
+        if (refine)
+            continue;
         /* the branch is done: what its children used goes back to its parent */
         {
             double u = f->alloc - extra, b = f->base;
@@ -676,8 +706,10 @@ static double smooth_value(tclod_selector *sel, uint32_t pos) {
     if (sel->has_view && (!(area > 0.0f) || (double)area < sel->desc.smooth_cull_area))
         return 0.0;
     tclod_smooth_call(sel, pos, 1, NULL, area, distance, 1.0, &benefit, &db, NULL, NULL);
-    if (sel->failed) return -1.0;
-    if (!(benefit > 0.0)) return 0.0;
+    if (sel->failed)
+        return -1.0;
+    if (!(benefit > 0.0))
+        return 0.0;
     q.id = s->smooth_order[pos];
     q.count = 1;
     q.view = sel->frame->view;
@@ -804,7 +836,8 @@ static int values(tclod_selector *sel, double *total) {
         uint32_t id = sel->rh_order[k];
         double v;
         if (id < s->node_count) {
-            if (evaluate_head(sel, id, 0, &v) != 0) return -1;
+            if (evaluate_head(sel, id, 0, &v) != 0)
+                return -1;
         } else {
             v = smooth_value(sel, id - s->node_count);
             if (v < 0.0) return -1;
@@ -887,7 +920,8 @@ static int share_out(tclod_selector *sel) {
                 continue;
             }
             if (sel->node[id].cost <= share) {
-                if (place_node(sel, id, &sel->rh_chains[id], v, share, &used) != 0) return -1;
+                if (place_node(sel, id, &sel->rh_chains[id], v, share, &used) != 0)
+                    return -1;
             } else {
                 sel->node[id].delta_b = 0.0; /* drawn, if at all, at its first level */
                 if ((sel->desc.misfit == TCLOD_MISFIT_COARSEST || stopped) &&
@@ -937,7 +971,8 @@ static int refine_node(tclod_selector *sel, tclod_id head, double v, double step
     cut_remove(sel, n);
     if (dropped) sel->stats.dropped_roots--;
     at = sel->cut_count;
-    if (place_node(sel, head, ch, v, held + share, &used) != 0) return -1;
+    if (place_node(sel, head, ch, v, held + share, &used) != 0)
+        return -1;
     R->pool -= used - held;
     if (R->pool < 0.0) R->pool = 0.0;
     return dropped || sel->cut_count > at + 1u || sel->cut[at] != n;
@@ -974,25 +1009,31 @@ static void skip_waiting(tclod_selector *sel) {
     double pool = R->pool, value_left = R->value_left, ring_value = R->ring_value;
     double min_step = R->min_step;
     int limited = R->limited;
-    if (isinf(pool)) return; /* every step that fits tries */
-    if (back >= cap) back -= cap;
+    if (isinf(pool))
+        return; /* every step that fits tries */
+    if (back >= cap)
+        back -= cap;
     while (left > 0u) {
         double v = path[2u * first], step = path[2u * first + 1u];
         if (step <= pool) {
             /* its share, v pool / v_left as share_for has it (the cap at pool
              * does not matter once the step fits the pool) */
-            if (step <= (value_left > 0.0 ? v * pool / value_left : 0.0)) break; /* it tries */
+            if (step <= (value_left > 0.0 ? v * pool / value_left : 0.0))
+                break;              /* it tries */
             ids[back] = ids[first]; /* it waits, at the back */
             path[2u * back] = v;
             path[2u * back + 1u] = step;
-            if (++back == cap) back = 0;
+            if (++back == cap)
+                back = 0;
             ring_value += v;
-            if (step < min_step) min_step = step;
+            if (step < min_step)
+                min_step = step;
         } else { /* done */
             limited = 1;
             count--;
         }
-        if (++first == cap) first = 0;
+        if (++first == cap)
+            first = 0;
         left--;
         value_left -= v;
     }
@@ -1045,7 +1086,8 @@ static int refill(tclod_selector *sel) {
             double v, step, share;
             int tries;
             skip_waiting(sel);
-            if (R->pass_left == 0u) continue;
+            if (R->pass_left == 0u)
+                continue;
             at = R->ring_first;
             id = sel->scratch[at];
             v = sel->path[2u * at];

@@ -386,17 +386,19 @@ static void values_follow_the_view(void **state) {
  * Q off it at (6, 0, -8) (z = 8, d = 10), so depth and distance differ. A
  * chain with the given level costs for each; P's finest is the cheaper, so P
  * goes first. */
-static void add_off_axis_pair(helper_fixture *f, const double *cp, int np, const double *cq,
-                              int nq, tclod_id *p, tclod_id *q) {
+static void add_off_axis_pair(helper_fixture *f, const double *cp, int np, const double *cq, int nq,
+                              tclod_id *p, tclod_id *q) {
     static const float bp[4] = {0.0f, 0.0f, -5.0f, 1.0f}, bq[4] = {6.0f, 0.0f, -8.0f, 1.0f};
     tclod_id prev;
     int k;
     assert_int_equal(table_add_node(&f->model, f->scene, TCLOD_NONE, bp, 1.0, cp[0], p), TCLOD_OK);
     for (k = 1, prev = *p; k < np; ++k)
-        assert_int_equal(table_add_node(&f->model, f->scene, prev, bp, 1.0, cp[k], &prev), TCLOD_OK);
+        assert_int_equal(table_add_node(&f->model, f->scene, prev, bp, 1.0, cp[k], &prev),
+                         TCLOD_OK);
     assert_int_equal(table_add_node(&f->model, f->scene, TCLOD_NONE, bq, 1.0, cq[0], q), TCLOD_OK);
     for (k = 1, prev = *q; k < nq; ++k)
-        assert_int_equal(table_add_node(&f->model, f->scene, prev, bq, 1.0, cq[k], &prev), TCLOD_OK);
+        assert_int_equal(table_add_node(&f->model, f->scene, prev, bq, 1.0, cq[k], &prev),
+                         TCLOD_OK);
 }
 
 /* a / sqrt(z) (eq. 8) with the pair above, budget 10: v_P = pi/sqrt 5 =
@@ -613,12 +615,12 @@ static void the_importance_of_a_smooth_object_comes_from_the_callback(void **sta
     tclod_id s0, s1;
     tclod_selector *sel;
     tclod_stats st;
-    assert_int_equal(table_add_smooth(&f->model, f->scene, b0, TABLE_POWER, 1.0, 0.5, 1.0, 1.0,
-                                      0.0, &s0),
-                     TCLOD_OK);
-    assert_int_equal(table_add_smooth(&f->model, f->scene, b1, TABLE_POWER, 3.0, 0.5, 2.0, 2.0,
-                                      0.0, &s1),
-                     TCLOD_OK);
+    assert_int_equal(
+        table_add_smooth(&f->model, f->scene, b0, TABLE_POWER, 1.0, 0.5, 1.0, 1.0, 0.0, &s0),
+        TCLOD_OK);
+    assert_int_equal(
+        table_add_smooth(&f->model, f->scene, b1, TABLE_POWER, 3.0, 0.5, 2.0, 2.0, 0.0, &s1),
+        TCLOD_OK);
     importance_by_id[s0] = 3.0;
     importance_by_id[s1] = 1.0;
     sel = importance_selector(f, TCLOD_VALUE_BENEFIT, 0);

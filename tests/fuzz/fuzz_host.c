@@ -123,8 +123,8 @@ double host_importance(void *user, const tclod_query *q) {
     } else {
         check_node_query(p, q);
         FUZZ_CHECK(p->any_view || (p->benefit_calls[q->id] == 1 && p->benefit_seen[q->id] > 0.0),
-                   "importance of node %u asked after %u benefit calls (last %g)",
-                   (unsigned)q->id, (unsigned)p->benefit_calls[q->id], p->benefit_seen[q->id]);
+                   "importance of node %u asked after %u benefit calls (last %g)", (unsigned)q->id,
+                   (unsigned)p->benefit_calls[q->id], p->benefit_seen[q->id]);
         v = p->m->complexity[q->id];
     }
     p->calls++;
