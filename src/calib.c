@@ -12,7 +12,10 @@
  * factor, and the budget to select with is the render time divided by it.
  * The ratio rises quickly and falls slowly (a frame over its target is worse
  * than one under it) and ignores changes within a dead band, so measurement
- * noise does not make the budget, and with it the selection, flicker.
+ * noise does not make the budget, and with it the selection, flicker. The
+ * initial ratio and logic time are guesses unless the host says otherwise:
+ * the first measurements replace them, so that only the first frame pays for
+ * a wrong guess.
  */
 #include "internal.h"
 
@@ -26,6 +29,8 @@ struct tclod_calib {
     double scale; /* measured render time per unit of predicted cost, in
                      [DBL_MIN, DBL_MAX] */
     double logic; /* logic-time estimate, >= 0, finite */
+    int scale_measured, logic_measured; /* the estimates hold a measurement: new
+                                           ones blend in; else they replace */
 };
 
 static int finite_nonnegative(double x) {
@@ -64,6 +69,7 @@ void tclod_calib_desc_default(tclod_calib_desc *d) {
     d->logic_rate = 0.2;
     d->initial_logic = 0.0;
     d->machine_c = 1.0;
+    d->initial_measured = 0;
 }
 
 tclod_status tclod_calib_create(const tclod_calib_desc *d, const tclod_allocator *a,
@@ -85,6 +91,7 @@ tclod_status tclod_calib_create(const tclod_calib_desc *d, const tclod_allocator
      * the scale leave the range report keeps it in. */
     c->scale = d->initial_scale < DBL_MIN ? DBL_MIN : d->initial_scale;
     c->logic = d->initial_logic;
+    c->scale_measured = c->logic_measured = d->initial_measured != 0;
     *out = c;
     return TCLOD_OK;
 }
@@ -119,10 +126,14 @@ tclod_status tclod_calib_report(tclod_calib *c, double predicted_cost, double re
          * (or only NaN) follows; the ends of the range stand in for them. */
         if (ratio < DBL_MIN) ratio = DBL_MIN;
         if (ratio > DBL_MAX) ratio = DBL_MAX;
-        if (fabs(ratio - s) > c->desc.dead_band * s)
+        if (!c->scale_measured)
+            c->scale = ratio; /* the first measurement, against a guess */
+        else if (fabs(ratio - s) > c->desc.dead_band * s)
             c->scale = approach(s, ratio, ratio > s ? c->desc.rise_rate : c->desc.fall_rate);
+        c->scale_measured = 1;
     }
-    c->logic = approach(c->logic, logic_time, c->desc.logic_rate);
+    c->logic = c->logic_measured ? approach(c->logic, logic_time, c->desc.logic_rate) : logic_time;
+    c->logic_measured = 1;
     return TCLOD_OK;
 }
 

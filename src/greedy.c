@@ -35,9 +35,6 @@
 
 /* ---- evaluation ------------------------------------------------------------ */
 
-/* A callback value that is NaN, infinite or negative. */
-static int value_bad(double v) { return !(v >= 0.0 && v < HUGE_VAL); }
-
 /* Screen area and distance of node n's bounds in this solve. The levels of
  * one object usually share its bounds: a parent evaluated in this solve
  * already (the parent of a chain's level always is) lends its figures. */
@@ -56,40 +53,11 @@ static void measure(const tclod_selector *sel, tclod_id n, float *area, float *d
 
 /* The callbacks of node n, not evaluated in this solve yet. */
 static int evaluate_fresh(tclod_selector *sel, tclod_id n) {
-    const tclod_callbacks *cb = &sel->desc.callbacks;
     const float *bounds = &sel->scene->bounds[4u * n];
-    tclod_node_state *st = &sel->node[n];
-    tclod_query q;
-    double b, c = 0.0;
-    st->stamp = sel->solve_id;
-    q.id = n;
-    q.count = 1;
-    q.view = sel->frame->view;
-    q.screen_area = -1.0f;
-    q.distance = -1.0f;
-    q.members = NULL;
-    q.bounds = bounds[3] >= 0.0f ? bounds : NULL;
-    if (sel->has_view && q.bounds) measure(sel, n, &q.screen_area, &q.distance);
-    st->area = q.screen_area;
-    st->distance = q.distance;
-    sel->stats.evaluations++;
-    b = cb->benefit(cb->user, &q);
-    if (value_bad(b)) {
-        sel->stats.invalid_values++;
-        b = 0.0;
-        if (sel->desc.strict) sel->failed = 1;
-    }
-    if (b > 0.0) {
-        c = cb->cost(cb->user, &q);
-        if (value_bad(c)) {
-            sel->stats.invalid_values++;
-            c = HUGE_VAL;
-            if (sel->desc.strict) sel->failed = 1;
-        }
-    }
-    st->benefit = b;
-    st->cost = c;
-    return sel->failed ? -1 : 0;
+    float area = -1.0f, distance = -1.0f;
+    if (sel->has_view && bounds[3] >= 0.0f)
+        measure(sel, n, &area, &distance);
+    return tclod_evaluate_measured(sel, n, area, distance);
 }
 
 /* Values are cached for the solve: stamp == solve_id. */

@@ -94,6 +94,14 @@ struct tclod_scene {
     uint32_t index_version; /* version the child index describes */
 };
 
+/* A function of the solvers' inner loops that must be inlined where it is
+ * called, whatever the compiler's estimate of its size. */
+#if defined(__GNUC__) || defined(__clang__)
+#define TCLOD_ALWAYS_INLINE static inline __attribute__((always_inline))
+#else
+#define TCLOD_ALWAYS_INLINE static inline
+#endif
+
 /* ---- view.c ---------------------------------------------------------------- */
 
 /* A validated view, orthonormalised once per frame. */
@@ -122,6 +130,23 @@ static inline int tclod_view_cache_visible(const tclod_view_cache *c, const doub
     return fabs(p[0] * c->right[0] + p[1] * c->right[1] + p[2] * c->right[2]) * c->cos_x -
                z * c->sin_x <=
            r;
+}
+
+/* The sphere of radius r centred at p (relative to the eye) lies so far inside
+ * the frustum that every sphere within it passes tclod_view_cache_visible,
+ * rounding included: each signed distance is at most -r less a margin far
+ * above the rounding of the test (a sphere within it has its own distances
+ * at most those plus r, which is Lipschitz with constant 1 in p). */
+static inline int tclod_view_cache_inside(const tclod_view_cache *c, const double p[3], double r) {
+    double z = p[0] * c->forward[0] + p[1] * c->forward[1] + p[2] * c->forward[2];
+    double rm = r + 1e-6 * (fabs(p[0]) + fabs(p[1]) + fabs(p[2]) + r + c->far_z);
+    if (z - rm < c->near_z || z + rm > c->far_z)
+        return 0;
+    if (fabs(p[0] * c->up[0] + p[1] * c->up[1] + p[2] * c->up[2]) * c->cos_y - z * c->sin_y > -rm)
+        return 0;
+    return fabs(p[0] * c->right[0] + p[1] * c->right[1] + p[2] * c->right[2]) * c->cos_x -
+               z * c->sin_x <=
+           -rm;
 }
 
 /* Projected area in px² of a sphere of radius r whose centre is d2 away from
@@ -205,9 +230,32 @@ typedef struct tclod_var_model {
 } tclod_var_model;
 
 /* A node whose children share the time of the instance that ended at it. */
+/* The chain of single children starting at a node (an instance): where its
+ * nodes lie in rh_chain, how many there are, and what prepare found out about
+ * them once, so that a solve need not look again (TCLOD_RH_*). */
+typedef struct tclod_rh_chain {
+    uint32_t at, len;
+    uint32_t flags;
+    float reach; /* a branch: every bounded child lies within this distance of the
+                    last level's centre (rounded up); -1 when that level has no
+                    bounds */
+} tclod_rh_chain;
+enum {
+    TCLOD_RH_CONSECUTIVE = 1u, /* level k is node head + k (rh_chain need not be read) */
+    TCLOD_RH_SHARED = 2u,      /* every level has the head's bounds */
+    TCLOD_RH_BRANCH = 4u       /* the last level has several children */
+};
+/* A branch's child as its instance: the child's slot in the scene's
+ * children[] and its chain. */
+typedef struct tclod_rh_child {
+    uint32_t slot;
+    tclod_rh_chain chain;
+} tclod_rh_child;
+
 typedef struct tclod_rh_frame {
     tclod_id branch;    /* the node */
-    uint32_t next;      /* its next child to place */
+    uint32_t next, end; /* its next child to place and the end of its children, as
+                           positions in rh_child (the scene's child range) */
     double extra;       /* time left beyond the children's simplest levels */
     double value_left;  /* value of the children not placed yet */
     double alloc, base; /* the time the branch's instance had, and its simplest
@@ -376,10 +424,9 @@ struct tclod_selector {
     uint32_t rh_version;      /* scene version the chains and the order describe; 0: none */
     uint32_t rh_order_count;
     uint32_t *rh_chain;       /* every chain of single children, coarse to fine, end to end */
-    uint32_t *rh_chain_at;    /* per node that starts a chain: where it starts in rh_chain */
-    uint32_t *rh_chain_len;   /* ... and its length */
-    tclod_id *rh_child;       /* per node with several children: them, least complex first
-                                 (in the scene's child ranges) */
+    tclod_rh_chain *rh_chains; /* per node that starts a chain: the chain */
+    tclod_rh_child *rh_child;  /* per node with several children: them, least complex
+                                  first (in the scene's child ranges) */
     uint32_t *rh_order;       /* the instances, least complex first: root ids, and smooth
                                  ids + node count */
     double *rh_key;           /* 2 per element: complexities and order keys while
@@ -390,7 +437,8 @@ struct tclod_selector {
     /* The Robin Hood solver also keeps, in the per-node buffers it does not
      * otherwise use: the level each chain took last in the delta_b of the
      * chain's first node; the values of a branch's children in scratch_key, by
-     * id; the ring of its third cycle's candidates in scratch and path. */
+     * slot in the scene's children[]; the ring of its third cycle's candidates
+     * in scratch and path. */
 
     uint32_t cut_count, prev_count, result_count;
     uint32_t solve_id;
@@ -411,6 +459,9 @@ struct tclod_selector {
     uint32_t step_start;    /* iteration count at the step's beginning */
     double elapsed;         /* time spent in the solve's earlier steps */
     const tclod_frame *frame; /* &frame_data while a step runs, else NULL */
+    tclod_query query;        /* a node's query while a step runs: the frame's view,
+                                 count 1, no members; tclod_evaluate_measured sets the
+                                 rest */
     tclod_view_cache view;
     int has_view;
     int failed;             /* strict mode: a bad callback value was seen */
@@ -463,6 +514,46 @@ void tclod_selector_restore(tclod_selector *sel, const tclod_selector_saved *k);
  * benefit counts as 0, a bad cost as +inf). Returns 0, or -1 when strict mode
  * saw a bad value. */
 int tclod_evaluate_node(tclod_selector *sel, tclod_id n);
+
+/* The callbacks of node n, not evaluated in this solve yet, with the screen
+ * area and distance of its bounds already measured (-1 without bounds or
+ * view): what tclod_evaluate_node does once it has measured. Inline for the
+ * solvers' inner loops. */
+static inline int tclod_evaluate_measured(tclod_selector *sel, tclod_id n, float area,
+                                          float distance) {
+    const tclod_callbacks *cb = &sel->desc.callbacks;
+    const float *bounds = &sel->scene->bounds[4u * n];
+    tclod_node_state *st = &sel->node[n];
+    tclod_query *q = &sel->query; /* view, count and members set for the solve */
+    double b, c = 0.0;
+    st->stamp = sel->solve_id;
+    st->area = area;
+    st->distance = distance;
+    q->id = n;
+    q->screen_area = area;
+    q->distance = distance;
+    q->bounds = bounds[3] >= 0.0f ? bounds : NULL;
+    sel->stats.evaluations++;
+    b = cb->benefit(cb->user, q);
+    if (!(b >= 0.0 && b < HUGE_VAL)) { /* NaN, infinite or negative */
+        sel->stats.invalid_values++;
+        b = 0.0;
+        if (sel->desc.strict)
+            sel->failed = 1;
+    }
+    if (b > 0.0) {
+        c = cb->cost(cb->user, q);
+        if (!(c >= 0.0 && c < HUGE_VAL)) {
+            sel->stats.invalid_values++;
+            c = HUGE_VAL;
+            if (sel->desc.strict)
+                sel->failed = 1;
+        }
+    }
+    st->benefit = b;
+    st->cost = c;
+    return sel->failed ? -1 : 0;
+}
 
 /* Runs TCLOD_SOLVER_GREEDY for sel->frame into the working cut, from where
  * sel->resume says it stands. Returns TCLOD_OK or TCLOD_ERR_CALLBACK (strict);

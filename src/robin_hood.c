@@ -27,6 +27,7 @@
  */
 #include "internal.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -41,6 +42,10 @@
 /* At most this many passes share the leftover out again: each takes most of
  * what is left, the smooth objects whatever the nodes' whole steps leave. */
 #define REFILL_PASSES 16u
+
+static inline int visible(const tclod_selector *sel, tclod_id n) {
+    return sel->node[n].benefit > 0.0;
+}
 
 /* ---- value functions (eq. 8-11) ------------------------------------------------- */
 
@@ -62,6 +67,14 @@ double tclod_value_of(tclod_value f, double area, double depth, double distance,
         (unsigned)f > (unsigned)TCLOD_VALUE_BENEFIT)
         return 0.0;
     return value_scale(f, area, depth, distance) * importance;
+}
+
+/* The value of an instance of importance I > 0 whose bounds have radius r,
+ * depth z and distance d (both at least the near plane) under this frame's
+ * view, or, without bounds or view, the defaults a = 1, z = d = 1. */
+static inline double value_at(const tclod_selector *sel, double area, double depth, double distance,
+                              double importance) {
+    return value_scale(sel->desc.value, area, depth, distance) * importance;
 }
 
 /* The value of an instance with bounds b (NULL or radius < 0: none) and
@@ -89,7 +102,92 @@ static inline double instance_value(const tclod_selector *sel, const float *b, d
             }
         }
     }
-    return value_scale(f, area, depth, distance) * importance;
+    return value_at(sel, area, depth, distance, importance);
+}
+
+/* ---- evaluation ------------------------------------------------------------------- */
+
+static int value_bad(double v) {
+    return !(v >= 0.0) || isinf(v);
+}
+
+/* Counts a bad callback value (and fails the solve in strict mode). */
+static void bad_value(tclod_selector *sel) {
+    sel->stats.invalid_values++;
+    if (sel->desc.strict)
+        sel->failed = 1;
+}
+
+/* The importance of the instance that query q asks about: the importance
+ * callback's value (a bad one counts and gives 0), or without one `benefit`. */
+static double importance_of(tclod_selector *sel, const tclod_query *q, double benefit) {
+    const tclod_callbacks *cb = &sel->desc.callbacks;
+    double i;
+    if (!cb->importance)
+        return benefit;
+    i = cb->importance(cb->user, q);
+    if (!value_bad(i))
+        return i;
+    bad_value(sel);
+    return 0.0;
+}
+
+/* Node n, which starts an instance and was not evaluated in this solve yet,
+ * evaluated (as tclod_evaluate_node would), with the instance's value in
+ * *value (0 when it is not visible). The projection that measures its screen
+ * area also gives the depth and distance its value needs. `inside`: its
+ * bounds lie in a sphere that tclod_view_cache_inside found inside the
+ * frustum, so the frustum test would pass. Returns -1 on a strict error. */
+TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int inside, double *value) {
+    const float *b = &sel->scene->bounds[4u * n];
+    const tclod_view_cache *c = &sel->view;
+    double p[3], r, d2, z, d, scale;
+    float area;
+    assert(sel->node[n].stamp != sel->solve_id);
+    if (!sel->has_view || !(b[3] >= 0.0f)) {
+        if (tclod_evaluate_node(sel, n) != 0)
+            return -1;
+        *value = 0.0;
+        if (!visible(sel, n))
+            return 0;
+        *value = instance_value(sel, b, importance_of(sel, &sel->query, sel->node[n].benefit));
+        return sel->failed ? -1 : 0;
+    }
+    r = (double)b[3];
+    p[0] = (double)b[0] - c->eye[0];
+    p[1] = (double)b[1] - c->eye[1];
+    p[2] = (double)b[2] - c->eye[2];
+    d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+    d = sqrt(d2);
+    z = p[0] * c->forward[0] + p[1] * c->forward[1] + p[2] * c->forward[2];
+    area =
+        inside || tclod_view_cache_visible(c, p, r) ? (float)tclod_view_cache_area(c, d2, r) : 0.0f;
+    /* v / I before the callbacks, so that nothing but it lives across them */
+    scale = value_scale(sel->desc.value, 3.14159265358979323846 * r * r,
+                        z < c->near_z ? c->near_z : z, d < c->near_z ? c->near_z : d);
+    if (tclod_evaluate_measured(sel, n, area, (float)d) != 0)
+        return -1;
+    *value = 0.0;
+    if (!visible(sel, n))
+        return 0;
+    /* the evaluation left n's query in sel->query */
+    *value = scale * importance_of(sel, &sel->query, sel->node[n].benefit);
+    return sel->failed ? -1 : 0;
+}
+
+/* Node n, a finer level of the instance starting at head (evaluated in this
+ * solve), not evaluated in this solve yet. A level with the head's bounds
+ * (`shared`: all of the chain's levels have them) takes its screen area and
+ * distance. Returns -1 on a strict error. */
+static inline int evaluate_level(tclod_selector *sel, tclod_id n, tclod_id head, int shared) {
+    const float *bounds = sel->scene->bounds;
+    float area = sel->node[head].area, distance = sel->node[head].distance;
+    if (!shared && memcmp(&bounds[4u * n], &bounds[4u * head], 4u * sizeof(float)) != 0) {
+        area = distance = -1.0f;
+        if (sel->has_view && bounds[4u * n + 3u] >= 0.0f)
+            tclod_view_measure(&sel->view, &bounds[4u * n], &area, &distance);
+    }
+    return tclod_evaluate_measured(sel, n, area, distance);
 }
 
 /* ---- instances and their order (once per scene change) -------------------------- */
@@ -102,15 +200,12 @@ static int is_head(const tclod_scene *s, tclod_id n) {
     return s->parent[n] == TCLOD_NONE || child_count(s, s->parent[n]) > 1u;
 }
 
-static int value_bad(double v) { return !(v >= 0.0) || isinf(v); }
-
 /* A sanitised complexity: NaN, infinite or negative (or, when it is a smooth
  * cost, with such a slope) counts as the most complex (visited last) and is
  * counted like any bad callback value. */
 static double complexity_value(tclod_selector *sel, double c, double slope) {
     if (!value_bad(c) && !value_bad(slope)) return c;
-    sel->stats.invalid_values++;
-    if (sel->desc.strict) sel->failed = 1;
+    bad_value(sel);
     return value_bad(c) ? HUGE_VAL : c;
 }
 
@@ -155,6 +250,29 @@ static int with_smooth(const tclod_selector *sel) {
     return sel->desc.callbacks.smooth_benefit && sel->desc.callbacks.smooth_cost;
 }
 
+/* The distance from branching node b's centre within which every bounded
+ * child lies, padded well beyond its rounding (-1 when b has no bounds), for
+ * tclod_view_cache_inside. */
+static float branch_reach(const tclod_scene *s, tclod_id b) {
+    const float *bb = &s->bounds[4u * b];
+    uint32_t j, first = s->child_first[b], k = child_count(s, b);
+    double reach = 0.0;
+    if (!(bb[3] >= 0.0f))
+        return -1.0f;
+    for (j = 0; j < k; ++j) {
+        const float *cb = &s->bounds[4u * s->children[first + j]];
+        double dx = (double)cb[0] - (double)bb[0], dy = (double)cb[1] - (double)bb[1],
+               dz = (double)cb[2] - (double)bb[2], r;
+        if (!(cb[3] >= 0.0f))
+            continue;
+        r = sqrt(dx * dx + dy * dy + dz * dz) + (double)cb[3];
+        if (r > reach)
+            reach = r;
+    }
+    reach += 1e-6 * (reach + fabs((double)bb[0]) + fabs((double)bb[1]) + fabs((double)bb[2]));
+    return reach < (double)FLT_MAX ? (float)reach : -1.0f;
+}
+
 /* The chains (every node belongs to the chain of the nearest instance start
  * above it), each branching node's children and the top-level instances, in
  * order of complexity. Smooth objects are identified by their position in the
@@ -165,26 +283,44 @@ static void prepare(tclod_selector *sel) {
     double *keys;
     tclod_id id;
     for (id = 0; id < n; ++id) {
+        tclod_rh_chain *ch = &sel->rh_chains[id];
+        const float *b = &s->bounds[4u * id];
         tclod_id m;
         if (!is_head(s, id)) continue;
-        sel->rh_chain_at[id] = used;
+        ch->at = used;
+        ch->flags = TCLOD_RH_CONSECUTIVE | TCLOD_RH_SHARED;
         for (m = id;; m = s->children[s->child_first[m]]) {
+            if (m != id + (used - ch->at))
+                ch->flags &= ~(uint32_t)TCLOD_RH_CONSECUTIVE;
+            if (memcmp(&s->bounds[4u * m], b, 4u * sizeof(float)) != 0)
+                ch->flags &= ~(uint32_t)TCLOD_RH_SHARED;
             sel->rh_chain[used++] = m;
             if (child_count(s, m) != 1u) break;
         }
-        sel->rh_chain_len[id] = used - sel->rh_chain_at[id];
+        ch->reach = -1.0f;
+        if (child_count(s, m) > 1u) {
+            ch->flags |= TCLOD_RH_BRANCH;
+            ch->reach = branch_reach(s, m);
+        }
+        ch->len = used - ch->at;
         sel->rh_key[id] = node_complexity(sel, id, m);
     }
     assert(used == n);
-    /* each branch's children, least complex first (ties: smaller id) */
+    /* each branch's children, least complex first (ties: smaller id, which is the
+     * smaller slot: a child range lists its ids in order), sorted in scratch */
     for (id = 0; id < n; ++id) {
         uint32_t first = s->child_first[id], k = child_count(s, id), j;
         if (k < 2u) continue;
         for (j = 0; j < k; ++j) {
-            sel->rh_child[first + j] = s->children[first + j];
+            sel->scratch[first + j] = first + j;
             sel->scratch_key[first + j] = -sel->rh_key[s->children[first + j]];
         }
-        tclod_sort_by_key(sel->rh_child + first, sel->scratch_key + first, k);
+        tclod_sort_by_key(sel->scratch + first, sel->scratch_key + first, k);
+        for (j = 0; j < k; ++j) {
+            tclod_rh_child *c = &sel->rh_child[first + j];
+            c->slot = sel->scratch[first + j];
+            c->chain = sel->rh_chains[s->children[c->slot]];
+        }
     }
     /* the second half of rh_key holds the order's keys (none: an empty scene) */
     keys = sel->rh_key ? sel->rh_key + sel->rh_cap : NULL;
@@ -213,14 +349,17 @@ static double *cut_costs(tclod_selector *sel) {
     return sel->rh_key ? sel->rh_key + sel->rh_cap : NULL; /* NULL: an empty scene */
 }
 
-static int visible(const tclod_selector *sel, tclod_id n) { return sel->node[n].benefit > 0.0; }
-
-static void cut_add(tclod_selector *sel, tclod_id n, uint8_t flags) {
+/* cut_add with cut_costs(sel) in costs. */
+static inline void cut_add_cost(tclod_selector *sel, tclod_id n, uint8_t flags, double *costs) {
     uint32_t pos = sel->cut_count++;
     sel->node[n].cut_pos = pos;
     sel->cut[pos] = n;
     sel->flags[n] = flags;
-    cut_costs(sel)[pos] = visible(sel, n) && !(flags & TCLOD_FLAG_DROPPED) ? sel->node[n].cost : 0.0;
+    costs[pos] = visible(sel, n) && !(flags & TCLOD_FLAG_DROPPED) ? sel->node[n].cost : 0.0;
+}
+
+static void cut_add(tclod_selector *sel, tclod_id n, uint8_t flags) {
+    cut_add_cost(sel, n, flags, cut_costs(sel));
 }
 
 /* Takes n out of the cut; the last slot fills its place. */
@@ -252,8 +391,9 @@ static void cut_clear(tclod_selector *sel) {
  * most once, so node capacity suffices. */
 static void push_candidate(tclod_selector *sel, uint32_t id, double value, double step) {
     tclod_resume *R = &sel->resume;
-    uint32_t at = R->ring_first < sel->cap - R->ring_count ? R->ring_first + R->ring_count
-                                                             : R->ring_first - (sel->cap - R->ring_count);
+    uint32_t at = R->ring_first + R->ring_count; /* < 2 cap */
+    if (at >= sel->cap)
+        at -= sel->cap;
     sel->scratch[at] = id;
     sel->path[2u * at] = value;
     sel->path[2u * at + 1u] = step;
@@ -285,40 +425,54 @@ static void node_candidate(tclod_selector *sel, tclod_id head, tclod_id n, doubl
 
 /* ---- the first cycle: shares ------------------------------------------------------ */
 
-/* Node n's callbacks, asked once per solve. Returns -1 on a strict error. */
-static int evaluate(tclod_selector *sel, tclod_id n) {
-    return sel->node[n].stamp == sel->solve_id ? 0 : tclod_evaluate_node(sel, n);
+/* Level k of the chain ch starting at head. */
+static inline tclod_id chain_node(const tclod_selector *sel, tclod_id head,
+                                  const tclod_rh_chain *ch, uint32_t k) {
+    return ch->flags & TCLOD_RH_CONSECUTIVE ? head + k : sel->rh_chain[ch->at + k];
 }
 
-/* 1 when node n's cost is at most `time`, 0 when not, -1 on a strict error. */
-static int fits(tclod_selector *sel, tclod_id n, double time) {
-    if (evaluate(sel, n) != 0) return -1;
+/* 1 when node n, a level of the chain ch starting at head, costs at most
+ * `time`, 0 when not, -1 on a strict error. */
+static inline int fits(tclod_selector *sel, tclod_id n, tclod_id head, const tclod_rh_chain *ch,
+                       double time) {
+    if (sel->node[n].stamp != sel->solve_id &&
+        evaluate_level(sel, n, head, (ch->flags & TCLOD_RH_SHARED) != 0) != 0)
+        return -1;
     return sel->node[n].cost <= time;
 }
 
-/* The level head's chain took last (kept in the delta_b of its first node). */
-static uint32_t last_level(const tclod_selector *sel, tclod_id head) {
+/* The level head's chain (of len levels) took last (kept in the delta_b of
+ * its first node). */
+static inline uint32_t last_level(const tclod_selector *sel, tclod_id head, uint32_t len) {
     double l = sel->node[head].delta_b;
-    return l > 0.0 && l < (double)sel->rh_chain_len[head] ? (uint32_t)l : 0u;
+    return l > 0.0 && l < (double)len ? (uint32_t)l : 0u;
 }
 
-/* The finest level of head's chain (chain[0 .. len)) whose cost is at most
- * `time`, which must cover the first (evaluated) level. The costs grow level by level, so the
- * levels that fit are a prefix of the chain. The search starts at the level
- * the chain took last, gallops away from it and ends by bisection: two
- * evaluations when the level has not changed (one at either end of the
- * chain), about 2 log2 of the distance when it has. *step is what the next
- * level adds to the cost (HUGE_VAL at the chain's end). Returns -1 on a
- * strict error. */
-static int finest_level(tclod_selector *sel, tclod_id head, const tclod_id *chain, uint32_t len,
-                        double time, tclod_id *out, double *step) {
-    uint32_t lo = 0, hi = len, d = 1, guess;
+/* The finest level of the chain ch starting at head whose cost is at most
+ * `time`, which must cover the first (evaluated) level. The costs grow level
+ * by level, so the levels that fit are a prefix of the chain. The search
+ * starts at the level the chain took last, gallops away from it and ends by
+ * bisection: two evaluations when the level has not changed (one at either
+ * end of the chain), about 2 log2 of the distance when it has. *step is what
+ * the next level adds to the cost (HUGE_VAL at the chain's end). Returns -1
+ * on a strict error. */
+static inline int finest_level(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch,
+                               double time, tclod_id *out, double *step) {
+    uint32_t len = ch->len, lo = 0, hi = len, d = 1, guess;
+    tclod_id lo_node;
     int f;
     assert(sel->node[head].stamp == sel->solve_id && sel->node[head].cost <= time);
-    /* from here on chain[lo] fits; chain[hi] does not, or is past the end */
-    guess = last_level(sel, head);
+    if (len == 1u) { /* a single level: nothing to search */
+        *out = head;
+        sel->node[head].delta_b = 0.0;
+        *step = HUGE_VAL;
+        return 0;
+    }
+    /* from here on level lo fits; level hi does not, or is past the end */
+    guess = last_level(sel, head, len);
     if (guess > 0u) {
-        if ((f = fits(sel, chain[guess], time)) < 0) return -1;
+        if ((f = fits(sel, chain_node(sel, head, ch, guess), head, ch, time)) < 0)
+            return -1;
         if (f)
             lo = guess;
         else
@@ -326,7 +480,8 @@ static int finest_level(tclod_selector *sel, tclod_id head, const tclod_id *chai
     }
     if (hi == len) { /* up from lo */
         for (; d < hi - lo; d *= 2u) {
-            if ((f = fits(sel, chain[lo + d], time)) < 0) return -1;
+            if ((f = fits(sel, chain_node(sel, head, ch, lo + d), head, ch, time)) < 0)
+                return -1;
             if (!f) {
                 hi = lo + d;
                 break;
@@ -335,7 +490,8 @@ static int finest_level(tclod_selector *sel, tclod_id head, const tclod_id *chai
         }
     } else { /* down from hi */
         for (; d < hi - lo; d *= 2u) {
-            if ((f = fits(sel, chain[hi - d], time)) < 0) return -1;
+            if ((f = fits(sel, chain_node(sel, head, ch, hi - d), head, ch, time)) < 0)
+                return -1;
             if (f) {
                 lo = hi - d;
                 break;
@@ -345,109 +501,185 @@ static int finest_level(tclod_selector *sel, tclod_id head, const tclod_id *chai
     }
     while (hi - lo > 1u) {
         uint32_t mid = lo + (hi - lo) / 2u;
-        if ((f = fits(sel, chain[mid], time)) < 0) return -1;
+        if ((f = fits(sel, chain_node(sel, head, ch, mid), head, ch, time)) < 0)
+            return -1;
         if (f)
             lo = mid;
         else
             hi = mid;
     }
-    *out = chain[lo];
+    lo_node = chain_node(sel, head, ch, lo);
+    *out = lo_node;
     sel->node[head].delta_b = (double)lo;
-    *step = hi < len ? sel->node[chain[hi]].cost - sel->node[chain[lo]].cost : HUGE_VAL;
+    *step = hi < len ? sel->node[chain_node(sel, head, ch, hi)].cost - sel->node[lo_node].cost
+                     : HUGE_VAL;
     return 0;
+}
+
+/* Whether the sphere of radius reach around branching node b, which holds
+ * its children, lies inside the frustum: then none of them needs the frustum
+ * test. */
+static int branch_inside(const tclod_selector *sel, tclod_id b, float reach) {
+    const float *bb = &sel->scene->bounds[4u * b];
+    double p[3];
+    if (!sel->has_view || !(reach >= 0.0f))
+        return 0;
+    p[0] = (double)bb[0] - sel->view.eye[0];
+    p[1] = (double)bb[1] - sel->view.eye[1];
+    p[2] = (double)bb[2] - sel->view.eye[2];
+    return tclod_view_cache_inside(&sel->view, p, (double)reach);
 }
 
 /* The children of branching node b, evaluated in id order while the summed
  * cost of their simplest levels, *reserve, is at most `time` (invisible
  * children: none). Returns 1 when all of them fit, with each visible child's
- * value in scratch_key[child] and their sum in *value; 0 when they do not
- * (*reserve is then a lower bound of their cost); -1 on a strict error. */
-static int branch_children(tclod_selector *sel, tclod_id b, double time, double *reserve,
-                           double *value) {
+ * value in scratch_key[slot] (its slot in the scene's children[]) and their
+ * sum in *value; 0 when they do not (*reserve is then a lower bound of their
+ * cost); -1 on a strict error. */
+static int branch_children(tclod_selector *sel, tclod_id b, float reach, double time,
+                           double *reserve, double *value) {
     const tclod_scene *s = sel->scene;
     uint32_t j, first = s->child_first[b], k = child_count(s, b);
-    *reserve = *value = 0.0;
+    double r = 0.0, sum = 0.0;
+    int inside = branch_inside(sel, b, reach);
     for (j = 0; j < k; ++j) {
         tclod_id c = s->children[first + j];
         double v;
-        if (evaluate(sel, c) != 0) return -1;
-        if (!visible(sel, c)) continue;
-        *reserve += sel->node[c].cost;
-        if (!(*reserve <= time)) return 0;
-        v = instance_value(sel, &s->bounds[4u * c], sel->node[c].benefit);
-        sel->scratch_key[c] = v;
-        *value += v;
+        if (sel->node[c].stamp == sel->solve_id) {
+            /* a branch's children are evaluated here only: an earlier call for b
+             * in this solve (cycle 3 comes back to branches) kept the value */
+            if (!visible(sel, c))
+                continue;
+            v = sel->scratch_key[first + j];
+        } else {
+            if (evaluate_head(sel, c, inside, &v) != 0)
+                return -1;
+            if (!visible(sel, c))
+                continue;
+            sel->scratch_key[first + j] = v;
+        }
+        r += sel->node[c].cost;
+        if (!(r <= time)) {
+            *reserve = r;
+            return 0;
+        }
+        sum += v;
     }
-    return isfinite(*reserve);
+    *reserve = r;
+    *value = sum;
+    return isfinite(r);
 }
 
-/* Places the instance of value `value` starting at visible node `head` with
- * `time` (which covers its first level) and, below it, the instances of every
- * branch its share reaches, depth first with an explicit stack. Returns the
+/* The instance of value `value` starting at visible node `head` (its chain
+ * ch) with `time`, which covers its first level: its finest affordable level
+ * in *level and what refining it further would add in *step (HUGE_VAL: it
+ * cannot). When that level is a branch whose children's simplest levels all
+ * fit, returns 1 with the children's summed simplest cost in *reserve and
+ * their value in *children (branch_children); else 0 (the level is drawn);
+ * -1 on a strict error. */
+static inline int place_chain(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch,
+                              double time, tclod_id *level, double *step, double *reserve,
+                              double *children) {
+    int refine;
+    if (finest_level(sel, head, ch, time, level, step) != 0)
+        return -1;
+    sel->stats.iterations++;
+    if (!(ch->flags & TCLOD_RH_BRANCH) || *level != chain_node(sel, head, ch, ch->len - 1u))
+        return 0;
+    refine = branch_children(sel, *level, ch->reach, time, reserve, children);
+    if (refine == 0)
+        *step = *reserve - sel->node[*level].cost;
+    return refine;
+}
+
+/* Places the instance of value `value` starting at visible node `head` (its
+ * chain ch) with `time` (which covers its first level) and, below it, the
+ * instances of every branch its share reaches, depth first with an explicit
+ * stack: a branch's children share what its time leaves beyond their
+ * simplest levels, in proportion to value and least complex first, each
+ * handing what it does not use on to the next. A leaf's level goes into the
+ * cut and, when it can refine, into the candidates of cycle 3. Returns the
  * time used in *used; -1 on a strict error. */
-static int place_node(tclod_selector *sel, tclod_id head, double value, double time,
-                      double *used) {
+static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch, double value,
+                      double time, double *used) {
     const tclod_scene *s = sel->scene;
     tclod_rh_frame *stack = sel->rh_stack;
+    double *costs = cut_costs(sel);
+    double step, reserve, children;
     uint32_t top = 0;
-    double base = 0.0; /* the cost of head's first level, as its branch counts it */
+    tclod_id level;
+    int refine = place_chain(sel, head, ch, time, &level, &step, &reserve, &children);
+    if (refine < 0)
+        return -1;
+    if (!refine) {
+        cut_add_cost(sel, level, 0, costs);
+        if (step < HUGE_VAL)
+            push_candidate(sel, head, value, step);
+        *used = sel->node[level].cost;
+        return 0;
+    }
     for (;;) {
-        const tclod_id *chain = sel->rh_chain + sel->rh_chain_at[head];
-        uint32_t len = sel->rh_chain_len[head];
-        tclod_id level, end = chain[len - 1u];
-        double reserve, children, step;
-        int refine = 0;
-        if (finest_level(sel, head, chain, len, time, &level, &step) != 0) return -1;
-        sel->stats.iterations++;
-        if (level == end && child_count(s, end) > 1u) {
-            refine = branch_children(sel, end, time, &reserve, &children);
-            if (refine < 0) return -1;
-            step = reserve - sel->node[end].cost;
-        }
-        if (refine) { /* the children become instances sharing this one's time */
-            tclod_rh_frame *f = &stack[top++];
-            f->branch = end;
-            f->next = 0;
+        tclod_rh_frame *f;
+        uint32_t next, end;
+        double extra, value_left;
+        if (refine) { /* the children of `level` become instances sharing `time` */
+            f = &stack[top++];
+            f->branch = level;
+            f->next = s->child_first[level];
+            f->end = s->child_first[level + 1u];
             f->extra = time - reserve;
             f->value_left = children;
             f->alloc = time;
-            f->base = base;
-        } else {
-            double u = sel->node[level].cost;
-            cut_add(sel, level, 0);
-            node_candidate(sel, head, level, value, step);
-            if (top == 0) {
+            f->base = top > 1u ? sel->node[head].cost : 0.0;
+            refine = 0;
+        }
+        f = &stack[top - 1u];
+        next = f->next;
+        end = f->end;
+        extra = f->extra;
+        value_left = f->value_left;
+        for (; next < end; ++next) {
+            const tclod_rh_child *c = &sel->rh_child[next];
+            tclod_id id = s->children[c->slot];
+            double v, share, base, u;
+            if (!visible(sel, id)) {
+                cut_add_cost(sel, id, 0, costs); /* culled: in the cut, not drawn */
+                continue;
+            }
+            v = sel->scratch_key[c->slot];
+            share = value_left > 0.0 ? v * extra / value_left : 0.0;
+            share = share > extra ? extra : (share > 0.0 ? share : 0.0);
+            value_left -= v;
+            base = sel->node[id].cost;
+            refine =
+                place_chain(sel, id, &c->chain, base + share, &level, &step, &reserve, &children);
+            if (refine < 0)
+                return -1;
+            if (refine) {
+                head = id;
+                time = base + share;
+                ++next;
+                break;
+            }
+            u = sel->node[level].cost;
+            cut_add_cost(sel, level, 0, costs);
+            if (step < HUGE_VAL)
+                push_candidate(sel, id, v, step);
+            extra -= u - base;
+        }
+        f->next = next;
+        f->extra = extra;
+        f->value_left = value_left;
+        if (refine)
+            continue;
+        /* the branch is done: what its children used goes back to its parent */
+        {
+            double u = f->alloc - extra, b = f->base;
+            if (--top == 0) {
                 *used = u;
                 return 0;
             }
-            stack[top - 1u].extra -= u - base;
-        }
-        /* the next child to place, closing the branches that are done */
-        for (;;) {
-            tclod_rh_frame *f = &stack[top - 1u];
-            if (f->next < child_count(s, f->branch)) {
-                tclod_id c = sel->rh_child[s->child_first[f->branch] + f->next++];
-                double share;
-                if (!visible(sel, c)) {
-                    cut_add(sel, c, 0); /* culled: in the cut, not drawn */
-                    continue;
-                }
-                value = sel->scratch_key[c];
-                share = f->value_left > 0.0 ? value * f->extra / f->value_left : 0.0;
-                share = share > f->extra ? f->extra : (share > 0.0 ? share : 0.0);
-                f->value_left -= value;
-                head = c;
-                base = sel->node[c].cost;
-                time = base + share;
-                break;
-            } else {
-                double u = f->alloc - f->extra, b = f->base;
-                if (--top == 0) {
-                    *used = u;
-                    return 0;
-                }
-                stack[top - 1u].extra -= u - b;
-            }
+            stack[top - 1u].extra -= u - b;
         }
     }
 }
@@ -460,17 +692,32 @@ static void smooth_measure(const tclod_selector *sel, uint32_t pos, float *area,
     if (sel->has_view) tclod_view_cache_measure(&sel->view, b, area, distance);
 }
 
-/* The smooth object at sorted position pos: culled like the mixed solver's,
- * its importance the benefit at full resolution. Returns the value (0: not
- * drawn), or -1 on a strict error. */
+/* The smooth object at sorted position pos: culled like the mixed solver's
+ * (and by a benefit of 0 at full resolution), its importance the importance
+ * callback's or that benefit. Returns the value (0: not drawn), or -1 on a
+ * strict error. */
 static double smooth_value(tclod_selector *sel, uint32_t pos) {
-    const float *b = &sel->scene->smooth_bounds[4u * sel->scene->smooth_order[pos]];
-    double importance, db;
+    const tclod_scene *s = sel->scene;
+    const float *b = &s->smooth_bounds[4u * s->smooth_order[pos]];
+    double benefit, importance, db;
     float area, distance;
+    tclod_query q;
     smooth_measure(sel, pos, &area, &distance);
     if (sel->has_view && (!(area > 0.0f) || (double)area < sel->desc.smooth_cull_area))
         return 0.0;
-    tclod_smooth_call(sel, pos, 1, NULL, area, distance, 1.0, &importance, &db, NULL, NULL);
+    tclod_smooth_call(sel, pos, 1, NULL, area, distance, 1.0, &benefit, &db, NULL, NULL);
+    if (sel->failed)
+        return -1.0;
+    if (!(benefit > 0.0))
+        return 0.0;
+    q.id = s->smooth_order[pos];
+    q.count = 1;
+    q.view = sel->frame->view;
+    q.screen_area = area;
+    q.distance = distance;
+    q.members = s->smooth_order + pos;
+    q.bounds = b;
+    importance = importance_of(sel, &q, benefit);
     if (sel->failed) return -1.0;
     return importance > 0.0 ? instance_value(sel, b, importance) : 0.0;
 }
@@ -589,9 +836,8 @@ static int values(tclod_selector *sel, double *total) {
         uint32_t id = sel->rh_order[k];
         double v;
         if (id < s->node_count) {
-            if (tclod_evaluate_node(sel, id) != 0) return -1;
-            v = visible(sel, id) ? instance_value(sel, &s->bounds[4u * id], sel->node[id].benefit)
-                                 : 0.0;
+            if (evaluate_head(sel, id, 0, &v) != 0)
+                return -1;
         } else {
             v = smooth_value(sel, id - s->node_count);
             if (v < 0.0) return -1;
@@ -643,10 +889,13 @@ static int robin_hood_start(tclod_selector *sel) {
 
 /* The share of the next instance, of value v: v t_r / v_f of what is left
  * (eq. 2), and never more than that. */
+static inline double share_of(double v, double pool, double value_left) {
+    double share = value_left > 0.0 ? (isinf(pool) ? pool : v * pool / value_left) : 0.0;
+    return share > pool ? pool : share;
+}
+
 static double share_for(const tclod_resume *R, double v) {
-    double share = R->value_left > 0.0 ? (isinf(R->pool) ? R->pool : v * R->pool / R->value_left)
-                                       : 0.0;
-    return share > R->pool ? R->pool : share;
+    return share_of(v, R->pool, R->value_left);
 }
 
 /* Cycle 2: least complex first, each share v_i t_r / v_f of what is left
@@ -671,7 +920,8 @@ static int share_out(tclod_selector *sel) {
                 continue;
             }
             if (sel->node[id].cost <= share) {
-                if (place_node(sel, id, v, share, &used) != 0) return -1;
+                if (place_node(sel, id, &sel->rh_chains[id], v, share, &used) != 0)
+                    return -1;
             } else {
                 sel->node[id].delta_b = 0.0; /* drawn, if at all, at its first level */
                 if ((sel->desc.misfit == TCLOD_MISFIT_COARSEST || stopped) &&
@@ -709,7 +959,8 @@ static int share_out(tclod_selector *sel) {
  * it refined; -1 on a strict error. */
 static int refine_node(tclod_selector *sel, tclod_id head, double v, double step, double share) {
     tclod_resume *R = &sel->resume;
-    tclod_id n = sel->rh_chain[sel->rh_chain_at[head] + last_level(sel, head)];
+    const tclod_rh_chain *ch = &sel->rh_chains[head];
+    tclod_id n = chain_node(sel, head, ch, last_level(sel, head, ch->len));
     int dropped = (sel->flags[n] & TCLOD_FLAG_DROPPED) != 0;
     double held = dropped ? 0.0 : sel->node[n].cost, used;
     uint32_t at;
@@ -720,7 +971,8 @@ static int refine_node(tclod_selector *sel, tclod_id head, double v, double step
     cut_remove(sel, n);
     if (dropped) sel->stats.dropped_roots--;
     at = sel->cut_count;
-    if (place_node(sel, head, v, held + share, &used) != 0) return -1;
+    if (place_node(sel, head, ch, v, held + share, &used) != 0)
+        return -1;
     R->pool -= used - held;
     if (R->pool < 0.0) R->pool = 0.0;
     return dropped || sel->cut_count > at + 1u || sel->cut[at] != n;
@@ -740,6 +992,58 @@ static int refine_smooth(tclod_selector *sel, uint32_t pos, double v, double sha
         }
     }
     return rose;
+}
+
+/* The node candidates at the front of this pass that do not try (their step
+ * exceeds their share or what is left), with the pass's state in locals:
+ * most of a pass. One whose step exceeds what is left is done (and the
+ * instances could have refined further); one whose step exceeds its share
+ * waits at the back of the ring for the next pass. Stops at the first that
+ * tries, or at the end of the pass. */
+static void skip_waiting(tclod_selector *sel) {
+    tclod_resume *R = &sel->resume;
+    uint32_t *ids = sel->scratch;
+    double *path = sel->path;
+    uint32_t cap = sel->cap, first = R->ring_first, count = R->ring_count, left = R->pass_left;
+    uint32_t back = first + count; /* where a waiting one goes: < 2 cap */
+    double pool = R->pool, value_left = R->value_left, ring_value = R->ring_value;
+    double min_step = R->min_step;
+    int limited = R->limited;
+    if (isinf(pool))
+        return; /* every step that fits tries */
+    if (back >= cap)
+        back -= cap;
+    while (left > 0u) {
+        double v = path[2u * first], step = path[2u * first + 1u];
+        if (step <= pool) {
+            /* its share, v pool / v_left as share_for has it (the cap at pool
+             * does not matter once the step fits the pool) */
+            if (step <= (value_left > 0.0 ? v * pool / value_left : 0.0))
+                break;              /* it tries */
+            ids[back] = ids[first]; /* it waits, at the back */
+            path[2u * back] = v;
+            path[2u * back + 1u] = step;
+            if (++back == cap)
+                back = 0;
+            ring_value += v;
+            if (step < min_step)
+                min_step = step;
+        } else { /* done */
+            limited = 1;
+            count--;
+        }
+        if (++first == cap)
+            first = 0;
+        left--;
+        value_left -= v;
+    }
+    R->ring_first = first;
+    R->ring_count = count;
+    R->pass_left = left;
+    R->value_left = value_left;
+    R->ring_value = ring_value;
+    R->min_step = min_step;
+    R->limited = limited;
 }
 
 /* Cycle 3 (seed 003 §7.2: what the instances cannot use is better spent on
@@ -778,10 +1082,18 @@ static int refill(tclod_selector *sel) {
             R->k = R->smooth_open > 0u ? 0u : sel->rh_order_count;
         }
         if (R->pass_left > 0u) {
-            uint32_t at = R->ring_first, id = sel->scratch[at];
-            double v = sel->path[2u * at], step = sel->path[2u * at + 1u];
-            double share = share_for(R, v);
-            int tries = step <= R->pool && step <= share;
+            uint32_t at, id;
+            double v, step, share;
+            int tries;
+            skip_waiting(sel);
+            if (R->pass_left == 0u)
+                continue;
+            at = R->ring_first;
+            id = sel->scratch[at];
+            v = sel->path[2u * at];
+            step = sel->path[2u * at + 1u];
+            share = share_for(R, v);
+            tries = step <= R->pool && step <= share;
             if (tries && tclod_out_of_time(sel)) return 0;
             pop_candidate(sel, &v, &step);
             R->pass_left--;

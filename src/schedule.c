@@ -536,6 +536,13 @@ static double wrap_complexity(void *user, const tclod_query *q) {
     return sch->host.complexity(sch->host.user, q);
 }
 
+/* The importance of an instance does not depend on the predicted views: the
+ * host is asked once, with the query the selector asks. */
+static double wrap_importance(void *user, const tclod_query *q) {
+    tclod_scheduler *sch = (tclod_scheduler *)user;
+    return sch->host.importance(sch->host.user, q);
+}
+
 /* ---- buffers ---------------------------------------------------------------------------- */
 
 static size_t node_arrays(tclod_scheduler *sch, tclod_array out[TCLOD_MAX_ARRAYS]) {
@@ -655,6 +662,7 @@ tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_d
     inner.callbacks.smooth_benefit = sd->callbacks.smooth_benefit ? wrap_smooth_benefit : NULL;
     inner.callbacks.smooth_cost = sd->callbacks.smooth_cost ? wrap_smooth_cost : NULL;
     inner.callbacks.complexity = sd->callbacks.complexity ? wrap_complexity : NULL;
+    inner.callbacks.importance = sd->callbacks.importance ? wrap_importance : NULL;
     st = tclod_calib_create(&d->calib, &alloc, &sch->calib);
     if (st == TCLOD_OK) st = tclod_selector_create(s, &inner, &alloc, &sch->sel);
     if (st != TCLOD_OK) {

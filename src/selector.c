@@ -116,9 +116,8 @@ static size_t smooth_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRA
 static size_t rh_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS]) {
     size_t n = 0;
     out[n++] = (tclod_array){(void **)&sel->rh_chain, sizeof(uint32_t), -1};
-    out[n++] = (tclod_array){(void **)&sel->rh_chain_at, sizeof(uint32_t), -1};
-    out[n++] = (tclod_array){(void **)&sel->rh_chain_len, sizeof(uint32_t), -1};
-    out[n++] = (tclod_array){(void **)&sel->rh_child, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&sel->rh_chains, sizeof(tclod_rh_chain), -1};
+    out[n++] = (tclod_array){(void **)&sel->rh_child, sizeof(tclod_rh_child), -1};
     out[n++] = (tclod_array){(void **)&sel->rh_order, sizeof(uint32_t), -1};
     out[n++] = (tclod_array){(void **)&sel->rh_key, 2 * sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&sel->rh_stack, sizeof(tclod_rh_frame), -1};
@@ -427,6 +426,9 @@ static tclod_status run(tclod_selector *sel, double slice_seconds, uint32_t slic
     }
     sel->paused = 0;
     sel->frame = &sel->frame_data;
+    sel->query.count = 1;
+    sel->query.view = sel->frame->view;
+    sel->query.members = NULL;
     switch (sel->desc.solver) {
     case TCLOD_SOLVER_MIXED: status = tclod_mixed_solve(sel); break;
     case TCLOD_SOLVER_ROBIN_HOOD: status = tclod_robin_hood_solve(sel); break;

@@ -161,6 +161,7 @@ static void calib_desc_default_gives_the_documented_values(void **state) {
     assert_exact(d.logic_rate, 0.2);
     assert_exact(d.initial_logic, 0.0);
     assert_exact(d.machine_c, 1.0);
+    assert_int_equal(d.initial_measured, 0);
     c = make_calib(&d);
     assert_exact(tclod_calib_scale(c), 1.0);
     assert_exact(tclod_calib_logic(c), 0.0);
@@ -321,6 +322,54 @@ static void null_calib_reads_as_zero_and_destroys_quietly(void **state) {
 
 /* ---- calibration: convergence and tracking --------------------------------- */
 
+/* The tests below count the frames the rates take from a start the
+ * calibration trusts (initial_measured = 1: the initial values are
+ * measurements); with the default a first measurement replaces the guess. */
+
+static void the_first_measurements_replace_the_guessed_scale_and_logic(void **state) {
+    /* Defaults: initial_scale 1 and initial_logic 0 are guesses. The first
+     * report (predicted 2, rendered 2.6, logic 3) sets the scale to 1.3 and
+     * the logic to 3 at once, where blending would have given 1.15 and 0.6.
+     * From there the rates and the dead band apply: a ratio of 1.3 * 1.005 is
+     * inside the band (the scale stays), a ratio of 2 rises by half the
+     * difference to 1.65, a logic time of 5 moves the estimate by a fifth of
+     * the difference to 3.4. */
+    tclod_calib_desc d;
+    tclod_calib *c;
+    (void)state;
+    tclod_calib_desc_default(&d);
+    assert_int_equal(d.initial_measured, 0);
+    c = make_calib(&d);
+    assert_int_equal(tclod_calib_report(c, 2.0, 2.6, 3.0), TCLOD_OK);
+    assert_close(tclod_calib_scale(c), 1.3, 1e-15);
+    assert_exact(tclod_calib_logic(c), 3.0);
+    assert_int_equal(tclod_calib_report(c, 1.0, 1.3 * 1.005, 3.0), TCLOD_OK);
+    assert_close(tclod_calib_scale(c), 1.3, 1e-15);
+    assert_int_equal(tclod_calib_report(c, 1.0, 2.0, 5.0), TCLOD_OK);
+    assert_close(tclod_calib_scale(c), 1.65, 1e-15);
+    assert_close(tclod_calib_logic(c), 3.4, 1e-15);
+    tclod_calib_destroy(c);
+}
+
+static void a_first_frame_that_drew_nothing_leaves_the_guessed_scale_to_the_next(void **state) {
+    /* A frame of predicted cost 0 measures no ratio: the guess (1.75) stays,
+     * while its logic time (2) replaces the guessed logic; the next frame
+     * that drew something (ratio 0.5, below the guess) sets the scale to 0.5
+     * at once, where the fall rate would have taken it only to 1.625. */
+    tclod_calib_desc d;
+    tclod_calib *c;
+    (void)state;
+    tclod_calib_desc_default(&d);
+    d.initial_scale = 1.75;
+    c = make_calib(&d);
+    assert_int_equal(tclod_calib_report(c, 0.0, 3.0, 2.0), TCLOD_OK);
+    assert_exact(tclod_calib_scale(c), 1.75);
+    assert_exact(tclod_calib_logic(c), 2.0);
+    assert_int_equal(tclod_calib_report(c, 4.0, 2.0, 2.0), TCLOD_OK);
+    assert_exact(tclod_calib_scale(c), 0.5);
+    tclod_calib_destroy(c);
+}
+
 static void scale_converges_on_a_constant_factor_of_2_within_1_percent_in_6_frames(void **state) {
     /* Defaults: s0 = 1, rise rate 1/2, dead band 1 %. Every frame measures
      * exactly 2 * p_k for its predicted cost p_k (the ratio is exactly 2), so
@@ -335,6 +384,7 @@ static void scale_converges_on_a_constant_factor_of_2_within_1_percent_in_6_fram
     int k;
     (void)state;
     tclod_calib_desc_default(&d);
+    d.initial_measured = 1; /* the rates from a known start */
     c = make_calib(&d);
     for (k = 0; k < 6; ++k) {
         report_frame(c, k, 2.0);
@@ -361,6 +411,7 @@ static void scale_converges_on_a_factor_of_1_3_within_1_percent_in_5_frames(void
     tclod_calib *c;
     (void)state;
     tclod_calib_desc_default(&d);
+    d.initial_measured = 1; /* the rates from a known start */
     c = make_calib(&d);
     report_frames(c, 0, 4, 1.3);
     assert_close(relative_error(c, 1.3), 0.3 / 1.3 / 16.0, 1e-9);
@@ -383,6 +434,7 @@ static void scale_without_a_dead_band_is_an_exponentially_weighted_average(void 
     int k;
     (void)state;
     tclod_calib_desc_default(&d);
+    d.initial_measured = 1; /* the rates from a known start */
     d.dead_band = 0.0;
     d.rise_rate = 0.25;
     d.fall_rate = 0.125;
@@ -436,6 +488,7 @@ static void scale_tracks_a_halving_step_down_within_1_percent_in_44_frames(void 
     double held;
     (void)state;
     tclod_calib_desc_default(&d);
+    d.initial_measured = 1; /* the rates from a known start */
     d.initial_scale = 2.0;
     c = make_calib(&d);
     report_frames(c, 0, 43, 1.0);
@@ -463,6 +516,7 @@ static void dead_band_holds_the_scale_for_small_changes(void **state) {
     int k;
     (void)state;
     tclod_calib_desc_default(&d);
+    d.initial_measured = 1; /* the rates from a known start */
     c = make_calib(&d);
     for (k = 0; k < 1000; ++k) {
         assert_int_equal(tclod_calib_report(c, 4.0, 4.0 * small[k % 4], 1.0), TCLOD_OK);
@@ -490,6 +544,7 @@ static void frame_with_zero_predicted_cost_leaves_the_scale_but_updates_the_logi
     tclod_calib *c;
     (void)state;
     tclod_calib_desc_default(&d);
+    d.initial_measured = 1; /* the rates from a known start */
     c = make_calib(&d);
     assert_int_equal(tclod_calib_report(c, 0.0, 7.0, 5.0), TCLOD_OK);
     assert_exact(tclod_calib_scale(c), 1.0);
@@ -508,6 +563,7 @@ static void logic_estimate_converges_within_1_percent_in_21_frames(void **state)
     int k;
     (void)state;
     tclod_calib_desc_default(&d);
+    d.initial_measured = 1; /* the rates from a known start */
     c = make_calib(&d);
     for (k = 1; k <= 21; ++k) {
         assert_int_equal(tclod_calib_report(c, 1.0, 1.0, 5.0), TCLOD_OK);
@@ -669,6 +725,8 @@ int main(void) {
         cmocka_unit_test(calib_create_rejects_an_allocator_with_only_one_hook),
         cmocka_unit_test(calib_create_fails_with_nomem_and_leaks_nothing),
         cmocka_unit_test(null_calib_reads_as_zero_and_destroys_quietly),
+        cmocka_unit_test(the_first_measurements_replace_the_guessed_scale_and_logic),
+        cmocka_unit_test(a_first_frame_that_drew_nothing_leaves_the_guessed_scale_to_the_next),
         cmocka_unit_test(scale_converges_on_a_constant_factor_of_2_within_1_percent_in_6_frames),
         cmocka_unit_test(scale_converges_on_a_factor_of_1_3_within_1_percent_in_5_frames),
         cmocka_unit_test(scale_without_a_dead_band_is_an_exponentially_weighted_average),

@@ -24,6 +24,7 @@
 
 #include "helpers.h"
 #include "table_scene.h"
+#include "world_scene.h"
 
 /* A chain with the given level costs, every level of benefit `value`. Returns
  * the first level's id; level k is that id + k. */
@@ -85,8 +86,11 @@ static void equal_values_get_equal_shares(void **state) {
  * 1), B (levels 1, 2, 3.5), C (levels 2, 4.5, 10). Budget 9:
  *   A: share 9/3 = 3, takes 1, leaves 2: pool 8;
  *   B: share 8/2 = 4, takes 3.5, leaves 0.5: pool 4.5;
- *   C: share 4.5, takes 4.5.
- * Without the leftover C would have had 9/3 = 3 and taken 2. */
+ *   C: share 4.5, takes 4.5: pool 0, nothing for cycle 3.
+ * Without the leftover passed on every share would be 9/3 = 3: A takes 1, B
+ * 2, C 2, and cycle 3 would reach the same cut from the 4 left with two
+ * increments (B's 1.5, then C's 2.5). The share pass reaches it alone: no
+ * increment. */
 static void leftover_of_a_simple_instance_reaches_a_complex_one(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
     static const double ca[1] = {1.0}, cb[3] = {1.0, 2.0, 3.5}, cc[3] = {2.0, 4.5, 10.0};
@@ -102,15 +106,19 @@ static void leftover_of_a_simple_instance_reaches_a_complex_one(void **state) {
     assert_true(listed(sel, b + 2u));
     assert_true(listed(sel, c + 1u));
     assert_true(st.cost == 1.0 + 3.5 + 4.5);
+    assert_int_equal(st.increments, 0);
     tclod_selector_destroy(sel);
 }
 
 /* Equal values, budget 10: K (levels 2, 9), created first, and S (levels 1,
  * 8; finest 8 < 9, so the simpler). Simple first: S's share 5 affords only
  * its level 0 and leaves 4, so K's share 9 takes its level 1: total 10, no
- * leftover for the second cycle. In creation order K's share 5 would take its
- * level 0 and S's 8 its level 1: also total 10. A complexity callback that
- * calls S the more complex turns the order round. */
+ * leftover for cycle 3 (no increment). In creation order K's share 5 would
+ * take its level 0 and S's 8 its level 1: also total 10. A complexity
+ * callback that calls S the more complex turns the order round. Without the
+ * leftover passed on both shares would be 5 (S 1, K 2) and cycle 3 would
+ * give the 7 left to K (one increment): the simple-first cut, by another
+ * way. */
 static double reversed_complexity(void *user, const tclod_query *q) {
     (void)user;
     return q->id == 0 ? 1.0 : 100.0; /* K (id 0) least complex */
@@ -139,12 +147,40 @@ static void instances_are_visited_simple_to_complex(void **state) {
     select_rh(sel, NULL, 10.0 * (1.0 + 1e-6), &st);
     assert_true(listed(sel, s));
     assert_true(listed(sel, k + 1u));
+    assert_int_equal(st.increments, 0);
     tclod_selector_destroy(sel);
 
     sel = reversed_selector(f);
     select_rh(sel, NULL, 10.0 * (1.0 + 1e-6), &st);
     assert_true(listed(sel, k));
     assert_true(listed(sel, s + 1u));
+    assert_int_equal(st.increments, 0);
+    tclod_selector_destroy(sel);
+}
+
+/* The order is found again when the scene changes. K (levels 2, 9) and S
+ * (levels 1, 8), equal values, budget 10: S is the simpler (8 < 9) and goes
+ * first, S's share 5 takes its level 0, K's 9 its level 1. A third level of S
+ * costing 20 makes S the more complex (20 > 9): now K goes first, K's share 5
+ * takes its level 0 (2) and S's 8 its level 1 (8), total 10 again. With the
+ * order of the first frame kept, S would still take its level 0 and K its
+ * level 1. */
+static void a_scene_change_orders_the_instances_again(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double ck[2] = {2.0, 9.0}, cs[2] = {1.0, 8.0};
+    tclod_id k = add_chain(f, 1.0, ck, 2), s = add_chain(f, 1.0, cs, 2);
+    tclod_selector *sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
+    tclod_stats st;
+    select_rh(sel, NULL, 10.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, s));
+    assert_true(listed(sel, k + 1u));
+
+    helper_add(f, s + 1u, 1.0, 20.0);
+    select_rh(sel, NULL, 10.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, k));
+    assert_true(listed(sel, s + 1u));
+    assert_true(st.cost == 10.0);
+    assert_int_equal(st.increments, 0);
     tclod_selector_destroy(sel);
 }
 
@@ -345,6 +381,319 @@ static void values_follow_the_view(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* Two objects of radius 1 (a = pi) and importance 1 under the reference view
+ * (eye at the origin, looking down -z): P on the axis at depth 5 (z = d = 5),
+ * Q off it at (6, 0, -8) (z = 8, d = 10), so depth and distance differ. A
+ * chain with the given level costs for each; P's finest is the cheaper, so P
+ * goes first. */
+static void add_off_axis_pair(helper_fixture *f, const double *cp, int np, const double *cq, int nq,
+                              tclod_id *p, tclod_id *q) {
+    static const float bp[4] = {0.0f, 0.0f, -5.0f, 1.0f}, bq[4] = {6.0f, 0.0f, -8.0f, 1.0f};
+    tclod_id prev;
+    int k;
+    assert_int_equal(table_add_node(&f->model, f->scene, TCLOD_NONE, bp, 1.0, cp[0], p), TCLOD_OK);
+    for (k = 1, prev = *p; k < np; ++k)
+        assert_int_equal(table_add_node(&f->model, f->scene, prev, bp, 1.0, cp[k], &prev),
+                         TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, TCLOD_NONE, bq, 1.0, cq[0], q), TCLOD_OK);
+    for (k = 1, prev = *q; k < nq; ++k)
+        assert_int_equal(table_add_node(&f->model, f->scene, prev, bq, 1.0, cq[k], &prev),
+                         TCLOD_OK);
+}
+
+/* a / sqrt(z) (eq. 8) with the pair above, budget 10: v_P = pi/sqrt 5 =
+ * 1.40496, v_Q = pi/sqrt 8 = 1.11072, so P's share is 10 * 1.40496 /
+ * 2.51568 = 5.5848: of P's levels 1, 5.5, 5.7 it takes 5.5, and Q the 4.5
+ * left (levels 1, 4.5, 6): total 10, no increment. With Q's distance (10) in
+ * place of its depth, v_Q = pi/sqrt 10 = 0.99346 and P's share 5.8579 would
+ * take 5.7, leaving Q 4.3 and its level 0. */
+static void area_sqrt_depth_shares_follow_the_depth_not_the_distance(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double cp[3] = {1.0, 5.5, 5.7}, cq[3] = {1.0, 4.5, 6.0};
+    tclod_id p, q;
+    tclod_selector *sel;
+    tclod_view view;
+    tclod_stats st;
+    add_off_axis_pair(f, cp, 3, cq, 3, &p, &q);
+    helper_view(&view);
+    sel = rh_selector(f, TCLOD_VALUE_AREA_SQRT_DEPTH, TCLOD_MISFIT_DROP);
+    select_rh(sel, &view, 10.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, p + 1u));
+    assert_true(listed(sel, q + 1u));
+    assert_true(st.cost == 10.0);
+    assert_int_equal(st.increments, 0);
+    tclod_selector_destroy(sel);
+}
+
+/* sqrt(a) / d² (eq. 11) with the pair above, budget 10: v_P = sqrt(pi)/25,
+ * v_Q = sqrt(pi)/100, so P's share is 10 * 4/5 = 8: of P's levels 1, 4, 7.9,
+ * 8.5 it takes 7.9, and Q the 2.1 left (levels 1, 2.1, 5, 9): total 10, no
+ * increment. With the distance left out (d = 1) the values would be equal
+ * and P's share 5; with Q's depth (8) in place of its distance, v_Q =
+ * sqrt(pi)/64 and P's share 10 * 64/89 = 7.191. Either way P would take 4 and
+ * Q 5, with 1 left that no step fits. */
+static void sqrt_area_distance2_shares_follow_the_distance(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double cp[4] = {1.0, 4.0, 7.9, 8.5}, cq[4] = {1.0, 2.1, 5.0, 9.0};
+    tclod_id p, q;
+    tclod_selector *sel;
+    tclod_view view;
+    tclod_stats st;
+    add_off_axis_pair(f, cp, 4, cq, 4, &p, &q);
+    helper_view(&view);
+    sel = rh_selector(f, TCLOD_VALUE_SQRT_AREA_DISTANCE2, TCLOD_MISFIT_DROP);
+    select_rh(sel, &view, 10.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, p + 2u));
+    assert_true(listed(sel, q + 1u));
+    assert_true(fabs(st.cost - 10.0) < 1e-12);
+    assert_int_equal(st.increments, 0);
+    tclod_selector_destroy(sel);
+}
+
+/* The pair above as smooth objects (importance w = 1, cost 10 r for P, 10.01 r
+ * for Q, so P goes first), budget 10. a / sqrt(z): P's share 5.5848 buys r =
+ * 0.55848 (with the distance for the depth, 5.8579 would buy 0.58579).
+ * sqrt(a) / d²: P's share 8 buys 0.8 (without the distance 5 would buy 0.5,
+ * with the depth 7.191 would buy 0.7191). Q takes what is left. */
+static void smooth_values_follow_the_depth_and_the_distance(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const float bp[4] = {0.0f, 0.0f, -5.0f, 1.0f}, bq[4] = {6.0f, 0.0f, -8.0f, 1.0f};
+    static const tclod_value values[2] = {TCLOD_VALUE_AREA_SQRT_DEPTH,
+                                          TCLOD_VALUE_SQRT_AREA_DISTANCE2};
+    static const double share_p[2] = {5.5848, 8.0};
+    tclod_id p, q;
+    tclod_view view;
+    int i;
+    assert_int_equal(
+        table_add_smooth(&f->model, f->scene, bp, TABLE_POWER, 1.0, 0.5, 10.0, 10.0, 0.0, &p),
+        TCLOD_OK);
+    assert_int_equal(
+        table_add_smooth(&f->model, f->scene, bq, TABLE_POWER, 1.0, 0.5, 10.01, 10.01, 0.0, &q),
+        TCLOD_OK);
+    helper_view(&view);
+    for (i = 0; i < 2; ++i) {
+        tclod_selector *sel = rh_selector(f, values[i], TCLOD_MISFIT_DROP);
+        tclod_stats st;
+        select_rh(sel, &view, 10.0, &st);
+        assert_true(fabs(tclod_selector_resolution(sel, p) - share_p[i] / 10.0) < 1e-4);
+        assert_true(fabs(tclod_selector_resolution(sel, q) - (10.0 - share_p[i]) / 10.01) < 1e-4);
+        tclod_selector_destroy(sel);
+    }
+}
+
+/* ---- importance ------------------------------------------------------------------- */
+
+/* An importance callback reading importance_by_id (NaN past its end), which
+ * counts its calls and the last id it was asked about. */
+static double importance_by_id[16];
+static unsigned importance_calls;
+static tclod_id importance_last_id;
+
+static double test_importance(void *user, const tclod_query *q) {
+    (void)user;
+    importance_calls++;
+    importance_last_id = q->id;
+    return q->id < 16u ? importance_by_id[q->id] : NAN;
+}
+
+static tclod_selector *importance_selector(helper_fixture *f, tclod_value value, int strict) {
+    tclod_selector_desc d;
+    tclod_selector *sel = NULL;
+    tclod_selector_desc_default(&d);
+    d.solver = TCLOD_SOLVER_ROBIN_HOOD;
+    table_mixed_callbacks(&f->model, &d.callbacks);
+    d.callbacks.importance = test_importance;
+    d.value = value;
+    d.strict = strict;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    importance_calls = 0;
+    return sel;
+}
+
+/* Two chains with levels 1, 2, 4 and 6 and benefits 3 and 1, budget 8. With
+ * the benefits as importance the shares are 6 : 2 (the first takes 6, the
+ * second 2); with an importance of 1 for both they are 4 : 4 and each takes
+ * 4. The importance is asked once per instance (its first node), the benefit
+ * still decides visibility: a chain of benefit 0 is not asked. */
+static void the_importance_callback_sets_the_shares_instead_of_the_benefit(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double costs[4] = {1.0, 2.0, 4.0, 6.0};
+    tclod_id big = add_chain(f, 3.0, costs, 4), small = add_chain(f, 1.0, costs, 4);
+    tclod_id hidden = add_chain(f, 0.0, costs, 4);
+    tclod_selector *sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
+    tclod_stats st;
+    select_rh(sel, NULL, 8.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, big + 3u));
+    assert_true(listed(sel, small + 1u));
+    tclod_selector_destroy(sel);
+
+    importance_by_id[big] = importance_by_id[small] = 1.0;
+    importance_by_id[hidden] = 1.0;
+    sel = importance_selector(f, TCLOD_VALUE_BENEFIT, 0);
+    select_rh(sel, NULL, 8.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, big + 2u));
+    assert_true(listed(sel, small + 2u));
+    assert_true(st.cost == 8.0);
+    assert_int_equal(st.increments, 0);
+    assert_int_equal(importance_calls, 2);
+    assert_int_equal(st.invalid_values, 0);
+    tclod_selector_destroy(sel);
+}
+
+/* The importance multiplies the value function. a / z² (eq. 10) under the
+ * reference view with values_follow_the_view's two objects (depths 10 and
+ * 40, values pi/100 and pi/1600 with I = 1, levels 1, 2, 16): importance 1
+ * and 16 make the values equal, and the budget of 17 gives shares of 8.5 to
+ * each: both take 2, and cycle 3 has 13 left but no step of 14 fits. */
+static void the_importance_multiplies_the_value_function(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    float near_b[4] = {0.0f, 0.0f, -10.0f, 1.0f}, far_b[4] = {0.0f, 0.0f, -40.0f, 1.0f};
+    tclod_id near_id, far_id, prev;
+    tclod_selector *sel;
+    tclod_view view;
+    tclod_stats st;
+    assert_int_equal(table_add_node(&f->model, f->scene, TCLOD_NONE, near_b, 5.0, 1.0, &near_id),
+                     TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, near_id, near_b, 1.0, 2.0, &prev),
+                     TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, prev, near_b, 1.0, 16.0, &prev), TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, TCLOD_NONE, far_b, 5.0, 1.0, &far_id),
+                     TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, far_id, far_b, 1.0, 2.0, &prev), TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, prev, far_b, 1.0, 16.0, &prev), TCLOD_OK);
+    importance_by_id[near_id] = 1.0;
+    importance_by_id[far_id] = 16.0;
+    helper_view(&view);
+    sel = importance_selector(f, TCLOD_VALUE_AREA_DEPTH2, 0);
+    select_rh(sel, &view, 17.0 * (1.0 + 1e-6), &st);
+    assert_true(listed(sel, near_id + 1u));
+    assert_true(listed(sel, far_id + 1u));
+    assert_true(st.cost == 4.0);
+    assert_int_equal(importance_calls, 2);
+    tclod_selector_destroy(sel);
+}
+
+/* A NaN importance counts as a bad value and gives no share: of two single
+ * levels costing 1, budget 4, the one whose importance is NaN is dropped (its
+ * share is 0) and the other takes its level. In strict mode the call fails
+ * and the previous result stays. */
+static void a_bad_importance_is_counted_and_gives_no_share(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double c1[1] = {1.0};
+    tclod_id a = add_chain(f, 1.0, c1, 1), b = add_chain(f, 1.0, c1, 1);
+    tclod_selector *sel;
+    tclod_frame fr = helper_frame(NULL, 4.0);
+    tclod_stats st;
+    importance_by_id[a] = NAN;
+    importance_by_id[b] = 1.0;
+    sel = importance_selector(f, TCLOD_VALUE_BENEFIT, 0);
+    select_rh(sel, NULL, 4.0, &st);
+    assert_false(listed(sel, a));
+    assert_true(listed(sel, b));
+    assert_int_equal(st.invalid_values, 1);
+    assert_int_equal(st.dropped_roots, 1);
+    tclod_selector_destroy(sel);
+
+    importance_by_id[a] = 1.0;
+    sel = importance_selector(f, TCLOD_VALUE_BENEFIT, 1);
+    select_rh(sel, NULL, 4.0, &st);
+    assert_true(listed(sel, a));
+    importance_by_id[a] = -1.0;
+    assert_int_equal(tclod_select(sel, &fr, &st), TCLOD_ERR_CALLBACK);
+    assert_true(listed(sel, a));
+    tclod_selector_destroy(sel);
+}
+
+/* A smooth object's importance comes from the callback too, asked with the
+ * object's query. Two smooth objects of benefit w = 1 and 3 at r = 1, costs
+ * r and 2 r, budget 1.5: with importance 3 and 1 (the reverse of their
+ * benefits) the first's share 1.125 buys r = 1 for 1 and the second the 0.5
+ * left, r = 0.25. */
+static void the_importance_of_a_smooth_object_comes_from_the_callback(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    float b0[4] = {0.0f, 0.0f, 0.0f, 1.0f}, b1[4] = {5.0f, 0.0f, 0.0f, 1.0f};
+    tclod_id s0, s1;
+    tclod_selector *sel;
+    tclod_stats st;
+    assert_int_equal(
+        table_add_smooth(&f->model, f->scene, b0, TABLE_POWER, 1.0, 0.5, 1.0, 1.0, 0.0, &s0),
+        TCLOD_OK);
+    assert_int_equal(
+        table_add_smooth(&f->model, f->scene, b1, TABLE_POWER, 3.0, 0.5, 2.0, 2.0, 0.0, &s1),
+        TCLOD_OK);
+    importance_by_id[s0] = 3.0;
+    importance_by_id[s1] = 1.0;
+    sel = importance_selector(f, TCLOD_VALUE_BENEFIT, 0);
+    select_rh(sel, NULL, 1.5, &st);
+    assert_true(tclod_selector_resolution(sel, s0) == 1.0);
+    assert_true(fabs(tclod_selector_resolution(sel, s1) - 0.25) < 1e-6);
+    assert_int_equal(importance_calls, 2);
+    assert_int_equal(importance_last_id, s1);
+    tclod_selector_destroy(sel);
+}
+
+/* The worlds' benefit is screen area x weight; their importance is the weight
+ * alone, whatever the area the query carries, so that the area-based value
+ * functions do not count the area twice. A Robin Hood solve over the flyover
+ * asks it once per visible instance, after the benefit. */
+static unsigned world_benefit_calls, world_importance_calls;
+
+static double counted_world_benefit(void *user, const tclod_query *q) {
+    world_benefit_calls++;
+    return world_benefit(user, q);
+}
+
+static double counted_world_importance(void *user, const tclod_query *q) {
+    world_importance_calls++;
+    return world_importance(user, q);
+}
+
+static void the_worlds_give_their_weight_as_importance(void **state) {
+    world_flyover_desc fd;
+    world_scene w;
+    tclod_callbacks cb;
+    tclod_selector_desc d;
+    tclod_selector *sel;
+    tclod_view view;
+    tclod_frame fr;
+    tclod_stats st;
+    tclod_id id;
+    (void)state;
+    world_flyover_desc_default(&fd);
+    fd.terrain_depth = 3;
+    fd.objects = 200;
+    assert_int_equal(world_build_flyover(&fd, &w), TCLOD_OK);
+    cb = world_callbacks(&w);
+    assert_true(cb.importance == world_importance);
+    for (id = 0; id < w.node_count; ++id) {
+        tclod_query q;
+        memset(&q, 0, sizeof q);
+        q.id = id;
+        q.count = 1;
+        q.screen_area = 10.0f;
+        assert_true(cb.importance(cb.user, &q) == (double)w.weight[id]);
+        assert_true(cb.benefit(cb.user, &q) == 10.0 * (double)w.weight[id]);
+        q.screen_area = 1000.0f;
+        assert_true(cb.importance(cb.user, &q) == (double)w.weight[id]);
+    }
+    tclod_selector_desc_default(&d);
+    d.solver = TCLOD_SOLVER_ROBIN_HOOD;
+    d.callbacks = cb;
+    d.callbacks.benefit = counted_world_benefit;
+    d.callbacks.importance = counted_world_importance;
+    assert_int_equal(tclod_selector_create(w.scene, &d, NULL, &sel), TCLOD_OK);
+    world_camera_at(&w.path, 0.1, &view);
+    fr = helper_frame(&view, 2.0);
+    world_benefit_calls = world_importance_calls = 0;
+    assert_int_equal(tclod_select(sel, &fr, &st), TCLOD_OK);
+    assert_true(world_importance_calls > 0);
+    assert_true(world_importance_calls < world_benefit_calls);
+    assert_true(st.cost <= 2.0);
+    assert_int_equal(st.invalid_values, 0);
+    tclod_selector_destroy(sel);
+    world_scene_free(&w);
+}
+
 /* ---- the budget ------------------------------------------------------------------- */
 
 static void budget_holds_on_random_scenes(void **state) {
@@ -416,6 +765,7 @@ int main(void) {
         FIXTURE_TEST(equal_values_get_equal_shares),
         FIXTURE_TEST(leftover_of_a_simple_instance_reaches_a_complex_one),
         FIXTURE_TEST(instances_are_visited_simple_to_complex),
+        FIXTURE_TEST(a_scene_change_orders_the_instances_again),
         FIXTURE_TEST(the_leftover_refines_the_instances_that_can_refine),
         FIXTURE_TEST(shares_follow_the_values),
         FIXTURE_TEST(an_instance_whose_simplest_level_exceeds_its_share_is_dropped),
@@ -424,6 +774,14 @@ int main(void) {
         FIXTURE_TEST(a_branch_shares_its_time_among_its_children),
         cmocka_unit_test(value_functions_match_seed_003),
         FIXTURE_TEST(values_follow_the_view),
+        FIXTURE_TEST(area_sqrt_depth_shares_follow_the_depth_not_the_distance),
+        FIXTURE_TEST(sqrt_area_distance2_shares_follow_the_distance),
+        FIXTURE_TEST(smooth_values_follow_the_depth_and_the_distance),
+        FIXTURE_TEST(the_importance_callback_sets_the_shares_instead_of_the_benefit),
+        FIXTURE_TEST(the_importance_multiplies_the_value_function),
+        FIXTURE_TEST(a_bad_importance_is_counted_and_gives_no_share),
+        FIXTURE_TEST(the_importance_of_a_smooth_object_comes_from_the_callback),
+        cmocka_unit_test(the_worlds_give_their_weight_as_importance),
         cmocka_unit_test(budget_holds_on_random_scenes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

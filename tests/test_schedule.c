@@ -1034,6 +1034,46 @@ static void draw_lists_stay_within_the_budget_over_random_paths(void **state) {
     free(tw);
 }
 
+/* A Robin Hood scheduler hands the host's importance callback through with
+ * the host's user pointer (it wraps the others with its own). */
+static const world_scene *importance_world;
+static unsigned importance_calls;
+
+static double checked_importance(void *user, const tclod_query *q) {
+    assert_ptr_equal(user, importance_world);
+    importance_calls++;
+    return world_importance(user, q);
+}
+
+static void the_scheduler_asks_the_hosts_importance_with_the_hosts_user(void **state) {
+    world_random_desc wd;
+    world_scene w;
+    tclod_selector_desc sd;
+    tclod_scheduler_desc d;
+    tclod_scheduler *sch = NULL;
+    tclod_view v;
+    uint32_t f;
+    (void)state;
+    world_random_desc_default(&wd);
+    wd.objects = 150;
+    assert_int_equal(world_build_random(&wd, &w), TCLOD_OK);
+    tclod_selector_desc_default(&sd);
+    sd.solver = TCLOD_SOLVER_ROBIN_HOOD;
+    sd.callbacks = world_callbacks(&w);
+    sd.callbacks.importance = checked_importance;
+    importance_world = &w;
+    importance_calls = 0;
+    tclod_scheduler_desc_default(&d);
+    assert_int_equal(tclod_scheduler_create(w.scene, &sd, &d, NULL, &sch), TCLOD_OK);
+    for (f = 0; f < 30u; ++f) {
+        world_camera_at(&w.path, (double)f / 2400.0, &v);
+        assert_int_equal(tclod_scheduler_update(sch, (double)f / 60.0, &v, 0.05, 0.0), TCLOD_OK);
+    }
+    assert_true(importance_calls > 0u);
+    tclod_scheduler_destroy(sch);
+    world_scene_free(&w);
+}
+
 /* ---- arguments -------------------------------------------------------------- */
 
 static void bad_arguments_are_refused_and_change_nothing(void **state) {
@@ -1496,12 +1536,14 @@ static void a_slower_machine_lowers_the_budget_through_the_calibration(void **st
 }
 
 static void render_and_logic_times_go_to_the_schedulers_calibration(void **state) {
-    /* The default calibration: scale 1, logic 0, rates 0.5 up, 0.2 for the
-     * logic. A frame of the one node A (cost 1) reported as 2 ms of render
-     * and 10 ms of logic: the scale rises halfway to 2, to 1.5, the logic
-     * estimate a fifth of the way to 10, to 2; a second such frame: scale
-     * 1.75, logic 3.6. tclod_scheduler_report then leaves the logic as it is
-     * (3.6) while it moves the scale (to 1.875). */
+    /* The default calibration: scale 1 and logic 0 guessed, rates 0.5 up and
+     * 0.1 down for the scale, 0.2 for the logic, dead band 1 %. A frame of the
+     * one node A (cost 1) reported as 2 ms of render and 10 ms of logic: the
+     * first measurements replace the guesses, scale 2, logic 10. A second
+     * frame of 4 ms render and no logic: the scale rises halfway to 4, to 3,
+     * the logic falls a fifth of the way to 0, to 8. tclod_scheduler_report
+     * with 2 ms then leaves the logic as it is (8) while the scale falls a
+     * tenth of the way to 2, to 2.9. */
     wish_host h;
     tclod_scene *s;
     tclod_scheduler *sch;
@@ -1518,21 +1560,21 @@ static void render_and_logic_times_go_to_the_schedulers_calibration(void **state
     helper_view(&v);
     assert_int_equal(tclod_scheduler_update(sch, 0.0, &v, 100.0, 0.0), TCLOD_OK);
     assert_int_equal(tclod_scheduler_report_frame(sch, 2.0, 10.0), TCLOD_OK);
-    assert_float_equal(tclod_calib_scale(c), 1.5, 1e-12);
-    assert_float_equal(tclod_calib_logic(c), 2.0, 1e-12);
-    assert_int_equal(tclod_scheduler_report_frame(sch, 2.0, 10.0), TCLOD_OK);
-    assert_float_equal(tclod_calib_scale(c), 1.75, 1e-12);
-    assert_float_equal(tclod_calib_logic(c), 3.6, 1e-12);
+    assert_float_equal(tclod_calib_scale(c), 2.0, 1e-12);
+    assert_float_equal(tclod_calib_logic(c), 10.0, 1e-12);
+    assert_int_equal(tclod_scheduler_report_frame(sch, 4.0, 0.0), TCLOD_OK);
+    assert_float_equal(tclod_calib_scale(c), 3.0, 1e-12);
+    assert_float_equal(tclod_calib_logic(c), 8.0, 1e-12);
     assert_int_equal(tclod_scheduler_report(sch, 2.0), TCLOD_OK);
-    assert_float_equal(tclod_calib_scale(c), 1.875, 1e-12);
-    assert_float_equal(tclod_calib_logic(c), 3.6, 1e-12);
+    assert_float_equal(tclod_calib_scale(c), 2.9, 1e-12);
+    assert_float_equal(tclod_calib_logic(c), 8.0, 1e-12);
     /* bad times change nothing */
     assert_int_equal(tclod_scheduler_report_frame(sch, 2.0, -1.0), TCLOD_ERR_ARG);
     assert_int_equal(tclod_scheduler_report_frame(sch, 2.0, NAN), TCLOD_ERR_ARG);
     assert_int_equal(tclod_scheduler_report_frame(sch, INFINITY, 1.0), TCLOD_ERR_ARG);
     assert_int_equal(tclod_scheduler_report_frame(NULL, 2.0, 1.0), TCLOD_ERR_ARG);
-    assert_float_equal(tclod_calib_scale(c), 1.875, 1e-12);
-    assert_float_equal(tclod_calib_logic(c), 3.6, 1e-12);
+    assert_float_equal(tclod_calib_scale(c), 2.9, 1e-12);
+    assert_float_equal(tclod_calib_logic(c), 8.0, 1e-12);
     tclod_scheduler_destroy(sch);
     tclod_scene_destroy(s);
 }
@@ -1555,6 +1597,7 @@ int main(void) {
         cmocka_unit_test(smooth_resolutions_move_linearly_with_the_same_asymmetry),
         cmocka_unit_test(without_morphing_a_selection_switches_in_at_its_interval),
         cmocka_unit_test(draw_lists_stay_within_the_budget_over_random_paths),
+        cmocka_unit_test(the_scheduler_asks_the_hosts_importance_with_the_hosts_user),
         cmocka_unit_test(bad_arguments_are_refused_and_change_nothing),
         cmocka_unit_test(a_strict_update_that_fails_at_a_boundary_changes_nothing),
         cmocka_unit_test(a_selection_under_way_when_an_update_fails_is_begun_again),

@@ -997,6 +997,7 @@ static int make_scheduler(app *a, double initial_scale) {
     sd.max_speed = 300.0;
     sd.max_turn_rate = 0.2;
     sd.calib.initial_scale = initial_scale;
+    sd.calib.initial_measured = 1; /* a measurement: blend the first frames from it */
     st = tclod_scheduler_create(a->scene.scene, &d, &sd, NULL, &sch);
     if (st != TCLOD_OK) {
         fprintf(stderr, "glfw_forest: tclod_scheduler_create failed: %s\n",
@@ -1368,6 +1369,7 @@ static int setup(app *a, renderer *r, GLFWwindow *win) {
 
     tclod_calib_desc_default(&cd);
     cd.initial_scale = probe_scale(a, r, &v, PROBE_SHARE * a->opt.target_ms, fb_w, fb_h);
+    cd.initial_measured = 1; /* a measurement: blend the first frames from it */
     st = tclod_calib_create(&cd, NULL, &a->calib);
     if (st != TCLOD_OK) {
         fprintf(stderr, "glfw_forest: tclod_calib_create failed: %s\n", tclod_status_string(st));

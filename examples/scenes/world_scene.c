@@ -7,6 +7,8 @@
  *                                                                   seed 004 §4.2)
  *   benefit = screen area × weight                                 (seed 004 §4.2:
  *                                                                   accuracy × screen size)
+ *   importance = weight: Robin Hood's I (seed 003 eq. 8-11), whose value functions
+ *       measure size and place themselves, so the area must not enter it twice
  * with these weights:
  *   object level k (of a chain):  1 − 2^−(k+1)  and triangles T0·4^k, so each finer
  *       level adds half the benefit of the previous step for four times the triangles;
@@ -761,11 +763,17 @@ double world_cost(void *user, const tclod_query *q) {
     return (double)w->cost_ms[q->id];
 }
 
+double world_importance(void *user, const tclod_query *q) {
+    const world_scene *w = (const world_scene *)user;
+    return (double)w->weight[q->id];
+}
+
 tclod_callbacks world_callbacks(world_scene *w) {
     tclod_callbacks cb;
     memset(&cb, 0, sizeof(cb));
     cb.benefit = world_benefit;
     cb.cost = world_cost;
+    cb.importance = world_importance;
     cb.user = w;
     return cb;
 }

@@ -136,9 +136,14 @@ float world_terrain_height(float x, float z, float side, float height);
  * benefit: screen_area × weight; screen_area 0 (outside the frustum) gives 0,
  *          so the node is culled with its subtree; without a view (-1) a
  *          nominal area π·radius² stands in, which keeps the ordering sensible.
- * cost:    cost_ms of the node. Smooth callbacks are NULL (no smooth objects). */
+ * cost:    cost_ms of the node.
+ * importance (Robin Hood's value functions): the weight alone. The value
+ *          functions measure the instance's size and place themselves; the
+ *          benefit would count its screen area a second time.
+ * Smooth callbacks are NULL (no smooth objects). */
 tclod_callbacks world_callbacks(world_scene *w);
 double world_benefit(void *user, const tclod_query *q);
+double world_importance(void *user, const tclod_query *q);
 double world_cost(void *user, const tclod_query *q);
 
 /* Sum of cost_ms over ids, in the given order, in double: what the library's

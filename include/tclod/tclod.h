@@ -193,6 +193,23 @@ typedef struct tclod_callbacks {
      *          visited from the least complex. Asked once per instance after
      *          the scene changed, with no view. */
     double (*complexity)(void *user, const tclod_query *q);
+    /* importance: Robin Hood solver, optional (NULL = the benefit: the
+     *          benefit of the instance's first node, a smooth object's
+     *          smooth_benefit at r = 1). The importance I that the value
+     *          functions multiply (tclod_value, seed 003 eq. 8-11): what an
+     *          instance is worth apart from its size and place, such as a
+     *          weight per kind of object, >= 0. The value functions measure
+     *          size and place themselves, so a benefit that grows with screen
+     *          area would count the area twice (eq. 8 with a benefit of screen
+     *          area x w goes as r^4 / z^2.5 instead of r^2 / z^0.5): such a
+     *          host gives w here. Asked once per visible instance per
+     *          tclod_select, after its benefit (which still decides whether it
+     *          is visible), with the same query: instance q->id's first node,
+     *          or smooth object q->id (q->count 1). NaN, inf and negative
+     *          values are counted like the other callbacks' and give the
+     *          instance the value 0 (no share); with tclod_selector_desc.strict
+     *          they fail the call. */
+    double (*importance)(void *user, const tclod_query *q);
 } tclod_callbacks;
 
 /* ------------------------------------------------------------------------- */
@@ -265,9 +282,10 @@ TCLOD_API int tclod_solver_available(tclod_solver solver);
 /* Value functions of the Robin Hood solver (seed 003 eq. 8-11): how an
  * instance's share of the render time follows its size and place. a is the
  * instance's un-projected area (pi r² of its bounds), z its depth along the
- * view direction, d its distance from the eye, I its importance: the benefit
- * callback's value for the instance (its smooth_benefit at r = 1 for a smooth
- * object). */
+ * view direction, d its distance from the eye, I its importance: the
+ * importance callback's value for the instance, or without one its benefit
+ * (the benefit callback's for its first node, smooth_benefit at r = 1 for a
+ * smooth object). */
 typedef enum tclod_value {
     TCLOD_VALUE_AREA_SQRT_DEPTH = 0,     /* a / sqrt(z) * I (eq. 8): even shares */
     TCLOD_VALUE_AREA_DEPTH = 1,          /* a / z * I (eq. 9) */
@@ -611,15 +629,25 @@ typedef struct tclod_calib tclod_calib;
 
 typedef struct tclod_calib_desc {
     double initial_scale; /* measured render time per unit of predicted cost to start
-                             from, > 0. Default 1 */
+                             from, > 0. Default 1. Unless initial_measured, it holds
+                             only until the first report with a predicted cost > 0,
+                             whose ratio replaces it */
     double rise_rate;     /* weight of a new measurement when the ratio rises, (0, 1].
                              Default 0.5 */
     double fall_rate;     /* weight when it falls, (0, 1]. Default 0.1 */
     double dead_band;     /* relative change of the ratio that is ignored, in [0, 1).
                              Default 0.01 */
     double logic_rate;    /* weight of a new logic-time measurement, (0, 1]. Default 0.2 */
-    double initial_logic; /* logic time to start from, >= 0, host unit. Default 0 */
+    double initial_logic; /* logic time to start from, >= 0, host unit. Default 0.
+                             Unless initial_measured, it holds only until the first
+                             report, whose logic time replaces it */
     double machine_c;     /* eq. 7's machine constant C, > 0. Default 1 */
+    int initial_measured; /* 1: initial_scale and initial_logic are measurements (of
+                             an earlier run, say), from which the first reports blend
+                             at the rates like every later one. 0: they are guesses,
+                             which the first measurements replace, so that a wrong
+                             guess costs one frame instead of the frames the rates
+                             take to converge from it. Default 0 */
 } tclod_calib_desc;
 
 /* Fills d with the defaults above. */

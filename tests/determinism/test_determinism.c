@@ -265,12 +265,15 @@ static int free_scenes(void **state) {
 
 /* Budgets well below what drawing everything visible at its finest would
  * cost, so that every solver has choices to make (the greedy solver draws
- * the thesis terrain only, hence its smaller budget there). */
+ * the thesis terrain only, hence its smaller budget there). Robin Hood on the
+ * flyover takes the world's weights as importance (world_callbacks), no longer
+ * its benefits, which count the screen area a second time: other shares, other
+ * selections, another hash. */
 static config configs[] = {
     {FLYOVER, TCLOD_SOLVER_GREEDY, 1, 0, 0, 2.0, 0xc439831b7353f655ull},
     {FLYOVER, TCLOD_SOLVER_GREEDY, 0, 0, 0, 2.0, 0x06746d86a0a5600cull},
     {FLYOVER, TCLOD_SOLVER_MIXED, 0, 0, 0, 2.0, 0x06746d86a0a5600cull},
-    {FLYOVER, TCLOD_SOLVER_ROBIN_HOOD, 0, 0, 0, 2.0, 0x84f83d6cb091b443ull},
+    {FLYOVER, TCLOD_SOLVER_ROBIN_HOOD, 0, 0, 0, 2.0, 0x91f576ead21266ccull},
     {THESIS, TCLOD_SOLVER_GREEDY, 1, 0, 0, 2.0, 0x8642485f87b8f76cull},
     {THESIS, TCLOD_SOLVER_MIXED, 0, 0, 0, 40.0, 0x0b5eaaf2f8200ee9ull},
     {THESIS, TCLOD_SOLVER_MIXED, 0, 1, 0, 40.0, 0x0d1835629c645db3ull},

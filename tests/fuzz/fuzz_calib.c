@@ -13,7 +13,9 @@
  *    with logic_rate; the ratio is left alone by a frame that drew nothing or
  *    by a change inside the dead band, and otherwise moves towards
  *    measured / predicted by rise_rate or fall_rate, never past it; it stays
- *    > 0 and finite whatever is reported;
+ *    > 0 and finite whatever is reported; unless initial_measured, the first
+ *    report sets the logic estimate to its logic time, and the first that
+ *    drew something sets the ratio to its measured / predicted;
  *  - tclod_calib_budget is the render budget of the logic estimate divided
  *    by the ratio, never NaN or negative.
  */
@@ -108,8 +110,14 @@ static void check_budget(const tclod_calib *c, double ft, double machine_c) {
                tclod_calib_scale(c), render / tclod_calib_scale(c));
 }
 
-static void check_report(tclod_calib *c, const tclod_calib_desc *d, double pred, double render,
-                         double logic) {
+/* Whether the calibration's estimates hold a measurement yet (the model's
+ * side of initial_measured). */
+typedef struct measured {
+    int scale, logic;
+} measured;
+
+static void check_report(tclod_calib *c, const tclod_calib_desc *d, measured *m, double pred,
+                         double render, double logic) {
     double s = tclod_calib_scale(c), l = tclod_calib_logic(c), s2, l2, ratio;
     tclod_status st = tclod_calib_report(c, pred, render, logic);
     s2 = tclod_calib_scale(c);
@@ -127,9 +135,13 @@ static void check_report(tclod_calib *c, const tclod_calib_desc *d, double pred,
     /* logic: weighted average, between the old estimate and the measurement */
     FUZZ_CHECK((l2 >= l && l2 <= logic) || (l2 <= l && l2 >= logic),
                "logic %.17g -> %.17g does not move towards %.17g", l, l2, logic);
-    FUZZ_CHECK(weighted(l2, l, logic, d->logic_rate),
-               "logic %.17g -> %.17g, the weighted average with rate %g is %.17g", l, l2,
-               d->logic_rate, l + d->logic_rate * (logic - l));
+    if (m->logic)
+        FUZZ_CHECK(weighted(l2, l, logic, d->logic_rate),
+                   "logic %.17g -> %.17g, the weighted average with rate %g is %.17g", l, l2,
+                   d->logic_rate, l + d->logic_rate * (logic - l));
+    else
+        FUZZ_CHECK(l2 == logic, "the first logic time %.17g gave an estimate of %.17g", logic, l2);
+    m->logic = 1;
     if (pred == 0.0) {
         FUZZ_CHECK(s2 == s, "a frame that drew nothing moved the ratio %g -> %g", s, s2);
         return;
@@ -141,6 +153,11 @@ static void check_report(tclod_calib *c, const tclod_calib_desc *d, double pred,
         ratio = DBL_MAX;
     FUZZ_CHECK((s2 >= s && s2 <= ratio) || (s2 <= s && s2 >= ratio),
                "ratio %.17g -> %.17g does not move towards %.17g", s, s2, ratio);
+    if (!m->scale) {
+        FUZZ_CHECK(s2 == ratio, "the first measured ratio %.17g gave %.17g", ratio, s2);
+        m->scale = 1;
+        return;
+    }
     if (fabs(ratio - s) < d->dead_band * s * (1.0 - 1e-9)) {
         FUZZ_CHECK(s2 == s, "a change inside the dead band moved the ratio %.17g -> %.17g", s, s2);
     } else if (fabs(ratio - s) > d->dead_band * s * (1.0 + 1e-9)) {
@@ -159,6 +176,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     tclod_calib *const sentinel = (tclod_calib *)(void *)&in;
     tclod_calib *c = sentinel;
     tclod_status st;
+    measured m;
     int invalid, ops;
 
     fuzz_reader_init(&in, data, size);
@@ -170,6 +188,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     d.logic_rate = field(&in, d.logic_rate);
     d.initial_logic = field(&in, d.initial_logic);
     d.machine_c = field(&in, d.machine_c);
+    d.initial_measured = fuzz_u8(&in) & 1;
+    m.scale = m.logic = d.initial_measured;
     invalid = desc_invalid(&d);
     st = tclod_calib_create(&d, NULL, &c);
     if (invalid == 1 || (invalid == -1 && st == TCLOD_ERR_ARG)) {
@@ -190,7 +210,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         switch (fuzz_u8(&in) % 4u) {
         case 0: {
             double pred = fuzz_double(&in), render = fuzz_double(&in), logic = fuzz_double(&in);
-            check_report(c, &d, pred, render, logic);
+            check_report(c, &d, &m, pred, render, logic);
             break;
         }
         case 1:

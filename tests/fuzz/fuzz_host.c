@@ -108,6 +108,30 @@ double host_complexity(void *user, const tclod_query *q) {
     return v;
 }
 
+/* Robin Hood's importance: the input's complexity values stand in (bad ones
+ * included), asked about a node during the solve or about one smooth object. */
+double host_importance(void *user, const tclod_query *q) {
+    probe *p = (probe *)user;
+    double v;
+    FUZZ_CHECK(!is_complexity_query(q), "importance asked as a complexity");
+    if (q->members) {
+        FUZZ_CHECK(q->id < p->m->smooth && q->members[0] == q->id && q->count == 1,
+                   "importance of smooth object %u", (unsigned)q->id);
+        FUZZ_CHECK(p->any_view || same_view(q->view, p->frame_view),
+                   "smooth importance without the frame's view");
+        v = p->m->complexity[MAX_NODES + q->id];
+    } else {
+        check_node_query(p, q);
+        FUZZ_CHECK(p->any_view || (p->benefit_calls[q->id] == 1 && p->benefit_seen[q->id] > 0.0),
+                   "importance of node %u asked after %u benefit calls (last %g)", (unsigned)q->id,
+                   (unsigned)p->benefit_calls[q->id], p->benefit_seen[q->id]);
+        v = p->m->complexity[q->id];
+    }
+    p->calls++;
+    p->bad += (uint32_t)fuzz_bad(v);
+    return v;
+}
+
 /* The host's smooth value (cost != 0: cost) of a group at resolution r, the
  * sum over its members, and its slope in *d_dr. */
 double smooth_value(const host_model *m, const tclod_query *q, double r, double *d_dr, int cost) {
@@ -228,8 +252,10 @@ void read_desc(fuzz_reader *in, tclod_selector_desc *d, host_model *m) {
         d->callbacks.smooth_benefit = host_smooth_benefit;
         d->callbacks.smooth_cost = host_smooth_cost;
     }
-    if ((flags >> 5) & 1)
+    if ((flags >> 5) & 1) { /* and the importance, from the same values */
         d->callbacks.complexity = host_complexity;
+        d->callbacks.importance = host_importance;
+    }
     m->view_dependent = (flags >> 6) & 1;
     if (flags >> 7) /* 1 .. 3 levels, or one more than allowed */
         d->lookahead = enums >> 6 == 3 ? TCLOD_MAX_LOOKAHEAD + 1u : 1u + (enums >> 6);

@@ -74,6 +74,7 @@ void check_node_query(const probe *p, const tclod_query *q);
 double host_benefit(void *user, const tclod_query *q);
 double host_cost(void *user, const tclod_query *q);
 double host_complexity(void *user, const tclod_query *q);
+double host_importance(void *user, const tclod_query *q);
 
 /* The host's smooth value (cost != 0: cost) of a group at resolution r, the
  * sum over its members, and its slope in *d_dr. */
