@@ -227,6 +227,9 @@ typedef struct tclod_vars {
     double *db, *dc;         /* derivatives at max(r, TCLOD_SLOPE_FLOOR) */
     double *a;               /* search direction */
     double *ratio;           /* db / dc: the variable's own benefit/cost slope */
+    double *up;              /* db / dc for a step up (the cost slope past the kink) */
+    int fresh;               /* ratio and up are those of the current values (mixed.c) */
+    double best_ratio;       /* ... and the largest ratio below full resolution */
     /* the preconditioner's model of each variable (mixed.c) */
     double *m_x, *m_b, *m_db, *beta; /* benefit: anchor, value and slope there, exponent */
     double *dc0, *c1, *dc1, *x_k;    /* cost: two lines meeting at the kink x_k */

@@ -123,6 +123,12 @@ static int var_call(tclod_selector *sel, uint32_t v, double x, double *b, double
                              c, dc);
 }
 
+/* The variables' values, slopes, states or models changed: what was computed
+ * from them (ratios) has to be computed again. */
+static void vars_changed(tclod_vars *V) {
+    V->fresh = 0;
+}
+
 /* The slope ratio db/dc of a point: +inf for a free gain, 0 for none. */
 static double slope_ratio(double db, double dc) {
     double q = dc > 0.0 ? db / dc : (db > 0.0 ? HUGE_VAL : 0.0);
@@ -167,15 +173,14 @@ static double model_target(const tclod_var_model *m, double log_lambda) {
 
 /* Where variable v heads for slope lambda (0: full resolution): its model
  * target, unless the measured slopes say otherwise about the way to go: up
- * only while its slope (past the kink, where a unit costs less) beats lambda,
- * down only while it falls short of it. vars.ratio must be current. */
+ * only while its slope past the kink (vars.up) beats lambda, down only while
+ * its slope falls short of it. vars.ratio and vars.up must be current. */
 static double var_target(const tclod_vars *V, uint32_t v, double lambda, double log_lambda) {
-    const tclod_var_model *m = &V->model[v];
-    double r = V->r[v], x, up;
+    double r = V->r[v], x;
     if (V->state[v] != TCLOD_VAR_LIVE) return r;
-    x = lambda > 0.0 ? model_target(m, log_lambda) : 1.0;
-    up = slope_ratio(V->db[v], r < m->xk && m->dc1 < V->dc[v] ? m->dc1 : V->dc[v]);
-    if ((x > r && !(up > lambda)) || (x < r && !(V->ratio[v] < lambda))) return r;
+    x = lambda > 0.0 ? model_target(&V->model[v], log_lambda) : 1.0;
+    if ((x > r && !(V->up[v] > lambda)) || (x < r && !(V->ratio[v] < lambda)))
+        return r;
     return x;
 }
 
@@ -308,6 +313,7 @@ static void update_model(tclod_vars *V, uint32_t v) {
 static int start_variables(tclod_selector *sel) {
     tclod_vars *V = &sel->vars;
     uint32_t v;
+    vars_changed(V);
     for (v = 0; v < V->count; ++v) {
         double b, c = 0.0, db = 0.0, dc = 0.0;
         tclod_var_model *m = &V->model[v];
@@ -327,18 +333,30 @@ static int start_variables(tclod_selector *sel) {
 }
 
 /* Computes every live variable's own slope db/dc into vars.ratio (0 when it
- * cannot gain: no benefit slope, or an infinite cost slope) and returns the
- * largest among those below full resolution. */
+ * cannot gain: no benefit slope, or an infinite cost slope) and the slope of
+ * a step up into vars.up (where a unit costs less past the kink, with the
+ * cost slope there), and returns the largest ratio among those below full
+ * resolution. They change only with the variables: until vars_changed, the
+ * values computed last stand. */
 static double ratios(tclod_selector *sel) {
     tclod_vars *V = &sel->vars;
     double best = 0.0;
     uint32_t v;
+    if (V->fresh)
+        return V->best_ratio;
     for (v = 0; v < V->count; ++v) {
+        const tclod_var_model *m = &V->model[v];
         V->ratio[v] = 0.0;
-        if (V->state[v] != TCLOD_VAR_LIVE || !(V->db[v] > 0.0)) continue;
+        if (V->state[v] != TCLOD_VAR_LIVE)
+            continue;
+        V->up[v] = slope_ratio(V->db[v], V->r[v] < m->xk && m->dc1 < V->dc[v] ? m->dc1 : V->dc[v]);
+        if (!(V->db[v] > 0.0))
+            continue;
         V->ratio[v] = slope_ratio(V->db[v], V->dc[v]);
         if (V->r[v] < 1.0 && V->ratio[v] > best) best = V->ratio[v];
     }
+    V->fresh = 1;
+    V->best_ratio = best;
     return best;
 }
 
@@ -699,6 +717,7 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
     if (!(best.t > 0.0) || !(line_value(&L, &best) > line_value(&L, &origin))) return 0;
     if (L.last_t != best.t && line_eval(sel, &L, best.t, &best) != 0) return -1;
     if (!line_fits(&L, &best)) return 0; /* a host whose values changed */
+    vars_changed(V);
     for (i = 0; i < n; ++i) {
         uint32_t v = V->moving[i];
         update_model(V, v);
@@ -718,6 +737,7 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
 
 static void block_moving(tclod_selector *sel, uint32_t n) {
     uint32_t i;
+    vars_changed(&sel->vars);
     for (i = 0; i < n; ++i) sel->vars.state[sel->vars.moving[i]] = TCLOD_VAR_BLOCKED;
 }
 
@@ -944,6 +964,7 @@ static int finish(tclod_selector *sel) {
         if (V->r[i] > 0.0) sum += V->c[i];
     if (!isinf(sum) && sum <= sel->frame->budget) return 0;
     for (i = 0; i < V->count; ++i) V->r[i] = V->b[i] = V->c[i] = 0.0;
+    vars_changed(&sel->vars);
     sel->reserved = 0.0;
     return tclod_greedy_enforce(sel);
 }
@@ -1005,6 +1026,7 @@ static int safeguard(tclod_selector *sel, int *next) {
         uint32_t v;
         if (now >= R->alt_benefit) return 0;
         for (v = 0; v < sel->vars.count; ++v) sel->vars.r[v] = sel->vars.b[v] = sel->vars.c[v] = 0.0;
+        vars_changed(&sel->vars);
         sel->reserved = 0.0;
         return tclod_greedy_force(sel, R->alt_node);
     }
