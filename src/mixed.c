@@ -211,13 +211,16 @@ static double level(const tclod_selector *sel, double left, double guess) {
     if (!(-sel->reserved <= left)) return HUGE_VAL;
     hi = log(guess > 0.0 && isfinite(guess) ? guess : 1.0);
     if ((fhi = model_spend(V, exp(hi)) - left) > 0.0) {
+        /* the spend at hi is the low end's once the one at hi + 4 is not
+         * above left */
+        flo = fhi;
         for (k = 0; (fhi = model_spend(V, exp(hi + 4.0)) - left) > 0.0; ++k) {
             if (k == 64) return HUGE_VAL;
             hi += 4.0;
+            flo = fhi;
         }
         lo = hi;
         hi += 4.0;
-        flo = model_spend(V, exp(lo)) - left;
     } else {
         for (lo = hi - 4.0, k = 0; !((flo = model_spend(V, exp(lo)) - left) > 0.0); ++k) {
             if (k == 64) return exp(lo);
