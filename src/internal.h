@@ -230,6 +230,11 @@ typedef struct tclod_vars {
     double *up;              /* db / dc for a step up (the cost slope past the kink) */
     int fresh;               /* ratio and up are those of the current values (mixed.c) */
     double best_ratio;       /* ... and the largest ratio below full resolution */
+    /* mixed.c: while bounded, the models' predicted spend at every slope whose ln is at
+     * least bound_log is at most bound; the next bound goes bound_reach (in ln) below the
+     * slope tested */
+    int bounded;
+    double bound_log, bound, bound_reach;
     /* the preconditioner's model of each variable (mixed.c) */
     double *m_x, *m_b, *m_db, *beta; /* benefit: anchor, value and slope there, exponent */
     double *dc0, *c1, *dc1, *x_k;    /* cost: two lines meeting at the kink x_k */

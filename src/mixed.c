@@ -124,9 +124,10 @@ static int var_call(tclod_selector *sel, uint32_t v, double x, double *b, double
 }
 
 /* The variables' values, slopes, states or models changed: what was computed
- * from them (ratios) has to be computed again. */
+ * from them (ratios, the bound on the models' spend) has to be made again. */
 static void vars_changed(tclod_vars *V) {
     V->fresh = 0;
+    V->bounded = 0;
 }
 
 /* The slope ratio db/dc of a point: +inf for a free gain, 0 for none. */
@@ -194,6 +195,92 @@ static double model_spend(const tclod_vars *V, double lambda) {
         if (x != V->r[v]) spend += model_cost(&V->model[v], x) - V->c[v];
     }
     return spend;
+}
+
+/* Where spend_exceeds puts its bound: at first SPEND_BOUND_REACH below the
+ * slope tested (in ln lambda), never more than SPEND_BOUND_MAX_REACH below,
+ * and only when the spend there is below `left` by more than SPEND_BOUND_GAP
+ * of it. EXP_SLACK and EXP_FLOOR: relative and absolute margins on a target
+ * for the rounding of exp (within an ulp in every libm of note). */
+#define SPEND_BOUND_REACH 0.5
+#define SPEND_BOUND_MAX_REACH 16.0
+#define SPEND_BOUND_GAP 0.3
+#define EXP_SLACK 1e-14
+#define EXP_FLOOR 1e-300
+
+/* At least model_cost(x') for every resolution x' <= x. Each of the two lines
+ * rises with x in floating point too: up to the kink, the first line at x;
+ * past it, the larger of the first line at the kink and the second at x
+ * (+inf where they are not numbers). */
+static double model_cost_above(const tclod_var_model *m, double x) {
+    double a, b = 0.0;
+    if (isnan(x))
+        return HUGE_VAL;
+    if (!(x > 0.0))
+        return 0.0;
+    if (x <= m->xk) {
+        a = m->dc0 * x;
+    } else {
+        a = m->dc0 * m->xk;
+        b = m->c1 - m->dc1 * (1.0 - x);
+    }
+    if (isnan(a) || isnan(b))
+        return HUGE_VAL;
+    a = a > b ? a : b;
+    return a > 0.0 ? a : 0.0;
+}
+
+/* Sets vars.bound to at least the spend model_spend computes at any slope
+ * whose ln is at least log_lambda. Every variable's target there is at least
+ * its target at any such slope: ln lambda / beta only grows, each clamp
+ * keeps the order, and past lambda_c (from the part past the kink to the
+ * one before it) the target falls below x_k; exp keeps the order to within
+ * EXP_SLACK. So a live variable adds at most model_cost_above its target here
+ * less its cost now, and no less than 0 (where it stays put it adds
+ * nothing); summed in the same order, as floating-point addition keeps the
+ * order of its terms, the bound is at least model_spend's sum (or that sum
+ * is NaN, which model_spend's callers read as not above). */
+static void bound_spend(tclod_vars *V, double log_lambda) {
+    double bound = 0.0;
+    uint32_t v;
+    for (v = 0; v < V->count; ++v) {
+        double x, t;
+        if (V->state[v] != TCLOD_VAR_LIVE)
+            continue;
+        x = model_target(&V->model[v], log_lambda);
+        x = x * (1.0 + EXP_SLACK) + EXP_FLOOR;
+        t = model_cost_above(&V->model[v], x) - V->c[v];
+        bound += isnan(t) ? HUGE_VAL : (t > 0.0 ? t : 0.0);
+    }
+    V->bounded = 1;
+    V->bound_log = log_lambda;
+    V->bound = bound;
+}
+
+/* model_spend(lambda) > left, settled by the bound of an earlier call where
+ * it can be (a bound within `left` puts the spend within it). The increments
+ * are tested best first, at falling slopes and with less and less left, so
+ * when the spend is well within `left` a bound is made for the tests that
+ * follow at a slope below lambda: twice as far below as the last one when
+ * that one stayed within `left`, half as far when it did not. */
+static int spend_exceeds(tclod_vars *V, double lambda, double left) {
+    double spend;
+    if (lambda > 0.0 && V->bounded && log(lambda) >= V->bound_log && !(V->bound > left)) {
+        assert(!(model_spend(V, lambda) > V->bound));
+        return 0;
+    }
+    spend = model_spend(V, lambda);
+    if (spend > left)
+        return 1;
+    if (lambda > 0.0 && isfinite(lambda) && isfinite(left) &&
+        spend < left - SPEND_BOUND_GAP * fabs(left)) {
+        bound_spend(V, log(lambda) - V->bound_reach);
+        if (V->bound > left)
+            V->bound_reach *= 0.5;
+        else if (V->bound_reach < SPEND_BOUND_MAX_REACH)
+            V->bound_reach *= 2.0;
+    }
+    return 0;
 }
 
 /* The slope at which the models predict the smooth variables to have spent
@@ -317,6 +404,7 @@ static int start_variables(tclod_selector *sel) {
     tclod_vars *V = &sel->vars;
     uint32_t v;
     vars_changed(V);
+    V->bound_reach = SPEND_BOUND_REACH;
     for (v = 0; v < V->count; ++v) {
         double b, c = 0.0, db = 0.0, dc = 0.0;
         tclod_var_model *m = &V->model[v];
@@ -866,7 +954,7 @@ static int improve_modelled(tclod_selector *sel) {
             if (dc > 0.0) left -= dc;
             /* its slope beats the smooth variables' at the budget left after it
              * exactly when, at its slope, they would spend no more than that */
-            if (!(model_spend(&sel->vars, slope_d) > left)) {
+            if (!spend_exceeds(&sel->vars, slope_d, left)) {
                 if (sel->cost_sum + held + dc <= budget) {
                     if (tclod_greedy_take(sel, cand) != 0) return -1;
                     R->run = 0;
