@@ -229,7 +229,6 @@ typedef struct tclod_vars {
     double *ratio;           /* db / dc: the variable's own benefit/cost slope */
     double *up;              /* db / dc for a step up (the cost slope past the kink) */
     int fresh;               /* ratio and up are those of the current values (mixed.c) */
-    double best_ratio;       /* ... and the largest ratio below full resolution */
     /* mixed.c: while bounded, the models' predicted spend at every slope whose ln is at
      * least bound_log is at most bound; the next bound goes bound_reach (in ln) below the
      * slope tested */

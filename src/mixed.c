@@ -423,32 +423,52 @@ static int start_variables(tclod_selector *sel) {
     return 0;
 }
 
-/* Computes every live variable's own slope db/dc into vars.ratio (0 when it
- * cannot gain: no benefit slope, or an infinite cost slope) and the slope of
- * a step up into vars.up (where a unit costs less past the kink, with the
- * cost slope there), and returns the largest ratio among those below full
- * resolution. They change only with the variables: until vars_changed, the
- * values computed last stand. */
-static double ratios(tclod_selector *sel) {
+/* Variable v's own slope db/dc into vars.ratio (0 when it cannot gain: not
+ * live, no benefit slope, or an infinite cost slope) and, when it is live,
+ * the slope of a step up into vars.up (where a unit costs less past the
+ * kink, with the cost slope there). */
+static void var_ratio(tclod_vars *V, uint32_t v) {
+    const tclod_var_model *m = &V->model[v];
+    V->ratio[v] = 0.0;
+    if (V->state[v] != TCLOD_VAR_LIVE)
+        return;
+    V->up[v] = slope_ratio(V->db[v], V->r[v] < m->xk && m->dc1 < V->dc[v] ? m->dc1 : V->dc[v]);
+    if (V->db[v] > 0.0)
+        V->ratio[v] = slope_ratio(V->db[v], V->dc[v]);
+}
+
+/* Makes vars.ratio and vars.up current: var_ratio of every variable. They
+ * change only with the variables, so only those that changed are done again
+ * (moving_changed), or all after vars_changed. */
+static void ratios(tclod_selector *sel) {
     tclod_vars *V = &sel->vars;
+    uint32_t v;
+    if (!V->fresh)
+        for (v = 0; v < V->count; ++v)
+            var_ratio(V, v);
+    V->fresh = 1;
+}
+
+/* ratios, then the largest ratio among the variables below full resolution. */
+static double top_ratio(tclod_selector *sel) {
+    const tclod_vars *V = &sel->vars;
     double best = 0.0;
     uint32_t v;
-    if (V->fresh)
-        return V->best_ratio;
-    for (v = 0; v < V->count; ++v) {
-        const tclod_var_model *m = &V->model[v];
-        V->ratio[v] = 0.0;
-        if (V->state[v] != TCLOD_VAR_LIVE)
-            continue;
-        V->up[v] = slope_ratio(V->db[v], V->r[v] < m->xk && m->dc1 < V->dc[v] ? m->dc1 : V->dc[v]);
-        if (!(V->db[v] > 0.0))
-            continue;
-        V->ratio[v] = slope_ratio(V->db[v], V->dc[v]);
-        if (V->r[v] < 1.0 && V->ratio[v] > best) best = V->ratio[v];
-    }
-    V->fresh = 1;
-    V->best_ratio = best;
+    ratios(sel);
+    for (v = 0; v < V->count; ++v)
+        if (V->r[v] < 1.0 && V->ratio[v] > best)
+            best = V->ratio[v];
     return best;
+}
+
+/* The n variables of vars.moving changed: their ratios are made again (the
+ * others' stand) and the bound on the models' spend no longer holds. */
+static void moving_changed(tclod_vars *V, uint32_t n) {
+    uint32_t i;
+    V->bounded = 0;
+    if (V->fresh)
+        for (i = 0; i < n; ++i)
+            var_ratio(V, V->moving[i]);
 }
 
 /* ---- search directions ------------------------------------------------------------ */
@@ -808,7 +828,6 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
     if (!(best.t > 0.0) || !(line_value(&L, &best) > line_value(&L, &origin))) return 0;
     if (L.last_t != best.t && line_eval(sel, &L, best.t, &best) != 0) return -1;
     if (!line_fits(&L, &best)) return 0; /* a host whose values changed */
-    vars_changed(V);
     for (i = 0; i < n; ++i) {
         uint32_t v = V->moving[i];
         update_model(V, v);
@@ -818,6 +837,7 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
         V->db[v] = V->trial[v].db;
         V->dc[v] = V->trial[v].dc;
     }
+    moving_changed(V, n);
     sel->reserved += best.cost - moving_cost;
     *stalled = line_value(&L, &best) - line_value(&L, &origin) <=
                STALL * (fabs(origin.benefit) + fabs(best.benefit));
@@ -828,8 +848,8 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
 
 static void block_moving(tclod_selector *sel, uint32_t n) {
     uint32_t i;
-    vars_changed(&sel->vars);
     for (i = 0; i < n; ++i) sel->vars.state[sel->vars.moving[i]] = TCLOD_VAR_BLOCKED;
+    moving_changed(&sel->vars, n);
 }
 
 /* The papers' loop (eq. 8.8-8.14) with the gradient direction. */
@@ -850,7 +870,7 @@ static int improve_gradient(tclod_selector *sel) {
             R->run = 0;
             continue;
         }
-        if (!R->smooth_done && ratios(sel) > 0.0) {
+        if (!R->smooth_done && top_ratio(sel) > 0.0) {
             n = gradient_direction(sel, d->smooth_epsilon, &slope_c);
             if (n == 0 && d->smooth_epsilon > 0.0) n = gradient_direction(sel, 0.0, &slope_c);
         }
