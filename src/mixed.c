@@ -26,6 +26,7 @@
  */
 #include "internal.h"
 
+#include <float.h>
 #include <math.h>
 
 /* Kinks a line search brackets at most, where the cost slope along the line
@@ -66,7 +67,10 @@ static double smooth_limit(double budget) {
 #define BETA_MIN 0.05
 #define BETA_MAX 0.95
 
-static int value_bad(double v) { return !(v >= 0.0) || isinf(v); }
+/* NaN, negative or infinite: one comparison each way. */
+static int value_bad(double v) {
+    return !(v >= 0.0 && v <= DBL_MAX);
+}
 
 static void bad_value(tclod_selector *sel) {
     sel->stats.invalid_values++;
