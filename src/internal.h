@@ -202,6 +202,7 @@ typedef struct tclod_var_model {
                                 and after the kink */
     double lc;               /* ln of the slope above which the part before the
                                 kink is the better choice */
+    double ldc0, ldc1, lsetup; /* ln dc0, ln dc1 and ln (c1 - dc1), where positive */
 } tclod_var_model;
 
 /* A node whose children share the time of the instance that ended at it. */

@@ -349,20 +349,19 @@ static double level(const tclod_selector *sel, double left, double guess) {
  * (dc1^-gamma - dc0^-gamma), c0 = c1 - dc1 its setup cost. */
 static void model_refresh(tclod_var_model *m) {
     double beta = m->beta, gamma = (1.0 - beta) / beta, log_d, w;
-    m->lxk = m->xk > 0.0 ? log(m->xk) : -HUGE_VAL;
     if (!(m->db > 0.0)) { /* no gain: stays at 0 */
         m->l0 = m->l1 = -HUGE_VAL;
         m->lc = HUGE_VAL;
         return;
     }
-    log_d = log(m->db) + beta * log(m->x);
-    m->l1 = m->dc1 > 0.0 ? (log_d - log(m->dc1)) / beta : HUGE_VAL;
-    m->l0 = m->dc0 > 0.0 ? (log_d - log(m->dc0)) / beta : HUGE_VAL;
+    /* ln 1 = 0: the first anchor, at full resolution */
+    log_d = log(m->db) + beta * (m->x == 1.0 ? 0.0 : log(m->x));
+    m->l1 = m->dc1 > 0.0 ? (log_d - m->ldc1) / beta : HUGE_VAL;
+    m->l0 = m->dc0 > 0.0 ? (log_d - m->ldc0) / beta : HUGE_VAL;
     m->lc = -HUGE_VAL;
-    w = pow(m->dc1, -gamma) - pow(m->dc0, -gamma);
-    if (m->xk > 0.0 && w > 0.0 && m->c1 - m->dc1 > 0.0)
-        m->lc = beta * (log(beta / (1.0 - beta)) + (1.0 + gamma) * log_d + log(w) -
-                        log(m->c1 - m->dc1));
+    if (m->xk > 0.0 && m->c1 - m->dc1 > 0.0 &&
+        (w = pow(m->dc1, -gamma) - pow(m->dc0, -gamma)) > 0.0)
+        m->lc = beta * (log(beta / (1.0 - beta)) + (1.0 + gamma) * log_d + log(w) - m->lsetup);
 }
 
 /* Anchors a benefit model at (x, db). */
@@ -382,6 +381,11 @@ static void cost_model(tclod_var_model *m, double dc0, double c1, double dc1) {
         double xk = (c1 - dc1) / (dc0 - dc1);
         m->xk = xk < 1.0 ? xk : 1.0;
     }
+    /* the logarithms model_refresh needs of them, taken once */
+    m->lxk = m->xk > 0.0 ? log(m->xk) : -HUGE_VAL;
+    m->ldc0 = dc0 > 0.0 ? log(dc0) : 0.0;
+    m->ldc1 = dc1 > 0.0 ? log(dc1) : 0.0;
+    m->lsetup = c1 - dc1 > 0.0 ? log(c1 - dc1) : 0.0;
 }
 
 /* After variable v moved to its trial point: the model is re-anchored there,
