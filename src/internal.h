@@ -227,6 +227,7 @@ typedef struct tclod_var_model {
                                 and after the kink */
     double lc;               /* ln of the slope above which the part before the
                                 kink is the better choice */
+    double ldc0, ldc1, lsetup; /* ln dc0, ln dc1 and ln (c1 - dc1), where positive */
 } tclod_var_model;
 
 /* A node whose children share the time of the instance that ended at it. */
@@ -275,6 +276,13 @@ typedef struct tclod_vars {
     double *db, *dc;         /* derivatives at max(r, TCLOD_SLOPE_FLOOR) */
     double *a;               /* search direction */
     double *ratio;           /* db / dc: the variable's own benefit/cost slope */
+    double *up;              /* db / dc for a step up (the cost slope past the kink) */
+    int fresh;               /* ratio and up are those of the current values (mixed.c) */
+    /* mixed.c: while bounded, the models' predicted spend at every slope whose ln is at
+     * least bound_log is at most bound; the next bound goes bound_reach (in ln) below the
+     * slope tested */
+    int bounded;
+    double bound_log, bound, bound_reach;
     /* the preconditioner's model of each variable (mixed.c) */
     double *m_x, *m_b, *m_db, *beta; /* benefit: anchor, value and slope there, exponent */
     double *dc0, *c1, *dc1, *x_k;    /* cost: two lines meeting at the kink x_k */

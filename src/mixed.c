@@ -26,6 +26,7 @@
  */
 #include "internal.h"
 
+#include <float.h>
 #include <math.h>
 
 /* Kinks a line search brackets at most, where the cost slope along the line
@@ -66,7 +67,10 @@ static double smooth_limit(double budget) {
 #define BETA_MIN 0.05
 #define BETA_MAX 0.95
 
-static int value_bad(double v) { return !(v >= 0.0) || isinf(v); }
+/* NaN, negative or infinite: one comparison each way. */
+static int value_bad(double v) {
+    return !(v >= 0.0 && v <= DBL_MAX);
+}
 
 static void bad_value(tclod_selector *sel) {
     sel->stats.invalid_values++;
@@ -123,6 +127,13 @@ static int var_call(tclod_selector *sel, uint32_t v, double x, double *b, double
                              c, dc);
 }
 
+/* The variables' values, slopes, states or models changed: what was computed
+ * from them (ratios, the bound on the models' spend) has to be made again. */
+static void vars_changed(tclod_vars *V) {
+    V->fresh = 0;
+    V->bounded = 0;
+}
+
 /* The slope ratio db/dc of a point: +inf for a free gain, 0 for none. */
 static double slope_ratio(double db, double dc) {
     double q = dc > 0.0 ? db / dc : (db > 0.0 ? HUGE_VAL : 0.0);
@@ -167,15 +178,14 @@ static double model_target(const tclod_var_model *m, double log_lambda) {
 
 /* Where variable v heads for slope lambda (0: full resolution): its model
  * target, unless the measured slopes say otherwise about the way to go: up
- * only while its slope (past the kink, where a unit costs less) beats lambda,
- * down only while it falls short of it. vars.ratio must be current. */
+ * only while its slope past the kink (vars.up) beats lambda, down only while
+ * its slope falls short of it. vars.ratio and vars.up must be current. */
 static double var_target(const tclod_vars *V, uint32_t v, double lambda, double log_lambda) {
-    const tclod_var_model *m = &V->model[v];
-    double r = V->r[v], x, up;
+    double r = V->r[v], x;
     if (V->state[v] != TCLOD_VAR_LIVE) return r;
-    x = lambda > 0.0 ? model_target(m, log_lambda) : 1.0;
-    up = slope_ratio(V->db[v], r < m->xk && m->dc1 < V->dc[v] ? m->dc1 : V->dc[v]);
-    if ((x > r && !(up > lambda)) || (x < r && !(V->ratio[v] < lambda))) return r;
+    x = lambda > 0.0 ? model_target(&V->model[v], log_lambda) : 1.0;
+    if ((x > r && !(V->up[v] > lambda)) || (x < r && !(V->ratio[v] < lambda)))
+        return r;
     return x;
 }
 
@@ -189,6 +199,92 @@ static double model_spend(const tclod_vars *V, double lambda) {
         if (x != V->r[v]) spend += model_cost(&V->model[v], x) - V->c[v];
     }
     return spend;
+}
+
+/* Where spend_exceeds puts its bound: at first SPEND_BOUND_REACH below the
+ * slope tested (in ln lambda), never more than SPEND_BOUND_MAX_REACH below,
+ * and only when the spend there is below `left` by more than SPEND_BOUND_GAP
+ * of it. EXP_SLACK and EXP_FLOOR: relative and absolute margins on a target
+ * for the rounding of exp (within an ulp in every libm of note). */
+#define SPEND_BOUND_REACH 0.5
+#define SPEND_BOUND_MAX_REACH 16.0
+#define SPEND_BOUND_GAP 0.3
+#define EXP_SLACK 1e-14
+#define EXP_FLOOR 1e-300
+
+/* At least model_cost(x') for every resolution x' <= x. Each of the two lines
+ * rises with x in floating point too: up to the kink, the first line at x;
+ * past it, the larger of the first line at the kink and the second at x
+ * (+inf where they are not numbers). */
+static double model_cost_above(const tclod_var_model *m, double x) {
+    double a, b = 0.0;
+    if (isnan(x))
+        return HUGE_VAL;
+    if (!(x > 0.0))
+        return 0.0;
+    if (x <= m->xk) {
+        a = m->dc0 * x;
+    } else {
+        a = m->dc0 * m->xk;
+        b = m->c1 - m->dc1 * (1.0 - x);
+    }
+    if (isnan(a) || isnan(b))
+        return HUGE_VAL;
+    a = a > b ? a : b;
+    return a > 0.0 ? a : 0.0;
+}
+
+/* Sets vars.bound to at least the spend model_spend computes at any slope
+ * whose ln is at least log_lambda. Every variable's target there is at least
+ * its target at any such slope: ln lambda / beta only grows, each clamp
+ * keeps the order, and past lambda_c (from the part past the kink to the
+ * one before it) the target falls below x_k; exp keeps the order to within
+ * EXP_SLACK. So a live variable adds at most model_cost_above its target here
+ * less its cost now, and no less than 0 (where it stays put it adds
+ * nothing); summed in the same order, as floating-point addition keeps the
+ * order of its terms, the bound is at least model_spend's sum (or that sum
+ * is NaN, which model_spend's callers read as not above). */
+static void bound_spend(tclod_vars *V, double log_lambda) {
+    double bound = 0.0;
+    uint32_t v;
+    for (v = 0; v < V->count; ++v) {
+        double x, t;
+        if (V->state[v] != TCLOD_VAR_LIVE)
+            continue;
+        x = model_target(&V->model[v], log_lambda);
+        x = x * (1.0 + EXP_SLACK) + EXP_FLOOR;
+        t = model_cost_above(&V->model[v], x) - V->c[v];
+        bound += isnan(t) ? HUGE_VAL : (t > 0.0 ? t : 0.0);
+    }
+    V->bounded = 1;
+    V->bound_log = log_lambda;
+    V->bound = bound;
+}
+
+/* model_spend(lambda) > left, settled by the bound of an earlier call where
+ * it can be (a bound within `left` puts the spend within it). The increments
+ * are tested best first, at falling slopes and with less and less left, so
+ * when the spend is well within `left` a bound is made for the tests that
+ * follow at a slope below lambda: twice as far below as the last one when
+ * that one stayed within `left`, half as far when it did not. */
+static int spend_exceeds(tclod_vars *V, double lambda, double left) {
+    double spend;
+    if (lambda > 0.0 && V->bounded && log(lambda) >= V->bound_log && !(V->bound > left)) {
+        assert(!(model_spend(V, lambda) > V->bound));
+        return 0;
+    }
+    spend = model_spend(V, lambda);
+    if (spend > left)
+        return 1;
+    if (lambda > 0.0 && isfinite(lambda) && isfinite(left) &&
+        spend < left - SPEND_BOUND_GAP * fabs(left)) {
+        bound_spend(V, log(lambda) - V->bound_reach);
+        if (V->bound > left)
+            V->bound_reach *= 0.5;
+        else if (V->bound_reach < SPEND_BOUND_MAX_REACH)
+            V->bound_reach *= 2.0;
+    }
+    return 0;
 }
 
 /* The slope at which the models predict the smooth variables to have spent
@@ -206,13 +302,16 @@ static double level(const tclod_selector *sel, double left, double guess) {
     if (!(-sel->reserved <= left)) return HUGE_VAL;
     hi = log(guess > 0.0 && isfinite(guess) ? guess : 1.0);
     if ((fhi = model_spend(V, exp(hi)) - left) > 0.0) {
+        /* the spend at hi is the low end's once the one at hi + 4 is not
+         * above left */
+        flo = fhi;
         for (k = 0; (fhi = model_spend(V, exp(hi + 4.0)) - left) > 0.0; ++k) {
             if (k == 64) return HUGE_VAL;
             hi += 4.0;
+            flo = fhi;
         }
         lo = hi;
         hi += 4.0;
-        flo = model_spend(V, exp(lo)) - left;
     } else {
         for (lo = hi - 4.0, k = 0; !((flo = model_spend(V, exp(lo)) - left) > 0.0); ++k) {
             if (k == 64) return exp(lo);
@@ -250,20 +349,19 @@ static double level(const tclod_selector *sel, double left, double guess) {
  * (dc1^-gamma - dc0^-gamma), c0 = c1 - dc1 its setup cost. */
 static void model_refresh(tclod_var_model *m) {
     double beta = m->beta, gamma = (1.0 - beta) / beta, log_d, w;
-    m->lxk = m->xk > 0.0 ? log(m->xk) : -HUGE_VAL;
     if (!(m->db > 0.0)) { /* no gain: stays at 0 */
         m->l0 = m->l1 = -HUGE_VAL;
         m->lc = HUGE_VAL;
         return;
     }
-    log_d = log(m->db) + beta * log(m->x);
-    m->l1 = m->dc1 > 0.0 ? (log_d - log(m->dc1)) / beta : HUGE_VAL;
-    m->l0 = m->dc0 > 0.0 ? (log_d - log(m->dc0)) / beta : HUGE_VAL;
+    /* ln 1 = 0: the first anchor, at full resolution */
+    log_d = log(m->db) + beta * (m->x == 1.0 ? 0.0 : log(m->x));
+    m->l1 = m->dc1 > 0.0 ? (log_d - m->ldc1) / beta : HUGE_VAL;
+    m->l0 = m->dc0 > 0.0 ? (log_d - m->ldc0) / beta : HUGE_VAL;
     m->lc = -HUGE_VAL;
-    w = pow(m->dc1, -gamma) - pow(m->dc0, -gamma);
-    if (m->xk > 0.0 && w > 0.0 && m->c1 - m->dc1 > 0.0)
-        m->lc = beta * (log(beta / (1.0 - beta)) + (1.0 + gamma) * log_d + log(w) -
-                        log(m->c1 - m->dc1));
+    if (m->xk > 0.0 && m->c1 - m->dc1 > 0.0 &&
+        (w = pow(m->dc1, -gamma) - pow(m->dc0, -gamma)) > 0.0)
+        m->lc = beta * (log(beta / (1.0 - beta)) + (1.0 + gamma) * log_d + log(w) - m->lsetup);
 }
 
 /* Anchors a benefit model at (x, db). */
@@ -283,6 +381,11 @@ static void cost_model(tclod_var_model *m, double dc0, double c1, double dc1) {
         double xk = (c1 - dc1) / (dc0 - dc1);
         m->xk = xk < 1.0 ? xk : 1.0;
     }
+    /* the logarithms model_refresh needs of them, taken once */
+    m->lxk = m->xk > 0.0 ? log(m->xk) : -HUGE_VAL;
+    m->ldc0 = dc0 > 0.0 ? log(dc0) : 0.0;
+    m->ldc1 = dc1 > 0.0 ? log(dc1) : 0.0;
+    m->lsetup = c1 - dc1 > 0.0 ? log(c1 - dc1) : 0.0;
 }
 
 /* After variable v moved to its trial point: the model is re-anchored there,
@@ -308,6 +411,8 @@ static void update_model(tclod_vars *V, uint32_t v) {
 static int start_variables(tclod_selector *sel) {
     tclod_vars *V = &sel->vars;
     uint32_t v;
+    vars_changed(V);
+    V->bound_reach = SPEND_BOUND_REACH;
     for (v = 0; v < V->count; ++v) {
         double b, c = 0.0, db = 0.0, dc = 0.0;
         tclod_var_model *m = &V->model[v];
@@ -326,20 +431,52 @@ static int start_variables(tclod_selector *sel) {
     return 0;
 }
 
-/* Computes every live variable's own slope db/dc into vars.ratio (0 when it
- * cannot gain: no benefit slope, or an infinite cost slope) and returns the
- * largest among those below full resolution. */
-static double ratios(tclod_selector *sel) {
+/* Variable v's own slope db/dc into vars.ratio (0 when it cannot gain: not
+ * live, no benefit slope, or an infinite cost slope) and, when it is live,
+ * the slope of a step up into vars.up (where a unit costs less past the
+ * kink, with the cost slope there). */
+static void var_ratio(tclod_vars *V, uint32_t v) {
+    const tclod_var_model *m = &V->model[v];
+    V->ratio[v] = 0.0;
+    if (V->state[v] != TCLOD_VAR_LIVE)
+        return;
+    V->up[v] = slope_ratio(V->db[v], V->r[v] < m->xk && m->dc1 < V->dc[v] ? m->dc1 : V->dc[v]);
+    if (V->db[v] > 0.0)
+        V->ratio[v] = slope_ratio(V->db[v], V->dc[v]);
+}
+
+/* Makes vars.ratio and vars.up current: var_ratio of every variable. They
+ * change only with the variables, so only those that changed are done again
+ * (moving_changed), or all after vars_changed. */
+static void ratios(tclod_selector *sel) {
     tclod_vars *V = &sel->vars;
+    uint32_t v;
+    if (!V->fresh)
+        for (v = 0; v < V->count; ++v)
+            var_ratio(V, v);
+    V->fresh = 1;
+}
+
+/* ratios, then the largest ratio among the variables below full resolution. */
+static double top_ratio(tclod_selector *sel) {
+    const tclod_vars *V = &sel->vars;
     double best = 0.0;
     uint32_t v;
-    for (v = 0; v < V->count; ++v) {
-        V->ratio[v] = 0.0;
-        if (V->state[v] != TCLOD_VAR_LIVE || !(V->db[v] > 0.0)) continue;
-        V->ratio[v] = slope_ratio(V->db[v], V->dc[v]);
-        if (V->r[v] < 1.0 && V->ratio[v] > best) best = V->ratio[v];
-    }
+    ratios(sel);
+    for (v = 0; v < V->count; ++v)
+        if (V->r[v] < 1.0 && V->ratio[v] > best)
+            best = V->ratio[v];
     return best;
+}
+
+/* The n variables of vars.moving changed: their ratios are made again (the
+ * others' stand) and the bound on the models' spend no longer holds. */
+static void moving_changed(tclod_vars *V, uint32_t n) {
+    uint32_t i;
+    V->bounded = 0;
+    if (V->fresh)
+        for (i = 0; i < n; ++i)
+            var_ratio(V, V->moving[i]);
 }
 
 /* ---- search directions ------------------------------------------------------------ */
@@ -708,6 +845,7 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
         V->db[v] = V->trial[v].db;
         V->dc[v] = V->trial[v].dc;
     }
+    moving_changed(V, n);
     sel->reserved += best.cost - moving_cost;
     *stalled = line_value(&L, &best) - line_value(&L, &origin) <=
                STALL * (fabs(origin.benefit) + fabs(best.benefit));
@@ -719,6 +857,7 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
 static void block_moving(tclod_selector *sel, uint32_t n) {
     uint32_t i;
     for (i = 0; i < n; ++i) sel->vars.state[sel->vars.moving[i]] = TCLOD_VAR_BLOCKED;
+    moving_changed(&sel->vars, n);
 }
 
 /* The papers' loop (eq. 8.8-8.14) with the gradient direction. */
@@ -739,7 +878,7 @@ static int improve_gradient(tclod_selector *sel) {
             R->run = 0;
             continue;
         }
-        if (!R->smooth_done && ratios(sel) > 0.0) {
+        if (!R->smooth_done && top_ratio(sel) > 0.0) {
             n = gradient_direction(sel, d->smooth_epsilon, &slope_c);
             if (n == 0 && d->smooth_epsilon > 0.0) n = gradient_direction(sel, 0.0, &slope_c);
         }
@@ -843,7 +982,7 @@ static int improve_modelled(tclod_selector *sel) {
             if (dc > 0.0) left -= dc;
             /* its slope beats the smooth variables' at the budget left after it
              * exactly when, at its slope, they would spend no more than that */
-            if (!(model_spend(&sel->vars, slope_d) > left)) {
+            if (!spend_exceeds(&sel->vars, slope_d, left)) {
                 if (sel->cost_sum + held + dc <= budget) {
                     if (tclod_greedy_take(sel, cand) != 0) return -1;
                     R->run = 0;
@@ -944,6 +1083,7 @@ static int finish(tclod_selector *sel) {
         if (V->r[i] > 0.0) sum += V->c[i];
     if (!isinf(sum) && sum <= sel->frame->budget) return 0;
     for (i = 0; i < V->count; ++i) V->r[i] = V->b[i] = V->c[i] = 0.0;
+    vars_changed(&sel->vars);
     sel->reserved = 0.0;
     return tclod_greedy_enforce(sel);
 }
@@ -1005,6 +1145,7 @@ static int safeguard(tclod_selector *sel, int *next) {
         uint32_t v;
         if (now >= R->alt_benefit) return 0;
         for (v = 0; v < sel->vars.count; ++v) sel->vars.r[v] = sel->vars.b[v] = sel->vars.c[v] = 0.0;
+        vars_changed(&sel->vars);
         sel->reserved = 0.0;
         return tclod_greedy_force(sel, R->alt_node);
     }

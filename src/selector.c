@@ -97,6 +97,7 @@ static size_t smooth_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRA
     out[n++] = (tclod_array){(void **)&v->dc, sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&v->a, sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&v->ratio, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&v->up, sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&v->moving, sizeof(uint32_t), -1};
     out[n++] = (tclod_array){(void **)&v->state, sizeof(uint8_t), -1};
     out[n++] = (tclod_array){(void **)&v->trial, sizeof(tclod_var_trial), -1};

@@ -90,13 +90,13 @@ static void split_flat(tclod_selector *sel) {
 }
 
 /* Benefit scale of one object (a leaf of one, with the leaf's bounds, or an
- * object of a leaf of several, with its own): its benefit at full resolution,
- * 0 when culled or its benefit is bad. Returns -1 on a strict error. */
-static int object_scale(tclod_selector *sel, uint32_t pos, const float bounds[4], double *scale) {
-    float area, distance;
+ * object of a leaf of several, with its own) measured at area and distance:
+ * its benefit at full resolution, 0 when culled or its benefit is bad.
+ * Returns -1 on a strict error. */
+static int object_scale(tclod_selector *sel, uint32_t pos, const float bounds[4], float area,
+                        float distance, double *scale) {
     double db;
     *scale = 0.0;
-    measure(sel, bounds, &area, &distance);
     if (culled(sel, area)) return 0;
     tclod_smooth_call(sel, pos, 1, bounds, area, distance, 1.0, scale, &db, NULL, NULL);
     return sel->failed ? -1 : 0;
@@ -123,14 +123,17 @@ static int gather(tclod_selector *sel) {
         measure(sel, node->bounds, &area, &distance);
         if (culled(sel, area)) {
             whole = 0;
-        } else if (node->count == 1) {
-            if (object_scale(sel, node->first, node->bounds, &scale[node->first]) != 0) return -1;
-            c = scale[node->first];
+        } else if (node->count == 1) { /* measured just now */
+            if (object_scale(sel, node->first, node->bounds, area, distance, &c) != 0)
+                return -1;
+            scale[node->first] = c;
             q = c * c;
             whole = c > 0.0;
         } else if (node->child_count == 0) {
             for (i = node->first; i < node->first + node->count; ++i) {
-                if (object_scale(sel, i, object_bounds(s, i), &scale[i]) != 0) return -1;
+                measure(sel, object_bounds(s, i), &area, &distance);
+                if (object_scale(sel, i, object_bounds(s, i), area, distance, &scale[i]) != 0)
+                    return -1;
                 c += scale[i];
                 q += scale[i] * scale[i];
                 whole &= scale[i] > 0.0;
