@@ -1377,7 +1377,9 @@ tclod_id tclod_greedy_alternative(tclod_selector *sel, double *benefit) {
 int tclod_greedy_force(tclod_selector *sel, tclod_id n) {
     sel->resume.picks = sel->resume.left_out = 0;
     if (start_cold(sel) != 0) return -1;
-    return force_path(sel, n) != 0 ? -1 : 0;
+    /* 1: n's lookahead jump no longer fits and no cut of it does; the path
+     * above it is taken, a cut within the budget like T(n) without n */
+    return force_path(sel, n) < 0 ? -1 : 0;
 }
 
 int tclod_greedy_take(tclod_selector *sel, tclod_id n) {

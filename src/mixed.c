@@ -1153,6 +1153,7 @@ static int safeguard(tclod_selector *sel, int *next) {
     n = tclod_greedy_alternative(sel, &alt);
     if (n == TCLOD_NONE || !(alt > now * (1.0 + 1e-12))) return 0;
     R->alt_pass = 1;
+    sel->reserved = 0.0; /* T(n) holds nothing smooth: the cut has the whole budget */
     if (tclod_greedy_force(sel, n) != 0 || restart_variables(sel) != 0) return -1;
     *next = MIXED_IMPROVE;
     return 0;
