@@ -42,7 +42,9 @@
 static float *positions;
 static uint32_t object_count;
 
-static float *at(uint32_t f, uint32_t o) { return &positions[(size_t)f * object_count + o]; }
+static float *at(uint32_t f, uint32_t o) {
+    return &positions[(size_t)f * object_count + o];
+}
 
 /* Maps every object node to its object: object_of[node], or UINT32_MAX. */
 static uint32_t *objects_of(const world_scene *w) {
@@ -54,12 +56,16 @@ static uint32_t *objects_of(const world_scene *w) {
         free(root_obj);
         return NULL;
     }
-    for (n = 0; n < w->node_count; ++n) of[n] = root_obj[n] = UINT32_MAX;
-    for (i = 0; i < w->object_count; ++i) root_obj[w->object_root[i]] = i;
+    for (n = 0; n < w->node_count; ++n)
+        of[n] = root_obj[n] = UINT32_MAX;
+    for (i = 0; i < w->object_count; ++i)
+        root_obj[w->object_root[i]] = i;
     for (n = 0; n < w->node_count; ++n) {
         tclod_id a = n;
-        if (w->kind[n] != WORLD_KIND_OBJECT) continue;
-        while (w->level[a] > 0) a = tclod_scene_parent(w->scene, a);
+        if (w->kind[n] != WORLD_KIND_OBJECT)
+            continue;
+        while (w->level[a] > 0)
+            a = tclod_scene_parent(w->scene, a);
         of[n] = root_obj[a];
     }
     free(root_obj);
@@ -81,16 +87,21 @@ static history describe(uint32_t o) {
     uint32_t f;
     for (f = 1; f < FRAMES; ++f) {
         float a = *at(f - 1, o), b = *at(f, o);
-        if (isnan(a) || isnan(b) || a == b) continue;
-        if (b > a) h.ups++;
-        if (b < a) h.downs++;
+        if (isnan(a) || isnan(b) || a == b)
+            continue;
+        if (b > a)
+            h.ups++;
+        if (b < a)
+            h.downs++;
     }
     for (f = 0; f + per < FRAMES; f += per) {
         float a = *at(f, o), b = *at(f + per, o);
-        if (!isnan(a) && !isnan(b) && fabsf(b - a) > h.largest) h.largest = fabsf(b - a);
+        if (!isnan(a) && !isnan(b) && fabsf(b - a) > h.largest)
+            h.largest = fabsf(b - a);
         /* a morph lasts a whole interval: a fractional position is never seen at
          * a boundary frame (the morph starts at weight 0 there) */
-        if (!isnan(a) && a != floorf(a)) h.aligned = 0;
+        if (!isnan(a) && a != floorf(a))
+            h.aligned = 0;
     }
     return h;
 }
@@ -115,9 +126,10 @@ int main(void) {
     sd.callbacks = world_callbacks(&w);
     tclod_scheduler_desc_default(&d);
     d.tau = TAU;
-    d.max_speed = 300.0;  /* above the loop's fastest, about 230 m/s */
+    d.max_speed = 300.0; /* above the loop's fastest, about 230 m/s */
     d.max_turn_rate = 1.0;
-    if (!positions || !object_of || tclod_scheduler_create(w.scene, &sd, &d, NULL, &sch) != TCLOD_OK) {
+    if (!positions || !object_of ||
+        tclod_scheduler_create(w.scene, &sd, &d, NULL, &sch) != TCLOD_OK) {
         fprintf(stderr, "tclod_schedule_figure: setting up failed\n");
         goto done;
     }
@@ -131,10 +143,12 @@ int main(void) {
             fprintf(stderr, "tclod_schedule_figure: the scheduler failed at frame %u\n", f);
             goto done;
         }
-        for (o = 0; o < object_count; ++o) *at(f, o) = NAN;
+        for (o = 0; o < object_count; ++o)
+            *at(f, o) = NAN;
         for (i = 0; i < n; ++i) {
             uint32_t obj = object_of[items[i].fine];
-            if (obj == UINT32_MAX) continue;
+            if (obj == UINT32_MAX)
+                continue;
             *at(f, obj) = items[i].fine == items[i].coarse
                               ? (float)w.level[items[i].fine]
                               : (float)w.level[items[i].coarse] + items[i].weight;
@@ -148,8 +162,10 @@ int main(void) {
             history h = describe(o);
             uint32_t j;
             int taken = 0;
-            for (j = 0; j < npicked; ++j) taken |= picked[j] == o;
-            if (taken) continue;
+            for (j = 0; j < npicked; ++j)
+                taken |= picked[j] == o;
+            if (taken)
+                continue;
             if (k == 0 && h.ups > 0 && h.downs > 0) {
                 best = o;
                 break;
@@ -163,7 +179,8 @@ int main(void) {
                 break;
             }
         }
-        if (best != UINT32_MAX) picked[npicked++] = best;
+        if (best != UINT32_MAX)
+            picked[npicked++] = best;
     }
     printf("# tau %.3f s, %.0f frames per second, %u frames, budget %.1f ms\n", TAU, HZ, FRAMES,
            BUDGET_MS);

@@ -90,8 +90,9 @@ typedef enum method {
 } method;
 
 static const char *const method_names[METHOD_COUNT] = {
-    "greedy", "mixed", "robin_hood", "greedy_lookahead", "greedy_restarts",
-    "threshold_tuned", "threshold_fixed", "pq_stop", "flat"};
+    "greedy",           "mixed",           "robin_hood",
+    "greedy_lookahead", "greedy_restarts", "threshold_tuned",
+    "threshold_fixed",  "pq_stop",         "flat"};
 
 /* The methods that are the library's solvers come first. */
 #define LIBRARY_METHODS 5
@@ -181,9 +182,9 @@ typedef struct solvers {
 } solvers;
 
 static tclod_status solvers_create(const tclod_scene *s, tclod_callbacks cb, solvers *out) {
-    static const tclod_solver kinds[LIBRARY_METHODS] = {
-        TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_MIXED, TCLOD_SOLVER_ROBIN_HOOD, TCLOD_SOLVER_GREEDY,
-        TCLOD_SOLVER_GREEDY};
+    static const tclod_solver kinds[LIBRARY_METHODS] = {TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_MIXED,
+                                                        TCLOD_SOLVER_ROBIN_HOOD,
+                                                        TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_GREEDY};
     int i;
     memset(out, 0, sizeof *out);
     if (cb.smooth_benefit == NULL) {

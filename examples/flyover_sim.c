@@ -103,12 +103,12 @@ typedef struct options {
     int target_given;
     double gpu_c; /* the simulated machine's true C of eq. 7 */
     int gpu_c_given;
-    int scheduler;    /* --scheduler: the predictive geomorph scheduler */
-    double tau;       /* its interval, s */
+    int scheduler; /* --scheduler: the predictive geomorph scheduler */
+    double tau;    /* its interval, s */
     int tau_given;
-    int morph;        /* its three-stage pipeline with geomorphs */
+    int morph; /* its three-stage pipeline with geomorphs */
     int morph_given;
-    double slice_us;  /* its selection time per frame */
+    double slice_us; /* its selection time per frame */
     int slice_given;
 } options;
 
@@ -550,18 +550,22 @@ static unsigned long count_changes(change_counter *c, const tclod_scene *s, cons
     uint32_t st = ++c->stamp;
     size_t i;
     int pass;
-    for (i = 0; i < c->prev_count; ++i) c->in_prev[c->prev[i]] = st;
-    for (i = 0; i < n; ++i) c->in_cur[cur[i]] = st;
+    for (i = 0; i < c->prev_count; ++i)
+        c->in_prev[c->prev[i]] = st;
+    for (i = 0; i < n; ++i)
+        c->in_cur[cur[i]] = st;
     for (pass = 0; pass < 2; ++pass) {
         const tclod_id *list = pass == 0 ? cur : c->prev;
         const uint32_t *own = pass == 0 ? c->in_prev : c->in_cur;
         size_t count = pass == 0 ? n : c->prev_count;
         for (i = 0; i < count; ++i) {
             tclod_id a;
-            if (own[list[i]] == st) continue; /* drawn in both */
+            if (own[list[i]] == st)
+                continue; /* drawn in both */
             for (a = tclod_scene_parent(s, list[i]); a != TCLOD_NONE;
                  a = tclod_scene_parent(s, a)) {
-                if (own[a] != st) continue;
+                if (own[a] != st)
+                    continue;
                 if (c->counted[a] != st) {
                     c->counted[a] = st;
                     ++changes;
@@ -570,7 +574,8 @@ static unsigned long count_changes(change_counter *c, const tclod_scene *s, cons
             }
         }
     }
-    if (n) memcpy(c->prev, cur, n * sizeof(*cur));
+    if (n)
+        memcpy(c->prev, cur, n * sizeof(*cur));
     c->prev_count = n;
     return changes;
 }
@@ -587,17 +592,21 @@ static void camera_bounds(const sim_scene *s, double *speed, double *turn) {
         double d[3], fa, fb, dot = 0.0, len;
         int k;
         camera_at(s, f, &b);
-        for (k = 0; k < 3; ++k) d[k] = (double)b.eye[k] - (double)a.eye[k];
+        for (k = 0; k < 3; ++k)
+            d[k] = (double)b.eye[k] - (double)a.eye[k];
         len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) * SCHEDULER_HZ;
-        if (len > *speed) *speed = len;
+        if (len > *speed)
+            *speed = len;
         fa = sqrt((double)a.forward[0] * a.forward[0] + (double)a.forward[1] * a.forward[1] +
                   (double)a.forward[2] * a.forward[2]);
         fb = sqrt((double)b.forward[0] * b.forward[0] + (double)b.forward[1] * b.forward[1] +
                   (double)b.forward[2] * b.forward[2]);
-        for (k = 0; k < 3; ++k) dot += (double)a.forward[k] * (double)b.forward[k];
+        for (k = 0; k < 3; ++k)
+            dot += (double)a.forward[k] * (double)b.forward[k];
         dot /= fa * fb;
         len = acos(dot > 1.0 ? 1.0 : dot) * SCHEDULER_HZ;
-        if (len > *turn) *turn = len;
+        if (len > *turn)
+            *turn = len;
         a = b;
     }
 }
@@ -622,7 +631,8 @@ static int draw_check_init(draw_check *c, const tclod_scene *scene) {
     if (!c->fine || !c->groups || !c->position ||
         tclod_scene_smooth_order((tclod_scene *)(uintptr_t)scene, &order, &count) != TCLOD_OK)
         return 0;
-    for (i = 0; i < count; ++i) c->position[order[i]] = i;
+    for (i = 0; i < count; ++i)
+        c->position[order[i]] = i;
     return 1;
 }
 
@@ -641,11 +651,14 @@ static double draw_cost(const sim_scene *sim, draw_check *c, const tclod_schedul
     const tclod_scene *scene = sim->kind == SCENE_THESIS ? sim->thesis.scene : sim->world.scene;
     uint32_t smooth = tclod_scene_smooth_count(scene), i;
     size_t groups = 0, k;
-    for (k = 0; k < n; ++k) c->fine[k] = items[k].fine;
-    if (sim->kind != SCENE_THESIS) return world_sum_cost(&sim->world, c->fine, n);
+    for (k = 0; k < n; ++k)
+        c->fine[k] = items[k].fine;
+    if (sim->kind != SCENE_THESIS)
+        return world_sum_cost(&sim->world, c->fine, n);
     for (i = 0; i < smooth; ++i) {
         double r = tclod_scheduler_resolution(sch, i);
-        if (!(r > 0.0)) continue;
+        if (!(r > 0.0))
+            continue;
         c->groups[groups].first = c->position[i];
         c->groups[groups].count = 1;
         c->groups[groups].resolution = r;
@@ -708,8 +721,8 @@ static int run_scheduler(const options *opt, sim_scene *sim, const tclod_selecto
            "%.0f Hz, max speed %.1f m/s, max turn %.3f rad/s, budget %.3f ms, %lu frames\n\n",
            opt->solver_name, sd->warm_start, d.tau, d.morph, opt->slice_us, SCHEDULER_HZ,
            d.max_speed, d.max_turn_rate, opt->budget_ms, opt->frames);
-    printf("%7s %10s %7s %9s %9s %10s %10s\n", "frame", "update_us", "drawn", "morphing",
-           "cost_ms", "budget_ms", "selections");
+    printf("%7s %10s %7s %9s %9s %10s %10s\n", "frame", "update_us", "drawn", "morphing", "cost_ms",
+           "budget_ms", "selections");
 
     for (frame = 0; frame < opt->frames; ++frame) {
         tclod_view view;
@@ -720,8 +733,10 @@ static int run_scheduler(const options *opt, sim_scene *sim, const tclod_selecto
         t0 = now_us();
         status = tclod_scheduler_update(sch, now, &view, opt->budget_ms, opt->slice_us * 1e-6);
         t1 = now_us();
-        if (status == TCLOD_OK) status = tclod_scheduler_draws(sch, &items, &n);
-        if (status == TCLOD_OK) status = tclod_scheduler_get_stats(sch, &st);
+        if (status == TCLOD_OK)
+            status = tclod_scheduler_draws(sch, &items, &n);
+        if (status == TCLOD_OK)
+            status = tclod_scheduler_get_stats(sch, &st);
         if (status != TCLOD_OK) {
             fprintf(stderr, "flyover_sim: the scheduler failed at frame %lu: %s\n", frame,
                     tclod_status_string(status));
@@ -729,17 +744,18 @@ static int run_scheduler(const options *opt, sim_scene *sim, const tclod_selecto
         }
         /* the invariant, checked from outside */
         own_cost = draw_cost(sim, &check, sch, items, n);
-        if (own_cost > opt->budget_ms || st.draw_cost > st.budget) ++violations;
+        if (own_cost > opt->budget_ms || st.draw_cost > st.budget)
+            ++violations;
         update_us[frame] = t1 - t0;
         sum_us += t1 - t0;
         sum_ratio += st.draw_cost / opt->budget_ms;
         if (frame % PRINT_EVERY == 0 || frame + 1 == opt->frames)
-            printf("%7lu %10.1f %7lu %9lu %9.4f %10.4f %10lu\n", frame, t1 - t0,
-                   (unsigned long)n, (unsigned long)st.morphing, st.draw_cost, opt->budget_ms,
+            printf("%7lu %10.1f %7lu %9lu %9.4f %10.4f %10lu\n", frame, t1 - t0, (unsigned long)n,
+                   (unsigned long)st.morphing, st.draw_cost, opt->budget_ms,
                    (unsigned long)st.selections);
         if (csv)
-            fprintf(csv, "%lu,%.6f,%.3f,%lu,%lu,%.9g,%.9g,%lu,%lu,%lu,%llu,%llu,%llu\n", frame,
-                    now, t1 - t0, (unsigned long)n, (unsigned long)st.morphing, st.draw_cost,
+            fprintf(csv, "%lu,%.6f,%.3f,%lu,%lu,%.9g,%.9g,%lu,%lu,%lu,%llu,%llu,%llu\n", frame, now,
+                    t1 - t0, (unsigned long)n, (unsigned long)st.morphing, st.draw_cost,
                     opt->budget_ms, (unsigned long)st.selections, (unsigned long)st.unfinished,
                     (unsigned long)st.emergencies, (unsigned long long)st.changes,
                     (unsigned long long)st.morphs, (unsigned long long)st.pops);

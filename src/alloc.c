@@ -30,7 +30,8 @@ static void default_free(void *ptr, size_t size, void *ctx) {
 }
 
 int tclod_allocator_init(tclod_allocator *dst, const tclod_allocator *src) {
-    if (src && (src->alloc == NULL) != (src->free == NULL)) return 0;
+    if (src && (src->alloc == NULL) != (src->free == NULL))
+        return 0;
     if (src && src->alloc) {
         *dst = *src;
     } else {
@@ -46,26 +47,32 @@ void *tclod_mem_alloc(const tclod_allocator *a, size_t size) {
 }
 
 void tclod_mem_free(const tclod_allocator *a, void *ptr, size_t size) {
-    if (ptr) a->free(ptr, size ? size : 1, a->ctx);
+    if (ptr)
+        a->free(ptr, size ? size : 1, a->ctx);
 }
 
 tclod_status tclod_arrays_alloc(const tclod_allocator *a, const tclod_array *arrays, size_t count,
                                 size_t new_cap, void **fresh) {
     size_t i;
     for (i = 0; i < count; ++i) {
-        if (new_cap > SIZE_MAX / arrays[i].elem) break;
+        if (new_cap > SIZE_MAX / arrays[i].elem)
+            break;
         fresh[i] = tclod_mem_alloc(a, arrays[i].elem * new_cap);
-        if (!fresh[i]) break;
+        if (!fresh[i])
+            break;
     }
-    if (i == count) return TCLOD_OK;
-    while (i-- > 0) tclod_mem_free(a, fresh[i], arrays[i].elem * new_cap);
+    if (i == count)
+        return TCLOD_OK;
+    while (i-- > 0)
+        tclod_mem_free(a, fresh[i], arrays[i].elem * new_cap);
     return TCLOD_ERR_NOMEM;
 }
 
 void tclod_arrays_discard(const tclod_allocator *a, const tclod_array *arrays, size_t count,
                           size_t new_cap, void **fresh) {
     size_t i;
-    for (i = 0; i < count; ++i) tclod_mem_free(a, fresh[i], arrays[i].elem * new_cap);
+    for (i = 0; i < count; ++i)
+        tclod_mem_free(a, fresh[i], arrays[i].elem * new_cap);
 }
 
 void tclod_arrays_commit(const tclod_allocator *a, const tclod_array *arrays, size_t count,
@@ -75,7 +82,8 @@ void tclod_arrays_commit(const tclod_allocator *a, const tclod_array *arrays, si
     for (i = 0; i < count; ++i) {
         unsigned char *to = (unsigned char *)fresh[i];
         size_t elem = arrays[i].elem;
-        if (old_cap) memcpy(to, *arrays[i].ptr, elem * old_cap);
+        if (old_cap)
+            memcpy(to, *arrays[i].ptr, elem * old_cap);
         if (arrays[i].fill >= 0)
             memset(to + elem * old_cap, arrays[i].fill, elem * (new_cap - old_cap));
         tclod_mem_free(a, *arrays[i].ptr, elem * old_cap);
@@ -89,7 +97,8 @@ tclod_status tclod_arrays_grow(const tclod_allocator *a, const tclod_array *arra
     tclod_status st;
     assert(count <= TCLOD_MAX_ARRAYS);
     st = tclod_arrays_alloc(a, arrays, count, new_cap, fresh);
-    if (st == TCLOD_OK) tclod_arrays_commit(a, arrays, count, old_cap, new_cap, fresh);
+    if (st == TCLOD_OK)
+        tclod_arrays_commit(a, arrays, count, old_cap, new_cap, fresh);
     return st;
 }
 
@@ -97,7 +106,8 @@ void tclod_arrays_free(const tclod_allocator *a, const tclod_array *arrays, size
                        size_t cap) {
     size_t i;
     for (i = 0; i < count; ++i) {
-        if (cap) tclod_mem_free(a, *arrays[i].ptr, arrays[i].elem * cap);
+        if (cap)
+            tclod_mem_free(a, *arrays[i].ptr, arrays[i].elem * cap);
         *arrays[i].ptr = NULL;
     }
 }

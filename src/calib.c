@@ -26,9 +26,9 @@
 struct tclod_calib {
     tclod_allocator alloc;
     tclod_calib_desc desc;
-    double scale; /* measured render time per unit of predicted cost, in
-                     [DBL_MIN, DBL_MAX] */
-    double logic; /* logic-time estimate, >= 0, finite */
+    double scale;                       /* measured render time per unit of predicted cost, in
+                                           [DBL_MIN, DBL_MAX] */
+    double logic;                       /* logic-time estimate, >= 0, finite */
     int scale_measured, logic_measured; /* the estimates hold a measurement: new
                                            ones blend in; else they replace */
 };
@@ -55,13 +55,14 @@ tclod_status tclod_render_budget(double frame_time, double logic_time, double ma
      * logic time at or above the frame time leaves no render time at all. */
     l = logic_time / frame_time;
     l = l >= 1.0 ? 1.0 : l * l;
-    rho = 1.0 - l;                                 /* eq. 6 */
+    rho = 1.0 - l;                                     /* eq. 6 */
     *render_time = rho * rho * frame_time / machine_c; /* eq. 7 */
     return TCLOD_OK;
 }
 
 void tclod_calib_desc_default(tclod_calib_desc *d) {
-    if (!d) return;
+    if (!d)
+        return;
     d->initial_scale = 1.0;
     d->rise_rate = 0.5;
     d->fall_rate = 0.1;
@@ -76,14 +77,16 @@ tclod_status tclod_calib_create(const tclod_calib_desc *d, const tclod_allocator
                                 tclod_calib **out) {
     tclod_allocator alloc;
     tclod_calib *c;
-    if (!d || !out || !tclod_allocator_init(&alloc, a)) return TCLOD_ERR_ARG;
+    if (!d || !out || !tclod_allocator_init(&alloc, a))
+        return TCLOD_ERR_ARG;
     if (!finite_positive(d->initial_scale) || !rate_valid(d->rise_rate) ||
         !rate_valid(d->fall_rate) || !(d->dead_band >= 0.0 && d->dead_band < 1.0) ||
         !rate_valid(d->logic_rate) || !finite_nonnegative(d->initial_logic) ||
         !finite_positive(d->machine_c))
         return TCLOD_ERR_ARG;
     c = (tclod_calib *)tclod_mem_alloc(&alloc, sizeof *c);
-    if (!c) return TCLOD_ERR_NOMEM;
+    if (!c)
+        return TCLOD_ERR_NOMEM;
     memset(c, 0, sizeof *c);
     c->alloc = alloc;
     c->desc = *d;
@@ -98,7 +101,8 @@ tclod_status tclod_calib_create(const tclod_calib_desc *d, const tclod_allocator
 
 void tclod_calib_destroy(tclod_calib *c) {
     tclod_allocator alloc;
-    if (!c) return;
+    if (!c)
+        return;
     alloc = c->alloc;
     tclod_mem_free(&alloc, c, sizeof *c);
 }
@@ -108,7 +112,8 @@ void tclod_calib_destroy(tclod_calib *c) {
  * kept in a range stays in it. */
 static double approach(double from, double to, double rate) {
     double x = from + rate * (to - from);
-    if (to >= from) return x > to ? to : x;
+    if (to >= from)
+        return x > to ? to : x;
     return x < to ? to : x;
 }
 
@@ -124,8 +129,10 @@ tclod_status tclod_calib_report(tclod_calib *c, double predicted_cost, double re
         /* A render time of 0, or a tiny predicted cost that overflows the
          * division, would drive the scale to 0 or inf, from which no budget
          * (or only NaN) follows; the ends of the range stand in for them. */
-        if (ratio < DBL_MIN) ratio = DBL_MIN;
-        if (ratio > DBL_MAX) ratio = DBL_MAX;
+        if (ratio < DBL_MIN)
+            ratio = DBL_MIN;
+        if (ratio > DBL_MAX)
+            ratio = DBL_MAX;
         if (!c->scale_measured)
             c->scale = ratio; /* the first measurement, against a guess */
         else if (fabs(ratio - s) > c->desc.dead_band * s)
@@ -148,9 +155,11 @@ double tclod_calib_logic(const tclod_calib *c) {
 tclod_status tclod_calib_budget(const tclod_calib *c, double frame_time, double *budget) {
     double render;
     tclod_status st;
-    if (!c || !budget) return TCLOD_ERR_ARG;
+    if (!c || !budget)
+        return TCLOD_ERR_ARG;
     st = tclod_render_budget(frame_time, c->logic, c->desc.machine_c, &render);
-    if (st != TCLOD_OK) return st;
+    if (st != TCLOD_OK)
+        return st;
     *budget = render / c->scale;
     return TCLOD_OK;
 }

@@ -65,7 +65,9 @@ static int evaluate(tclod_selector *sel, tclod_id n) {
     return sel->node[n].stamp == sel->solve_id ? 0 : evaluate_fresh(sel, n);
 }
 
-int tclod_evaluate_node(tclod_selector *sel, tclod_id n) { return evaluate(sel, n); }
+int tclod_evaluate_node(tclod_selector *sel, tclod_id n) {
+    return evaluate(sel, n);
+}
 
 /* ---- the cut and its running sums ------------------------------------------ */
 
@@ -74,11 +76,14 @@ static int counts(const tclod_selector *sel, tclod_id n) {
 }
 
 /* Costs are >= 0 or +inf (unaffordable): never NaN, never -inf. */
-static int unaffordable(double cost) { return cost == HUGE_VAL; }
+static int unaffordable(double cost) {
+    return cost == HUGE_VAL;
+}
 
 static void account(tclod_selector *sel, tclod_id n, double sign) {
     const tclod_node_state *st = &sel->node[n];
-    if (!counts(sel, n)) return;
+    if (!counts(sel, n))
+        return;
     sel->benefit_sum += sign * st->benefit;
     if (unaffordable(st->cost)) {
         if (sign > 0.0)
@@ -125,7 +130,8 @@ static const tclod_id *children_of(const tclod_selector *sel, tclod_id n, uint32
 
 /* The key of increment (db, dc): NaN when it gains nothing. */
 static double ratio_key(double db, double dc) {
-    if (!(db > 0.0)) return (double)NAN;
+    if (!(db > 0.0))
+        return (double)NAN;
     return dc > 0.0 ? db / dc : HUGE_VAL;
 }
 
@@ -139,7 +145,8 @@ static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
     double sum_b = 0.0, sum_c = 0.0, db, dc;
     int affordable = 1;
     *failed = 0;
-    if (i == end || !counts(sel, n)) return (double)NAN;
+    if (i == end || !counts(sel, n))
+        return (double)NAN;
     for (; i < end; ++i) {
         tclod_id c = s->children[i];
         double cost;
@@ -156,7 +163,8 @@ static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
     dc = sum_c - node[n].cost; /* -inf when n itself is unaffordable */
     node[n].delta_b = db;
     node[n].delta_c = dc;
-    if (!affordable || !isfinite(sum_c) || !(db > 0.0)) return (double)NAN;
+    if (!affordable || !isfinite(sum_c) || !(db > 0.0))
+        return (double)NAN;
     return dc > 0.0 ? db / dc : HUGE_VAL;
 }
 
@@ -360,7 +368,8 @@ static int closes(const tclod_selector *sel, double key) {
 static inline int queue_as(tclod_selector *sel, tclod_id n, int append, int look) {
     int failed;
     double key = look ? lookahead_key(sel, n, &failed) : increment_key(sel, n, &failed);
-    if (failed) return -1;
+    if (failed)
+        return -1;
     if (closes(sel, key)) {
         sel->scratch[sel->resume.closure_tail++] = n;
     } else if (key == key) {
@@ -391,7 +400,8 @@ static inline int requeue_as(tclod_selector *sel, tclod_id n, tclod_id *held, in
     double key;
     assert(!sel->resume.closing); /* the closure takes only increments it queued */
     key = look ? lookahead_key(sel, n, &failed) : increment_key(sel, n, &failed);
-    if (failed) return -1;
+    if (failed)
+        return -1;
     if (key == key) {
         tclod_heap_replace(&sel->inc, *held, n, key);
         if (sel->cheap_live)
@@ -414,9 +424,11 @@ static int requeue_increment(tclod_selector *sel, tclod_id n, tclod_id *held) {
 }
 
 static void unqueue_increment(tclod_selector *sel, tclod_id n) {
-    if (!tclod_heap_contains(&sel->inc, n)) return;
+    if (!tclod_heap_contains(&sel->inc, n))
+        return;
     tclod_heap_remove(&sel->inc, n);
-    if (sel->cheap_live) tclod_heap_remove(&sel->cheap, n);
+    if (sel->cheap_live)
+        tclod_heap_remove(&sel->cheap, n);
 }
 
 static void clear_heaps(tclod_selector *sel) {
@@ -534,7 +546,8 @@ static int collapsible(const tclod_selector *sel, tclod_id p) {
     uint32_t count, i;
     const tclod_id *ch = children_of(sel, p, &count);
     for (i = 0; i < count; ++i)
-        if (sel->node[ch[i]].cut_pos == TCLOD_NONE) return 0;
+        if (sel->node[ch[i]].cut_pos == TCLOD_NONE)
+            return 0;
     return count > 0;
 }
 
@@ -548,7 +561,8 @@ static double decrement_key(tclod_selector *sel, tclod_id p) {
     double sum_b = 0.0, sum_c = 0.0, loss, saved;
     int unaffordable = 0;
     for (i = 0; i < count; ++i) {
-        if (!counts(sel, ch[i])) continue;
+        if (!counts(sel, ch[i]))
+            continue;
         sum_b += sel->node[ch[i]].benefit;
         if (isinf(sel->node[ch[i]].cost))
             unaffordable = 1;
@@ -559,18 +573,24 @@ static double decrement_key(tclod_selector *sel, tclod_id p) {
     saved = sum_c - sel->node[p].cost;
     sel->node[p].delta_b = loss;
     sel->node[p].delta_c = saved;
-    if (isinf(sel->node[p].cost) || !isfinite(sum_c)) return -HUGE_VAL;
-    if (unaffordable) return HUGE_VAL;
-    if (loss <= 0.0 && saved >= 0.0) return HUGE_VAL;
-    if (saved > 0.0) return -(loss / saved);
+    if (isinf(sel->node[p].cost) || !isfinite(sum_c))
+        return -HUGE_VAL;
+    if (unaffordable)
+        return HUGE_VAL;
+    if (loss <= 0.0 && saved >= 0.0)
+        return HUGE_VAL;
+    if (saved > 0.0)
+        return -(loss / saved);
     return -HUGE_VAL;
 }
 
 /* Queues the decrement into p when p is collapsible. */
 static int queue_decrement(tclod_selector *sel, tclod_id p, int append) {
     double key;
-    if (p == TCLOD_NONE || tclod_heap_contains(&sel->dec, p) || !collapsible(sel, p)) return 0;
-    if (evaluate(sel, p) != 0) return -1;
+    if (p == TCLOD_NONE || tclod_heap_contains(&sel->dec, p) || !collapsible(sel, p))
+        return 0;
+    if (evaluate(sel, p) != 0)
+        return -1;
     key = decrement_key(sel, p);
     if (append)
         tclod_heap_append(&sel->dec, p, key);
@@ -653,7 +673,8 @@ static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
         if (track_dec && queue_decrement(sel, n, 0) != 0)
             return -1;
     }
-    if (held != TCLOD_NONE) unqueue_increment(sel, held);
+    if (held != TCLOD_NONE)
+        unqueue_increment(sel, held);
     sel->stats.increments++;
     if (track_dec && parent != TCLOD_NONE && tclod_heap_contains(&sel->dec, parent))
         tclod_heap_remove(&sel->dec, parent);
@@ -663,15 +684,18 @@ static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
 static int apply_decrement(tclod_selector *sel, tclod_id p) {
     uint32_t count, i;
     const tclod_id *ch = children_of(sel, p, &count);
-    if (tclod_heap_contains(&sel->dec, p)) tclod_heap_remove(&sel->dec, p);
+    if (tclod_heap_contains(&sel->dec, p))
+        tclod_heap_remove(&sel->dec, p);
     for (i = 0; i < count; ++i) {
         unqueue_increment(sel, ch[i]);
-        if (tclod_heap_contains(&sel->dec, ch[i])) tclod_heap_remove(&sel->dec, ch[i]);
+        if (tclod_heap_contains(&sel->dec, ch[i]))
+            tclod_heap_remove(&sel->dec, ch[i]);
         cut_remove(sel, ch[i]);
     }
     cut_add(sel, p);
     sel->stats.decrements++;
-    if (queue_increment(sel, p, 0) != 0) return -1;
+    if (queue_increment(sel, p, 0) != 0)
+        return -1;
     return queue_decrement(sel, sel->scene->parent[p], 0);
 }
 
@@ -703,7 +727,8 @@ static void keep_roots(tclod_selector *sel, uint32_t n, uint32_t first) {
     }
     sel->cost_sum = sel->benefit_sum = 0.0;
     sel->unaffordable = 0;
-    for (i = 0; i < sel->cut_count; ++i) account(sel, sel->cut[i], 1.0);
+    for (i = 0; i < sel->cut_count; ++i)
+        account(sel, sel->cut[i], 1.0);
 }
 
 /* When even the visible roots in the cut do not fit: keeps the highest value
@@ -716,10 +741,12 @@ static void drop_roots(tclod_selector *sel) {
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id r = sel->cut[i];
         double c;
-        if (!counts(sel, r)) continue;
+        if (!counts(sel, r))
+            continue;
         c = sel->node[r].cost;
         sel->scratch[n] = r;
-        sel->scratch_key[n] = isinf(c) ? -HUGE_VAL : (c > 0.0 ? sel->node[r].benefit / c : HUGE_VAL);
+        sel->scratch_key[n] =
+            isinf(c) ? -HUGE_VAL : (c > 0.0 ? sel->node[r].benefit / c : HUGE_VAL);
         n++;
     }
     tclod_sort_by_key(sel->scratch, sel->scratch_key, n);
@@ -730,10 +757,12 @@ static void drop_roots(tclod_selector *sel) {
             (best == TCLOD_NONE || sel->node[r].benefit > sel->node[sel->scratch[best]].benefit))
             best = i;
     }
-    if (best != TCLOD_NONE) keep_roots(sel, n, best);
+    if (best != TCLOD_NONE)
+        keep_roots(sel, n, best);
     for (i = 0; i < n; ++i) {
         tclod_id r = sel->scratch[i];
-        if (!(sel->flags[r] & TCLOD_FLAG_DROPPED)) continue;
+        if (!(sel->flags[r] & TCLOD_FLAG_DROPPED))
+            continue;
         sel->stats.dropped_roots++;
         unqueue_increment(sel, r);
     }
@@ -760,13 +789,16 @@ static int start_cold(tclod_selector *sel) {
     clear_cut(sel);
     for (i = 0; i < s->root_count; ++i) {
         tclod_id r = s->roots[i];
-        if (evaluate(sel, r) != 0) return -1;
+        if (evaluate(sel, r) != 0)
+            return -1;
         sel->path[2u * r] = sel->path[2u * r + 1u] = 0.0;
         cut_add(sel, r);
     }
-    if (!feasible(sel)) drop_roots(sel);
+    if (!feasible(sel))
+        drop_roots(sel);
     for (i = 0; i < sel->cut_count; ++i)
-        if (queue_increment(sel, sel->cut[i], 1) != 0) return -1;
+        if (queue_increment(sel, sel->cut[i], 1) != 0)
+            return -1;
     tclod_heap_build(&sel->inc);
     return 0;
 }
@@ -783,7 +815,8 @@ static int start_cold(tclod_selector *sel) {
 static void sort_cut(tclod_selector *sel) {
     uint32_t count[4][256], n = sel->cut_count, i, d;
     tclod_id *a = sel->cut, *b = sel->scratch;
-    if (n < 2u) return;
+    if (n < 2u)
+        return;
     memset(count, 0, sizeof count);
     for (i = 0; i < n; ++i) {
         tclod_id v = a[i];
@@ -795,7 +828,8 @@ static void sort_cut(tclod_selector *sel) {
     for (d = 0; d < 4u; ++d) {
         uint32_t shift = 8u * d, *at = count[d], sum = 0, k;
         tclod_id *t;
-        if (at[(a[0] >> shift) & 255u] == n) continue;
+        if (at[(a[0] >> shift) & 255u] == n)
+            continue;
         for (k = 0; k < 256u; ++k) {
             uint32_t c = at[k];
             at[k] = sum;
@@ -809,27 +843,32 @@ static void sort_cut(tclod_selector *sel) {
         a = b;
         b = t;
     }
-    if (a != sel->cut) memcpy(sel->cut, a, sizeof(tclod_id) * n);
-    for (i = 0; i < n; ++i) sel->node[sel->cut[i]].cut_pos = i;
+    if (a != sel->cut)
+        memcpy(sel->cut, a, sizeof(tclod_id) * n);
+    for (i = 0; i < n; ++i)
+        sel->node[sel->cut[i]].cut_pos = i;
 }
 
 /* Cut = the previous cut, re-evaluated; queues its increments and decrements. */
 static int start_warm(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
     uint32_t i;
-    if (s->node_count >= SORT_FROM_NODES) sort_cut(sel);
+    if (s->node_count >= SORT_FROM_NODES)
+        sort_cut(sel);
     sel->cost_sum = sel->benefit_sum = 0.0;
     sel->unaffordable = 0;
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id n = sel->cut[i];
         sel->flags[n] = 0;
-        if (evaluate(sel, n) != 0) return -1;
+        if (evaluate(sel, n) != 0)
+            return -1;
         account(sel, n, 1.0);
     }
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id n = sel->cut[i];
         tclod_id p = s->parent[n];
-        if (queue_increment(sel, n, 1) != 0) return -1;
+        if (queue_increment(sel, n, 1) != 0)
+            return -1;
         /* each parent is looked at once: from its first child */
         if (p != TCLOD_NONE && s->children[s->child_first[p]] == n &&
             queue_decrement(sel, p, 1) != 0)
@@ -847,13 +886,15 @@ int tclod_out_of_time(tclod_selector *sel) {
     uint32_t it = sel->stats.iterations;
     int read_clock = it % CLOCK_STRIDE == 0;
     double now = 0.0;
-    if (sel->stopped) return 1;
+    if (sel->stopped)
+        return 1;
     if (f->max_iterations && it >= f->max_iterations) {
         sel->stats.stop_reason = TCLOD_STOP_ITERATIONS;
         sel->stopped = 1;
         return 1;
     }
-    if (read_clock && (f->solve_seconds > 0.0 || sel->slice_end > 0.0)) now = tclod_now();
+    if (read_clock && (f->solve_seconds > 0.0 || sel->slice_end > 0.0))
+        now = tclod_now();
     if (read_clock && f->solve_seconds > 0.0 &&
         sel->elapsed + (now - sel->start_time) >= f->solve_seconds) {
         sel->stats.stop_reason = TCLOD_STOP_TIME;
@@ -861,9 +902,8 @@ int tclod_out_of_time(tclod_selector *sel) {
         return 1;
     }
     /* a step makes at least one iteration, so that steps always progress */
-    if (it != sel->step_start &&
-        ((sel->slice_iterations && it >= sel->slice_iterations) ||
-         (read_clock && sel->slice_end > 0.0 && now >= sel->slice_end))) {
+    if (it != sel->step_start && ((sel->slice_iterations && it >= sel->slice_iterations) ||
+                                  (read_clock && sel->slice_end > 0.0 && now >= sel->slice_end))) {
         sel->paused = 1;
         return 1;
     }
@@ -879,16 +919,19 @@ static int restore_budget(tclod_selector *sel) {
             break;
         }
         sel->stats.iterations++;
-        if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0) return -1;
+        if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0)
+            return -1;
     }
     return 0;
 }
 
 /* Loss per saved cost of the cheapest decrement that saves cost, or +inf. */
 static double min_loss_ratio(const tclod_selector *sel) {
-    if (sel->dec.count == 0) return HUGE_VAL;
+    if (sel->dec.count == 0)
+        return HUGE_VAL;
     tclod_id p = sel->dec.items[0].id;
-    if (!(sel->node[p].delta_c > 0.0)) return HUGE_VAL;
+    if (!(sel->node[p].delta_c > 0.0))
+        return HUGE_VAL;
     return -sel->dec.items[0].key;
 }
 
@@ -903,19 +946,23 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
     *failed = 0;
     /* decrements come least loss per saved cost first, so freeing `need`
      * loses at least that ratio times need */
-    if (gain <= min_loss_ratio(sel) * need) return 0;
+    if (gain <= min_loss_ratio(sel) * need)
+        return 0;
     while (sel->dec.count > 0) {
         double key = sel->dec.items[0].key;
         tclod_id p = sel->dec.items[0].id;
-        if (p != parent && !(sel->node[p].delta_c > 0.0)) break; /* the rest saves nothing */
+        if (p != parent && !(sel->node[p].delta_c > 0.0))
+            break; /* the rest saves nothing */
         tclod_heap_pop(&sel->dec);
         sel->scratch[taken] = p;
         sel->scratch_key[taken] = key;
         taken++;
-        if (p == parent) continue; /* would remove n itself */
+        if (p == parent)
+            continue; /* would remove n itself */
         freed += sel->node[p].delta_c;
         loss += sel->node[p].delta_b;
-        if (gain - loss <= SWAP_MARGIN * fabs(gain)) break;
+        if (gain - loss <= SWAP_MARGIN * fabs(gain))
+            break;
         if (freed >= need) {
             ok = 1;
             break;
@@ -926,17 +973,20 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
         if (!ok || p == parent)
             tclod_heap_push(&sel->dec, p, sel->scratch_key[i]);
     }
-    if (!ok) return 0;
+    if (!ok)
+        return 0;
     for (i = 0; i < taken; ++i) {
         tclod_id p = sel->scratch[i];
-        if (p == parent) continue;
+        if (p == parent)
+            continue;
         sel->stats.iterations++;
         if (apply_decrement(sel, p) != 0) {
             *failed = 1;
             return 0;
         }
     }
-    if (apply_increment(sel, n, 1) != 0) *failed = 1;
+    if (apply_increment(sel, n, 1) != 0)
+        *failed = 1;
     return 1;
 }
 
@@ -958,7 +1008,8 @@ static void consider_alternative(tclod_selector *sel, tclod_id n) {
  * relaxation there: the benefit so far plus n's gain (docs/greedy.md). */
 static void note_misfit(tclod_selector *sel, tclod_id n) {
     tclod_resume *R = &sel->resume;
-    if (R->misfit != TCLOD_NONE) return;
+    if (R->misfit != TCLOD_NONE)
+        return;
     R->misfit = n;
     R->misfit_key = sel->inc.items[0].key;
     R->lp_bound = sel->benefit_sum + sel->node[n].delta_b;
@@ -968,7 +1019,8 @@ static void note_misfit(tclod_selector *sel, tclod_id n) {
 static int left_out(const tclod_resume *R, tclod_id n) {
     uint32_t i;
     for (i = 0; i < R->picks; ++i)
-        if (R->pick[i] == n && !R->take[i]) return 1;
+        if (R->pick[i] == n && !R->take[i])
+            return 1;
     return 0;
 }
 
@@ -993,12 +1045,15 @@ static int take_closure(tclod_selector *sel) {
     while (R->closure_tail > R->closure_head) {
         tclod_id n = sel->scratch[R->closure_head];
         double grow = sel->node[n].delta_c > 0.0 ? sel->node[n].delta_c : 0.0;
-        if (sel->unaffordable != 0 || !(R->closure_cost + grow <= cut_budget(sel))) break;
+        if (sel->unaffordable != 0 || !(R->closure_cost + grow <= cut_budget(sel)))
+            break;
         R->closure_head++;
         R->closure_cost += grow;
         sel->stats.iterations++;
-        if (apply_increment(sel, n, 0) != 0) return -1;
-        if (sliced) return 0;
+        if (apply_increment(sel, n, 0) != 0)
+            return -1;
+        if (sliced)
+            return 0;
     }
     if (R->closure_tail == R->closure_head) {
         R->closing = 0;
@@ -1008,7 +1063,8 @@ static int take_closure(tclod_selector *sel) {
     R->closing = 0;
     R->closure_head = R->closure_tail = 0;
     dropped = sel->stats.dropped_roots; /* the roots are dropped again, the same way */
-    if (start_cold(sel) != 0) return -1;
+    if (start_cold(sel) != 0)
+        return -1;
     sel->stats.dropped_roots = dropped;
     return 0;
 }
@@ -1024,17 +1080,21 @@ static int improve(tclod_selector *sel, int warm, int alt) {
     for (;;) {
         tclod_id n;
         int swapped;
-        if (tclod_out_of_time(sel)) return 0;
+        if (tclod_out_of_time(sel))
+            return 0;
         if (sel->resume.closing) {
-            if (take_closure(sel) != 0) return -1;
+            if (take_closure(sel) != 0)
+                return -1;
             continue;
         }
         if (warm && sel->dec.count > 0 && sel->dec.items[0].key == HUGE_VAL) {
             sel->stats.iterations++;
-            if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0) return -1;
+            if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0)
+                return -1;
             continue;
         }
-        if (sel->inc.count == 0) break;
+        if (sel->inc.count == 0)
+            break;
         n = sel->inc.items[0].id;
         if (sel->resume.left_out > 0 && left_out(&sel->resume, n)) {
             pop_increment(sel);
@@ -1042,26 +1102,33 @@ static int improve(tclod_selector *sel, int warm, int alt) {
         }
         if (increment_fits(sel, n)) { /* its entry goes in apply_increment */
             sel->stats.iterations++;
-            if (apply_increment(sel, n, warm) != 0) return -1;
+            if (apply_increment(sel, n, warm) != 0)
+                return -1;
             continue;
         }
-        if (!warm) note_misfit(sel, n);
+        if (!warm)
+            note_misfit(sel, n);
         if (increment_may_fit(sel)) { /* fill: skip the misfit, try smaller ones */
             *skipped = 1;
-            if (alt) consider_alternative(sel, n);
+            if (alt)
+                consider_alternative(sel, n);
             skip_misfit(sel, n);
             continue;
         }
         *skipped = 1;
-        if (!warm || !(sel->inc.items[0].key > min_loss_ratio(sel))) break;
+        if (!warm || !(sel->inc.items[0].key > min_loss_ratio(sel)))
+            break;
         n = pop_increment(sel);
         sel->stats.iterations++;
         swapped = try_swap(sel, n, &failed);
-        if (failed) return -1;
-        if (swapped) continue;
+        if (failed)
+            return -1;
+        if (swapped)
+            continue;
     }
     if (alt)
-        for (i = 0; i < sel->inc.count; ++i) consider_alternative(sel, sel->inc.items[i].id);
+        for (i = 0; i < sel->inc.count; ++i)
+            consider_alternative(sel, sel->inc.items[i].id);
     sel->stats.stop_reason = *skipped ? TCLOD_STOP_BUDGET : TCLOD_STOP_FINEST;
     return 0;
 }
@@ -1075,14 +1142,16 @@ static int force_path(tclod_selector *sel, tclod_id n) {
     int below = 1; /* a is not refined yet: the cut is at a or above it */
     tclod_id a;
     for (a = n; a != TCLOD_NONE; a = s->parent[a]) {
-        if (below && sel->resume.left_out > 0 && left_out(&sel->resume, a)) return 1;
+        if (below && sel->resume.left_out > 0 && left_out(&sel->resume, a))
+            return 1;
         below &= sel->node[a].cut_pos == TCLOD_NONE;
         sel->scratch[depth++] = a;
     }
     while (depth-- > 0) {
         a = sel->scratch[depth];
         /* taken already, or passed over by a lookahead increment above */
-        if (sel->node[a].cut_pos == TCLOD_NONE) continue;
+        if (sel->node[a].cut_pos == TCLOD_NONE)
+            continue;
         /* n's own lookahead increment, when it does not fit: the cut that does */
         if (depth == 0 && (sel->flags[a] & TCLOD_FLAG_JUMP) && !increment_fits(sel, a)) {
             double key = refit_jump(sel, a);
@@ -1090,7 +1159,8 @@ static int force_path(tclod_selector *sel, tclod_id n) {
                 return 1;
         }
         sel->stats.iterations++;
-        if (apply_increment(sel, a, 0) != 0) return -1;
+        if (apply_increment(sel, a, 0) != 0)
+            return -1;
     }
     return 0;
 }
@@ -1101,9 +1171,11 @@ static int force_path(tclod_selector *sel, tclod_id n) {
 static int start_decided(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     uint32_t i;
-    if (start_cold(sel) != 0) return -1;
+    if (start_cold(sel) != 0)
+        return -1;
     R->left_out = 0;
-    for (i = 0; i < R->picks; ++i) R->left_out += !R->take[i];
+    for (i = 0; i < R->picks; ++i)
+        R->left_out += !R->take[i];
     R->infeasible = 0;
     R->misfit = TCLOD_NONE;
     R->lp_bound = 0.0;
@@ -1111,12 +1183,15 @@ static int start_decided(tclod_selector *sel) {
     sel->stats.stop_reason = TCLOD_STOP_FINEST;
     for (i = 0; i < R->picks && !R->infeasible; ++i) {
         int rc;
-        if (!R->take[i]) continue;
+        if (!R->take[i])
+            continue;
         rc = force_path(sel, R->pick[i]);
-        if (rc < 0) return -1;
+        if (rc < 0)
+            return -1;
         R->infeasible = rc > 0;
     }
-    if (!feasible(sel)) R->infeasible = 1;
+    if (!feasible(sel))
+        R->infeasible = 1;
     return 0;
 }
 
@@ -1129,7 +1204,8 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
         uint32_t i;
         for (i = 0; i < sel->cut_count; ++i) {
             tclod_id n = sel->cut[i];
-            if (counts(sel, n)) sum += sel->node[n].cost;
+            if (counts(sel, n))
+                sum += sel->node[n].cost;
         }
         /* an unaffordable node makes the sum infinite: never within budget */
         if (!isinf(sum) && sum <= cut_budget(sel)) {
@@ -1140,12 +1216,14 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
             tclod_heap_clear(&sel->dec);
             for (i = 0; i < sel->cut_count; ++i) {
                 tclod_id p = s->parent[sel->cut[i]];
-                if (queue_decrement(sel, p, 0) != 0) return -1;
+                if (queue_decrement(sel, p, 0) != 0)
+                    return -1;
             }
             dec_built = 1;
         }
         if (sel->dec.count > 0) {
-            if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0) return -1;
+            if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0)
+                return -1;
         } else {
             /* only roots remain: leave out the lowest-value kept one */
             tclod_id worst = TCLOD_NONE;
@@ -1153,8 +1231,10 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
             for (i = 0; i < sel->cut_count; ++i) {
                 tclod_id r = sel->cut[i];
                 double value;
-                if (!counts(sel, r)) continue;
-                value = sel->node[r].cost > 0.0 ? sel->node[r].benefit / sel->node[r].cost : HUGE_VAL;
+                if (!counts(sel, r))
+                    continue;
+                value =
+                    sel->node[r].cost > 0.0 ? sel->node[r].benefit / sel->node[r].cost : HUGE_VAL;
                 if (worst == TCLOD_NONE || value < worst_value ||
                     (value == worst_value && r > worst)) {
                     worst = r;
@@ -1173,9 +1253,9 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
 enum {
     GREEDY_START = 0,
     GREEDY_IMPROVE,
-    GREEDY_PASS,            /* a pass after the plain one, with resume.pick/take */
+    GREEDY_PASS, /* a pass after the plain one, with resume.pick/take */
     GREEDY_IMPROVE_PASS,
-    GREEDY_REPLAY,          /* the best pass again, when another one ended last */
+    GREEDY_REPLAY, /* the best pass again, when another one ended last */
     GREEDY_IMPROVE_REPLAY,
     GREEDY_END
 };
@@ -1190,12 +1270,14 @@ static int greedy_start(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     R->warm = sel->desc.warm_start && sel->has_cut;
     R->skipped = 0;
-    if (R->warm) return start_warm(sel) != 0 ? -1 : restore_budget(sel);
+    if (R->warm)
+        return start_warm(sel) != 0 ? -1 : restore_budget(sel);
     R->closure_head = R->closure_tail = 0;
     R->closing = sel->closure_hint > 0.0 && sel->frame->max_iterations == 0 &&
                  sel->frame->solve_seconds == 0.0;
     R->closure_key = sel->closure_hint * CLOSURE_MARGIN;
-    if (start_cold(sel) != 0) return -1;
+    if (start_cold(sel) != 0)
+        return -1;
     R->closure_cost = sel->cost_sum;
     R->alt_node = TCLOD_NONE;
     R->alt_benefit = 0.0;
@@ -1216,8 +1298,7 @@ static int worth_searching(const tclod_selector *sel, double bound) {
     const tclod_resume *R = &sel->resume;
     const tclod_frame *f = sel->frame;
     return sel->desc.restarts > 1 && R->tries < sel->desc.restarts && f->max_iterations == 0 &&
-           f->solve_seconds == 0.0 &&
-           bound > R->best_benefit * (1.0 + RESTART_GAP);
+           f->solve_seconds == 0.0 && bound > R->best_benefit * (1.0 + RESTART_GAP);
 }
 
 /* The search's next decisions after a pass (depth first): below a pass whose
@@ -1231,8 +1312,10 @@ static int next_decisions(tclod_selector *sel, int below) {
         R->take[R->picks++] = 1;
         return 1;
     }
-    while (R->picks > 0 && !R->take[R->picks - 1u]) R->picks--;
-    if (R->picks == 0) return 0;
+    while (R->picks > 0 && !R->take[R->picks - 1u])
+        R->picks--;
+    if (R->picks == 0)
+        return 0;
     R->take[R->picks - 1u] = 0;
     return 1;
 }
@@ -1247,8 +1330,8 @@ static int next_decisions(tclod_selector *sel, int below) {
 static int after_pass(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     int plain = R->tries == 0 && !R->searching && R->picks == 0;
-    if (sel->stopped ||
-        (sel->stats.stop_reason != TCLOD_STOP_BUDGET && sel->stats.stop_reason != TCLOD_STOP_FINEST))
+    if (sel->stopped || (sel->stats.stop_reason != TCLOD_STOP_BUDGET &&
+                         sel->stats.stop_reason != TCLOD_STOP_FINEST))
         return GREEDY_END;
     R->cut_is_best = 0;
     if (plain || (!R->infeasible && sel->benefit_sum > R->best_benefit * (1.0 + SWAP_MARGIN))) {
@@ -1296,7 +1379,8 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
             break;
         case GREEDY_IMPROVE:
             rc = improve(sel, R->warm, !R->warm && R->use_alt);
-            if (!sel->paused) R->phase = R->warm ? GREEDY_END : after_pass(sel);
+            if (!sel->paused)
+                R->phase = R->warm ? GREEDY_END : after_pass(sel);
             break;
         case GREEDY_PASS:
             R->tries++;
@@ -1304,8 +1388,10 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
             R->phase = GREEDY_IMPROVE_PASS;
             break;
         case GREEDY_IMPROVE_PASS:
-            if (!R->infeasible) rc = improve(sel, 0, 0);
-            if (!sel->paused) R->phase = after_pass(sel);
+            if (!R->infeasible)
+                rc = improve(sel, 0, 0);
+            if (!sel->paused)
+                R->phase = after_pass(sel);
             break;
         case GREEDY_REPLAY:
             R->picks = R->best_picks;
@@ -1316,7 +1402,8 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
             break;
         case GREEDY_IMPROVE_REPLAY:
             rc = improve(sel, 0, 0);
-            if (!sel->paused) R->phase = GREEDY_END;
+            if (!sel->paused)
+                R->phase = GREEDY_END;
             break;
         default:
             rc = enforce_budget(sel, R->warm);
@@ -1324,28 +1411,34 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
             return rc == 0 ? TCLOD_OK : TCLOD_ERR_CALLBACK;
         }
     }
-    if (rc == 0) return TCLOD_OK;
+    if (rc == 0)
+        return TCLOD_OK;
     clear_heaps(sel);
     return TCLOD_ERR_CALLBACK;
 }
 
 /* ---- the steps the mixed solver interleaves with its smooth ones ------------ */
 
-int tclod_greedy_start(tclod_selector *sel) { return start_cold(sel); }
+int tclod_greedy_start(tclod_selector *sel) {
+    return start_cold(sel);
+}
 
 tclod_id tclod_greedy_candidate(tclod_selector *sel, double *ratio, int *skipped) {
     for (;;) {
         tclod_id n;
-        if (sel->inc.count == 0) return TCLOD_NONE;
+        if (sel->inc.count == 0)
+            return TCLOD_NONE;
         n = sel->inc.items[0].id;
         if (increment_fits(sel, n)) {
             *ratio = sel->inc.items[0].key;
             return n;
         }
         *skipped = 1;
-        if (!increment_may_fit(sel)) return TCLOD_NONE;
+        if (!increment_may_fit(sel))
+            return TCLOD_NONE;
         /* smooth steps only add cost too: a misfit never fits again */
-        if (sel->resume.use_alt) consider_alternative(sel, n);
+        if (sel->resume.use_alt)
+            consider_alternative(sel, n);
         skip_misfit(sel, n);
     }
 }
@@ -1353,7 +1446,8 @@ tclod_id tclod_greedy_candidate(tclod_selector *sel, double *ratio, int *skipped
 void tclod_greedy_skip(tclod_selector *sel) {
     tclod_id n = pop_increment(sel);
     sel->stats.iterations++;
-    if (sel->resume.use_alt) consider_alternative(sel, n);
+    if (sel->resume.use_alt)
+        consider_alternative(sel, n);
 }
 
 void tclod_greedy_track(tclod_selector *sel) {
@@ -1368,15 +1462,18 @@ void tclod_greedy_track(tclod_selector *sel) {
 tclod_id tclod_greedy_alternative(tclod_selector *sel, double *benefit) {
     tclod_resume *R = &sel->resume;
     uint32_t i;
-    if (!R->use_alt) return TCLOD_NONE;
-    for (i = 0; i < sel->inc.count; ++i) consider_alternative(sel, sel->inc.items[i].id);
+    if (!R->use_alt)
+        return TCLOD_NONE;
+    for (i = 0; i < sel->inc.count; ++i)
+        consider_alternative(sel, sel->inc.items[i].id);
     *benefit = R->alt_benefit;
     return R->alt_node;
 }
 
 int tclod_greedy_force(tclod_selector *sel, tclod_id n) {
     sel->resume.picks = sel->resume.left_out = 0;
-    if (start_cold(sel) != 0) return -1;
+    if (start_cold(sel) != 0)
+        return -1;
     /* 1: n's lookahead jump no longer fits and no cut of it does; the path
      * above it is taken, a cut within the budget like T(n) without n */
     return force_path(sel, n) < 0 ? -1 : 0;
@@ -1387,6 +1484,10 @@ int tclod_greedy_take(tclod_selector *sel, tclod_id n) {
     return apply_increment(sel, n, 0);
 }
 
-int tclod_greedy_enforce(tclod_selector *sel) { return enforce_budget(sel, 0); }
+int tclod_greedy_enforce(tclod_selector *sel) {
+    return enforce_budget(sel, 0);
+}
 
-void tclod_greedy_end(tclod_selector *sel) { clear_heaps(sel); }
+void tclod_greedy_end(tclod_selector *sel) {
+    clear_heaps(sel);
+}

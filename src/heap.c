@@ -37,7 +37,9 @@ static int entry_before(const tclod_heap_entry *a, const tclod_heap_entry *b) {
     return before(a->key, a->id, b->key, b->id);
 }
 
-static uint32_t *slot_of(const tclod_heap *h, tclod_id id) { return &h->pos[id]; }
+static uint32_t *slot_of(const tclod_heap *h, tclod_id id) {
+    return &h->pos[id];
+}
 
 /* Moves items[from] to items[to] and records its new slot. */
 static void move_entry(tclod_heap *h, uint32_t to, uint32_t from) {
@@ -63,9 +65,11 @@ static uint32_t best_of_four(const tclod_heap_entry *items, uint32_t first) {
  * order; first < count. */
 static uint32_t best_child(const tclod_heap_entry *items, uint32_t first, uint32_t count) {
     uint32_t best = first, c;
-    if (first + ARITY <= count) return best_of_four(items, first);
+    if (first + ARITY <= count)
+        return best_of_four(items, first);
     for (c = first + 1u; c < count; ++c)
-        if (entry_before(&items[c], &items[best])) best = c;
+        if (entry_before(&items[c], &items[best]))
+            best = c;
     return best;
 }
 
@@ -73,7 +77,8 @@ static uint32_t best_child(const tclod_heap_entry *items, uint32_t first, uint32
 static void climb(tclod_heap *h, uint32_t slot, const tclod_heap_entry *e) {
     while (slot > 0) {
         uint32_t up = (slot - 1u) / ARITY;
-        if (!entry_before(e, &h->items[up])) break;
+        if (!entry_before(e, &h->items[up]))
+            break;
         move_entry(h, slot, up);
         slot = up;
     }
@@ -85,9 +90,11 @@ static void sift_down(tclod_heap *h, uint32_t slot) {
     uint32_t count = h->count;
     for (;;) {
         uint32_t first = ARITY * slot + 1u, best;
-        if (first >= count) break;
+        if (first >= count)
+            break;
         best = best_child(h->items, first, count);
-        if (!entry_before(&h->items[best], &e)) break;
+        if (!entry_before(&h->items[best], &e))
+            break;
         move_entry(h, slot, best);
         slot = best;
     }
@@ -106,7 +113,8 @@ void tclod_heap_append(tclod_heap *h, tclod_id id, double key) {
 
 void tclod_heap_build(tclod_heap *h) {
     uint32_t i = h->count > 1u ? (h->count - 2u) / ARITY + 1u : 0u;
-    while (i-- > 0) sift_down(h, i);
+    while (i-- > 0)
+        sift_down(h, i);
 }
 
 void tclod_heap_push(tclod_heap *h, tclod_id id, double key) {
@@ -161,7 +169,8 @@ tclod_id tclod_heap_pop(tclod_heap *h) {
     tclod_heap_entry e;
     assert(h->count > 0);
     *slot_of(h, top) = TCLOD_NONE;
-    if (--h->count == 0) return top;
+    if (--h->count == 0)
+        return top;
     e = h->items[h->count];
     fill_hole(h, 0, &e);
     return top;
@@ -185,14 +194,16 @@ void tclod_heap_remove(tclod_heap *h, tclod_id id) {
     tclod_heap_entry e;
     assert(slot != TCLOD_NONE);
     *slot_of(h, id) = TCLOD_NONE;
-    if (slot == --h->count) return;
+    if (slot == --h->count)
+        return;
     e = h->items[h->count];
     settle(h, slot, &e);
 }
 
 void tclod_heap_clear(tclod_heap *h) {
     uint32_t i;
-    for (i = 0; i < h->count; ++i) *slot_of(h, h->items[i].id) = TCLOD_NONE;
+    for (i = 0; i < h->count; ++i)
+        *slot_of(h, h->items[i].id) = TCLOD_NONE;
     h->count = 0;
 }
 
@@ -203,10 +214,12 @@ static void sort_sift(tclod_id *ids, double *keys, uint32_t n, uint32_t slot) {
     double key = keys[slot];
     for (;;) {
         uint32_t child = 2u * slot + 1u;
-        if (child >= n) break;
+        if (child >= n)
+            break;
         if (child + 1u < n && before(keys[child], ids[child], keys[child + 1u], ids[child + 1u]))
             child++;
-        if (!before(key, id, keys[child], ids[child])) break;
+        if (!before(key, id, keys[child], ids[child]))
+            break;
         ids[slot] = ids[child];
         keys[slot] = keys[child];
         slot = child;
@@ -217,7 +230,8 @@ static void sort_sift(tclod_id *ids, double *keys, uint32_t n, uint32_t slot) {
 
 void tclod_sort_by_key(tclod_id *ids, double *keys, uint32_t n) {
     uint32_t i = n / 2u;
-    while (i-- > 0) sort_sift(ids, keys, n, i);
+    while (i-- > 0)
+        sort_sift(ids, keys, n, i);
     for (i = n; i > 1u; --i) {
         tclod_id id = ids[0];
         double key = keys[0];

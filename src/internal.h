@@ -22,9 +22,9 @@ void tclod_mem_free(const tclod_allocator *a, void *ptr, size_t size);
 
 /* One array of a structure-of-arrays block that grows as a whole. */
 typedef struct tclod_array {
-    void **ptr;      /* where the array pointer lives */
-    size_t elem;     /* element size in bytes */
-    int fill;        /* byte written into new elements, or -1 to leave them */
+    void **ptr;  /* where the array pointer lives */
+    size_t elem; /* element size in bytes */
+    int fill;    /* byte written into new elements, or -1 to leave them */
 } tclod_array;
 
 /* The most arrays one block may hold. */
@@ -85,9 +85,9 @@ struct tclod_scene {
 
     /* smooth quadtree, rebuilt with the child index */
     uint32_t smooth_index_cap;
-    tclod_id *smooth_order;   /* position -> smooth id, quadtree order */
-    uint32_t *smooth_pos;     /* smooth id -> position */
-    tclod_smooth_node *qt;    /* 2 * smooth_index_cap nodes; qt[0] is the root */
+    tclod_id *smooth_order; /* position -> smooth id, quadtree order */
+    uint32_t *smooth_pos;   /* smooth id -> position */
+    tclod_smooth_node *qt;  /* 2 * smooth_index_cap nodes; qt[0] is the root */
     uint32_t qt_count;
 
     uint32_t version;       /* bumped by every change */
@@ -107,11 +107,11 @@ struct tclod_scene {
 /* A validated view, orthonormalised once per frame. */
 typedef struct tclod_view_cache {
     double eye[3], forward[3], up[3], right[3];
-    double cos_y, sin_y;    /* of half the vertical field of view */
-    double cos_x, sin_x;    /* of half the horizontal field of view */
+    double cos_y, sin_y; /* of half the vertical field of view */
+    double cos_x, sin_x; /* of half the horizontal field of view */
     double near_z, far_z;
-    double focal_px;        /* (viewport_height / 2) / tan(fov_y / 2) */
-    double viewport_area;   /* viewport_height² * aspect */
+    double focal_px;      /* (viewport_height / 2) / tan(fov_y / 2) */
+    double viewport_area; /* viewport_height² * aspect */
 } tclod_view_cache;
 
 /* Fills c from a view that passed tclod_view_validate. */
@@ -124,7 +124,8 @@ void tclod_view_cache_measure(const tclod_view_cache *c, const float bounds[4], 
  * (view.c explains the planes). */
 static inline int tclod_view_cache_visible(const tclod_view_cache *c, const double p[3], double r) {
     double z = p[0] * c->forward[0] + p[1] * c->forward[1] + p[2] * c->forward[2];
-    if (z < c->near_z - r || z > c->far_z + r) return 0;
+    if (z < c->near_z - r || z > c->far_z + r)
+        return 0;
     if (fabs(p[0] * c->up[0] + p[1] * c->up[1] + p[2] * c->up[2]) * c->cos_y - z * c->sin_y > r)
         return 0;
     return fabs(p[0] * c->right[0] + p[1] * c->right[1] + p[2] * c->right[2]) * c->cos_x -
@@ -153,15 +154,16 @@ static inline int tclod_view_cache_inside(const tclod_view_cache *c, const doubl
  * the eye, squared; clamped to the viewport. */
 static inline double tclod_view_cache_area(const tclod_view_cache *c, double d2, double r) {
     double r2 = r * r, rpx, area;
-    if (d2 <= r2) return c->viewport_area;
+    if (d2 <= r2)
+        return c->viewport_area;
     rpx = c->focal_px * r / sqrt(d2 - r2);
     area = 3.14159265358979323846 * rpx * rpx;
     return area < c->viewport_area ? area : c->viewport_area;
 }
 
 /* tclod_view_cache_measure, inline for the solvers' inner loops. */
-static inline void tclod_view_measure(const tclod_view_cache *c, const float bounds[4],
-                                      float *area, float *distance) {
+static inline void tclod_view_measure(const tclod_view_cache *c, const float bounds[4], float *area,
+                                      float *distance) {
     double p[3], r = (double)bounds[3], d2;
     p[0] = (double)bounds[0] - c->eye[0];
     p[1] = (double)bounds[1] - c->eye[1];
@@ -221,12 +223,12 @@ typedef struct tclod_var_trial {
 
 /* The preconditioner's model of a variable (mixed.c). */
 typedef struct tclod_var_model {
-    double x, db, beta;      /* benefit slope: anchor, slope there, exponent */
-    double dc0, c1, dc1, xk; /* cost: two lines meeting at the kink xk */
-    double lxk, l0, l1;      /* ln xk, and ln of the targets at slope 1 before
-                                and after the kink */
-    double lc;               /* ln of the slope above which the part before the
-                                kink is the better choice */
+    double x, db, beta;        /* benefit slope: anchor, slope there, exponent */
+    double dc0, c1, dc1, xk;   /* cost: two lines meeting at the kink xk */
+    double lxk, l0, l1;        /* ln xk, and ln of the targets at slope 1 before
+                                  and after the kink */
+    double lc;                 /* ln of the slope above which the part before the
+                                  kink is the better choice */
     double ldc0, ldc1, lsetup; /* ln dc0, ln dc1 and ln (c1 - dc1), where positive */
 } tclod_var_model;
 
@@ -268,16 +270,16 @@ typedef struct tclod_rh_frame {
  * variable per smooth object. */
 typedef struct tclod_vars {
     uint32_t count;
-    uint32_t *first, *size;  /* members: smooth order positions first .. first + size */
-    float *bounds;           /* 4 per variable: the group's sphere */
-    float *area, *distance;  /* the query's screen_area and distance */
-    double *r;               /* resolution in [0, 1] */
-    double *b, *c;           /* callback values at r (counted only when r > 0) */
-    double *db, *dc;         /* derivatives at max(r, TCLOD_SLOPE_FLOOR) */
-    double *a;               /* search direction */
-    double *ratio;           /* db / dc: the variable's own benefit/cost slope */
-    double *up;              /* db / dc for a step up (the cost slope past the kink) */
-    int fresh;               /* ratio and up are those of the current values (mixed.c) */
+    uint32_t *first, *size; /* members: smooth order positions first .. first + size */
+    float *bounds;          /* 4 per variable: the group's sphere */
+    float *area, *distance; /* the query's screen_area and distance */
+    double *r;              /* resolution in [0, 1] */
+    double *b, *c;          /* callback values at r (counted only when r > 0) */
+    double *db, *dc;        /* derivatives at max(r, TCLOD_SLOPE_FLOOR) */
+    double *a;              /* search direction */
+    double *ratio;          /* db / dc: the variable's own benefit/cost slope */
+    double *up;             /* db / dc for a step up (the cost slope past the kink) */
+    int fresh;              /* ratio and up are those of the current values (mixed.c) */
     /* mixed.c: while bounded, the models' predicted spend at every slope whose ln is at
      * least bound_log is at most bound; the next bound goes bound_reach (in ln) below the
      * slope tested */
@@ -286,17 +288,17 @@ typedef struct tclod_vars {
     /* the preconditioner's model of each variable (mixed.c) */
     double *m_x, *m_b, *m_db, *beta; /* benefit: anchor, value and slope there, exponent */
     double *dc0, *c1, *dc1, *x_k;    /* cost: two lines meeting at the kink x_k */
-    double *qx, *qdb;        /* the line search's previous trial point */
-    uint32_t *moving;        /* the variables of the current line search */
-    uint8_t *state;          /* TCLOD_VAR_* */
-    tclod_var_trial *trial;  /* the line search's trial points */
-    tclod_var_model *model;  /* the preconditioner's model (mixed.c) */
+    double *qx, *qdb;                /* the line search's previous trial point */
+    uint32_t *moving;                /* the variables of the current line search */
+    uint8_t *state;                  /* TCLOD_VAR_* */
+    tclod_var_trial *trial;          /* the line search's trial points */
+    tclod_var_model *model;          /* the preconditioner's model (mixed.c) */
 } tclod_vars;
 
 enum {
-    TCLOD_VAR_LIVE = 0,    /* may move */
-    TCLOD_VAR_DEAD = 1,    /* a bad benefit: invisible, stays at 0 */
-    TCLOD_VAR_BLOCKED = 2  /* could not move within the budget; out of this solve */
+    TCLOD_VAR_LIVE = 0,   /* may move */
+    TCLOD_VAR_DEAD = 1,   /* a bad benefit: invisible, stays at 0 */
+    TCLOD_VAR_BLOCKED = 2 /* could not move within the budget; out of this solve */
 };
 
 /* The most decisions on one path of the greedy's search (restarts). */
@@ -322,30 +324,30 @@ enum {
  * touches these fields together at random ids; what an evaluation writes
  * comes first. */
 typedef struct tclod_node_state {
-    double benefit, cost;      /* callback values of this solve (stamp == solve_id);
-                                  cost 0 when invisible, +inf when unaffordable */
+    double benefit, cost; /* callback values of this solve (stamp == solve_id);
+                             cost 0 when invisible, +inf when unaffordable */
     uint32_t stamp;
-    uint32_t cut_pos;          /* slot in cut[], or TCLOD_NONE */
-    double delta_b, delta_c;   /* increment of the node: its children (with
-                                  lookahead, the cut its key found) replace it */
-    float area, distance;      /* the query's screen_area and distance in this solve:
-                                  a child with the same bounds reuses them */
+    uint32_t cut_pos;        /* slot in cut[], or TCLOD_NONE */
+    double delta_b, delta_c; /* increment of the node: its children (with
+                                lookahead, the cut its key found) replace it */
+    float area, distance;    /* the query's screen_area and distance in this solve:
+                                a child with the same bounds reuses them */
 } tclod_node_state;
 
 /* Where a solve stands between two tclod_select_step calls: the state of the
  * solver's loops, so that a step resumes exactly where the last one paused. */
 typedef struct tclod_resume {
-    int phase;             /* the solver's stage; 0 = not started */
-    int as_greedy;         /* mixed solver: no smooth variable, the greedy solves */
-    int warm;              /* greedy: the solve started from the previous cut */
-    int skipped;           /* an increment did not fit */
-    int smooth_done;       /* papers' loop: the smooth variables stopped */
-    int alt_pass;          /* mixed solver: the pass from the best skipped
-                              increment's selection alone is under way (1) */
-    uint32_t run;          /* smooth steps since the last increment */
-    uint32_t k;            /* steps of a bounded stage, or the next instance */
-    tclod_id matched;      /* papers' loop: the increment whose slope was matched */
-    double guess;          /* preconditioned loop: the last level */
+    int phase;        /* the solver's stage; 0 = not started */
+    int as_greedy;    /* mixed solver: no smooth variable, the greedy solves */
+    int warm;         /* greedy: the solve started from the previous cut */
+    int skipped;      /* an increment did not fit */
+    int smooth_done;  /* papers' loop: the smooth variables stopped */
+    int alt_pass;     /* mixed solver: the pass from the best skipped
+                         increment's selection alone is under way (1) */
+    uint32_t run;     /* smooth steps since the last increment */
+    uint32_t k;       /* steps of a bounded stage, or the next instance */
+    tclod_id matched; /* papers' loop: the increment whose slope was matched */
+    double guess;     /* preconditioned loop: the last level */
     /* greedy, cold start: the skipped increment whose T(n) (the increment with
      * the increments above it) fits and gives the most benefit */
     tclod_id alt_node;
@@ -358,16 +360,16 @@ typedef struct tclod_resume {
     tclod_id pick[TCLOD_SEARCH_DEPTH], best_pick[TCLOD_SEARCH_DEPTH];
     uint8_t take[TCLOD_SEARCH_DEPTH], best_take[TCLOD_SEARCH_DEPTH];
     uint32_t picks, best_picks, left_out; /* left_out: decisions not taken */
-    uint32_t tries;        /* passes made after the plain one */
-    int searching;         /* the passes are the search's (not the T(n) one) */
-    int cut_is_best;       /* the working cut is the best pass's */
-    int infeasible;        /* the current pass's decisions do not fit */
+    uint32_t tries;                       /* passes made after the plain one */
+    int searching;                        /* the passes are the search's (not the T(n) one) */
+    int cut_is_best;                      /* the working cut is the best pass's */
+    int infeasible;                       /* the current pass's decisions do not fit */
     double best_benefit;
-    tclod_id misfit;       /* the current pass's first increment that did not fit */
-    double lp_bound;       /* its benefit there plus the misfit's gain (0: none) */
-    tclod_id root_misfit;  /* the plain pass's, where the search begins */
+    tclod_id misfit;      /* the current pass's first increment that did not fit */
+    double lp_bound;      /* its benefit there plus the misfit's gain (0: none) */
+    tclod_id root_misfit; /* the plain pass's, where the search begins */
     double root_bound;
-    double misfit_key;     /* the key of the current pass's first misfit */
+    double misfit_key; /* the key of the current pass's first misfit */
     /* greedy, the plain cold pass: increments keyed at or above closure_key
      * wait in a queue (sel->scratch[closure_head .. closure_tail)) instead of
      * the heap and are taken first, while closure_cost (the roots' cost plus
@@ -377,17 +379,17 @@ typedef struct tclod_resume {
     double closure_key, closure_cost;
     /* Robin Hood: time not shared out yet, value of the instances left */
     double pool, value_left;
-    int limited;           /* an instance could refine further */
+    int limited; /* an instance could refine further */
     /* Robin Hood's third cycle: the candidates' ring (robin_hood.c), the value
      * in it and the smallest step it holds (or a lower bound) ... */
     uint32_t ring_first, ring_count;
     double ring_value, min_step;
-    double smooth_value;   /* ... the value and number of the smooth objects */
-    uint32_t smooth_open;  /* below resolution 1 ... */
-    uint32_t pass_left;    /* ... the ring entries left in this pass */
-    int refined;           /* ... whether it refined an instance, */
-    uint32_t passes;       /* ... the passes begun and the pool at the */
-    double pass_pool;      /* start of the last one */
+    double smooth_value;  /* ... the value and number of the smooth objects */
+    uint32_t smooth_open; /* below resolution 1 ... */
+    uint32_t pass_left;   /* ... the ring entries left in this pass */
+    int refined;          /* ... whether it refined an instance, */
+    uint32_t passes;      /* ... the passes begun and the pool at the */
+    double pass_pool;     /* start of the last one */
 } tclod_resume;
 
 struct tclod_selector {
@@ -399,13 +401,13 @@ struct tclod_selector {
     /* per-node buffers, cap elements each */
     uint32_t cap;
     tclod_node_state *node;
-    double *path;              /* 2 per node: benefit and cost of the increments
-                                  taken above it (cold solve) */
+    double *path; /* 2 per node: benefit and cost of the increments
+                     taken above it (cold solve) */
     uint8_t *flags;
-    tclod_heap inc;            /* increments, best Δb/Δc first */
-    tclod_heap cheap;          /* the same increments, smallest Δc first */
-    int cheap_live;            /* cheap holds every queued increment */
-    tclod_heap dec;            /* decrements, least loss per saved cost first */
+    tclod_heap inc;                             /* increments, best Δb/Δc first */
+    tclod_heap cheap;                           /* the same increments, smallest Δc first */
+    int cheap_live;                             /* cheap holds every queued increment */
+    tclod_heap dec;                             /* decrements, least loss per saved cost first */
     uint32_t *inc_slot, *cheap_slot, *dec_slot; /* the greedy's heap slots, in dense
                                   arrays: moving heap entries touches few lines */
     tclod_heap_entry *inc_block, *cheap_block, *dec_block; /* the heaps' entries start
@@ -416,8 +418,8 @@ struct tclod_selector {
 
     /* per-smooth-object buffers, smooth_cap elements each */
     uint32_t smooth_cap;
-    tclod_vars vars;               /* the solve's variables */
-    tclod_smooth_group *groups;    /* the committed smooth result */
+    tclod_vars vars;            /* the solve's variables */
+    tclod_smooth_group *groups; /* the committed smooth result */
     uint32_t group_count;
     uint32_t *split_node;          /* split.c's stack: quadtree nodes ... */
     double *split_x, *split_theta; /* ... their expected resolution and loss share */
@@ -429,19 +431,19 @@ struct tclod_selector {
 
     /* Robin Hood (robin_hood.c): rh_cap elements each, rh_cap >= nodes + smooth */
     uint32_t rh_cap;
-    uint32_t rh_version;      /* scene version the chains and the order describe; 0: none */
+    uint32_t rh_version; /* scene version the chains and the order describe; 0: none */
     uint32_t rh_order_count;
-    uint32_t *rh_chain;       /* every chain of single children, coarse to fine, end to end */
+    uint32_t *rh_chain;        /* every chain of single children, coarse to fine, end to end */
     tclod_rh_chain *rh_chains; /* per node that starts a chain: the chain */
     tclod_rh_child *rh_child;  /* per node with several children: them, least complex
                                   first (in the scene's child ranges) */
-    uint32_t *rh_order;       /* the instances, least complex first: root ids, and smooth
-                                 ids + node count */
-    double *rh_key;           /* 2 per element: complexities and order keys while
-                                 sorting; then this frame's values by order position
-                                 (first half) and the cost of each cut slot (second
-                                 half) */
-    tclod_rh_frame *rh_stack; /* the branches being shared out */
+    uint32_t *rh_order;        /* the instances, least complex first: root ids, and smooth
+                                  ids + node count */
+    double *rh_key;            /* 2 per element: complexities and order keys while
+                                  sorting; then this frame's values by order position
+                                  (first half) and the cost of each cut slot (second
+                                  half) */
+    tclod_rh_frame *rh_stack;  /* the branches being shared out */
     /* The Robin Hood solver also keeps, in the per-node buffers it does not
      * otherwise use: the level each chain took last in the delta_b of the
      * chain's first node; the values of a branch's children in scratch_key, by
@@ -454,32 +456,32 @@ struct tclod_selector {
     int has_cut;            /* cut/prev_cut describe a selection of that version */
 
     /* the solve in progress */
-    int pending;            /* begun and not finished, cancelled or failed */
+    int pending;              /* begun and not finished, cancelled or failed */
     uint32_t pending_version; /* scene version at its beginning */
-    tclod_frame frame_data; /* the frame it solves, copied at its beginning ... */
-    tclod_view view_data;   /* ... with its view */
+    tclod_frame frame_data;   /* the frame it solves, copied at its beginning ... */
+    tclod_view view_data;     /* ... with its view */
     tclod_resume resume;
-    int paused;             /* the step's slice ran out */
-    int stopped;            /* the frame's limit was reached, or the caller
-                               finished the solve early */
-    double slice_end;       /* clock at which the step's slice ends; 0: none */
+    int paused;                /* the step's slice ran out */
+    int stopped;               /* the frame's limit was reached, or the caller
+                                  finished the solve early */
+    double slice_end;          /* clock at which the step's slice ends; 0: none */
     uint32_t slice_iterations; /* iteration count at which it ends; 0: none */
-    uint32_t step_start;    /* iteration count at the step's beginning */
-    double elapsed;         /* time spent in the solve's earlier steps */
-    const tclod_frame *frame; /* &frame_data while a step runs, else NULL */
-    tclod_query query;        /* a node's query while a step runs: the frame's view,
-                                 count 1, no members; tclod_evaluate_measured sets the
-                                 rest */
+    uint32_t step_start;       /* iteration count at the step's beginning */
+    double elapsed;            /* time spent in the solve's earlier steps */
+    const tclod_frame *frame;  /* &frame_data while a step runs, else NULL */
+    tclod_query query;         /* a node's query while a step runs: the frame's view,
+                                  count 1, no members; tclod_evaluate_measured sets the
+                                  rest */
     tclod_view_cache view;
     int has_view;
-    int failed;             /* strict mode: a bad callback value was seen */
-    double cost_sum;        /* running: finite costs of visible, kept cut nodes */
-    double reserved;        /* running: cost held by smooth variables (mixed) */
+    int failed;      /* strict mode: a bad callback value was seen */
+    double cost_sum; /* running: finite costs of visible, kept cut nodes */
+    double reserved; /* running: cost held by smooth variables (mixed) */
     double benefit_sum;
-    uint32_t unaffordable;  /* visible, kept cut nodes with infinite cost */
+    uint32_t unaffordable; /* visible, kept cut nodes with infinite cost */
     double start_time;
-    double closure_hint;    /* the key of the last plain cold pass's first misfit:
-                               DBL_MIN when it had none, 0 before the first */
+    double closure_hint; /* the key of the last plain cold pass's first misfit:
+                            DBL_MIN when it had none, 0 before the first */
     tclod_stats stats;
     struct tclod_selector_saved *keep; /* see tclod_selector_keep; NULL: none */
 };
@@ -573,7 +575,7 @@ tclod_status tclod_greedy_solve(tclod_selector *sel);
 /* The greedy's steps, for the mixed solver. Each returns 0, or -1 when strict
  * mode saw a bad callback value. The budget left to the cut is the frame's
  * budget minus sel->reserved. */
-int tclod_greedy_start(tclod_selector *sel);   /* cut = the roots, increments queued */
+int tclod_greedy_start(tclod_selector *sel); /* cut = the roots, increments queued */
 /* The best queued increment that fits (ratio in *ratio), discarding those that
  * do not fit and never will; TCLOD_NONE when none fits. *skipped is set to 1
  * when an increment was discarded or none fits while some are queued. */

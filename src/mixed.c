@@ -74,7 +74,8 @@ static int value_bad(double v) {
 
 static void bad_value(tclod_selector *sel) {
     sel->stats.invalid_values++;
-    if (sel->desc.strict) sel->failed = 1;
+    if (sel->desc.strict)
+        sel->failed = 1;
 }
 
 int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, const float *bounds,
@@ -123,8 +124,7 @@ static int var_call(tclod_selector *sel, uint32_t v, double x, double *b, double
                     double *dc) {
     const tclod_vars *V = &sel->vars;
     return tclod_smooth_call(sel, V->first[v], V->size[v], &V->bounds[4u * v], V->area[v],
-                             V->distance[v], x, b, db,
-                             c, dc);
+                             V->distance[v], x, b, db, c, dc);
 }
 
 /* The variables' values, slopes, states or models changed: what was computed
@@ -155,7 +155,8 @@ static double slope_ratio(double db, double dc) {
 
 static double model_cost(const tclod_var_model *m, double x) {
     double c;
-    if (!(x > 0.0)) return 0.0;
+    if (!(x > 0.0))
+        return 0.0;
     c = x <= m->xk ? m->dc0 * x : m->c1 - m->dc1 * (1.0 - x);
     return c > 0.0 ? c : 0.0;
 }
@@ -182,7 +183,8 @@ static double model_target(const tclod_var_model *m, double log_lambda) {
  * its slope falls short of it. vars.ratio and vars.up must be current. */
 static double var_target(const tclod_vars *V, uint32_t v, double lambda, double log_lambda) {
     double r = V->r[v], x;
-    if (V->state[v] != TCLOD_VAR_LIVE) return r;
+    if (V->state[v] != TCLOD_VAR_LIVE)
+        return r;
     x = lambda > 0.0 ? model_target(&V->model[v], log_lambda) : 1.0;
     if ((x > r && !(V->up[v] > lambda)) || (x < r && !(V->ratio[v] < lambda)))
         return r;
@@ -196,7 +198,8 @@ static double model_spend(const tclod_vars *V, double lambda) {
     uint32_t v;
     for (v = 0; v < V->count; ++v) {
         double x = var_target(V, v, lambda, log_lambda);
-        if (x != V->r[v]) spend += model_cost(&V->model[v], x) - V->c[v];
+        if (x != V->r[v])
+            spend += model_cost(&V->model[v], x) - V->c[v];
     }
     return spend;
 }
@@ -298,15 +301,18 @@ static double level(const tclod_selector *sel, double left, double guess) {
     double tol = 1e-3 * fabs(sel->frame->budget), lo, hi, flo, fhi, spent;
     uint32_t k;
     int side = 0;
-    if (!(model_spend(V, 0.0) > left)) return 0.0;
-    if (!(-sel->reserved <= left)) return HUGE_VAL;
+    if (!(model_spend(V, 0.0) > left))
+        return 0.0;
+    if (!(-sel->reserved <= left))
+        return HUGE_VAL;
     hi = log(guess > 0.0 && isfinite(guess) ? guess : 1.0);
     if ((fhi = model_spend(V, exp(hi)) - left) > 0.0) {
         /* the spend at hi is the low end's once the one at hi + 4 is not
          * above left */
         flo = fhi;
         for (k = 0; (fhi = model_spend(V, exp(hi + 4.0)) - left) > 0.0; ++k) {
-            if (k == 64) return HUGE_VAL;
+            if (k == 64)
+                return HUGE_VAL;
             hi += 4.0;
             flo = fhi;
         }
@@ -314,7 +320,8 @@ static double level(const tclod_selector *sel, double left, double guess) {
         hi += 4.0;
     } else {
         for (lo = hi - 4.0, k = 0; !((flo = model_spend(V, exp(lo)) - left) > 0.0); ++k) {
-            if (k == 64) return exp(lo);
+            if (k == 64)
+                return exp(lo);
             hi = lo;
             fhi = flo;
             lo -= 4.0;
@@ -324,17 +331,20 @@ static double level(const tclod_selector *sel, double left, double guess) {
      * correction, and only steers the next point */
     for (k = 0, spent = fhi; k < 64 && hi - lo > 1e-9 && -spent > tol; ++k) {
         double u = lo + (hi - lo) * flo / (flo - fhi), f;
-        if (!(u > lo && u < hi)) u = 0.5 * (lo + hi);
+        if (!(u > lo && u < hi))
+            u = 0.5 * (lo + hi);
         f = model_spend(V, exp(u)) - left;
         if (f > 0.0) {
             lo = u;
             flo = f;
-            if (side > 0) fhi *= 0.5;
+            if (side > 0)
+                fhi *= 0.5;
             side = 1;
         } else {
             hi = u;
             fhi = spent = f;
-            if (side < 0) flo *= 0.5;
+            if (side < 0)
+                flo *= 0.5;
             side = -1;
         }
     }
@@ -395,10 +405,12 @@ static void cost_model(tclod_var_model *m, double dc0, double c1, double dc1) {
 static void update_model(tclod_vars *V, uint32_t v) {
     const tclod_var_trial *t = &V->trial[v];
     tclod_var_model *m = &V->model[v];
-    if (!(t->x > 0.0) || !(t->db > 0.0)) return;
+    if (!(t->x > 0.0) || !(t->db > 0.0))
+        return;
     if (t->qx > 0.0 && t->qdb > 0.0 && fabs(t->x - t->qx) > 1e-6 * t->x) {
         double secant = log(t->qdb / t->db) / log(t->x / t->qx);
-        if (secant >= BETA_MIN && secant <= BETA_MAX) m->beta = secant;
+        if (secant >= BETA_MIN && secant <= BETA_MAX)
+            m->beta = secant;
     }
     anchor_model(m, t->x, t->db);
 }
@@ -416,13 +428,15 @@ static int start_variables(tclod_selector *sel) {
     for (v = 0; v < V->count; ++v) {
         double b, c = 0.0, db = 0.0, dc = 0.0;
         tclod_var_model *m = &V->model[v];
-        if (V->state[v] == TCLOD_VAR_DEAD) continue; /* known invisible: not asked again */
+        if (V->state[v] == TCLOD_VAR_DEAD)
+            continue; /* known invisible: not asked again */
         if (var_call(sel, v, 0.0, &b, &V->db[v], &c, &V->dc[v]) ||
             var_call(sel, v, 1.0, &b, &db, &c, &dc)) {
             V->state[v] = TCLOD_VAR_DEAD; /* a model of no gain, from no value it was not given */
             c = db = dc = 0.0;
         }
-        if (sel->failed) return -1;
+        if (sel->failed)
+            return -1;
         m->beta = BETA_PRIOR;
         cost_model(m, V->dc[v], c, dc);
         anchor_model(m, 1.0, db);
@@ -492,7 +506,8 @@ static uint32_t finish_direction(tclod_selector *sel, double *slope) {
     for (v = 0; v < V->count; ++v)
         if (V->a[v] != 0.0) {
             V->moving[n++] = v;
-            if (fabs(V->a[v]) > a_max) a_max = fabs(V->a[v]);
+            if (fabs(V->a[v]) > a_max)
+                a_max = fabs(V->a[v]);
         }
     for (i = 0; i < n; ++i) {
         v = V->moving[i];
@@ -500,7 +515,8 @@ static uint32_t finish_direction(tclod_selector *sel, double *slope) {
         num += V->a[v] * V->db[v];
         den += V->a[v] * V->dc[v];
     }
-    if (!(num > 0.0)) return 0;
+    if (!(num > 0.0))
+        return 0;
     *slope = den > 0.0 ? num / den : HUGE_VAL;
     return n;
 }
@@ -547,10 +563,12 @@ static int level_direction(tclod_selector *sel, uint32_t n) {
         else
             down -= dc;
     }
-    if (!(down > 0.0) || !(up > down)) return 0;
+    if (!(down > 0.0) || !(up > down))
+        return 0;
     scale = down / up;
     for (i = 0; i < n; ++i)
-        if (V->a[V->moving[i]] * V->dc[V->moving[i]] > 0.0) V->a[V->moving[i]] *= scale;
+        if (V->a[V->moving[i]] * V->dc[V->moving[i]] > 0.0)
+            V->a[V->moving[i]] *= scale;
     return 1;
 }
 
@@ -586,11 +604,13 @@ static int line_eval(tclod_selector *sel, line *L, double t, line_point *p) {
         int saturated = x > 1.0 + SNAP || x < -SNAP;
         x = x >= 1.0 - SNAP ? 1.0 : (x <= SNAP ? 0.0 : x);
         /* the callbacks are asked no lower; the resolution is what they saw */
-        if (x > 0.0 && x < TCLOD_SLOPE_FLOOR) x = TCLOD_SLOPE_FLOOR;
+        if (x > 0.0 && x < TCLOD_SLOPE_FLOOR)
+            x = TCLOD_SLOPE_FLOOR;
         V->trial[v].qx = V->trial[v].x;
         V->trial[v].qdb = V->trial[v].db;
         var_call(sel, v, x, &V->trial[v].b, &V->trial[v].db, &V->trial[v].c, &V->trial[v].dc);
-        if (x == 0.0) V->trial[v].b = V->trial[v].c = 0.0; /* not drawn; slopes kept */
+        if (x == 0.0)
+            V->trial[v].b = V->trial[v].c = 0.0; /* not drawn; slopes kept */
         V->trial[v].x = x;
         p->benefit += V->trial[v].b;
         p->cost += V->trial[v].c;
@@ -638,18 +658,22 @@ static int seek_budget(tclod_selector *sel, line *L, line_point *lo, line_point 
         if (w <= 1e-12 * L->t_sat || L->other_cost + lo->cost - L->limit >= -1e-12 * fabs(L->limit))
             break;
         t = isfinite(fhi) ? lo->t + w * (-flo) / (fhi - flo) : lo->t + 0.5 * w;
-        if (!(t > lo->t && t < hi.t)) t = lo->t + 0.5 * w;
-        if (line_eval(sel, L, t, &p) != 0) return -1;
+        if (!(t > lo->t && t < hi.t))
+            t = lo->t + 0.5 * w;
+        if (line_eval(sel, L, t, &p) != 0)
+            return -1;
         f = L->other_cost + p.cost - L->limit;
         if (f <= 0.0) {
             *lo = p;
             flo = f;
-            if (side < 0) fhi *= 0.5;
+            if (side < 0)
+                fhi *= 0.5;
             side = -1;
         } else {
             hi = p;
             fhi = f;
-            if (side > 0) flo *= 0.5;
+            if (side > 0)
+                flo *= 0.5;
             side = 1;
         }
     }
@@ -667,10 +691,13 @@ static int seek_slope(tclod_selector *sel, line *L, line_point a, line_point b, 
     for (k = 0; k < REFINE_STEPS; ++k) {
         double w = b.t - a.t, t, g;
         line_point p;
-        if (w <= 1e-12 * L->t_sat) break;
+        if (w <= 1e-12 * L->t_sat)
+            break;
         t = isfinite(gb) ? a.t + w * ga / (ga - gb) : a.t + 0.5 * w;
-        if (!(t > a.t && t < b.t)) t = a.t + 0.5 * w;
-        if (line_eval(sel, L, t, &p) != 0) return -1;
+        if (!(t > a.t && t < b.t))
+            t = a.t + 0.5 * w;
+        if (line_eval(sel, L, t, &p) != 0)
+            return -1;
         if (!line_fits(L, &p)) {
             b = p;
             gb = -HUGE_VAL;
@@ -684,12 +711,14 @@ static int seek_slope(tclod_selector *sel, line *L, line_point a, line_point b, 
         if (g > 0.0) {
             a = p;
             ga = g;
-            if (side > 0) gb *= 0.5;
+            if (side > 0)
+                gb *= 0.5;
             side = 1;
         } else {
             b = p;
             gb = g;
-            if (side < 0) ga *= 0.5;
+            if (side < 0)
+                ga *= 0.5;
             side = -1;
         }
     }
@@ -748,21 +777,27 @@ static int line_best(tclod_selector *sel, line *L, const line_point *origin, con
         }
         kinks++;
         t = (q->cost - p->cost + p->slope_c * p->t - q->slope_c * q->t) / (p->slope_c - q->slope_c);
-        if (!(t > p->t + KINK_BRACKET * w && t < q->t)) t = p->t + 0.5 * w;
-        if (line_eval(sel, L, t - KINK_BRACKET * w, &at[0].p) != 0) return -1;
-        if (!line_fits(L, &at[0].p)) break; /* a cost that is not monotone: no bracket */
+        if (!(t > p->t + KINK_BRACKET * w && t < q->t))
+            t = p->t + 0.5 * w;
+        if (line_eval(sel, L, t - KINK_BRACKET * w, &at[0].p) != 0)
+            return -1;
+        if (!line_fits(L, &at[0].p))
+            break; /* a cost that is not monotone: no bracket */
         at[0].settled =
             fabs(at[0].p.slope_c - p->slope_c) <= KINK_DROP * scale &&
             fabs(at[0].p.cost - p->cost - p->slope_c * (at[0].p.t - p->t)) <= KINK_DROP * scale * w;
         added = 1;
         if (at[0].settled && !(line_slope(L, &at[0].p) > 0.0)) {
-            if (line_eval(sel, L, t + KINK_BRACKET * w, &at[1].p) != 0) return -1;
+            if (line_eval(sel, L, t + KINK_BRACKET * w, &at[1].p) != 0)
+                return -1;
             at[1].settled = 0;
             added += (uint32_t)line_fits(L, &at[1].p);
         }
         /* the points after p move up to make room, in order */
-        for (j = count; j-- > i + 1u;) pts[j + added] = pts[j];
-        for (j = 0; j < added; ++j) pts[i + 1u + j] = at[j];
+        for (j = count; j-- > i + 1u;)
+            pts[j + added] = pts[j];
+        for (j = 0; j < added; ++j)
+            pts[i + 1u + j] = at[j];
         count += added;
     }
     *best = pts[0].p;
@@ -771,10 +806,13 @@ static int line_best(tclod_selector *sel, line *L, const line_point *origin, con
         if (i > 0 && line_slope(L, &pts[i - 1u].p) > 0.0 && !(line_slope(L, p) > 0.0) &&
             !slope_matched(L, p) && !slope_matched(L, &pts[i - 1u].p)) {
             line_point found;
-            if (seek_slope(sel, L, pts[i - 1u].p, *p, &found) != 0) return -1;
-            if (line_value(L, &found) > line_value(L, best)) *best = found;
+            if (seek_slope(sel, L, pts[i - 1u].p, *p, &found) != 0)
+                return -1;
+            if (line_value(L, &found) > line_value(L, best))
+                *best = found;
         }
-        if (line_value(L, p) > line_value(L, best)) *best = *p;
+        if (line_value(L, p) > line_value(L, best))
+            *best = *p;
     }
     return 0;
 }
@@ -802,7 +840,8 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
     for (i = 0; i < n; ++i) {
         uint32_t v = V->moving[i];
         double t = V->a[v] > 0.0 ? (1.0 - V->r[v]) / V->a[v] : V->r[v] / -V->a[v];
-        if (t < L.t_sat) L.t_sat = t;
+        if (t < L.t_sat)
+            L.t_sat = t;
         origin.benefit += V->b[v];
         origin.cost += V->c[v];
         origin.slope_b += V->a[v] * V->db[v];
@@ -818,24 +857,30 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
     L.other_cost = sel->cost_sum + sel->reserved - moving_cost;
     *budget_bound = *matched = *stalled = 0;
 
-    if (line_eval(sel, &L, L.t_sat, &top) != 0) return -1;
+    if (line_eval(sel, &L, L.t_sat, &top) != 0)
+        return -1;
     if (!line_fits(&L, &top)) {
         line_point lo = origin;
         limited = 1;
-        if (seek_budget(sel, &L, &lo, top) != 0) return -1;
+        if (seek_budget(sel, &L, &lo, top) != 0)
+            return -1;
         top = lo;
         if (!(top.t > 0.0)) {
             *budget_bound = 1;
             return 0;
         }
     }
-    if (line_best(sel, &L, &origin, &top, &best) != 0) return -1;
+    if (line_best(sel, &L, &origin, &top, &best) != 0)
+        return -1;
     *matched = best.t < top.t;
     *budget_bound = limited && !*matched;
     /* no step at all when the line only loses (its slope starts below lambda) */
-    if (!(best.t > 0.0) || !(line_value(&L, &best) > line_value(&L, &origin))) return 0;
-    if (L.last_t != best.t && line_eval(sel, &L, best.t, &best) != 0) return -1;
-    if (!line_fits(&L, &best)) return 0; /* a host whose values changed */
+    if (!(best.t > 0.0) || !(line_value(&L, &best) > line_value(&L, &origin)))
+        return 0;
+    if (L.last_t != best.t && line_eval(sel, &L, best.t, &best) != 0)
+        return -1;
+    if (!line_fits(&L, &best))
+        return 0; /* a host whose values changed */
     for (i = 0; i < n; ++i) {
         uint32_t v = V->moving[i];
         update_model(V, v);
@@ -856,7 +901,8 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
 
 static void block_moving(tclod_selector *sel, uint32_t n) {
     uint32_t i;
-    for (i = 0; i < n; ++i) sel->vars.state[sel->vars.moving[i]] = TCLOD_VAR_BLOCKED;
+    for (i = 0; i < n; ++i)
+        sel->vars.state[sel->vars.moving[i]] = TCLOD_VAR_BLOCKED;
     moving_changed(&sel->vars, n);
 }
 
@@ -870,21 +916,26 @@ static int improve_gradient(tclod_selector *sel) {
         uint32_t n = 0;
         int moved, budget_bound, at_slope, stalled;
         tclod_id cand;
-        if (tclod_out_of_time(sel)) return 0;
+        if (tclod_out_of_time(sel))
+            return 0;
         cand = tclod_greedy_candidate(sel, &slope_d, &R->skipped);
         if (cand != TCLOD_NONE && cand == R->matched) { /* Figure 8.1: Q, then P */
-            if (tclod_greedy_take(sel, cand) != 0) return -1;
+            if (tclod_greedy_take(sel, cand) != 0)
+                return -1;
             R->matched = TCLOD_NONE;
             R->run = 0;
             continue;
         }
         if (!R->smooth_done && top_ratio(sel) > 0.0) {
             n = gradient_direction(sel, d->smooth_epsilon, &slope_c);
-            if (n == 0 && d->smooth_epsilon > 0.0) n = gradient_direction(sel, 0.0, &slope_c);
+            if (n == 0 && d->smooth_epsilon > 0.0)
+                n = gradient_direction(sel, 0.0, &slope_c);
         }
-        if (cand == TCLOD_NONE && n == 0) break;
+        if (cand == TCLOD_NONE && n == 0)
+            break;
         if (cand != TCLOD_NONE && (n == 0 || slope_d >= slope_c)) {
-            if (tclod_greedy_take(sel, cand) != 0) return -1;
+            if (tclod_greedy_take(sel, cand) != 0)
+                return -1;
             R->run = 0;
             continue;
         }
@@ -892,16 +943,20 @@ static int improve_gradient(tclod_selector *sel) {
         sel->stats.iterations++;
         sel->stats.line_searches++;
         moved = line_search(sel, n, target, &budget_bound, &at_slope, &stalled);
-        if (moved < 0) return -1;
+        if (moved < 0)
+            return -1;
         if (budget_bound) {
             R->skipped = 1;
             R->smooth_done = 1; /* t_max came from the budget: it is spent */
         }
         if (moved && !stalled) {
-            if (++R->run >= SMOOTH_RUN) R->smooth_done = 1;
-            if (at_slope && cand != TCLOD_NONE) R->matched = cand;
+            if (++R->run >= SMOOTH_RUN)
+                R->smooth_done = 1;
+            if (at_slope && cand != TCLOD_NONE)
+                R->matched = cand;
         } else if (cand != TCLOD_NONE) {
-            if (tclod_greedy_take(sel, cand) != 0) return -1;
+            if (tclod_greedy_take(sel, cand) != 0)
+                return -1;
             R->run = 0;
         } else if (moved || budget_bound) {
             R->smooth_done = 1;
@@ -922,7 +977,8 @@ static int smooth_step(tclod_selector *sel, double target, int *budget_bound) {
     uint32_t n;
     *budget_bound = 0;
     n = model_direction(sel, target, &slope);
-    if (n == 0) return 0;
+    if (n == 0)
+        return 0;
     sel->stats.iterations++;
     sel->stats.line_searches++;
     moved = line_search(sel, n, target, budget_bound, &at_slope, &stalled);
@@ -944,15 +1000,19 @@ static int spend_the_rest(tclod_selector *sel) {
         double slope;
         int moved, budget_bound, at_slope, stalled;
         uint32_t n;
-        if (tclod_out_of_time(sel)) return 0;
+        if (tclod_out_of_time(sel))
+            return 0;
         ratios(sel);
         n = gradient_direction(sel, 0.0, &slope);
-        if (n == 0) return 0;
+        if (n == 0)
+            return 0;
         sel->stats.iterations++;
         sel->stats.line_searches++;
         moved = line_search(sel, n, 0.0, &budget_bound, &at_slope, &stalled);
-        if (moved < 0) return -1;
-        if (!moved || stalled || budget_bound) return 0;
+        if (moved < 0)
+            return -1;
+        if (!moved || stalled || budget_bound)
+            return 0;
     }
     return 0;
 }
@@ -971,7 +1031,8 @@ static int improve_modelled(tclod_selector *sel) {
         double slope_d = 0.0, held = sel->reserved, at;
         tclod_id cand;
         int moved;
-        if (tclod_out_of_time(sel)) return 0;
+        if (tclod_out_of_time(sel))
+            return 0;
         ratios(sel);
         /* what fits with the smooth variables at nothing; the rest never will */
         sel->reserved = 0.0;
@@ -979,12 +1040,14 @@ static int improve_modelled(tclod_selector *sel) {
         sel->reserved = held;
         if (cand != TCLOD_NONE) {
             double dc = sel->node[cand].delta_c, left = budget - sel->cost_sum - held;
-            if (dc > 0.0) left -= dc;
+            if (dc > 0.0)
+                left -= dc;
             /* its slope beats the smooth variables' at the budget left after it
              * exactly when, at its slope, they would spend no more than that */
             if (!spend_exceeds(&sel->vars, slope_d, left)) {
                 if (sel->cost_sum + held + dc <= budget) {
-                    if (tclod_greedy_take(sel, cand) != 0) return -1;
+                    if (tclod_greedy_take(sel, cand) != 0)
+                        return -1;
                     R->run = 0;
                     continue;
                 }
@@ -992,7 +1055,8 @@ static int improve_modelled(tclod_selector *sel) {
                  * leave it */
                 at = level(sel, left - (budget - limit), slope_d);
                 moved = smooth_step(sel, at, &budget_bound);
-                if (moved < 0) return -1;
+                if (moved < 0)
+                    return -1;
                 if (!moved || ++R->run >= SMOOTH_RUN) {
                     tclod_greedy_skip(sel);
                     R->skipped = 1;
@@ -1001,11 +1065,15 @@ static int improve_modelled(tclod_selector *sel) {
             }
         }
         at = level(sel, limit - sel->cost_sum - held, R->guess);
-        if (isfinite(at) && at > 0.0) R->guess = at;
+        if (isfinite(at) && at > 0.0)
+            R->guess = at;
         moved = smooth_step(sel, at, &budget_bound);
-        if (moved < 0) return -1;
-        if (budget_bound) R->skipped = 1;
-        if (!moved || ++R->run >= SMOOTH_RUN) return 0;
+        if (moved < 0)
+            return -1;
+        if (budget_bound)
+            R->skipped = 1;
+        if (!moved || ++R->run >= SMOOTH_RUN)
+            return 0;
     }
 }
 
@@ -1016,8 +1084,10 @@ static int fill(tclod_selector *sel) {
     for (;;) {
         double slope_d;
         tclod_id cand = tclod_greedy_candidate(sel, &slope_d, &R->skipped);
-        if (cand == TCLOD_NONE || tclod_out_of_time(sel)) break;
-        if (tclod_greedy_take(sel, cand) != 0) return -1;
+        if (cand == TCLOD_NONE || tclod_out_of_time(sel))
+            break;
+        if (tclod_greedy_take(sel, cand) != 0)
+            return -1;
     }
     if (!sel->paused && !sel->stopped)
         sel->stats.stop_reason = R->skipped ? TCLOD_STOP_BUDGET : TCLOD_STOP_FINEST;
@@ -1038,10 +1108,12 @@ static int polish(tclod_selector *sel) {
         uint32_t v, hi = TCLOD_NONE, lo = TCLOD_NONE;
         double scale;
         int moved, budget_bound, at_slope, stalled;
-        if (tclod_out_of_time(sel)) return 0;
+        if (tclod_out_of_time(sel))
+            return 0;
         ratios(sel);
         for (v = 0; v < V->count; ++v) {
-            if (V->state[v] != TCLOD_VAR_LIVE) continue;
+            if (V->state[v] != TCLOD_VAR_LIVE)
+                continue;
             if (V->r[v] < 1.0 && V->ratio[v] > 0.0 && !isinf(V->ratio[v]) &&
                 (hi == TCLOD_NONE || V->ratio[v] > V->ratio[hi]))
                 hi = v;
@@ -1061,8 +1133,10 @@ static int polish(tclod_selector *sel) {
         sel->stats.line_searches++;
         moved = line_search(sel, 2, 0.0, &budget_bound, &at_slope, &stalled);
         V->a[hi] = V->a[lo] = 0.0;
-        if (moved < 0) return -1;
-        if (!moved || stalled) return 0;
+        if (moved < 0)
+            return -1;
+        if (!moved || stalled)
+            return 0;
     }
     return 0;
 }
@@ -1080,9 +1154,12 @@ static int finish(tclod_selector *sel) {
             sum += sel->node[n].cost;
     }
     for (i = 0; i < V->count; ++i)
-        if (V->r[i] > 0.0) sum += V->c[i];
-    if (!isinf(sum) && sum <= sel->frame->budget) return 0;
-    for (i = 0; i < V->count; ++i) V->r[i] = V->b[i] = V->c[i] = 0.0;
+        if (V->r[i] > 0.0)
+            sum += V->c[i];
+    if (!isinf(sum) && sum <= sel->frame->budget)
+        return 0;
+    for (i = 0; i < V->count; ++i)
+        V->r[i] = V->b[i] = V->c[i] = 0.0;
     vars_changed(&sel->vars);
     sel->reserved = 0.0;
     return tclod_greedy_enforce(sel);
@@ -1091,8 +1168,8 @@ static int finish(tclod_selector *sel) {
 /* The stages of a mixed solve (sel->resume.phase). */
 enum {
     MIXED_START = 0,
-    MIXED_IMPROVE,  /* the preconditioned loop, or the papers' */
-    MIXED_REST,     /* spend_the_rest */
+    MIXED_IMPROVE, /* the preconditioned loop, or the papers' */
+    MIXED_REST,    /* spend_the_rest */
     MIXED_FILL,
     MIXED_POLISH,
     MIXED_SAFEGUARD,
@@ -1105,7 +1182,8 @@ static double working_benefit(const tclod_selector *sel) {
     double sum = sel->benefit_sum;
     uint32_t v;
     for (v = 0; v < V->count; ++v)
-        if (V->r[v] > 0.0) sum += V->b[v];
+        if (V->r[v] > 0.0)
+            sum += V->b[v];
     return sum;
 }
 
@@ -1116,7 +1194,8 @@ static int restart_variables(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     uint32_t v;
     for (v = 0; v < V->count; ++v) {
-        if (V->state[v] != TCLOD_VAR_DEAD) V->state[v] = TCLOD_VAR_LIVE;
+        if (V->state[v] != TCLOD_VAR_DEAD)
+            V->state[v] = TCLOD_VAR_LIVE;
         V->r[v] = V->b[v] = V->c[v] = 0.0;
     }
     sel->reserved = 0.0;
@@ -1143,18 +1222,23 @@ static int safeguard(tclod_selector *sel, int *next) {
     *next = MIXED_FINISH;
     if (R->alt_pass) {
         uint32_t v;
-        if (now >= R->alt_benefit) return 0;
-        for (v = 0; v < sel->vars.count; ++v) sel->vars.r[v] = sel->vars.b[v] = sel->vars.c[v] = 0.0;
+        if (now >= R->alt_benefit)
+            return 0;
+        for (v = 0; v < sel->vars.count; ++v)
+            sel->vars.r[v] = sel->vars.b[v] = sel->vars.c[v] = 0.0;
         vars_changed(&sel->vars);
         sel->reserved = 0.0;
         return tclod_greedy_force(sel, R->alt_node);
     }
-    if (sel->stopped) return 0;
+    if (sel->stopped)
+        return 0;
     n = tclod_greedy_alternative(sel, &alt);
-    if (n == TCLOD_NONE || !(alt > now * (1.0 + 1e-12))) return 0;
+    if (n == TCLOD_NONE || !(alt > now * (1.0 + 1e-12)))
+        return 0;
     R->alt_pass = 1;
     sel->reserved = 0.0; /* T(n) holds nothing smooth: the cut has the whole budget */
-    if (tclod_greedy_force(sel, n) != 0 || restart_variables(sel) != 0) return -1;
+    if (tclod_greedy_force(sel, n) != 0 || restart_variables(sel) != 0)
+        return -1;
     *next = MIXED_IMPROVE;
     return 0;
 }
@@ -1176,7 +1260,8 @@ static int mixed_start(tclod_selector *sel) {
         R->as_greedy = 1;
         return 0;
     }
-    if (rc == 0) rc = tclod_greedy_start(sel);
+    if (rc == 0)
+        rc = tclod_greedy_start(sel);
     if (rc == 0) {
         tclod_greedy_track(sel);
         rc = start_variables(sel);
@@ -1187,7 +1272,8 @@ static int mixed_start(tclod_selector *sel) {
 tclod_status tclod_mixed_solve(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     int modelled = sel->desc.smooth_precondition, rc = 0;
-    if (R->as_greedy) return tclod_greedy_solve(sel);
+    if (R->as_greedy)
+        return tclod_greedy_solve(sel);
     while (rc == 0 && !sel->paused) {
         int next;
         switch (R->phase) {
@@ -1228,7 +1314,8 @@ tclod_status tclod_mixed_solve(tclod_selector *sel) {
             R->k = 0;
         }
     }
-    if (rc == 0) return TCLOD_OK;
+    if (rc == 0)
+        return TCLOD_OK;
     tclod_greedy_end(sel);
     return TCLOD_ERR_CALLBACK;
 }

@@ -18,7 +18,8 @@
 #define SLOPE_FLOOR 1e-12
 
 double tclod_benefit_terrain(double screen_area, uint32_t depth, uint32_t max_depth) {
-    if (!(screen_area > 0.0)) return 0.0;
+    if (!(screen_area > 0.0))
+        return 0.0;
     return screen_area * ldexp(1.0, (int)depth - (int)max_depth);
 }
 
@@ -26,7 +27,8 @@ double tclod_benefit_tree_group(double k, double screen_area, double trees, doub
                                 double *d_dr) {
     double scale = (screen_area > 0.0 && trees > 0.0) ? k * screen_area * (trees / 64.0) : 0.0;
     double rr = r > 0.0 ? (r < 1.0 ? r : 1.0) : 0.0;
-    if (d_dr) *d_dr = scale * 0.5 / sqrt(rr > SLOPE_FLOOR ? rr : SLOPE_FLOOR);
+    if (d_dr)
+        *d_dr = scale * 0.5 / sqrt(rr > SLOPE_FLOOR ? rr : SLOPE_FLOOR);
     return scale * sqrt(rr);
 }
 
@@ -35,18 +37,23 @@ double tclod_cost_splats(double c_splat, double c_tree, double splats, double tr
     double rr = r > 0.0 ? (r < 1.0 ? r : 1.0) : 0.0;
     double n = rr * splats;
     if (n < trees) {
-        if (d_dr) *d_dr = (c_splat + c_tree) * splats;
+        if (d_dr)
+            *d_dr = (c_splat + c_tree) * splats;
         return (c_splat + c_tree) * n;
     }
-    if (d_dr) *d_dr = c_splat * splats;
+    if (d_dr)
+        *d_dr = c_splat * splats;
     return c_splat * n + c_tree * trees;
 }
 
-double tclod_cost_vertices(double c_vertex, double vertices) { return c_vertex * vertices; }
+double tclod_cost_vertices(double c_vertex, double vertices) {
+    return c_vertex * vertices;
+}
 
 double tclod_benefit_accuracy(double screen_size, double faces, double original_faces) {
     double fine, coarse;
-    if (!(screen_size > 0.0) || !(faces > 0.0) || !(original_faces > 0.0)) return 0.0;
+    if (!(screen_size > 0.0) || !(faces > 0.0) || !(original_faces > 0.0))
+        return 0.0;
     fine = screen_size / original_faces;
     coarse = screen_size / faces;
     return screen_size * (fine > 1.0 ? fine : 1.0) / (coarse > 1.0 ? coarse : 1.0);

@@ -52,11 +52,16 @@ static inline int visible(const tclod_selector *sel, tclod_id n) {
 /* v / I of value function f, for valid arguments. */
 static double value_scale(tclod_value f, double area, double depth, double distance) {
     switch (f) {
-    case TCLOD_VALUE_AREA_SQRT_DEPTH: return area / sqrt(depth);
-    case TCLOD_VALUE_AREA_DEPTH: return area / depth;
-    case TCLOD_VALUE_AREA_DEPTH2: return area / (depth * depth);
-    case TCLOD_VALUE_SQRT_AREA_DISTANCE2: return sqrt(area) / (distance * distance);
-    default: return 1.0; /* TCLOD_VALUE_BENEFIT */
+    case TCLOD_VALUE_AREA_SQRT_DEPTH:
+        return area / sqrt(depth);
+    case TCLOD_VALUE_AREA_DEPTH:
+        return area / depth;
+    case TCLOD_VALUE_AREA_DEPTH2:
+        return area / (depth * depth);
+    case TCLOD_VALUE_SQRT_AREA_DISTANCE2:
+        return sqrt(area) / (distance * distance);
+    default:
+        return 1.0; /* TCLOD_VALUE_BENEFIT */
     }
 }
 
@@ -87,7 +92,8 @@ static inline double value_at(const tclod_selector *sel, double area, double dep
 static inline double instance_value(const tclod_selector *sel, const float *b, double importance) {
     tclod_value f = sel->desc.value;
     double area = 1.0, depth = 1.0, distance = 1.0;
-    if (f == TCLOD_VALUE_BENEFIT) return importance;
+    if (f == TCLOD_VALUE_BENEFIT)
+        return importance;
     if (b && b[3] >= 0.0f) {
         area = 3.14159265358979323846 * (double)b[3] * (double)b[3];
         if (sel->has_view) {
@@ -95,10 +101,12 @@ static inline double instance_value(const tclod_selector *sel, const float *b, d
             double p0 = (double)b[0] - c->eye[0], p1 = (double)b[1] - c->eye[1],
                    p2 = (double)b[2] - c->eye[2];
             depth = p0 * c->forward[0] + p1 * c->forward[1] + p2 * c->forward[2];
-            if (depth < c->near_z) depth = c->near_z;
+            if (depth < c->near_z)
+                depth = c->near_z;
             if (f == TCLOD_VALUE_SQRT_AREA_DISTANCE2) {
                 distance = sqrt(p0 * p0 + p1 * p1 + p2 * p2);
-                if (distance < c->near_z) distance = c->near_z;
+                if (distance < c->near_z)
+                    distance = c->near_z;
             }
         }
     }
@@ -204,7 +212,8 @@ static int is_head(const tclod_scene *s, tclod_id n) {
  * cost, with such a slope) counts as the most complex (visited last) and is
  * counted like any bad callback value. */
 static double complexity_value(tclod_selector *sel, double c, double slope) {
-    if (!value_bad(c) && !value_bad(slope)) return c;
+    if (!value_bad(c) && !value_bad(slope))
+        return c;
     bad_value(sel);
     return value_bad(c) ? HUGE_VAL : c;
 }
@@ -223,8 +232,8 @@ static double node_complexity(tclod_selector *sel, tclod_id head, tclod_id end) 
     q.members = NULL;
     q.id = cb->complexity ? head : end;
     q.bounds = sel->scene->bounds[4u * q.id + 3u] >= 0.0f ? &sel->scene->bounds[4u * q.id] : NULL;
-    return complexity_value(sel, cb->complexity ? cb->complexity(cb->user, &q)
-                                                : cb->cost(cb->user, &q), 0.0);
+    return complexity_value(
+        sel, cb->complexity ? cb->complexity(cb->user, &q) : cb->cost(cb->user, &q), 0.0);
 }
 
 static double smooth_complexity(tclod_selector *sel, uint32_t pos) {
@@ -239,7 +248,8 @@ static double smooth_complexity(tclod_selector *sel, uint32_t pos) {
     q.distance = -1.0f;
     q.members = s->smooth_order + pos;
     q.bounds = &s->smooth_bounds[4u * q.id];
-    if (cb->complexity) return complexity_value(sel, cb->complexity(cb->user, &q), 0.0);
+    if (cb->complexity)
+        return complexity_value(sel, cb->complexity(cb->user, &q), 0.0);
     d = 0.0;
     c = cb->smooth_cost(cb->user, &q, 1.0, &d);
     return complexity_value(sel, c, d);
@@ -286,7 +296,8 @@ static void prepare(tclod_selector *sel) {
         tclod_rh_chain *ch = &sel->rh_chains[id];
         const float *b = &s->bounds[4u * id];
         tclod_id m;
-        if (!is_head(s, id)) continue;
+        if (!is_head(s, id))
+            continue;
         ch->at = used;
         ch->flags = TCLOD_RH_CONSECUTIVE | TCLOD_RH_SHARED;
         for (m = id;; m = s->children[s->child_first[m]]) {
@@ -295,7 +306,8 @@ static void prepare(tclod_selector *sel) {
             if (memcmp(&s->bounds[4u * m], b, 4u * sizeof(float)) != 0)
                 ch->flags &= ~(uint32_t)TCLOD_RH_SHARED;
             sel->rh_chain[used++] = m;
-            if (child_count(s, m) != 1u) break;
+            if (child_count(s, m) != 1u)
+                break;
         }
         ch->reach = -1.0f;
         if (child_count(s, m) > 1u) {
@@ -310,7 +322,8 @@ static void prepare(tclod_selector *sel) {
      * smaller slot: a child range lists its ids in order), sorted in scratch */
     for (id = 0; id < n; ++id) {
         uint32_t first = s->child_first[id], k = child_count(s, id), j;
-        if (k < 2u) continue;
+        if (k < 2u)
+            continue;
         for (j = 0; j < k; ++j) {
             sel->scratch[first + j] = first + j;
             sel->scratch_key[first + j] = -sel->rh_key[s->children[first + j]];
@@ -336,7 +349,8 @@ static void prepare(tclod_selector *sel) {
     tclod_sort_by_key(sel->rh_order, keys, count);
     sel->rh_order_count = count;
     /* no chain has taken a level yet: their searches start at the first */
-    for (id = 0; id < n; ++id) sel->node[id].delta_b = 0.0;
+    for (id = 0; id < n; ++id)
+        sel->node[id].delta_b = 0.0;
     sel->rh_version = s->version;
 }
 
@@ -367,7 +381,8 @@ static void cut_remove(tclod_selector *sel, tclod_id n) {
     uint32_t pos = sel->node[n].cut_pos, last = --sel->cut_count;
     sel->node[n].cut_pos = TCLOD_NONE;
     sel->flags[n] = 0;
-    if (pos == last) return;
+    if (pos == last)
+        return;
     sel->cut[pos] = sel->cut[last];
     sel->node[sel->cut[pos]].cut_pos = pos;
     cut_costs(sel)[pos] = cut_costs(sel)[last];
@@ -399,7 +414,8 @@ static void push_candidate(tclod_selector *sel, uint32_t id, double value, doubl
     sel->path[2u * at + 1u] = step;
     R->ring_count++;
     R->ring_value += value;
-    if (step < R->min_step) R->min_step = step;
+    if (step < R->min_step)
+        R->min_step = step;
 }
 
 static uint32_t pop_candidate(tclod_selector *sel, double *value, double *step) {
@@ -685,11 +701,11 @@ static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *
 }
 
 /* The projected area and distance of smooth object pos (-1 without a view). */
-static void smooth_measure(const tclod_selector *sel, uint32_t pos, float *area,
-                           float *distance) {
+static void smooth_measure(const tclod_selector *sel, uint32_t pos, float *area, float *distance) {
     const float *b = &sel->scene->smooth_bounds[4u * sel->scene->smooth_order[pos]];
     *area = *distance = -1.0f;
-    if (sel->has_view) tclod_view_cache_measure(&sel->view, b, area, distance);
+    if (sel->has_view)
+        tclod_view_cache_measure(&sel->view, b, area, distance);
 }
 
 /* The smooth object at sorted position pos: culled like the mixed solver's
@@ -718,7 +734,8 @@ static double smooth_value(tclod_selector *sel, uint32_t pos) {
     q.members = s->smooth_order + pos;
     q.bounds = b;
     importance = importance_of(sel, &q, benefit);
-    if (sel->failed) return -1.0;
+    if (sel->failed)
+        return -1.0;
     return importance > 0.0 ? instance_value(sel, b, importance) : 0.0;
 }
 
@@ -733,35 +750,43 @@ static double smooth_resolution(tclod_selector *sel, uint32_t pos, float area, f
     uint32_t k;
     *cost = 0.0;
     tclod_smooth_call(sel, pos, 1, NULL, area, distance, 1.0, NULL, NULL, &chi, &dc);
-    if (sel->failed) return -1.0;
+    if (sel->failed)
+        return -1.0;
     if (chi <= time) {
         *cost = chi;
         return 1.0;
     }
     tclod_smooth_call(sel, pos, 1, NULL, area, distance, lo, NULL, NULL, &clo, &dc);
-    if (sel->failed) return -1.0;
-    if (!(clo <= time)) return 0.0;
+    if (sel->failed)
+        return -1.0;
+    if (!(clo <= time))
+        return 0.0;
     for (k = 0; k < INVERSE_STEPS && hi - lo > 1e-12 && clo < time * (1.0 - 1e-9); ++k) {
         double x = isfinite(chi) ? lo + (hi - lo) * (time - clo) / (chi - clo) : 0.5 * (lo + hi);
         double c;
-        if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);
+        if (!(x > lo && x < hi))
+            x = 0.5 * (lo + hi);
         tclod_smooth_call(sel, pos, 1, NULL, area, distance, x, NULL, NULL, &c, &dc);
-        if (sel->failed) return -1.0;
+        if (sel->failed)
+            return -1.0;
         if (c <= time) {
             lo = x;
             clo = c;
-            if (side < 0) chi = time + 0.5 * (chi - time);
+            if (side < 0)
+                chi = time + 0.5 * (chi - time);
             side = -1;
         } else {
             hi = x;
             chi = c;
-            if (side > 0) clo = time - 0.5 * (time - clo);
+            if (side > 0)
+                clo = time - 0.5 * (time - clo);
             side = 1;
         }
     }
     /* the Illinois correction moved the bracket's values: ask the cost of lo */
     tclod_smooth_call(sel, pos, 1, NULL, area, distance, lo, NULL, NULL, cost, &dc);
-    if (sel->failed) return -1.0;
+    if (sel->failed)
+        return -1.0;
     return *cost <= time ? lo : 0.0;
 }
 
@@ -786,8 +811,7 @@ static int add_group(tclod_selector *sel, uint32_t pos, float area, float distan
  * smallest while `pool` covers it) if that is above the one it has. Returns
  * the cost it then holds in *used (0 when not drawn) and whether the
  * resolution rose; -1 on a strict error. */
-static int place_smooth(tclod_selector *sel, uint32_t pos, double time, double pool,
-                        double *used) {
+static int place_smooth(tclod_selector *sel, uint32_t pos, double time, double pool, double *used) {
     tclod_vars *V = &sel->vars;
     float area, distance;
     double r, cost;
@@ -796,7 +820,8 @@ static int place_smooth(tclod_selector *sel, uint32_t pos, double time, double p
      * cheap and the callbacks cached nothing */
     smooth_measure(sel, pos, &area, &distance);
     r = smooth_resolution(sel, pos, area, distance, time, &cost);
-    if (r < 0.0) return -1;
+    if (r < 0.0)
+        return -1;
     if (r == 0.0 && V->r[pos] == 0.0 && sel->desc.misfit == TCLOD_MISFIT_COARSEST) {
         tclod_smooth_call(sel, pos, 1, NULL, area, distance, TCLOD_SLOPE_FLOOR, NULL, NULL, &cost,
                           &r);
@@ -804,7 +829,8 @@ static int place_smooth(tclod_selector *sel, uint32_t pos, double time, double p
     }
     *used = V->c[pos];
     if (r > V->r[pos]) {
-        if (add_group(sel, pos, area, distance, r, cost) != 0) return -1;
+        if (add_group(sel, pos, area, distance, r, cost) != 0)
+            return -1;
         *used = cost;
         rose = 1;
     }
@@ -818,10 +844,13 @@ static int finish(tclod_selector *sel) {
     const double *costs = cut_costs(sel);
     double sum = 0.0;
     uint32_t i;
-    for (i = 0; i < sel->cut_count; ++i) sum += costs[i];
+    for (i = 0; i < sel->cut_count; ++i)
+        sum += costs[i];
     sel->cost_sum = sum;
-    for (i = 0; i < sel->vars.count; ++i) sum += sel->vars.c[i];
-    if (!isinf(sum) && sum <= sel->frame->budget) return 0;
+    for (i = 0; i < sel->vars.count; ++i)
+        sum += sel->vars.c[i];
+    if (!isinf(sum) && sum <= sel->frame->budget)
+        return 0;
     sel->vars.count = 0;
     return tclod_greedy_enforce(sel);
 }
@@ -840,7 +869,8 @@ static int values(tclod_selector *sel, double *total) {
                 return -1;
         } else {
             v = smooth_value(sel, id - s->node_count);
-            if (v < 0.0) return -1;
+            if (v < 0.0)
+                return -1;
         }
         sel->rh_key[k] = v;
         *total += v;
@@ -875,7 +905,8 @@ static int robin_hood_start(tclod_selector *sel) {
     cut_clear(sel);
     empty_variables(sel);
     sel->reserved = 0.0;
-    if (values(sel, &total) != 0) return -1;
+    if (values(sel, &total) != 0)
+        return -1;
     R->pool = isinf(budget) ? budget : budget - BUDGET_MARGIN * budget;
     R->value_left = total;
     R->limited = 0;
@@ -909,11 +940,13 @@ static int share_out(tclod_selector *sel) {
         uint32_t id = sel->rh_order[R->k];
         double v = sel->rh_key[R->k], share, used = 0.0;
         int stopped;
-        if (!sel->stopped && tclod_out_of_time(sel) && sel->paused) return 0;
+        if (!sel->stopped && tclod_out_of_time(sel) && sel->paused)
+            return 0;
         stopped = sel->stopped;
         share = share_for(R, v);
         R->value_left -= v;
-        if (stopped) share = 0.0;
+        if (stopped)
+            share = 0.0;
         if (id < s->node_count) {
             if (!visible(sel, id)) {
                 cut_add(sel, id, 0);
@@ -939,14 +972,16 @@ static int share_out(tclod_selector *sel) {
             uint32_t pos = id - s->node_count;
             sel->stats.variables++;
             sel->stats.iterations++;
-            if (place_smooth(sel, pos, share, R->pool, &used) < 0) return -1;
+            if (place_smooth(sel, pos, share, R->pool, &used) < 0)
+                return -1;
             if (sel->vars.r[pos] < 1.0) { /* a candidate of cycle 3 */
                 R->smooth_value += v;
                 R->smooth_open++;
             }
         }
         R->pool -= used;
-        if (R->pool < 0.0) R->pool = 0.0;
+        if (R->pool < 0.0)
+            R->pool = 0.0;
     }
     return 0;
 }
@@ -969,12 +1004,14 @@ static int refine_node(tclod_selector *sel, tclod_id head, double v, double step
         return 0;
     }
     cut_remove(sel, n);
-    if (dropped) sel->stats.dropped_roots--;
+    if (dropped)
+        sel->stats.dropped_roots--;
     at = sel->cut_count;
     if (place_node(sel, head, ch, v, held + share, &used) != 0)
         return -1;
     R->pool -= used - held;
-    if (R->pool < 0.0) R->pool = 0.0;
+    if (R->pool < 0.0)
+        R->pool = 0.0;
     return dropped || sel->cut_count > at + 1u || sel->cut[at] != n;
 }
 
@@ -985,7 +1022,8 @@ static int refine_smooth(tclod_selector *sel, uint32_t pos, double v, double sha
     int rose = place_smooth(sel, pos, held + share, R->pool, &used);
     if (rose > 0) {
         R->pool -= used - held;
-        if (R->pool < 0.0) R->pool = 0.0;
+        if (R->pool < 0.0)
+            R->pool = 0.0;
         if (!(sel->vars.r[pos] < 1.0)) {
             R->smooth_value -= v;
             R->smooth_open--;
@@ -1067,8 +1105,8 @@ static int refill(tclod_selector *sel) {
         int rose;
         if (R->pass_left == 0u && R->k >= sel->rh_order_count) { /* a pass is over */
             double least = REFILL_MIN * sel->frame->budget;
-            if (!R->refined || (R->ring_count == 0u && R->smooth_open == 0u) ||
-                R->pool < least || R->passes == REFILL_PASSES ||
+            if (!R->refined || (R->ring_count == 0u && R->smooth_open == 0u) || R->pool < least ||
+                R->passes == REFILL_PASSES ||
                 (R->passes > 0u && !(R->pass_pool - R->pool >= least)) ||
                 (R->smooth_open == 0u && !(R->pool >= R->min_step)))
                 return 0;
@@ -1094,7 +1132,8 @@ static int refill(tclod_selector *sel) {
             step = sel->path[2u * at + 1u];
             share = share_for(R, v);
             tries = step <= R->pool && step <= share;
-            if (tries && tclod_out_of_time(sel)) return 0;
+            if (tries && tclod_out_of_time(sel))
+                return 0;
             pop_candidate(sel, &v, &step);
             R->pass_left--;
             R->value_left -= v;
@@ -1114,13 +1153,15 @@ static int refill(tclod_selector *sel) {
                 R->k++;
                 continue;
             }
-            if (tclod_out_of_time(sel)) return 0;
+            if (tclod_out_of_time(sel))
+                return 0;
             sel->stats.iterations++;
             rose = refine_smooth(sel, id - s->node_count, v, share_for(R, v));
             R->value_left -= v;
             R->k++;
         }
-        if (rose < 0) return -1;
+        if (rose < 0)
+            return -1;
         if (rose) {
             sel->stats.increments++;
             R->refined = 1;
@@ -1151,15 +1192,19 @@ tclod_status tclod_robin_hood_solve(tclod_selector *sel) {
             R->phase = 2;
         }
     }
-    if (rc == 0 && R->phase == 2 && !sel->paused) rc = refill(sel);
-    if (rc == 0 && sel->paused) return TCLOD_OK;
-    if (rc == 0) rc = finish(sel);
+    if (rc == 0 && R->phase == 2 && !sel->paused)
+        rc = refill(sel);
+    if (rc == 0 && sel->paused)
+        return TCLOD_OK;
+    if (rc == 0)
+        rc = finish(sel);
     tclod_greedy_end(sel);
-    if (rc != 0) return TCLOD_ERR_CALLBACK;
+    if (rc != 0)
+        return TCLOD_ERR_CALLBACK;
     if (!sel->stopped)
-        sel->stats.stop_reason = R->limited || R->ring_count > 0u || R->smooth_open > 0u ||
-                                         sel->stats.dropped_roots > 0u
-                                     ? TCLOD_STOP_BUDGET
-                                     : TCLOD_STOP_FINEST;
+        sel->stats.stop_reason =
+            R->limited || R->ring_count > 0u || R->smooth_open > 0u || sel->stats.dropped_roots > 0u
+                ? TCLOD_STOP_BUDGET
+                : TCLOD_STOP_FINEST;
     return sel->failed ? TCLOD_ERR_CALLBACK : TCLOD_OK;
 }

@@ -24,9 +24,11 @@ static uint32_t grown_capacity(uint32_t cap) {
 tclod_status tclod_scene_create(const tclod_allocator *a, tclod_scene **out) {
     tclod_allocator alloc;
     tclod_scene *s;
-    if (!out || !tclod_allocator_init(&alloc, a)) return TCLOD_ERR_ARG;
+    if (!out || !tclod_allocator_init(&alloc, a))
+        return TCLOD_ERR_ARG;
     s = (tclod_scene *)tclod_mem_alloc(&alloc, sizeof *s);
-    if (!s) return TCLOD_ERR_NOMEM;
+    if (!s)
+        return TCLOD_ERR_NOMEM;
     memset(s, 0, sizeof *s);
     s->alloc = alloc;
     s->version = 1;
@@ -63,30 +65,36 @@ static void index_arrays_free(const tclod_allocator *a, index_arrays *x) {
 void tclod_scene_destroy(tclod_scene *s) {
     tclod_array arrays[2];
     tclod_allocator alloc;
-    if (!s) return;
+    if (!s)
+        return;
     alloc = s->alloc;
     tclod_arrays_free(&alloc, arrays, node_arrays(s, arrays), s->node_cap);
     {
         index_arrays x = {s->index_cap, s->smooth_index_cap, s->child_first, s->children,
-                          s->roots, s->smooth_order, s->smooth_pos, s->qt};
+                          s->roots,     s->smooth_order,     s->smooth_pos,  s->qt};
         index_arrays_free(&alloc, &x);
     }
-    if (s->smooth_cap) tclod_mem_free(&alloc, s->smooth_bounds, 4 * sizeof(float) * s->smooth_cap);
+    if (s->smooth_cap)
+        tclod_mem_free(&alloc, s->smooth_bounds, 4 * sizeof(float) * s->smooth_cap);
     tclod_mem_free(&alloc, s, sizeof *s);
 }
 
 tclod_status tclod_scene_add_node(tclod_scene *s, tclod_id parent, const float bounds[4],
                                   tclod_id *out_id) {
     tclod_id id;
-    if (!s || !out_id || (bounds && !bounds_valid(bounds))) return TCLOD_ERR_ARG;
-    if (parent != TCLOD_NONE && parent >= s->node_count) return TCLOD_ERR_HIERARCHY;
-    if (s->node_count == UINT32_MAX - 1u) return TCLOD_ERR_NOMEM; /* ids exhausted */
+    if (!s || !out_id || (bounds && !bounds_valid(bounds)))
+        return TCLOD_ERR_ARG;
+    if (parent != TCLOD_NONE && parent >= s->node_count)
+        return TCLOD_ERR_HIERARCHY;
+    if (s->node_count == UINT32_MAX - 1u)
+        return TCLOD_ERR_NOMEM; /* ids exhausted */
     if (s->node_count == s->node_cap) {
         tclod_array arrays[2];
         size_t n = node_arrays(s, arrays);
         uint32_t cap = grown_capacity(s->node_cap);
         tclod_status st = tclod_arrays_grow(&s->alloc, arrays, n, s->node_cap, cap);
-        if (st != TCLOD_OK) return st;
+        if (st != TCLOD_OK)
+            return st;
         s->node_cap = cap;
     }
     id = s->node_count++;
@@ -104,13 +112,16 @@ tclod_status tclod_scene_add_node(tclod_scene *s, tclod_id parent, const float b
 
 tclod_status tclod_scene_add_smooth(tclod_scene *s, const float bounds[4], tclod_id *out_id) {
     tclod_id id;
-    if (!s || !out_id || !bounds || !bounds_valid(bounds)) return TCLOD_ERR_ARG;
-    if (s->smooth_count == UINT32_MAX - 1u) return TCLOD_ERR_NOMEM;
+    if (!s || !out_id || !bounds || !bounds_valid(bounds))
+        return TCLOD_ERR_ARG;
+    if (s->smooth_count == UINT32_MAX - 1u)
+        return TCLOD_ERR_NOMEM;
     if (s->smooth_count == s->smooth_cap) {
         tclod_array arr = {(void **)&s->smooth_bounds, 4 * sizeof(float), -1};
         uint32_t cap = grown_capacity(s->smooth_cap);
         tclod_status st = tclod_arrays_grow(&s->alloc, &arr, 1, s->smooth_cap, cap);
-        if (st != TCLOD_OK) return st;
+        if (st != TCLOD_OK)
+            return st;
         s->smooth_cap = cap;
     }
     id = s->smooth_count++;
@@ -134,11 +145,12 @@ typedef struct qt_cell {
 static tclod_status index_reserve(tclod_scene *s) {
     tclod_allocator *a = &s->alloc;
     index_arrays old = {s->index_cap, s->smooth_index_cap, s->child_first, s->children,
-                        s->roots, s->smooth_order, s->smooth_pos, s->qt};
+                        s->roots,     s->smooth_order,     s->smooth_pos,  s->qt};
     index_arrays fresh = {0, 0, NULL, NULL, NULL, NULL, NULL, NULL};
     int nodes = s->node_count > s->index_cap || !s->child_first;
     int smooth = s->smooth_count > s->smooth_index_cap;
-    if (!nodes && !smooth) return TCLOD_OK;
+    if (!nodes && !smooth)
+        return TCLOD_OK;
     if (nodes) {
         fresh.node_cap = s->node_cap;
         /* child_first needs one entry more than there are nodes */
@@ -155,16 +167,16 @@ static tclod_status index_reserve(tclod_scene *s) {
         fresh.smooth_cap = s->smooth_cap;
         fresh.smooth_order = (tclod_id *)tclod_mem_alloc(a, sizeof(tclod_id) * fresh.smooth_cap);
         fresh.smooth_pos = (uint32_t *)tclod_mem_alloc(a, sizeof(uint32_t) * fresh.smooth_cap);
-        fresh.qt = (tclod_smooth_node *)tclod_mem_alloc(
-            a, sizeof(tclod_smooth_node) * 2u * (size_t)fresh.smooth_cap);
+        fresh.qt = (tclod_smooth_node *)tclod_mem_alloc(a, sizeof(tclod_smooth_node) * 2u *
+                                                               (size_t)fresh.smooth_cap);
         if (!fresh.smooth_order || !fresh.smooth_pos || !fresh.qt) {
             index_arrays_free(a, &fresh);
             return TCLOD_ERR_NOMEM;
         }
     }
     if (nodes) {
-        index_arrays gone = {old.node_cap, 0, old.child_first, old.children, old.roots,
-                             NULL, NULL, NULL};
+        index_arrays gone = {old.node_cap, 0,   old.child_first, old.children, old.roots, NULL,
+                             NULL,         NULL};
         index_arrays_free(a, &gone);
         s->index_cap = fresh.node_cap;
         s->child_first = fresh.child_first;
@@ -172,8 +184,8 @@ static tclod_status index_reserve(tclod_scene *s) {
         s->roots = fresh.roots;
     }
     if (smooth) {
-        index_arrays gone = {0, old.smooth_cap, NULL, NULL, NULL,
-                             old.smooth_order, old.smooth_pos, old.qt};
+        index_arrays gone = {0,    old.smooth_cap,   NULL,           NULL,
+                             NULL, old.smooth_order, old.smooth_pos, old.qt};
         index_arrays_free(a, &gone);
         s->smooth_index_cap = fresh.smooth_cap;
         s->smooth_order = fresh.smooth_order;
@@ -194,13 +206,16 @@ static void build_child_index(tclod_scene *s) {
         else
             s->child_first[p + 1u]++;
     }
-    for (i = 0; i < n; ++i) s->child_first[i + 1u] += s->child_first[i];
+    for (i = 0; i < n; ++i)
+        s->child_first[i + 1u] += s->child_first[i];
     for (i = 0; i < n; ++i) {
         tclod_id p = s->parent[i];
-        if (p != TCLOD_NONE) s->children[s->child_first[p]++] = i;
+        if (p != TCLOD_NONE)
+            s->children[s->child_first[p]++] = i;
     }
     /* child_first[p] now holds the end of p's range: shift back by one slot */
-    for (i = n; i > 0; --i) s->child_first[i] = s->child_first[i - 1u];
+    for (i = n; i > 0; --i)
+        s->child_first[i] = s->child_first[i - 1u];
     s->child_first[0] = 0;
     s->root_count = roots;
 }
@@ -232,17 +247,20 @@ static void qt_split(tclod_scene *s, qt_cell *cells, uint32_t k) {
     uint32_t bound[5], q, nonempty;
     for (;;) {
         double half = 0.5 * cell.size, mx = cell.x0 + half, mz = cell.z0 + half;
-        if (cell.depth >= QT_MAX_DEPTH || !(half > 0.0)) return; /* a leaf of several */
+        if (cell.depth >= QT_MAX_DEPTH || !(half > 0.0))
+            return; /* a leaf of several */
         bound[0] = node->first;
         bound[4] = node->first + node->count;
         bound[2] = partition(s, bound[0], bound[4], 2, mz);
         bound[1] = partition(s, bound[0], bound[2], 0, mx);
         bound[3] = partition(s, bound[2], bound[4], 0, mx);
         nonempty = 0;
-        for (q = 0; q < 4; ++q) nonempty += bound[q + 1u] > bound[q];
+        for (q = 0; q < 4; ++q)
+            nonempty += bound[q + 1u] > bound[q];
         cell.size = half;
         cell.depth++;
-        if (nonempty > 1) break;
+        if (nonempty > 1)
+            break;
         for (q = 0; q < 4; ++q)
             if (bound[q + 1u] > bound[q]) {
                 cell.x0 += (q & 1u) ? half : 0.0;
@@ -253,7 +271,8 @@ static void qt_split(tclod_scene *s, qt_cell *cells, uint32_t k) {
     node->child_count = nonempty;
     for (q = 0; q < 4; ++q) {
         tclod_smooth_node *c;
-        if (bound[q + 1u] == bound[q]) continue;
+        if (bound[q + 1u] == bound[q])
+            continue;
         c = &s->qt[s->qt_count];
         c->first = bound[q];
         c->count = bound[q + 1u] - bound[q];
@@ -280,18 +299,23 @@ static void enclose(const float *spheres, size_t stride, uint32_t n, const tclod
         const float *b = spheres + stride * (ids ? ids[i] : i);
         for (k = 0; k < 3; ++k) {
             double l = (double)b[k] - (double)b[3], h = (double)b[k] + (double)b[3];
-            if (l < lo[k]) lo[k] = l;
-            if (h > hi[k]) hi[k] = h;
+            if (l < lo[k])
+                lo[k] = l;
+            if (h > hi[k])
+                hi[k] = h;
         }
     }
-    for (k = 0; k < 3; ++k) c[k] = 0.5 * (lo[k] + hi[k]);
+    for (k = 0; k < 3; ++k)
+        c[k] = 0.5 * (lo[k] + hi[k]);
     for (i = 0; i < n; ++i) {
         const float *b = spheres + stride * (ids ? ids[i] : i);
         double dx = (double)b[0] - c[0], dy = (double)b[1] - c[1], dz = (double)b[2] - c[2];
         double r = sqrt(dx * dx + dy * dy + dz * dz) + (double)b[3];
-        if (r > radius) radius = r;
+        if (r > radius)
+            radius = r;
     }
-    for (k = 0; k < 3; ++k) out[k] = (float)c[k];
+    for (k = 0; k < 3; ++k)
+        out[k] = (float)c[k];
     out[3] = (float)(radius * (1.0 + 1e-6) + 1e-6 * (fabs(c[0]) + fabs(c[1]) + fabs(c[2])));
 }
 
@@ -301,14 +325,19 @@ static void build_smooth_quadtree(tclod_scene *s, qt_cell *cells) {
     uint32_t n = s->smooth_count, i, k;
     double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
     s->qt_count = 0;
-    if (n == 0) return;
+    if (n == 0)
+        return;
     for (i = 0; i < n; ++i) {
         const float *b = &s->smooth_bounds[4u * i];
         s->smooth_order[i] = i;
-        if ((double)b[0] < lo[0]) lo[0] = (double)b[0];
-        if ((double)b[0] > hi[0]) hi[0] = (double)b[0];
-        if ((double)b[2] < lo[1]) lo[1] = (double)b[2];
-        if ((double)b[2] > hi[1]) hi[1] = (double)b[2];
+        if ((double)b[0] < lo[0])
+            lo[0] = (double)b[0];
+        if ((double)b[0] > hi[0])
+            hi[0] = (double)b[0];
+        if ((double)b[2] < lo[1])
+            lo[1] = (double)b[2];
+        if ((double)b[2] > hi[1])
+            hi[1] = (double)b[2];
     }
     s->qt[0].first = 0;
     s->qt[0].count = n;
@@ -320,14 +349,15 @@ static void build_smooth_quadtree(tclod_scene *s, qt_cell *cells) {
     cells[0].depth = 0;
     s->qt_count = 1;
     for (k = 0; k < s->qt_count; ++k)
-        if (s->qt[k].count > 1) qt_split(s, cells, k);
-    for (i = 0; i < n; ++i) s->smooth_pos[s->smooth_order[i]] = i;
+        if (s->qt[k].count > 1)
+            qt_split(s, cells, k);
+    for (i = 0; i < n; ++i)
+        s->smooth_pos[s->smooth_order[i]] = i;
     /* children follow their parents, so a backward pass sees children first */
     for (k = s->qt_count; k-- > 0;) {
         tclod_smooth_node *node = &s->qt[k];
         if (node->child_count == 0)
-            enclose(s->smooth_bounds, 4, node->count, s->smooth_order + node->first,
-                    node->bounds);
+            enclose(s->smooth_bounds, 4, node->count, s->smooth_order + node->first, node->bounds);
         else
             enclose(s->qt[node->child].bounds, sizeof(tclod_smooth_node) / sizeof(float),
                     node->child_count, NULL, node->bounds);
@@ -338,14 +368,17 @@ tclod_status tclod_scene_prepare(tclod_scene *s) {
     size_t cells_size;
     qt_cell *cells = NULL;
     tclod_status st;
-    if (!s) return TCLOD_ERR_ARG;
-    if (s->index_version == s->version) return TCLOD_OK;
+    if (!s)
+        return TCLOD_ERR_ARG;
+    if (s->index_version == s->version)
+        return TCLOD_OK;
     /* the quadtree's build-time cells, taken first so no failure comes after
      * the index arrays have been replaced */
     cells_size = sizeof(qt_cell) * 2u * (size_t)s->smooth_count;
     if (s->smooth_count) {
         cells = (qt_cell *)tclod_mem_alloc(&s->alloc, cells_size);
-        if (!cells) return TCLOD_ERR_NOMEM;
+        if (!cells)
+            return TCLOD_ERR_NOMEM;
     }
     st = index_reserve(s);
     if (st == TCLOD_OK) {
@@ -353,24 +386,31 @@ tclod_status tclod_scene_prepare(tclod_scene *s) {
         build_child_index(s);
     }
     tclod_mem_free(&s->alloc, cells, cells_size);
-    if (st != TCLOD_OK) return st;
+    if (st != TCLOD_OK)
+        return st;
     s->index_version = s->version;
     return TCLOD_OK;
 }
 
 tclod_status tclod_scene_smooth_order(tclod_scene *s, const tclod_id **order, uint32_t *count) {
     tclod_status st;
-    if (!s || !order || !count) return TCLOD_ERR_ARG;
+    if (!s || !order || !count)
+        return TCLOD_ERR_ARG;
     st = tclod_scene_prepare(s);
-    if (st != TCLOD_OK) return st;
+    if (st != TCLOD_OK)
+        return st;
     *order = s->smooth_order;
     *count = s->smooth_count;
     return TCLOD_OK;
 }
 
-uint32_t tclod_scene_node_count(const tclod_scene *s) { return s ? s->node_count : 0u; }
+uint32_t tclod_scene_node_count(const tclod_scene *s) {
+    return s ? s->node_count : 0u;
+}
 
-uint32_t tclod_scene_smooth_count(const tclod_scene *s) { return s ? s->smooth_count : 0u; }
+uint32_t tclod_scene_smooth_count(const tclod_scene *s) {
+    return s ? s->smooth_count : 0u;
+}
 
 tclod_id tclod_scene_parent(const tclod_scene *s, tclod_id node) {
     return (s && node < s->node_count) ? s->parent[node] : TCLOD_NONE;

@@ -58,11 +58,11 @@ enum { REGION_STATIC = 0, REGION_UP = 1, REGION_DOWN = 2 };
 /* One part of the hierarchies in the current interval: a node q and the
  * nodes below it that the interval starts or ends with. */
 typedef struct region {
-    tclod_id root;       /* q: the coarse side of a morph */
-    uint32_t kind;       /* REGION_* */
+    tclod_id root;         /* q: the coarse side of a morph */
+    uint32_t kind;         /* REGION_* */
     uint32_t first, count; /* the nodes drawn (static) or the fine side (morph) in
                             sch->nodes */
-    uint32_t depth;      /* morph: levels between q and its deepest fine node */
+    uint32_t depth;        /* morph: levels between q and its deepest fine node */
 } region;
 
 /* Generations kept: the three the pipeline works with, the three the outputs
@@ -136,17 +136,17 @@ typedef struct pipeline {
 struct tclod_scheduler {
     tclod_allocator alloc;
     tclod_scheduler_desc desc;
-    tclod_callbacks host;      /* the host's callbacks */
+    tclod_callbacks host; /* the host's callbacks */
     tclod_scene *scene;
-    tclod_selector *sel;       /* solves with the callbacks below */
+    tclod_selector *sel; /* solves with the callbacks below */
     tclod_calib *calib;
     int busy;
 
     /* the views the callbacks answer for */
-    int current_only;          /* pass the host's values through */
+    int current_only; /* pass the host's values through */
     solve_views sv;
-    tclod_id asked;            /* the node of the last benefit call ... */
-    uint32_t asked_mask;       /* ... and the views that saw it (benefit > 0) */
+    tclod_id asked;      /* the node of the last benefit call ... */
+    uint32_t asked_mask; /* ... and the views that saw it (benefit > 0) */
 
     /* the recorded camera path, a ring (its count and next slot in p) */
     double hist_t[HISTORY];
@@ -155,8 +155,8 @@ struct tclod_scheduler {
     pipeline p;
     generation gen[GEN_SLOTS];
     plan_state plans[2];
-    int failed;                /* strict mode: the scheduler's own evaluations saw a
-                                  bad value during this update */
+    int failed; /* strict mode: the scheduler's own evaluations saw a
+                   bad value during this update */
 
     /* what a failed update puts back: the pipeline, the views (once a
      * selection began), the slot the update recorded into, and the
@@ -176,14 +176,14 @@ struct tclod_scheduler {
         int started;
         uint32_t prev, cur, next;
         double u;
-        uint32_t items;        /* which of items[] */
+        uint32_t items; /* which of items[] */
         tclod_scheduler_stats stats;
     } shown;
 
     /* per node, node_cap elements */
     uint32_t node_cap;
     uint32_t *depth;
-    uint32_t depth_version;    /* scene version depth[] describes, +1; 0 none */
+    uint32_t depth_version;                    /* scene version depth[] describes, +1; 0 none */
     uint32_t *mark_a, *mark_b, *mark_c, *done; /* epoch marks */
     uint32_t *region_of, *region_mark;
     uint32_t epoch;
@@ -192,7 +192,7 @@ struct tclod_scheduler {
     uint32_t *counts;          /* 3 per node: per-region counts while bucketing */
     tclod_draw *items[2];      /* 3 per node each: the shown draw list, and the next */
     uint32_t item_count[2];
-    uint32_t back;             /* the one being made */
+    uint32_t back; /* the one being made */
 
     /* per smooth object, smooth_cap elements */
     uint32_t smooth_cap;
@@ -201,7 +201,8 @@ struct tclod_scheduler {
 /* ---- desc ------------------------------------------------------------------- */
 
 void tclod_scheduler_desc_default(tclod_scheduler_desc *d) {
-    if (!d) return;
+    if (!d)
+        return;
     memset(d, 0, sizeof *d);
     d->tau = 0.5;
     d->samples = 3;
@@ -212,7 +213,9 @@ void tclod_scheduler_desc_default(tclod_scheduler_desc *d) {
     tclod_calib_desc_default(&d->calib);
 }
 
-static int finite_nonnegative(double x) { return x >= 0.0 && !isinf(x); }
+static int finite_nonnegative(double x) {
+    return x >= 0.0 && !isinf(x);
+}
 
 /* tau: a normal positive number whose horizon (up to 4 tau, the longest gap
  * before a restart) is finite. */
@@ -232,7 +235,9 @@ static double dot3(const double a[3], const double b[3]) {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-static double length3(const double a[3]) { return sqrt(dot3(a, a)); }
+static double length3(const double a[3]) {
+    return sqrt(dot3(a, a));
+}
 
 static void load3(const float in[3], double out[3]) {
     out[0] = (double)in[0];
@@ -252,7 +257,8 @@ tclod_status tclod_conservative_view(const tclod_view *view, double horizon, dou
                                      double max_turn_rate, tclod_view *out) {
     double turn, fov_y, fov_x, half, back, f[3], reach;
     tclod_view v;
-    if (!view || !out || tclod_view_validate(view) != TCLOD_OK) return TCLOD_ERR_ARG;
+    if (!view || !out || tclod_view_validate(view) != TCLOD_OK)
+        return TCLOD_ERR_ARG;
     if (!finite_nonnegative(horizon) || !finite_nonnegative(max_speed) ||
         !finite_nonnegative(max_turn_rate))
         return TCLOD_ERR_ARG;
@@ -279,7 +285,8 @@ tclod_status tclod_conservative_view(const tclod_view *view, double horizon, dou
     v.fov_y = (float)fov_y;
     v.aspect = (float)(tan(0.5 * fov_x) / tan(0.5 * fov_y));
     v.far_z = (float)((double)view->far_z + back + reach);
-    if (tclod_view_validate(&v) != TCLOD_OK) return TCLOD_ERR_ARG; /* overflowed */
+    if (tclod_view_validate(&v) != TCLOD_OK)
+        return TCLOD_ERR_ARG; /* overflowed */
     *out = v;
     return TCLOD_OK;
 }
@@ -291,21 +298,27 @@ tclod_status tclod_conservative_view(const tclod_view *view, double horizon, dou
 static void turn_towards(const double a[3], const double b[3], double angle, double out[3]) {
     double c = dot3(a, b), s, w[3], len;
     int k;
-    if (c > 1.0) c = 1.0;
-    if (c < -1.0) c = -1.0;
+    if (c > 1.0)
+        c = 1.0;
+    if (c < -1.0)
+        c = -1.0;
     if (acos(c) <= angle) {
-        for (k = 0; k < 3; ++k) out[k] = b[k];
+        for (k = 0; k < 3; ++k)
+            out[k] = b[k];
         return;
     }
-    for (k = 0; k < 3; ++k) w[k] = b[k] - c * a[k];
+    for (k = 0; k < 3; ++k)
+        w[k] = b[k] - c * a[k];
     len = length3(w);
     if (!(len > 0.0)) { /* opposite: no plane, stay */
-        for (k = 0; k < 3; ++k) out[k] = a[k];
+        for (k = 0; k < 3; ++k)
+            out[k] = a[k];
         return;
     }
     s = sin(angle);
     c = cos(angle);
-    for (k = 0; k < 3; ++k) out[k] = c * a[k] + s * w[k] / len;
+    for (k = 0; k < 3; ++k)
+        out[k] = c * a[k] + s * w[k] / len;
 }
 
 /* The recorded views used for the prediction: those of the last tau seconds,
@@ -314,7 +327,8 @@ static uint32_t history_window(const tclod_scheduler *sch, uint32_t *slots) {
     uint32_t n = 0, k;
     for (k = 0; k < sch->p.hist_count; ++k) {
         uint32_t slot = (sch->p.hist_next + HISTORY - 1u - k) % HISTORY;
-        if (n >= 2u && sch->hist_t[slot] < sch->p.now - sch->desc.tau) break;
+        if (n >= 2u && sch->hist_t[slot] < sch->p.now - sch->desc.tau)
+            break;
         slots[n++] = slot;
     }
     return n;
@@ -345,7 +359,8 @@ static void predict(const tclod_scheduler *sch, double t, tclod_view *out) {
     double limit;
     tclod_view v = *last;
     int field;
-    for (k = 0; k < n; ++k) times[k] = sch->hist_t[slots[k]] - sch->hist_t[slots[0]];
+    for (k = 0; k < n; ++k)
+        times[k] = sch->hist_t[slots[k]] - sch->hist_t[slots[0]];
     for (field = 0; field < 3; ++field) {
         for (c = 0; c < 3; ++c) {
             for (k = 0; k < n; ++k) {
@@ -357,15 +372,18 @@ static void predict(const tclod_scheduler *sch, double t, tclod_view *out) {
             now[field][c] = fit(times, x, n, 0.0);
         }
     }
-    if (dt < 0.0) dt = 0.0;
+    if (dt < 0.0)
+        dt = 0.0;
     /* the eye moves no faster than max_speed from where the line is now */
     limit = sch->desc.max_speed * dt;
     if (sch->desc.max_speed > 0.0) {
         double d[3], len;
-        for (c = 0; c < 3; ++c) d[c] = p[0][c] - now[0][c];
+        for (c = 0; c < 3; ++c)
+            d[c] = p[0][c] - now[0][c];
         len = length3(d);
         if (len > limit)
-            for (c = 0; c < 3; ++c) p[0][c] = now[0][c] + d[c] * limit / len;
+            for (c = 0; c < 3; ++c)
+                p[0][c] = now[0][c] + d[c] * limit / len;
     }
     /* directions: unit length, turned no faster than max_turn_rate */
     for (field = 1; field < 3; ++field) {
@@ -387,12 +405,14 @@ static void predict(const tclod_scheduler *sch, double t, tclod_view *out) {
         if (sch->desc.max_turn_rate > 0.0)
             turn_towards(a, b, sch->desc.max_turn_rate * dt, p[field]);
         else
-            for (c = 0; c < 3; ++c) p[field][c] = b[c];
+            for (c = 0; c < 3; ++c)
+                p[field][c] = b[c];
     }
     store3(p[0], v.eye);
     store3(p[1], v.forward);
     store3(p[2], v.up);
-    if (tclod_view_validate(&v) != TCLOD_OK) v = *last; /* e.g. forward parallel to up */
+    if (tclod_view_validate(&v) != TCLOD_OK)
+        v = *last; /* e.g. forward parallel to up */
     *out = v;
 }
 
@@ -400,22 +420,29 @@ static void record(tclod_scheduler *sch, double now, const tclod_view *view) {
     sch->hist_t[sch->p.hist_next] = now;
     sch->hist_v[sch->p.hist_next] = *view;
     sch->p.hist_next = (sch->p.hist_next + 1u) % HISTORY;
-    if (sch->p.hist_count < HISTORY) sch->p.hist_count++;
+    if (sch->p.hist_count < HISTORY)
+        sch->p.hist_count++;
 }
 
 tclod_status tclod_scheduler_predict(const tclod_scheduler *sch, double t, tclod_view *out) {
-    if (!sch || !out || isnan(t) || isinf(t)) return TCLOD_ERR_ARG;
-    if (sch->p.hist_count == 0) return TCLOD_ERR_STATE;
+    if (!sch || !out || isnan(t) || isinf(t))
+        return TCLOD_ERR_ARG;
+    if (sch->p.hist_count == 0)
+        return TCLOD_ERR_STATE;
     predict(sch, t, out);
     return TCLOD_OK;
 }
 
 /* ---- the callbacks the selector calls ------------------------------------------------- */
 
-static int value_bad(double v) { return !(v >= 0.0) || isinf(v); }
+static int value_bad(double v) {
+    return !(v >= 0.0) || isinf(v);
+}
 
 /* A sum of good values, which may overflow: the largest good value instead. */
-static double saturate(double sum) { return sum < HUGE_VAL ? sum : DBL_MAX; }
+static double saturate(double sum) {
+    return sum < HUGE_VAL ? sum : DBL_MAX;
+}
 
 /* q re-measured for view k. */
 static tclod_query query_for(const tclod_scheduler *sch, const tclod_query *q, uint32_t k) {
@@ -435,19 +462,23 @@ static double wrap_benefit(void *user, const tclod_query *q) {
     tclod_scheduler *sch = (tclod_scheduler *)user;
     double sum = 0.0, v;
     uint32_t k;
-    if (sch->current_only || !q->view) return sch->host.benefit(sch->host.user, q);
+    if (sch->current_only || !q->view)
+        return sch->host.benefit(sch->host.user, q);
     sch->asked = q->id;
     sch->asked_mask = 0;
     for (k = 0; k < sch->sv.count; ++k) {
         tclod_query r = query_for(sch, q, k);
         v = sch->host.benefit(sch->host.user, &r);
-        if (value_bad(v)) return v;
-        if (v > 0.0) sch->asked_mask |= 1u << k;
+        if (value_bad(v))
+            return v;
+        if (v > 0.0)
+            sch->asked_mask |= 1u << k;
         sum += v;
     }
     if (uses_conservative(sch)) {
         v = sch->host.benefit(sch->host.user, q);
-        if (value_bad(v)) return v;
+        if (value_bad(v))
+            return v;
         sum += sch->desc.confidence * v;
     }
     return saturate(sum);
@@ -458,16 +489,20 @@ static double wrap_cost(void *user, const tclod_query *q) {
     double worst = 0.0, v;
     uint32_t k, mask;
     int any = 0;
-    if (sch->current_only || !q->view) return sch->host.cost(sch->host.user, q);
+    if (sch->current_only || !q->view)
+        return sch->host.cost(sch->host.user, q);
     /* the views in which the benefit was > 0 (all, if that is not known) */
     mask = sch->asked == q->id ? sch->asked_mask : (1u << sch->sv.count) - 1u;
     for (k = 0; k < sch->sv.count; ++k) {
         tclod_query r;
-        if (!(mask & (1u << k))) continue;
+        if (!(mask & (1u << k)))
+            continue;
         r = query_for(sch, q, k);
         v = sch->host.cost(sch->host.user, &r);
-        if (value_bad(v)) return v;
-        if (!any || v > worst) worst = v;
+        if (value_bad(v))
+            return v;
+        if (!any || v > worst)
+            worst = v;
         any = 1;
     }
     /* seen by the conservative camera only: its cost */
@@ -478,7 +513,8 @@ static double wrap_smooth_benefit(void *user, const tclod_query *q, double r, do
     tclod_scheduler *sch = (tclod_scheduler *)user;
     double sum = 0.0, slope = 0.0, v, d;
     uint32_t k;
-    if (sch->current_only || !q->view) return sch->host.smooth_benefit(sch->host.user, q, r, d_dr);
+    if (sch->current_only || !q->view)
+        return sch->host.smooth_benefit(sch->host.user, q, r, d_dr);
     for (k = 0; k < sch->sv.count; ++k) {
         tclod_query s = query_for(sch, q, k);
         d = 0.0;
@@ -509,11 +545,13 @@ static double wrap_smooth_cost(void *user, const tclod_query *q, double r, doubl
     double worst = 0.0, slope = 0.0, v, d;
     uint32_t k;
     int any = 0;
-    if (sch->current_only || !q->view) return sch->host.smooth_cost(sch->host.user, q, r, d_dr);
+    if (sch->current_only || !q->view)
+        return sch->host.smooth_cost(sch->host.user, q, r, d_dr);
     /* the views whose frustum holds the group */
     for (k = 0; k < sch->sv.count; ++k) {
         tclod_query s = query_for(sch, q, k);
-        if (q->bounds && !(s.screen_area > 0.0f)) continue;
+        if (q->bounds && !(s.screen_area > 0.0f))
+            continue;
         d = 0.0;
         v = sch->host.smooth_cost(sch->host.user, &s, r, &d);
         if (value_bad(v) || value_bad(d)) {
@@ -526,7 +564,8 @@ static double wrap_smooth_cost(void *user, const tclod_query *q, double r, doubl
         }
         any = 1;
     }
-    if (!any) return sch->host.smooth_cost(sch->host.user, q, r, d_dr);
+    if (!any)
+        return sch->host.smooth_cost(sch->host.user, q, r, d_dr);
     *d_dr = slope;
     return worst;
 }
@@ -592,7 +631,8 @@ static size_t smooth_arrays(tclod_scheduler *sch, tclod_array out[TCLOD_MAX_ARRA
 }
 
 static uint32_t grown(uint32_t cap, uint32_t need) {
-    while (cap < need) cap = cap < 64u ? 64u : (cap > UINT32_MAX / 4u ? need : cap * 2u);
+    while (cap < need)
+        cap = cap < 64u ? 64u : (cap > UINT32_MAX / 4u ? need : cap * 2u);
     return cap;
 }
 
@@ -610,17 +650,21 @@ static tclod_status reserve(tclod_scheduler *sch) {
     uint32_t cap_s = need_s > sch->smooth_cap ? grown(sch->smooth_cap, need_s) : sch->smooth_cap;
     int grow_n = cap_n != sch->node_cap, grow_s = cap_s != sch->smooth_cap;
     tclod_status st;
-    if (need_n > UINT32_MAX / 3u) return TCLOD_ERR_NOMEM;
+    if (need_n > UINT32_MAX / 3u)
+        return TCLOD_ERR_NOMEM;
     if (grow_n && tclod_arrays_alloc(&sch->alloc, nodes, nn, cap_n, fresh_n) != TCLOD_OK)
         return TCLOD_ERR_NOMEM;
     if (grow_s && tclod_arrays_alloc(&sch->alloc, smooth, ns, cap_s, fresh_s) != TCLOD_OK) {
-        if (grow_n) tclod_arrays_discard(&sch->alloc, nodes, nn, cap_n, fresh_n);
+        if (grow_n)
+            tclod_arrays_discard(&sch->alloc, nodes, nn, cap_n, fresh_n);
         return TCLOD_ERR_NOMEM;
     }
     st = tclod_selector_reserve(sch->sel);
     if (st != TCLOD_OK) {
-        if (grow_s) tclod_arrays_discard(&sch->alloc, smooth, ns, cap_s, fresh_s);
-        if (grow_n) tclod_arrays_discard(&sch->alloc, nodes, nn, cap_n, fresh_n);
+        if (grow_s)
+            tclod_arrays_discard(&sch->alloc, smooth, ns, cap_s, fresh_s);
+        if (grow_n)
+            tclod_arrays_discard(&sch->alloc, nodes, nn, cap_n, fresh_n);
         return st;
     }
     if (grow_n) {
@@ -646,7 +690,8 @@ tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_d
     if (!s || !sd || !d || !out || !tclod_allocator_init(&alloc, a) || !desc_valid(d))
         return TCLOD_ERR_ARG;
     sch = (tclod_scheduler *)tclod_mem_alloc(&alloc, sizeof *sch);
-    if (!sch) return TCLOD_ERR_NOMEM;
+    if (!sch)
+        return TCLOD_ERR_NOMEM;
     memset(sch, 0, sizeof *sch);
     sch->alloc = alloc;
     sch->desc = *d;
@@ -664,7 +709,8 @@ tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_d
     inner.callbacks.complexity = sd->callbacks.complexity ? wrap_complexity : NULL;
     inner.callbacks.importance = sd->callbacks.importance ? wrap_importance : NULL;
     st = tclod_calib_create(&d->calib, &alloc, &sch->calib);
-    if (st == TCLOD_OK) st = tclod_selector_create(s, &inner, &alloc, &sch->sel);
+    if (st == TCLOD_OK)
+        st = tclod_selector_create(s, &inner, &alloc, &sch->sel);
     if (st != TCLOD_OK) {
         tclod_calib_destroy(sch->calib);
         tclod_mem_free(&alloc, sch, sizeof *sch);
@@ -677,7 +723,8 @@ tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_d
 void tclod_scheduler_destroy(tclod_scheduler *sch) {
     tclod_array arrays[TCLOD_MAX_ARRAYS];
     tclod_allocator alloc;
-    if (!sch || sch->busy) return;
+    if (!sch || sch->busy)
+        return;
     alloc = sch->alloc;
     tclod_selector_destroy(sch->sel);
     tclod_calib_destroy(sch->calib);
@@ -698,7 +745,8 @@ static uint32_t next_epoch(tclod_scheduler *sch) {
         marks[2] = sch->mark_c;
         marks[3] = sch->done;
         marks[4] = sch->region_mark;
-        for (i = 0; i < 5; ++i) memset(marks[i], 0, sizeof(uint32_t) * sch->node_cap);
+        for (i = 0; i < 5; ++i)
+            memset(marks[i], 0, sizeof(uint32_t) * sch->node_cap);
         sch->epoch = 1;
     }
     return sch->epoch;
@@ -724,7 +772,8 @@ static uint32_t next_memo_epoch(tclod_scheduler *sch) {
 static void update_depths(tclod_scheduler *sch) {
     const tclod_scene *s = sch->scene;
     uint32_t n;
-    if (sch->depth_version == s->version + 1u) return;
+    if (sch->depth_version == s->version + 1u)
+        return;
     for (n = 0; n < s->node_count; ++n)
         sch->depth[n] = s->parent[n] == TCLOD_NONE ? 0u : sch->depth[s->parent[n]] + 1u;
     sch->depth_version = s->version + 1u;
@@ -793,10 +842,12 @@ static void store(tclod_scheduler *sch, uint32_t g) {
         G->cost[i] = sch->sel->node[ids[i]].cost;
     }
     G->count = (uint32_t)n;
-    for (k = 0; k < sch->scene->smooth_count; ++k) G->res[k] = 0.0;
+    for (k = 0; k < sch->scene->smooth_count; ++k)
+        G->res[k] = 0.0;
     tclod_selector_smooth_groups(sch->sel, &groups, &ng);
     G->groups = (uint32_t)ng;
-    if (ng == 0) return;
+    if (ng == 0)
+        return;
     tclod_scene_smooth_order(sch->scene, &order, &order_count); /* prepared: cannot fail */
     for (i = 0; i < ng; ++i) {
         for (k = 0; k < groups[i].count; ++k)
@@ -822,7 +873,8 @@ static uint32_t fresh_slot(const tclod_scheduler *sch) {
 static int below_mark(const tclod_scheduler *sch, const uint32_t *mark, uint32_t e, tclod_id n) {
     const tclod_id *parent = sch->scene->parent;
     for (n = parent[n]; n != TCLOD_NONE; n = parent[n])
-        if (mark[n] == e) return 1;
+        if (mark[n] == e)
+            return 1;
     return 0;
 }
 
@@ -832,13 +884,17 @@ static int below_mark(const tclod_scheduler *sch, const uint32_t *mark, uint32_t
 static uint32_t meet(tclod_scheduler *sch, const tclod_id *a, uint32_t na, const tclod_id *b,
                      uint32_t nb, tclod_id *out) {
     uint32_t e = next_epoch(sch), i, n = 0;
-    for (i = 0; i < na; ++i) sch->mark_a[a[i]] = e;
-    for (i = 0; i < nb; ++i) sch->mark_a[b[i]] = e;
+    for (i = 0; i < na; ++i)
+        sch->mark_a[a[i]] = e;
+    for (i = 0; i < nb; ++i)
+        sch->mark_a[b[i]] = e;
     for (i = 0; i < na + nb; ++i) {
         tclod_id v = i < na ? a[i] : b[i - na];
-        if (sch->done[v] == e) continue;
+        if (sch->done[v] == e)
+            continue;
         sch->done[v] = e;
-        if (!below_mark(sch, sch->mark_a, e, v)) out[n++] = v;
+        if (!below_mark(sch, sch->mark_a, e, v))
+            out[n++] = v;
     }
     return n;
 }
@@ -848,7 +904,8 @@ static uint32_t meet(tclod_scheduler *sch, const tclod_id *a, uint32_t na, const
 static uint32_t region_at(const tclod_scheduler *sch, uint32_t e, tclod_id v) {
     const tclod_id *parent = sch->scene->parent;
     for (; v != TCLOD_NONE; v = parent[v])
-        if (sch->region_mark[v] == e) return sch->region_of[v];
+        if (sch->region_mark[v] == e)
+            return sch->region_of[v];
     return TCLOD_NONE;
 }
 
@@ -861,8 +918,10 @@ static uint32_t partition(tclod_scheduler *sch, const tclod_id *const lists[3],
     uint32_t roots = meet(sch, lists[0], sizes[0], lists[1], sizes[1], sch->list_r);
     uint32_t e = next_epoch(sch), r, l, i, total = 0;
     writable_plan(sch);
-    for (i = 0; i < sizes[0]; ++i) sch->mark_b[lists[0][i]] = e;
-    for (i = 0; i < sizes[1]; ++i) sch->mark_c[lists[1][i]] = e;
+    for (i = 0; i < sizes[0]; ++i)
+        sch->mark_b[lists[0][i]] = e;
+    for (i = 0; i < sizes[1]; ++i)
+        sch->mark_c[lists[1][i]] = e;
     for (r = 0; r < roots; ++r) {
         tclod_id q = sch->list_r[r];
         sch->region_mark[q] = e;
@@ -875,7 +934,8 @@ static uint32_t partition(tclod_scheduler *sch, const tclod_id *const lists[3],
     for (l = 0; l < 3u; ++l)
         for (i = 0; i < sizes[l]; ++i) {
             r = region_at(sch, e, lists[l][i]);
-            if (r != TCLOD_NONE) sch->counts[3u * r + l]++;
+            if (r != TCLOD_NONE)
+                sch->counts[3u * r + l]++;
         }
     for (r = 0; r < roots; ++r) { /* counts become each list's write position */
         uint32_t c0 = sch->counts[3u * r], c1 = sch->counts[3u * r + 1u];
@@ -890,7 +950,8 @@ static uint32_t partition(tclod_scheduler *sch, const tclod_id *const lists[3],
     for (l = 0; l < 3u; ++l)
         for (i = 0; i < sizes[l]; ++i) {
             r = region_at(sch, e, lists[l][i]);
-            if (r != TCLOD_NONE) PLAN(sch)->nodes[sch->counts[3u * r + l]++] = lists[l][i];
+            if (r != TCLOD_NONE)
+                PLAN(sch)->nodes[sch->counts[3u * r + l]++] = lists[l][i];
         }
     PLAN(sch)->region_count = roots;
     return e;
@@ -909,11 +970,14 @@ static void region_list(const tclod_scheduler *sch, uint32_t r, uint32_t l, uint
 static int same_nodes(tclod_scheduler *sch, const tclod_id *a, uint32_t na, const tclod_id *b,
                       uint32_t nb) {
     uint32_t e, i;
-    if (na != nb) return 0;
+    if (na != nb)
+        return 0;
     e = next_epoch(sch);
-    for (i = 0; i < na; ++i) sch->done[a[i]] = e;
+    for (i = 0; i < na; ++i)
+        sch->done[a[i]] = e;
     for (i = 0; i < nb; ++i)
-        if (sch->done[b[i]] != e) return 0;
+        if (sch->done[b[i]] != e)
+            return 0;
     return 1;
 }
 
@@ -944,7 +1008,8 @@ static void count_switches(tclod_scheduler *sch, const tclod_id *a, uint32_t na,
         int in_a = sch->mark_b[q] == e, in_b = sch->mark_c[q] == e;
         region_list(sch, r, 0, &f, &n0);
         region_list(sch, r, 1, &f, &n1);
-        if ((in_a && !in_b && n1 > 0) || (in_b && !in_a && n0 > 0)) count_change(sch, 0);
+        if ((in_a && !in_b && n1 > 0) || (in_b && !in_a && n0 > 0))
+            count_change(sch, 0);
     }
 }
 
@@ -961,7 +1026,8 @@ static void memo_set(tclod_scheduler *sch, tclod_id n, double cost) {
  * the update. */
 static void bad_value(tclod_scheduler *sch) {
     sch->p.stats.invalid_values++;
-    if (sch->sel->desc.strict) sch->failed = 1;
+    if (sch->sel->desc.strict)
+        sch->failed = 1;
 }
 
 /* The predicted cost of node n for the current plan: the cost a landed
@@ -1003,7 +1069,8 @@ static double memo(tclod_scheduler *sch, tclod_id n, int *visible) {
 
 /* The ancestor of v at depth `depth` (<= v's). */
 static tclod_id ancestor_at(const tclod_scheduler *sch, tclod_id v, uint32_t depth) {
-    while (sch->depth[v] > depth) v = sch->scene->parent[v];
+    while (sch->depth[v] > depth)
+        v = sch->scene->parent[v];
     return v;
 }
 
@@ -1023,7 +1090,8 @@ static void morph_state(tclod_scheduler *sch, const region *R, double s, emit_fn
     const plan_state *P = PLAN(sch);
     if (s <= 0.0) {
         memo(sch, R->root, &vis);
-        if (vis) emit(sch, R->root, R->root, 1.0f, ctx);
+        if (vis)
+            emit(sch, R->root, R->root, 1.0f, ctx);
         return;
     }
     if (s >= (double)R->depth) {
@@ -1038,14 +1106,17 @@ static void morph_state(tclod_scheduler *sch, const region *R, double s, emit_fn
         tclod_id leaf = P->nodes[R->first + i], m;
         if (sch->depth[leaf] - base <= k) {
             memo(sch, leaf, &vis);
-            if (vis) emit(sch, leaf, leaf, 1.0f, ctx);
+            if (vis)
+                emit(sch, leaf, leaf, 1.0f, ctx);
             continue;
         }
         m = ancestor_at(sch, leaf, base + k + 1u);
-        if (sch->done[m] == stamp) continue;
+        if (sch->done[m] == stamp)
+            continue;
         sch->done[m] = stamp;
         memo(sch, m, &vis);
-        if (vis) emit(sch, m, sch->scene->parent[m], w, ctx);
+        if (vis)
+            emit(sch, m, sch->scene->parent[m], w, ctx);
     }
 }
 
@@ -1071,7 +1142,8 @@ static void plan_region(tclod_scheduler *sch, uint32_t r, uint32_t e) {
     region_list(sch, r, 0, &fx, &nx);
     region_list(sch, r, 1, &fy, &ny);
     region_list(sch, r, 2, &fc, &nc);
-    for (i = 0; i < nc; ++i) allowed += memo(sch, PLAN(sch)->nodes[fc + i], &vis);
+    for (i = 0; i < nc; ++i)
+        allowed += memo(sch, PLAN(sch)->nodes[fc + i], &vis);
     if (in_x && !in_y && ny > 0) {
         plan.kind = REGION_UP;
         plan.first = fy;
@@ -1092,20 +1164,25 @@ static void plan_region(tclod_scheduler *sch, uint32_t r, uint32_t e) {
         plan.depth = 0;
         for (i = 0; i < plan.count; ++i) {
             uint32_t rel = sch->depth[PLAN(sch)->nodes[plan.first + i]] - sch->depth[q];
-            if (rel > plan.depth) plan.depth = rel;
+            if (rel > plan.depth)
+                plan.depth = rel;
         }
         /* the states: q, each level's morph, the fine side */
         for (k = 0; k <= plan.depth + 1u && worst <= allowed; ++k) {
             double c = 0.0;
             morph_state(sch, &plan,
-                        k == 0u ? 0.0 : k <= plan.depth ? (double)k - 0.5 : (double)plan.depth,
+                        k == 0u           ? 0.0
+                        : k <= plan.depth ? (double)k - 0.5
+                                          : (double)plan.depth,
                         add_cost, &c);
-            if (c > worst) worst = c;
+            if (c > worst)
+                worst = c;
         }
     }
     if (worst <= allowed) {
         *R = plan;
-        if (plan.kind != REGION_STATIC) count_change(sch, 1);
+        if (plan.kind != REGION_STATIC)
+            count_change(sch, 1);
         return;
     }
     /* too dear somewhere: S_j's nodes, switched to at the start and from at
@@ -1151,10 +1228,12 @@ static void make_plan(tclod_scheduler *sch) {
     lists[2] = C->ids;
     sizes[2] = C->count;
     e = partition(sch, lists, sizes);
-    for (r = 0; r < PLAN(sch)->region_count; ++r) plan_region(sch, r, e);
+    for (r = 0; r < PLAN(sch)->region_count; ++r)
+        plan_region(sch, r, e);
 }
 
-/* ---- the draw list ----------------------------------------------------------------------------- */
+/* ---- the draw list -----------------------------------------------------------------------------
+ */
 
 static void emit_item(tclod_scheduler *sch, tclod_id fine, tclod_id coarse, float weight,
                       void *ctx) {
@@ -1188,18 +1267,23 @@ static void make_draws(tclod_scheduler *sch) {
         morph_state(sch, R, (double)R->depth * (R->kind == REGION_UP ? sch->p.u : 1.0 - sch->p.u),
                     emit_item, &cost);
     }
-    for (i = 0; i < sch->item_count[sch->back]; ++i) morphing += items[i].fine != items[i].coarse;
-    for (i = 0; i < sch->gen[sch->p.cur].groups; ++i) cost += sch->gen[sch->p.cur].group_cost[i];
+    for (i = 0; i < sch->item_count[sch->back]; ++i)
+        morphing += items[i].fine != items[i].coarse;
+    for (i = 0; i < sch->gen[sch->p.cur].groups; ++i)
+        cost += sch->gen[sch->p.cur].group_cost[i];
     sch->p.stats.draw_cost = cost;
     sch->p.stats.draws = sch->item_count[sch->back];
     sch->p.stats.morphing = morphing;
 }
 
-/* ---- the pipeline ------------------------------------------------------------------------------- */
+/* ---- the pipeline -------------------------------------------------------------------------------
+ */
 
 /* Selection time of an update: clock_in before a selector call, clock_out
  * after it. */
-static double clock_in(void) { return tclod_now(); }
+static double clock_in(void) {
+    return tclod_now();
+}
 
 static void clock_out(tclod_scheduler *sch, double start) {
     sch->p.stats.select_seconds += tclod_now() - start;
@@ -1226,7 +1310,8 @@ static tclod_status select_now(tclod_scheduler *sch, const tclod_view *view, int
     st = tclod_select(sch->sel, &f, &stats);
     sch->current_only = 0;
     clock_out(sch, start);
-    if (st != TCLOD_OK) return st;
+    if (st != TCLOD_OK)
+        return st;
     sch->p.stats.invalid_values += stats.invalid_values;
     sch->p.stats.emergencies++;
     sch->p.stats.selection_benefit = stats.benefit;
@@ -1234,7 +1319,8 @@ static tclod_status select_now(tclod_scheduler *sch, const tclod_view *view, int
     store(sch, g);
     if (count_pops) { /* from what this frame would have drawn */
         n = sch->item_count[sch->back];
-        for (i = 0; i < n; ++i) sch->list_x[i] = sch->items[sch->back][i].fine;
+        for (i = 0; i < n; ++i)
+            sch->list_x[i] = sch->items[sch->back][i].fine;
         count_switches(sch, sch->list_x, n, sch->gen[g].ids, sch->gen[g].count);
     }
     sch->p.prev = sch->p.cur = sch->p.next = g;
@@ -1275,8 +1361,10 @@ static tclod_status land(tclod_scheduler *sch) {
         else
             status = tclod_select_finish(sch->sel, &st);
         clock_out(sch, start);
-        if (status != TCLOD_OK) return status;
-        if (st.stop_reason == TCLOD_STOP_FINISHED) sch->p.stats.unfinished++;
+        if (status != TCLOD_OK)
+            return status;
+        if (st.stop_reason == TCLOD_STOP_FINISHED)
+            sch->p.stats.unfinished++;
         finished(sch, &st);
     }
     fresh = sch->p.landing;
@@ -1303,8 +1391,10 @@ static tclod_status land(tclod_scheduler *sch) {
 
 static int arguments_valid(const tclod_scheduler *sch, double now, const tclod_view *view,
                            double budget, double slice) {
-    if (!view || tclod_view_validate(view) != TCLOD_OK) return 0;
-    if (isnan(now) || isinf(now) || (sch->shown.started && now < sch->p.now)) return 0;
+    if (!view || tclod_view_validate(view) != TCLOD_OK)
+        return 0;
+    if (isnan(now) || isinf(now) || (sch->shown.started && now < sch->p.now))
+        return 0;
     return budget >= 0.0 && slice >= 0.0 && !isinf(slice);
 }
 
@@ -1323,7 +1413,8 @@ static tclod_status advance(tclod_scheduler *sch, double now, const tclod_view *
         double start = clock_in();
         st = begin_again(sch);
         clock_out(sch, start);
-        if (st != TCLOD_OK) return st;
+        if (st != TCLOD_OK)
+            return st;
     }
     while (!restart && now >= sch->p.boundary + tau) {
         double start;
@@ -1333,26 +1424,32 @@ static tclod_status advance(tclod_scheduler *sch, double now, const tclod_view *
         }
         sch->p.boundary += tau;
         st = land(sch);
-        if (st != TCLOD_OK) return st;
+        if (st != TCLOD_OK)
+            return st;
         start = clock_in();
         st = begin(sch, view);
         clock_out(sch, start);
-        if (st != TCLOD_OK) return st;
+        if (st != TCLOD_OK)
+            return st;
     }
     if (restart) {
         sch->p.boundary = now;
         sch->item_count[sch->back] = 0;
         st = select_now(sch, view, 0);
-        if (st != TCLOD_OK) return st;
+        if (st != TCLOD_OK)
+            return st;
         sch->p.started = 1;
     }
     sch->p.u = (now - sch->p.boundary) / tau;
-    if (!(sch->p.u >= 0.0)) sch->p.u = 0.0;
-    if (sch->p.u > 1.0) sch->p.u = 1.0;
+    if (!(sch->p.u >= 0.0))
+        sch->p.u = 0.0;
+    if (sch->p.u > 1.0)
+        sch->p.u = 1.0;
     make_draws(sch);
     if (sch->p.stats.draw_cost > sch->p.budget) {
         st = select_now(sch, view, 1);
-        if (st != TCLOD_OK) return st;
+        if (st != TCLOD_OK)
+            return st;
         make_draws(sch);
     }
     if (!sch->p.ready) {
@@ -1362,7 +1459,8 @@ static tclod_status advance(tclod_scheduler *sch, double now, const tclod_view *
         sch->touched = 1;
         st = tclod_select_step(sch->sel, slice_seconds, 0, &done, &stats);
         clock_out(sch, start);
-        if (st == TCLOD_OK && done) finished(sch, &stats);
+        if (st == TCLOD_OK && done)
+            finished(sch, &stats);
     }
     return st;
 }
@@ -1385,11 +1483,13 @@ static void put_back(tclod_scheduler *sch) {
     sch->p = sch->saved;
     sch->hist_t[sch->p.hist_next] = sch->saved_hist_t;
     sch->hist_v[sch->p.hist_next] = sch->saved_hist_v;
-    if (sch->views_saved) sch->sv = sch->saved_views;
+    if (sch->views_saved)
+        sch->sv = sch->saved_views;
     if (sch->touched) {
         tclod_select_cancel(sch->sel);
         tclod_selector_restore(sch->sel, &sch->kept);
-        if (sch->pending_at_start) sch->p.lost = 1;
+        if (sch->pending_at_start)
+            sch->p.lost = 1;
     }
     sch->asked = TCLOD_NONE;
 }
@@ -1400,10 +1500,12 @@ tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclo
     if (!sch || !arguments_valid(sch, now, view, budget, slice_seconds) ||
         !tclod_selector_scene_ok(sch->sel))
         return TCLOD_ERR_ARG;
-    if (sch->busy) return TCLOD_ERR_STATE;
+    if (sch->busy)
+        return TCLOD_ERR_STATE;
     sch->busy = 1;
     st = tclod_scene_prepare(sch->scene);
-    if (st == TCLOD_OK) st = reserve(sch);
+    if (st == TCLOD_OK)
+        st = reserve(sch);
     if (st != TCLOD_OK) {
         sch->busy = 0;
         return st;
@@ -1416,7 +1518,8 @@ tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclo
     sch->failed = 0;
     record(sch, now, view);
     st = advance(sch, now, view, slice_seconds);
-    if (st == TCLOD_OK && sch->failed) st = TCLOD_ERR_CALLBACK;
+    if (st == TCLOD_OK && sch->failed)
+        st = TCLOD_ERR_CALLBACK;
     if (st == TCLOD_OK) { /* the outputs show this update */
         sch->shown.started = 1;
         sch->shown.prev = sch->p.prev;
@@ -1436,7 +1539,8 @@ tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclo
 
 tclod_status tclod_scheduler_draws(const tclod_scheduler *sch, const tclod_draw **items,
                                    size_t *n) {
-    if (!sch || !items || !n) return TCLOD_ERR_ARG;
+    if (!sch || !items || !n)
+        return TCLOD_ERR_ARG;
     *items = sch->shown.started ? sch->items[sch->shown.items] : NULL;
     *n = sch->shown.started ? sch->item_count[sch->shown.items] : 0u;
     return TCLOD_OK;
@@ -1448,7 +1552,8 @@ double tclod_scheduler_resolution(const tclod_scheduler *sch, tclod_id smooth) {
         smooth >= sch->smooth_cap)
         return 0.0;
     c = sch->gen[sch->shown.cur].res[smooth];
-    if (!sch->desc.morph) return c;
+    if (!sch->desc.morph)
+        return c;
     p = sch->gen[sch->shown.prev].res[smooth];
     n = sch->gen[sch->shown.next].res[smooth];
     from = p < c ? p : c;
@@ -1460,7 +1565,8 @@ tclod_status tclod_scheduler_report_frame(tclod_scheduler *sch, double render_ti
                                           double logic_time) {
     if (!sch || !finite_nonnegative(render_time) || !finite_nonnegative(logic_time))
         return TCLOD_ERR_ARG;
-    if (!sch->shown.started) return TCLOD_ERR_STATE;
+    if (!sch->shown.started)
+        return TCLOD_ERR_STATE;
     return tclod_calib_report(sch->calib, sch->shown.stats.draw_cost, render_time, logic_time);
 }
 
@@ -1475,7 +1581,8 @@ const tclod_calib *tclod_scheduler_calib(const tclod_scheduler *sch) {
 }
 
 tclod_status tclod_scheduler_get_stats(const tclod_scheduler *sch, tclod_scheduler_stats *st) {
-    if (!sch || !st) return TCLOD_ERR_ARG;
+    if (!sch || !st)
+        return TCLOD_ERR_ARG;
     *st = sch->shown.stats;
     return TCLOD_OK;
 }

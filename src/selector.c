@@ -15,17 +15,25 @@
 
 const char *tclod_status_string(tclod_status s) {
     switch (s) {
-    case TCLOD_OK: return "ok";
-    case TCLOD_ERR_ARG: return "invalid argument";
-    case TCLOD_ERR_NOMEM: return "out of memory";
-    case TCLOD_ERR_HIERARCHY: return "invalid hierarchy";
-    case TCLOD_ERR_CALLBACK: return "callback returned an invalid value";
-    case TCLOD_ERR_STATE: return "call out of order or re-entered";
+    case TCLOD_OK:
+        return "ok";
+    case TCLOD_ERR_ARG:
+        return "invalid argument";
+    case TCLOD_ERR_NOMEM:
+        return "out of memory";
+    case TCLOD_ERR_HIERARCHY:
+        return "invalid hierarchy";
+    case TCLOD_ERR_CALLBACK:
+        return "callback returned an invalid value";
+    case TCLOD_ERR_STATE:
+        return "call out of order or re-entered";
     }
     return "unknown status";
 }
 
-unsigned tclod_version(void) { return (unsigned)TCLOD_VERSION_NUMBER; }
+unsigned tclod_version(void) {
+    return (unsigned)TCLOD_VERSION_NUMBER;
+}
 
 #define TCLOD_STR2(x) #x
 #define TCLOD_STR(x) TCLOD_STR2(x)
@@ -41,7 +49,8 @@ int tclod_solver_available(tclod_solver solver) {
 }
 
 void tclod_selector_desc_default(tclod_selector_desc *d) {
-    if (!d) return;
+    if (!d)
+        return;
     memset(d, 0, sizeof *d);
     d->solver = TCLOD_SOLVER_GREEDY;
     d->warm_start = 1;
@@ -130,7 +139,8 @@ static size_t rh_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS])
  * entries are skipped. */
 static tclod_heap_entry *heap_items(tclod_heap_entry *block) {
     uintptr_t a = (uintptr_t)(void *)block;
-    if (a % sizeof(tclod_heap_entry) != 0) return block;
+    if (a % sizeof(tclod_heap_entry) != 0)
+        return block;
     return block + (64u + 48u - a % 64u) % 64u / sizeof(tclod_heap_entry);
 }
 
@@ -146,13 +156,16 @@ static void bind_heaps(tclod_selector *sel) {
 }
 
 /* An on/off field of a description: exactly 0 or 1. */
-static int flag(int v) { return v == 0 || v == 1; }
+static int flag(int v) {
+    return v == 0 || v == 1;
+}
 
 tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_desc *d,
                                    const tclod_allocator *a, tclod_selector **out) {
     tclod_allocator alloc;
     tclod_selector *sel;
-    if (!s || !d || !out || !tclod_allocator_init(&alloc, a)) return TCLOD_ERR_ARG;
+    if (!s || !d || !out || !tclod_allocator_init(&alloc, a))
+        return TCLOD_ERR_ARG;
     if (!tclod_solver_available(d->solver) || !d->callbacks.benefit || !d->callbacks.cost)
         return TCLOD_ERR_ARG;
     if (d->solver == TCLOD_SOLVER_MIXED && s->smooth_count > 0 &&
@@ -161,18 +174,24 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
     if (!flag(d->warm_start) || !flag(d->split_smooth) || !flag(d->strict) ||
         !flag(d->smooth_precondition))
         return TCLOD_ERR_ARG;
-    if (!(d->split_threshold >= 0.0) || isinf(d->split_threshold)) return TCLOD_ERR_ARG;
+    if (!(d->split_threshold >= 0.0) || isinf(d->split_threshold))
+        return TCLOD_ERR_ARG;
     if (d->lookahead > TCLOD_MAX_LOOKAHEAD || d->restarts > TCLOD_MAX_RESTARTS)
         return TCLOD_ERR_ARG;
-    if (!(d->smooth_epsilon >= 0.0 && d->smooth_epsilon < 1.0)) return TCLOD_ERR_ARG;
-    if (!(d->smooth_tolerance >= 0.0 && d->smooth_tolerance < 1.0)) return TCLOD_ERR_ARG;
-    if (!(d->smooth_cull_area >= 0.0) || isinf(d->smooth_cull_area)) return TCLOD_ERR_ARG;
+    if (!(d->smooth_epsilon >= 0.0 && d->smooth_epsilon < 1.0))
+        return TCLOD_ERR_ARG;
+    if (!(d->smooth_tolerance >= 0.0 && d->smooth_tolerance < 1.0))
+        return TCLOD_ERR_ARG;
+    if (!(d->smooth_cull_area >= 0.0) || isinf(d->smooth_cull_area))
+        return TCLOD_ERR_ARG;
     if ((unsigned)d->value > (unsigned)TCLOD_VALUE_BENEFIT ||
         (unsigned)d->misfit > (unsigned)TCLOD_MISFIT_COARSEST)
         return TCLOD_ERR_ARG;
-    if (!(d->reference_area > 0.0) || isinf(d->reference_area)) return TCLOD_ERR_ARG;
+    if (!(d->reference_area > 0.0) || isinf(d->reference_area))
+        return TCLOD_ERR_ARG;
     sel = (tclod_selector *)tclod_mem_alloc(&alloc, sizeof *sel);
-    if (!sel) return TCLOD_ERR_NOMEM;
+    if (!sel)
+        return TCLOD_ERR_NOMEM;
     memset(sel, 0, sizeof *sel);
     /* the scene is only written through its lazy child index */
     sel->scene = (tclod_scene *)(uintptr_t)s;
@@ -185,7 +204,8 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
 void tclod_selector_destroy(tclod_selector *sel) {
     tclod_array buffers[TCLOD_MAX_ARRAYS];
     tclod_allocator alloc;
-    if (!sel || sel->busy) return;
+    if (!sel || sel->busy)
+        return;
     alloc = sel->alloc;
     tclod_arrays_free(&alloc, buffers, node_buffers(sel, buffers), sel->cap);
     tclod_arrays_free(&alloc, buffers, smooth_buffers(sel, buffers), sel->smooth_cap);
@@ -194,7 +214,8 @@ void tclod_selector_destroy(tclod_selector *sel) {
 }
 
 static uint32_t grown(uint32_t cap, uint32_t need) {
-    while (cap < need) cap = cap < 64u ? 64u : (cap > UINT32_MAX / 2u ? need : cap * 2u);
+    while (cap < need)
+        cap = cap < 64u ? 64u : (cap > UINT32_MAX / 2u ? need : cap * 2u);
     return cap;
 }
 
@@ -203,7 +224,7 @@ typedef struct growth {
     tclod_array arrays[TCLOD_MAX_ARRAYS];
     void *fresh[TCLOD_MAX_ARRAYS];
     size_t count;
-    uint32_t *cap;   /* its capacity in the selector */
+    uint32_t *cap; /* its capacity in the selector */
     uint32_t new_cap;
 } growth;
 
@@ -221,15 +242,16 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
     g[0].new_cap = nodes + 3u > sel->cap ? grown(sel->cap, nodes + 3u) : sel->cap;
     g[1].count = smooth_buffers(sel, g[1].arrays);
     g[1].cap = &sel->smooth_cap;
-    g[1].new_cap = uses_smooth && smooth > sel->smooth_cap ? grown(sel->smooth_cap, smooth)
-                                                           : sel->smooth_cap;
+    g[1].new_cap =
+        uses_smooth && smooth > sel->smooth_cap ? grown(sel->smooth_cap, smooth) : sel->smooth_cap;
     g[2].count = rh_buffers(sel, g[2].arrays);
     g[2].cap = &sel->rh_cap;
     g[2].new_cap = sel->desc.solver == TCLOD_SOLVER_ROBIN_HOOD && nodes + smooth > sel->rh_cap
                        ? grown(sel->rh_cap, nodes + smooth)
                        : sel->rh_cap;
     for (i = 0; i < 3; ++i) {
-        if (g[i].new_cap == *g[i].cap) continue;
+        if (g[i].new_cap == *g[i].cap)
+            continue;
         if (tclod_arrays_alloc(&sel->alloc, g[i].arrays, g[i].count, g[i].new_cap, g[i].fresh) !=
             TCLOD_OK) {
             for (k = 0; k < i; ++k)
@@ -240,11 +262,13 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
         }
     }
     for (i = 0; i < 3; ++i) {
-        if (g[i].new_cap == *g[i].cap) continue;
+        if (g[i].new_cap == *g[i].cap)
+            continue;
         tclod_arrays_commit(&sel->alloc, g[i].arrays, g[i].count, *g[i].cap, g[i].new_cap,
                             g[i].fresh);
         *g[i].cap = g[i].new_cap;
-        if (i == 0) bind_heaps(sel);
+        if (i == 0)
+            bind_heaps(sel);
     }
     return TCLOD_OK;
 }
@@ -258,13 +282,15 @@ int tclod_selector_scene_ok(const tclod_selector *sel) {
 
 tclod_status tclod_selector_reserve(tclod_selector *sel) {
     tclod_status status = tclod_scene_prepare(sel->scene);
-    if (status != TCLOD_OK) return status;
+    if (status != TCLOD_OK)
+        return status;
     return reserve(sel, sel->scene->node_count, sel->scene->smooth_count);
 }
 
 void tclod_selector_keep(tclod_selector *sel, tclod_selector_saved *keep) {
     sel->keep = keep;
-    if (!keep) return;
+    if (!keep)
+        return;
     keep->valid = 0;
     keep->closure_hint = sel->closure_hint; /* a solve writes it before its commit */
 }
@@ -273,9 +299,12 @@ void tclod_selector_keep(tclod_selector *sel, tclod_selector_saved *keep) {
  * it. */
 static void keep_committed(tclod_selector *sel) {
     tclod_selector_saved *k = sel->keep;
-    if (!k || k->valid) return;
-    if (sel->prev_count) memcpy(k->cut, sel->prev_cut, sizeof(tclod_id) * sel->prev_count);
-    if (sel->result_count) memcpy(k->result, sel->result, sizeof(tclod_id) * sel->result_count);
+    if (!k || k->valid)
+        return;
+    if (sel->prev_count)
+        memcpy(k->cut, sel->prev_cut, sizeof(tclod_id) * sel->prev_count);
+    if (sel->result_count)
+        memcpy(k->result, sel->result, sizeof(tclod_id) * sel->result_count);
     if (sel->group_count)
         memcpy(k->groups, sel->groups, sizeof(tclod_smooth_group) * sel->group_count);
     k->cut_count = sel->prev_count;
@@ -287,9 +316,12 @@ static void keep_committed(tclod_selector *sel) {
 }
 
 static tclod_status check_frame(const tclod_frame *f) {
-    if (!(f->budget >= 0.0)) return TCLOD_ERR_ARG;
-    if (!(f->solve_seconds >= 0.0)) return TCLOD_ERR_ARG;
-    if (f->view && tclod_view_validate(f->view) != TCLOD_OK) return TCLOD_ERR_ARG;
+    if (!(f->budget >= 0.0))
+        return TCLOD_ERR_ARG;
+    if (!(f->solve_seconds >= 0.0))
+        return TCLOD_ERR_ARG;
+    if (f->view && tclod_view_validate(f->view) != TCLOD_OK)
+        return TCLOD_ERR_ARG;
     return TCLOD_OK;
 }
 
@@ -300,20 +332,26 @@ static void roll_back(tclod_selector *sel) {
         sel->node[sel->cut[i]].cut_pos = TCLOD_NONE;
         sel->flags[sel->cut[i]] = 0;
     }
-    if (sel->prev_count) memcpy(sel->cut, sel->prev_cut, sizeof(tclod_id) * sel->prev_count);
+    if (sel->prev_count)
+        memcpy(sel->cut, sel->prev_cut, sizeof(tclod_id) * sel->prev_count);
     sel->cut_count = sel->prev_count;
-    for (i = 0; i < sel->cut_count; ++i) sel->node[sel->cut[i]].cut_pos = i;
+    for (i = 0; i < sel->cut_count; ++i)
+        sel->node[sel->cut[i]].cut_pos = i;
 }
 
 void tclod_selector_restore(tclod_selector *sel, const tclod_selector_saved *k) {
     assert(!sel->pending && !sel->busy);
     sel->closure_hint = k->closure_hint;
-    if (!k->valid) return; /* nothing was committed since */
-    if (k->cut_count) memcpy(sel->prev_cut, k->cut, sizeof(tclod_id) * k->cut_count);
+    if (!k->valid)
+        return; /* nothing was committed since */
+    if (k->cut_count)
+        memcpy(sel->prev_cut, k->cut, sizeof(tclod_id) * k->cut_count);
     sel->prev_count = k->cut_count;
     roll_back(sel);
-    if (k->result_count) memcpy(sel->result, k->result, sizeof(tclod_id) * k->result_count);
-    if (k->group_count) memcpy(sel->groups, k->groups, sizeof(tclod_smooth_group) * k->group_count);
+    if (k->result_count)
+        memcpy(sel->result, k->result, sizeof(tclod_id) * k->result_count);
+    if (k->group_count)
+        memcpy(sel->groups, k->groups, sizeof(tclod_smooth_group) * k->group_count);
     sel->result_count = k->result_count;
     sel->group_count = k->group_count;
     sel->scene_version = k->scene_version;
@@ -327,7 +365,8 @@ static void commit(tclod_selector *sel) {
     keep_committed(sel);
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id id = sel->cut[i];
-        if (!(sel->node[id].benefit > 0.0) || (sel->flags[id] & TCLOD_FLAG_DROPPED)) continue;
+        if (!(sel->node[id].benefit > 0.0) || (sel->flags[id] & TCLOD_FLAG_DROPPED))
+            continue;
         sel->result[n++] = id;
         benefit += sel->node[id].benefit;
         cost += sel->node[id].cost;
@@ -335,7 +374,8 @@ static void commit(tclod_selector *sel) {
     sel->group_count = 0;
     for (i = 0; i < sel->vars.count; ++i) {
         tclod_smooth_group *g;
-        if (!(sel->vars.r[i] > 0.0)) continue;
+        if (!(sel->vars.r[i] > 0.0))
+            continue;
         g = &sel->groups[sel->group_count++];
         g->first = sel->vars.first[i];
         g->count = sel->vars.size[i];
@@ -347,7 +387,8 @@ static void commit(tclod_selector *sel) {
     }
     assert(cost <= sel->frame->budget);
     sel->result_count = n;
-    if (sel->cut_count) memcpy(sel->prev_cut, sel->cut, sizeof(tclod_id) * sel->cut_count);
+    if (sel->cut_count)
+        memcpy(sel->prev_cut, sel->cut, sizeof(tclod_id) * sel->cut_count);
     sel->prev_count = sel->cut_count;
     sel->has_cut = 1;
     sel->scene_version = sel->scene->version;
@@ -357,24 +398,30 @@ static void commit(tclod_selector *sel) {
 
 tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f) {
     tclod_status status;
-    if (!sel || !f) return TCLOD_ERR_ARG;
-    if (sel->busy || sel->pending) return TCLOD_ERR_STATE;
+    if (!sel || !f)
+        return TCLOD_ERR_ARG;
+    if (sel->busy || sel->pending)
+        return TCLOD_ERR_STATE;
     status = check_frame(f);
-    if (status != TCLOD_OK) return status;
-    if (!tclod_selector_scene_ok(sel)) return TCLOD_ERR_ARG;
+    if (status != TCLOD_OK)
+        return status;
+    if (!tclod_selector_scene_ok(sel))
+        return TCLOD_ERR_ARG;
     sel->busy = 1;
     status = tclod_scene_prepare(sel->scene);
     if (status == TCLOD_OK)
         status = reserve(sel, sel->scene->node_count, sel->scene->smooth_count);
     sel->busy = 0;
-    if (status != TCLOD_OK) return status;
+    if (status != TCLOD_OK)
+        return status;
     if (sel->scene_version != sel->scene->version) { /* start over like a new selector */
         sel->has_cut = 0;
         sel->closure_hint = 0.0;
     }
     if (++sel->solve_id == UINT32_MAX) { /* the fill value of new records */
         uint32_t i;
-        for (i = 0; i < sel->cap; ++i) sel->node[i].stamp = 0;
+        for (i = 0; i < sel->cap; ++i)
+            sel->node[i].stamp = 0;
         sel->solve_id = 1;
     }
     memset(&sel->stats, 0, sizeof sel->stats);
@@ -410,7 +457,8 @@ static void abandon(tclod_selector *sel) {
 static tclod_status run(tclod_selector *sel, double slice_seconds, uint32_t slice_iterations,
                         int *done, tclod_stats *st) {
     tclod_status status;
-    if (!sel->pending || sel->busy) return TCLOD_ERR_STATE;
+    if (!sel->pending || sel->busy)
+        return TCLOD_ERR_STATE;
     if (sel->pending_version != sel->scene->version) {
         abandon(sel); /* the scene changed under the solve */
         return TCLOD_ERR_STATE;
@@ -422,8 +470,8 @@ static tclod_status run(tclod_selector *sel, double slice_seconds, uint32_t slic
     sel->step_start = sel->stats.iterations;
     if (slice_iterations) {
         uint32_t it = sel->stats.iterations;
-        sel->slice_iterations = it > UINT32_MAX - slice_iterations ? UINT32_MAX
-                                                                   : it + slice_iterations;
+        sel->slice_iterations =
+            it > UINT32_MAX - slice_iterations ? UINT32_MAX : it + slice_iterations;
     }
     sel->paused = 0;
     sel->frame = &sel->frame_data;
@@ -431,9 +479,15 @@ static tclod_status run(tclod_selector *sel, double slice_seconds, uint32_t slic
     sel->query.view = sel->frame->view;
     sel->query.members = NULL;
     switch (sel->desc.solver) {
-    case TCLOD_SOLVER_MIXED: status = tclod_mixed_solve(sel); break;
-    case TCLOD_SOLVER_ROBIN_HOOD: status = tclod_robin_hood_solve(sel); break;
-    default: status = tclod_greedy_solve(sel); break;
+    case TCLOD_SOLVER_MIXED:
+        status = tclod_mixed_solve(sel);
+        break;
+    case TCLOD_SOLVER_ROBIN_HOOD:
+        status = tclod_robin_hood_solve(sel);
+        break;
+    default:
+        status = tclod_greedy_solve(sel);
+        break;
     }
     sel->elapsed += tclod_now() - sel->start_time;
     if (status == TCLOD_OK && sel->pending_version != sel->scene->version)
@@ -447,23 +501,27 @@ static tclod_status run(tclod_selector *sel, double slice_seconds, uint32_t slic
         sel->stats.solve_seconds = sel->elapsed;
         sel->pending = 0;
         *done = 1;
-        if (st) *st = sel->stats;
+        if (st)
+            *st = sel->stats;
     }
     sel->frame = NULL;
     sel->busy = 0;
     return status;
 }
 
-tclod_status tclod_select_step(tclod_selector *sel, double slice_seconds,
-                               uint32_t slice_iterations, int *done, tclod_stats *st) {
-    if (!sel || !done || !(slice_seconds >= 0.0)) return TCLOD_ERR_ARG;
+tclod_status tclod_select_step(tclod_selector *sel, double slice_seconds, uint32_t slice_iterations,
+                               int *done, tclod_stats *st) {
+    if (!sel || !done || !(slice_seconds >= 0.0))
+        return TCLOD_ERR_ARG;
     return run(sel, slice_seconds, slice_iterations, done, st);
 }
 
 tclod_status tclod_select_finish(tclod_selector *sel, tclod_stats *st) {
     int done = 0;
-    if (!sel) return TCLOD_ERR_ARG;
-    if (!sel->pending || sel->busy) return TCLOD_ERR_STATE;
+    if (!sel)
+        return TCLOD_ERR_ARG;
+    if (!sel->pending || sel->busy)
+        return TCLOD_ERR_STATE;
     if (!sel->stopped) {
         sel->stopped = 1;
         sel->stats.stop_reason = TCLOD_STOP_FINISHED;
@@ -472,24 +530,32 @@ tclod_status tclod_select_finish(tclod_selector *sel, tclod_stats *st) {
 }
 
 tclod_status tclod_select_cancel(tclod_selector *sel) {
-    if (!sel) return TCLOD_ERR_ARG;
-    if (sel->busy) return TCLOD_ERR_STATE;
-    if (sel->pending) abandon(sel);
+    if (!sel)
+        return TCLOD_ERR_ARG;
+    if (sel->busy)
+        return TCLOD_ERR_STATE;
+    if (sel->pending)
+        abandon(sel);
     return TCLOD_OK;
 }
 
-int tclod_select_pending(const tclod_selector *sel) { return sel && sel->pending; }
+int tclod_select_pending(const tclod_selector *sel) {
+    return sel && sel->pending;
+}
 
 tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats *st) {
     int done = 0;
     tclod_status status = tclod_select_begin(sel, f);
-    if (status != TCLOD_OK) return status;
+    if (status != TCLOD_OK)
+        return status;
     return run(sel, 0.0, 0, &done, st);
 }
 
 tclod_status tclod_selector_cut(const tclod_selector *sel, const tclod_id **ids, size_t *n) {
-    if (!sel || !ids || !n) return TCLOD_ERR_ARG;
-    if (sel->busy) return TCLOD_ERR_STATE;
+    if (!sel || !ids || !n)
+        return TCLOD_ERR_ARG;
+    if (sel->busy)
+        return TCLOD_ERR_STATE;
     *ids = sel->result;
     *n = sel->result_count;
     return TCLOD_OK;
@@ -497,8 +563,10 @@ tclod_status tclod_selector_cut(const tclod_selector *sel, const tclod_id **ids,
 
 tclod_status tclod_selector_smooth_groups(const tclod_selector *sel,
                                           const tclod_smooth_group **groups, size_t *n) {
-    if (!sel || !groups || !n) return TCLOD_ERR_ARG;
-    if (sel->busy) return TCLOD_ERR_STATE;
+    if (!sel || !groups || !n)
+        return TCLOD_ERR_ARG;
+    if (sel->busy)
+        return TCLOD_ERR_STATE;
     *groups = sel->groups;
     *n = sel->group_count;
     return TCLOD_OK;
@@ -507,7 +575,8 @@ tclod_status tclod_selector_smooth_groups(const tclod_selector *sel,
 double tclod_selector_resolution(const tclod_selector *sel, tclod_id smooth) {
     const tclod_scene *s;
     uint32_t pos, lo = 0, hi;
-    if (!sel || sel->busy || sel->group_count == 0) return 0.0;
+    if (!sel || sel->busy || sel->group_count == 0)
+        return 0.0;
     s = sel->scene;
     /* positions belong to the quadtree the result was made with */
     if (smooth >= s->smooth_count || sel->scene_version != s->version ||

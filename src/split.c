@@ -42,8 +42,8 @@ static int culled(const tclod_selector *sel, float area) {
     return sel->has_view && (!(area > 0.0f) || (double)area < sel->desc.smooth_cull_area);
 }
 
-static void add_variable(tclod_selector *sel, uint32_t first, uint32_t count,
-                         const float bounds[4], float area, float distance) {
+static void add_variable(tclod_selector *sel, uint32_t first, uint32_t count, const float bounds[4],
+                         float area, float distance) {
     tclod_vars *v = &sel->vars;
     uint32_t i = v->count++;
     v->first[i] = first;
@@ -73,18 +73,21 @@ static void split_flat(tclod_selector *sel) {
         float area, distance;
         uint32_t i;
         measure(sel, node->bounds, &area, &distance);
-        if (culled(sel, area)) continue;
+        if (culled(sel, area))
+            continue;
         if (node->count == 1) {
             add_variable(sel, node->first, 1, node->bounds, area, distance);
         } else if (node->child_count == 0) {
             for (i = node->first; i < node->first + node->count; ++i) {
                 const float *b = object_bounds(s, i);
                 measure(sel, b, &area, &distance);
-                if (!culled(sel, area)) add_variable(sel, i, 1, b, area, distance);
+                if (!culled(sel, area))
+                    add_variable(sel, i, 1, b, area, distance);
             }
         } else {
             /* reverse, so that the stack hands them out in order */
-            for (i = node->child_count; i-- > 0;) sel->split_node[top++] = node->child + i;
+            for (i = node->child_count; i-- > 0;)
+                sel->split_node[top++] = node->child + i;
         }
     }
 }
@@ -97,7 +100,8 @@ static int object_scale(tclod_selector *sel, uint32_t pos, const float bounds[4]
                         float distance, double *scale) {
     double db;
     *scale = 0.0;
-    if (culled(sel, area)) return 0;
+    if (culled(sel, area))
+        return 0;
     tclod_smooth_call(sel, pos, 1, bounds, area, distance, 1.0, scale, &db, NULL, NULL);
     return sel->failed ? -1 : 0;
 }
@@ -140,7 +144,8 @@ static int gather(tclod_selector *sel) {
             }
         } else {
             sel->split_order[inner++] = k;
-            for (i = node->child_count; i-- > 0;) sel->split_node[top++] = node->child + i;
+            for (i = node->child_count; i-- > 0;)
+                sel->split_node[top++] = node->child + i;
             continue;
         }
         sel->split_c[k] = c;
@@ -191,7 +196,8 @@ static void share_resolution(const tclod_selector *sel, const tclod_smooth_node 
                 wsum += w[i];
         for (i = 0; i < n; ++i) {
             double count = (double)s->qt[node->child + i].count;
-            if (!open[i] || !(x * w[i] > count * wsum)) continue;
+            if (!open[i] || !(x * w[i] > count * wsum))
+                continue;
             xi[i] = count;
             open[i] = 0;
             x -= count;
@@ -203,7 +209,8 @@ static void share_resolution(const tclod_selector *sel, const tclod_smooth_node 
         if (open[i])
             wsum += w[i];
     for (i = 0; i < n; ++i)
-        if (open[i]) xi[i] = x * w[i] / wsum;
+        if (open[i])
+            xi[i] = x * w[i] / wsum;
 }
 
 /* Decides for quadtree node k, expected to receive the total resolution x and
@@ -220,9 +227,9 @@ static void split_node(tclod_selector *sel, uint32_t k, double x, double theta, 
     double c = sel->split_c[k], n = (double)node->count, xi[4];
     uint32_t i, visible = 0;
     float area, distance;
-    if (node->count == 1 || (sel->split_whole[k] &&
-                             sqrt(x) * (sqrt(sel->split_q[k]) - c / sqrt(n)) <=
-                                 theta + 1e-12 * c * sqrt(x / n))) {
+    if (node->count == 1 ||
+        (sel->split_whole[k] &&
+         sqrt(x) * (sqrt(sel->split_q[k]) - c / sqrt(n)) <= theta + 1e-12 * c * sqrt(x / n))) {
         measure(sel, node->bounds, &area, &distance);
         add_variable(sel, node->first, node->count, node->bounds, area, distance);
         return;
@@ -236,11 +243,13 @@ static void split_node(tclod_selector *sel, uint32_t k, double x, double theta, 
             }
         return;
     }
-    for (i = 0; i < node->child_count; ++i) visible += sel->split_c[node->child + i] > 0.0;
+    for (i = 0; i < node->child_count; ++i)
+        visible += sel->split_c[node->child + i] > 0.0;
     share_resolution(sel, node, x, xi);
     /* reverse, so that the stack hands them out in order */
     for (i = node->child_count; i-- > 0;) {
-        if (!(sel->split_c[node->child + i] > 0.0)) continue;
+        if (!(sel->split_c[node->child + i] > 0.0))
+            continue;
         sel->split_node[*top] = node->child + i;
         sel->split_x[*top] = xi[i];
         sel->split_theta[*top] = theta / (double)visible;
@@ -259,13 +268,18 @@ static int split_tree(tclod_selector *sel) {
     float area, distance;
     uint32_t top = 0;
     measure(sel, root->bounds, &area, &distance);
-    if (culled(sel, area)) return 0;
-    if (gather(sel) != 0) return -1;
-    if (!(sel->split_c[0] > 0.0)) return 0;
+    if (culled(sel, area))
+        return 0;
+    if (gather(sel) != 0)
+        return -1;
+    if (!(sel->split_c[0] > 0.0))
+        return 0;
     tclod_smooth_call(sel, root->first, root->count, root->bounds, area, distance, 1.0, &b, &db,
                       &cost, &dc);
-    if (sel->failed) return -1;
-    if (cost > 0.0 && budget < cost) x = n * budget / cost;
+    if (sel->failed)
+        return -1;
+    if (cost > 0.0 && budget < cost)
+        x = n * budget / cost;
     sel->split_node[top] = 0;
     sel->split_x[top] = x;
     sel->split_theta[top] = sel->desc.split_threshold * sel->split_c[0] * sqrt(x / n);
@@ -279,7 +293,8 @@ static int split_tree(tclod_selector *sel) {
 
 int tclod_split_variables(tclod_selector *sel) {
     sel->vars.count = 0;
-    if (sel->scene->smooth_count == 0) return 0;
+    if (sel->scene->smooth_count == 0)
+        return 0;
     if (!sel->desc.split_smooth) {
         split_flat(sel);
         return 0;

@@ -46,7 +46,8 @@ tclod_status tclod_view_validate(const tclod_view *v) {
     double f[3], u[3], side[3];
     double pi = 3.14159265358979323846;
     int i;
-    if (!v) return TCLOD_ERR_ARG;
+    if (!v)
+        return TCLOD_ERR_ARG;
     for (i = 0; i < 3; ++i)
         if (!isfinite(v->eye[i]) || !isfinite(v->forward[i]) || !isfinite(v->up[i]))
             return TCLOD_ERR_ARG;
@@ -58,9 +59,11 @@ tclod_status tclod_view_validate(const tclod_view *v) {
         return TCLOD_ERR_ARG;
     load3(v->forward, f);
     load3(v->up, u);
-    if (normalize3(f) <= 0.0 || normalize3(u) <= 0.0) return TCLOD_ERR_ARG;
+    if (normalize3(f) <= 0.0 || normalize3(u) <= 0.0)
+        return TCLOD_ERR_ARG;
     cross3(f, u, side);
-    if (sqrt(dot3(side, side)) < 1e-6) return TCLOD_ERR_ARG; /* forward parallel to up */
+    if (sqrt(dot3(side, side)) < 1e-6)
+        return TCLOD_ERR_ARG; /* forward parallel to up */
     return TCLOD_OK;
 }
 
@@ -92,7 +95,8 @@ void tclod_view_cache_measure(const tclod_view_cache *c, const float bounds[4], 
 int tclod_view_sphere_visible(const tclod_view *view, const float bounds[4]) {
     tclod_view_cache c;
     double p[3];
-    if (!view || !bounds) return 0;
+    if (!view || !bounds)
+        return 0;
     tclod_view_cache_init(&c, view);
     p[0] = (double)bounds[0] - c.eye[0];
     p[1] = (double)bounds[1] - c.eye[1];
@@ -103,7 +107,8 @@ int tclod_view_sphere_visible(const tclod_view *view, const float bounds[4]) {
 float tclod_view_screen_area(const tclod_view *view, const float bounds[4]) {
     tclod_view_cache c;
     double p[3];
-    if (!view || !bounds) return 0.0f;
+    if (!view || !bounds)
+        return 0.0f;
     tclod_view_cache_init(&c, view);
     p[0] = (double)bounds[0] - c.eye[0];
     p[1] = (double)bounds[1] - c.eye[1];
@@ -113,7 +118,8 @@ float tclod_view_screen_area(const tclod_view *view, const float bounds[4]) {
 
 float tclod_view_distance(const tclod_view *view, const float bounds[4]) {
     double d[3];
-    if (!view || !bounds) return 0.0f;
+    if (!view || !bounds)
+        return 0.0f;
     d[0] = (double)bounds[0] - (double)view->eye[0];
     d[1] = (double)bounds[1] - (double)view->eye[1];
     d[2] = (double)bounds[2] - (double)view->eye[2];

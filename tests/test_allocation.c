@@ -556,7 +556,8 @@ static void selects_that_run_out_of_memory_change_nothing_for_every_solver(void 
                     table_rng_seed(&rng, 86);
                     assert_int_equal(table_chains(&r.m, r.s, &rng, 60, 4, 40.0f), TCLOD_OK);
                     assert_int_equal(
-                        table_random_hierarchy(&r.m, r.s, &rng, 200, 10, TABLE_DIMINISHING), TCLOD_OK);
+                        table_random_hierarchy(&r.m, r.s, &rng, 200, 10, TABLE_DIMINISHING),
+                        TCLOD_OK);
                     add_smooth_objects(&r.m, r.s, &rng, 100, 40.0f);
                 }
                 side_view(&v, frame);
@@ -975,7 +976,8 @@ static mode_test add = {add_under_failure};
 static mode_test prepare = {prepare_under_failure};
 
 /* A cmocka test named `name` that runs mode_test m in both modes. */
-#define MODE_TEST(name, m) {name, in_both_modes, NULL, NULL, m}
+#define MODE_TEST(name, m) \
+    { name, in_both_modes, NULL, NULL, m }
 
 int main(void) {
     const struct CMUnitTest tests[] = {

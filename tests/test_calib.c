@@ -63,7 +63,8 @@ static void report_frame(tclod_calib *c, int frame, double factor) {
 /* report_frame for frames from .. to - 1. */
 static void report_frames(tclod_calib *c, int from, int to, double factor) {
     int k;
-    for (k = from; k < to; ++k) report_frame(c, k, factor);
+    for (k = from; k < to; ++k)
+        report_frame(c, k, factor);
 }
 
 static double relative_error(const tclod_calib *c, double factor) {

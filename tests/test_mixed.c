@@ -88,7 +88,8 @@ static double smooth_benefit(const helper_fixture *f, const tclod_selector *sel)
     tclod_id i;
     for (i = 0; i < f->model.smooth.count; ++i) {
         double r = resolution(sel, i);
-        if (r > 0.0) sum += table_smooth_benefit_of(&f->model, i, r, NULL);
+        if (r > 0.0)
+            sum += table_smooth_benefit_of(&f->model, i, r, NULL);
     }
     return sum;
 }
@@ -362,7 +363,6 @@ static double kinked_cost(const table_smooth *t, tclod_id i, double r) {
     return r < t->kink[i] ? t->steep[i] * r : t->steep[i] * t->kink[i] + t->k[i] * (r - t->kink[i]);
 }
 
-
 /* The papers' direction from resolution 0 as the library computes it (no
  * barrier): every object's benefit slope where slopes are asked (10^-9),
  * scaled to a largest component of 1. */
@@ -371,9 +371,11 @@ static void direction_from_zero(const table_model *m, double *a) {
     tclod_id i;
     for (i = 0; i < m->smooth.count; ++i) {
         table_smooth_benefit_of(m, i, 1e-9, &a[i]);
-        if (a[i] > largest) largest = a[i];
+        if (a[i] > largest)
+            largest = a[i];
     }
-    for (i = 0; i < m->smooth.count; ++i) a[i] /= largest;
+    for (i = 0; i < m->smooth.count; ++i)
+        a[i] /= largest;
 }
 
 /* Benefit less lambda times cost of the smooth objects at r = t a, and their
@@ -447,7 +449,8 @@ static void line_search_on_kinked_instances_finds_the_best_point_of_the_line(voi
         budget = 1.0 + dc + full * table_rng_uniform(&rng, 0.05, 1.2);
         limit = budget - 1e-9 * budget - 1.0;
         for (i = 0; i < n; ++i)
-            if (1.0 / a[i] < t_max) t_max = 1.0 / a[i];
+            if (1.0 / a[i] < t_max)
+                t_max = 1.0 / a[i];
         line_phi(&f->model, a, t_max, lambda, &cost);
         if (cost > limit) { /* the budget's edge: bisection on the cost */
             for (lo = 0.0, hi = t_max, k = 0; k < 200; ++k) {
@@ -462,25 +465,30 @@ static void line_search_on_kinked_instances_finds_the_best_point_of_the_line(voi
         best = line_phi(&f->model, a, t_max, lambda, &cost);
         for (k = 0; k < 20000; ++k) {
             double v = line_phi(&f->model, a, t_max * (double)k / 20000.0, lambda, &cost);
-            if (v > best) best = v;
+            if (v > best)
+                best = v;
         }
         for (i = 0; i < n; ++i) {
             double tk = f->model.smooth.kink[i] / a[i];
             int side;
             for (side = -1; side <= 1; side += 2) {
                 double v, at = tk * (1.0 + 1e-12 * side);
-                if (!(at < t_max)) continue;
+                if (!(at < t_max))
+                    continue;
                 v = line_phi(&f->model, a, at, lambda, &cost);
-                if (v > best) best = v;
+                if (v > best)
+                    best = v;
             }
         }
         sel = mixed_selector(f, 0, 0.0);
         select_mixed(sel, budget, 1, &st);
         assert_int_equal(st.line_searches, 1);
         for (t = 0.0, i = 0; i < n; ++i)
-            if (a[i] == 1.0) t = resolution(sel, i);
+            if (a[i] == 1.0)
+                t = resolution(sel, i);
         /* on the line, but never asked below 10^-9 */
-        for (i = 0; i < n; ++i) assert_true(fabs(resolution(sel, i) - t * a[i]) <= 1.1e-9);
+        for (i = 0; i < n; ++i)
+            assert_true(fabs(resolution(sel, i) - t * a[i]) <= 1.1e-9);
         for (got = got_cost = 0.0, i = 0; i < n; ++i) {
             double r = resolution(sel, i);
             got_cost += kinked_cost(&f->model.smooth, i, r);
@@ -507,7 +515,8 @@ static void preconditioned_loop_spends_the_budget_at_the_slope_its_models_predic
     tclod_selector *sel;
     tclod_stats st;
     tclod_id i;
-    for (i = 0; i < 16; ++i) add_sqrt(f, i % 4 == 0 ? 1.0 : 0.01, 1.0);
+    for (i = 0; i < 16; ++i)
+        add_sqrt(f, i % 4 == 0 ? 1.0 : 0.01, 1.0);
     sel = mixed_selector(f, 1, 0.0);
     select_mixed(sel, 4.0, 0, &st);
     for (i = 0; i < 16; ++i)
@@ -581,11 +590,13 @@ static void separable_concave_instances_reach_99_percent_of_the_lagrangian_optim
             fail_msg("instance %d: benefit %.12g above the optimum %.12g", instance, st.benefit,
                      optimum);
         assert_near(smooth_benefit(f, sel), st.benefit, 1e-9, "benefit of the resolutions");
-        if (st.benefit / optimum < worst) worst = st.benefit / optimum;
+        if (st.benefit / optimum < worst)
+            worst = st.benefit / optimum;
         tclod_selector_destroy(sel);
         helper_fixture_teardown((void **)&f);
     }
-    if (!(worst >= 0.99)) fail_msg("worst instance reached %.5f of the optimum", worst);
+    if (!(worst >= 0.99))
+        fail_msg("worst instance reached %.5f of the optimum", worst);
 }
 
 /* ---- limits ---------------------------------------------------------------------- */
@@ -635,8 +646,10 @@ static void iteration_limits_stop_with_a_feasible_selection(void **state) {
     uint32_t i, limit;
     tclod_id root = helper_add(f, TCLOD_NONE, 1.0, 1.0);
     table_rng_seed(&rng, 7);
-    for (i = 0; i < 3; ++i) helper_add(f, root, 0.8, 0.4);
-    for (i = 0; i < 12; ++i) add_sqrt(f, table_rng_uniform(&rng, 1.0, 5.0), 1.0);
+    for (i = 0; i < 3; ++i)
+        helper_add(f, root, 0.8, 0.4);
+    for (i = 0; i < 12; ++i)
+        add_sqrt(f, table_rng_uniform(&rng, 1.0, 5.0), 1.0);
     for (limit = 1; limit <= 40; ++limit) {
         int precondition;
         for (precondition = 0; precondition <= 1; ++precondition) {
@@ -779,7 +792,8 @@ static void lookahead_increments_compete_with_smooth_steps_by_their_slope(void *
     }
 }
 
-#define FIXTURE_TEST(t) cmocka_unit_test_setup_teardown(t, helper_fixture_setup, helper_fixture_teardown)
+#define FIXTURE_TEST(t) \
+    cmocka_unit_test_setup_teardown(t, helper_fixture_setup, helper_fixture_teardown)
 
 int main(void) {
     const struct CMUnitTest tests[] = {

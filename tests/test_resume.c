@@ -53,8 +53,8 @@ static int world_setup(void **state) {
         b[1] = 0.0f;
         b[2] = (float)table_rng_uniform(&rng, -45.0, -5.0);
         b[3] = (float)table_rng_uniform(&rng, 0.2, 2.0);
-        assert_int_equal(table_add_smooth(&w.model, w.scene, b, TABLE_POWER,
-                                          weight, table_rng_uniform(&rng, 0.3, 0.8), k,
+        assert_int_equal(table_add_smooth(&w.model, w.scene, b, TABLE_POWER, weight,
+                                          table_rng_uniform(&rng, 0.3, 0.8), k,
                                           kinked ? 8.0 * k : k, kinked ? 0.05 : 0.0, NULL),
                          TCLOD_OK);
     }
@@ -113,7 +113,8 @@ static double selection_cost(const tclod_selector *sel, tclod_scene *scene, cons
     assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
     sum = table_sum_cost(m, ids, n);
     assert_int_equal(tclod_selector_smooth_groups(sel, &g, &ng), TCLOD_OK);
-    if (ng == 0) return sum;
+    if (ng == 0)
+        return sum;
     assert_int_equal(tclod_scene_smooth_order(scene, &order, &count), TCLOD_OK);
     for (i = 0; i < ng; ++i)
         for (k = 0; k < g[i].count; ++k)
@@ -130,11 +131,13 @@ static void assert_same_result(const tclod_selector *a, const tclod_selector *b)
     assert_int_equal(tclod_selector_cut(a, &ia, &na), TCLOD_OK);
     assert_int_equal(tclod_selector_cut(b, &ib, &nb), TCLOD_OK);
     assert_int_equal(na, nb);
-    if (na) assert_memory_equal(ia, ib, na * sizeof *ia);
+    if (na)
+        assert_memory_equal(ia, ib, na * sizeof *ia);
     assert_int_equal(tclod_selector_smooth_groups(a, &ga, &na), TCLOD_OK);
     assert_int_equal(tclod_selector_smooth_groups(b, &gb, &nb), TCLOD_OK);
     assert_int_equal(na, nb);
-    if (na) assert_memory_equal(ga, gb, na * sizeof *ga);
+    if (na)
+        assert_memory_equal(ga, gb, na * sizeof *ga);
 }
 
 /* Steps sel through frame f one iteration at a time; returns the steps. */

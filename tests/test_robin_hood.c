@@ -31,7 +31,8 @@
 static tclod_id add_chain(helper_fixture *f, double value, const double *costs, int levels) {
     tclod_id first = helper_add(f, TCLOD_NONE, value, costs[0]), prev = first;
     int k;
-    for (k = 1; k < levels; ++k) prev = helper_add(f, prev, value, costs[k]);
+    for (k = 1; k < levels; ++k)
+        prev = helper_add(f, prev, value, costs[k]);
     return first;
 }
 
@@ -47,8 +48,7 @@ static tclod_selector *rh_selector(helper_fixture *f, tclod_value value, tclod_m
     return sel;
 }
 
-static void select_rh(tclod_selector *sel, const tclod_view *view, double budget,
-                      tclod_stats *st) {
+static void select_rh(tclod_selector *sel, const tclod_view *view, double budget, tclod_stats *st) {
     tclod_frame fr = helper_frame(view, budget);
     assert_int_equal(tclod_select(sel, &fr, st), TCLOD_OK);
 }
@@ -59,7 +59,8 @@ static int listed(const tclod_selector *sel, tclod_id id) {
     size_t n, i;
     assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
     for (i = 0; i < n; ++i)
-        if (ids[i] == id) return 1;
+        if (ids[i] == id)
+            return 1;
     return 0;
 }
 
@@ -74,10 +75,12 @@ static void equal_values_get_equal_shares(void **state) {
     tclod_selector *sel;
     tclod_stats st;
     int i;
-    for (i = 0; i < 4; ++i) chains[i] = add_chain(f, 1.0, costs, 4);
+    for (i = 0; i < 4; ++i)
+        chains[i] = add_chain(f, 1.0, costs, 4);
     sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
     select_rh(sel, NULL, 8.0 * (1.0 + 1e-6), &st);
-    for (i = 0; i < 4; ++i) assert_true(listed(sel, chains[i] + 1u));
+    for (i = 0; i < 4; ++i)
+        assert_true(listed(sel, chains[i] + 1u));
     assert_true(st.cost == 8.0);
     tclod_selector_destroy(sel);
 }
@@ -287,12 +290,12 @@ static void smooth_objects_take_the_resolution_their_share_buys(void **state) {
     tclod_selector *sel;
     tclod_stats st;
     /* value: importance = benefit at r = 1 = w; equal w */
-    assert_int_equal(table_add_smooth(&f->model, f->scene, b0, TABLE_POWER, 1.0, 0.5, 1.0, 1.0,
-                                      0.0, &s0),
-                     TCLOD_OK);
-    assert_int_equal(table_add_smooth(&f->model, f->scene, b1, TABLE_POWER, 1.0, 0.5, 2.0, 2.0,
-                                      0.0, &s1),
-                     TCLOD_OK);
+    assert_int_equal(
+        table_add_smooth(&f->model, f->scene, b0, TABLE_POWER, 1.0, 0.5, 1.0, 1.0, 0.0, &s0),
+        TCLOD_OK);
+    assert_int_equal(
+        table_add_smooth(&f->model, f->scene, b1, TABLE_POWER, 1.0, 0.5, 2.0, 2.0, 0.0, &s1),
+        TCLOD_OK);
     sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
     select_rh(sel, NULL, 1.5, &st);
     assert_true(fabs(tclod_selector_resolution(sel, s0) - 0.75) < 1e-6);
@@ -321,11 +324,13 @@ static void a_branch_shares_its_time_among_its_children(void **state) {
     tclod_selector *sel;
     tclod_stats st;
     int i;
-    for (i = 0; i < 4; ++i) c[i] = helper_add(f, r, i == 3 ? 3.0 : 1.0, 1.0);
+    for (i = 0; i < 4; ++i)
+        c[i] = helper_add(f, r, i == 3 ? 3.0 : 1.0, 1.0);
     g = helper_add(f, c[3], 3.0, 4.0);
     sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
     select_rh(sel, NULL, 8.0, &st);
-    for (i = 0; i < 3; ++i) assert_true(listed(sel, c[i]));
+    for (i = 0; i < 3; ++i)
+        assert_true(listed(sel, c[i]));
     assert_true(listed(sel, g));
     assert_false(listed(sel, r));
     assert_true(st.cost == 7.0);
@@ -343,8 +348,7 @@ static void value_functions_match_seed_003(void **state) {
     assert_true(tclod_value_of(TCLOD_VALUE_AREA_SQRT_DEPTH, 4.0, 16.0, 20.0, 0.5) ==
                 4.0 / 4.0 * 0.5);
     assert_true(tclod_value_of(TCLOD_VALUE_AREA_DEPTH, 4.0, 16.0, 20.0, 0.5) == 4.0 / 16.0 * 0.5);
-    assert_true(tclod_value_of(TCLOD_VALUE_AREA_DEPTH2, 4.0, 16.0, 20.0, 0.5) ==
-                4.0 / 256.0 * 0.5);
+    assert_true(tclod_value_of(TCLOD_VALUE_AREA_DEPTH2, 4.0, 16.0, 20.0, 0.5) == 4.0 / 256.0 * 0.5);
     assert_true(tclod_value_of(TCLOD_VALUE_SQRT_AREA_DISTANCE2, 4.0, 16.0, 20.0, 0.5) ==
                 2.0 / 400.0 * 0.5);
     assert_true(tclod_value_of(TCLOD_VALUE_BENEFIT, 4.0, 16.0, 20.0, 0.5) == 0.5);
@@ -713,11 +717,10 @@ static void budget_holds_on_random_scenes(void **state) {
         double budget, sum = 0.0;
         uint32_t k, smooth = table_rng_below(&rng, 6), nodes = 3 + table_rng_below(&rng, 30);
         assert_int_equal(helper_fixture_setup((void **)&f), 0);
-        assert_int_equal(table_random_hierarchy(&f->model, f->scene, &rng, nodes,
-                                                1 + table_rng_below(&rng, 3),
-                                                table_rng_below(&rng, 2) ? TABLE_DIMINISHING
-                                                                         : TABLE_ARBITRARY),
-                         TCLOD_OK);
+        assert_int_equal(
+            table_random_hierarchy(&f->model, f->scene, &rng, nodes, 1 + table_rng_below(&rng, 3),
+                                   table_rng_below(&rng, 2) ? TABLE_DIMINISHING : TABLE_ARBITRARY),
+            TCLOD_OK);
         for (k = 0; k < smooth; ++k) {
             float b[4];
             double kc = table_rng_uniform(&rng, 0.1, 3.0);
@@ -741,24 +744,27 @@ static void budget_holds_on_random_scenes(void **state) {
         helper_view(&view);
         select_rh(sel, table_rng_below(&rng, 2) ? &view : NULL, budget, &st);
         assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
-        for (i = 0; i < n; ++i) sum += f->model.cost[ids[i]];
+        for (i = 0; i < n; ++i)
+            sum += f->model.cost[ids[i]];
         assert_int_equal(tclod_selector_smooth_groups(sel, &groups, &ng), TCLOD_OK);
         for (i = 0; i < ng; ++i) {
             const tclod_id *order;
             uint32_t count;
             assert_int_equal(tclod_scene_smooth_order(f->scene, &order, &count), TCLOD_OK);
             assert_int_equal(groups[i].count, 1);
-            sum += table_smooth_cost_of(&f->model, order[groups[i].first], groups[i].resolution,
-                                        NULL);
+            sum +=
+                table_smooth_cost_of(&f->model, order[groups[i].first], groups[i].resolution, NULL);
         }
-        if (!(sum <= budget)) fail_msg("instance %d: cost %.17g > budget %.17g", instance, sum, budget);
+        if (!(sum <= budget))
+            fail_msg("instance %d: cost %.17g > budget %.17g", instance, sum, budget);
         assert_true(st.cost == sum);
         tclod_selector_destroy(sel);
         helper_fixture_teardown((void **)&f);
     }
 }
 
-#define FIXTURE_TEST(t) cmocka_unit_test_setup_teardown(t, helper_fixture_setup, helper_fixture_teardown)
+#define FIXTURE_TEST(t) \
+    cmocka_unit_test_setup_teardown(t, helper_fixture_setup, helper_fixture_teardown)
 
 int main(void) {
     const struct CMUnitTest tests[] = {

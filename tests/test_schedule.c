@@ -73,7 +73,8 @@ static double wish_smooth_benefit(void *user, const tclod_query *q, double r, do
     const wish_host *h = (const wish_host *)user;
     double w = 0.0;
     uint32_t k;
-    for (k = 0; k < q->count; ++k) w += h->weight[q->members[k]];
+    for (k = 0; k < q->count; ++k)
+        w += h->weight[q->members[k]];
     *d_dr = 0.5 * w / sqrt(r);
     return w * sqrt(r);
 }
@@ -790,7 +791,8 @@ static void smooth_resolutions_move_linearly_with_the_same_asymmetry(void **stat
     sch = wish_scheduler(s, &h, 1, 1);
     for (f = 0; f < 80; ++f) {
         double t = f / 10.0, ra, rb, u = t - floor(t + 1e-9);
-        if (f == 30) h.weight[a] = 3.0;
+        if (f == 30)
+            h.weight[a] = 3.0;
         assert_int_equal(tclod_scheduler_update(sch, t, &v, 2.0, 0.0), TCLOD_OK);
         ra = tclod_scheduler_resolution(sch, a);
         rb = tclod_scheduler_resolution(sch, b);
@@ -843,7 +845,8 @@ static void without_morphing_a_selection_switches_in_at_its_interval(void **stat
 /* Whether a is a proper ancestor of b. */
 static int is_ancestor(const tclod_scene *s, tclod_id a, tclod_id b) {
     for (b = tclod_scene_parent(s, b); b != TCLOD_NONE; b = tclod_scene_parent(s, b))
-        if (b == a) return 1;
+        if (b == a)
+            return 1;
     return 0;
 }
 
@@ -997,8 +1000,10 @@ static void draw_lists_stay_within_the_budget_over_random_paths(void **state) {
             double dt = table_rng_uniform(&rng, 0.005, 0.05), slice;
             /* now and then the path turns the other way, or the budget
              * falls or rises */
-            if (table_rng_below(&rng, 60) == 0) turn = table_rng_uniform(&rng, -1.0, 1.0);
-            if (table_rng_below(&rng, 80) == 0) budget *= table_rng_uniform(&rng, 0.5, 1.5);
+            if (table_rng_below(&rng, 60) == 0)
+                turn = table_rng_uniform(&rng, -1.0, 1.0);
+            if (table_rng_below(&rng, 80) == 0)
+                budget *= table_rng_uniform(&rng, 0.5, 1.5);
             t += dt;
             heading += turn * dt;
             v.eye[0] += (float)(speed * dt * cos(heading));

@@ -39,8 +39,9 @@ static tclod_id add_object(helper_fixture *f, float x, float y, float z, float r
     b[1] = y;
     b[2] = z;
     b[3] = radius;
-    assert_int_equal(table_add_smooth(&f->model, f->scene, b, TABLE_POWER, w, 0.5, 1.0, 1.0, 0.0, &id),
-                     TCLOD_OK);
+    assert_int_equal(
+        table_add_smooth(&f->model, f->scene, b, TABLE_POWER, w, 0.5, 1.0, 1.0, 0.0, &id),
+        TCLOD_OK);
     return id;
 }
 
@@ -68,7 +69,8 @@ static uint32_t position_of(helper_fixture *f, tclod_id id) {
     uint32_t n, i;
     assert_int_equal(tclod_scene_smooth_order(f->scene, &order, &n), TCLOD_OK);
     for (i = 0; i < n; ++i)
-        if (order[i] == id) return i;
+        if (order[i] == id)
+            return i;
     fail_msg("smooth object %u is not in the order", id);
     return 0;
 }
@@ -84,7 +86,8 @@ static void quadtree_order_keeps_each_quadrant_contiguous(void **state) {
     uint32_t n, bx, bz, i, j;
     uint8_t seen[16];
     for (i = 0; i < 4; ++i)
-        for (j = 0; j < 4; ++j) grid[i][j] = add_object(f, (float)i, 0.0f, (float)j, 0.1f, 1.0);
+        for (j = 0; j < 4; ++j)
+            grid[i][j] = add_object(f, (float)i, 0.0f, (float)j, 0.1f, 1.0);
     assert_int_equal(tclod_scene_smooth_order(f->scene, &order, &n), TCLOD_OK);
     assert_int_equal(n, 16);
     memset(seen, 0, sizeof seen);
@@ -179,7 +182,8 @@ static void alike_objects_share_one_variable(void **state) {
     tclod_stats st;
     size_t n;
     int i;
-    for (i = 0; i < 4; ++i) ids[i] = add_object(f, (float)(i % 2), 0.0f, (float)(i / 2), 0.1f, 1.0);
+    for (i = 0; i < 4; ++i)
+        ids[i] = add_object(f, (float)(i % 2), 0.0f, (float)(i / 2), 0.1f, 1.0);
     sel = split_selector(f, 1, 0.0);
     select_view(sel, NULL, 2.0, &st);
     assert_int_equal(st.variables, 1);
@@ -400,7 +404,8 @@ static void resolutions_read_zero_after_the_scene_changed(void **state) {
     tclod_selector_destroy(sel);
 }
 
-#define FIXTURE_TEST(t) cmocka_unit_test_setup_teardown(t, helper_fixture_setup, helper_fixture_teardown)
+#define FIXTURE_TEST(t) \
+    cmocka_unit_test_setup_teardown(t, helper_fixture_setup, helper_fixture_teardown)
 
 int main(void) {
     const struct CMUnitTest tests[] = {

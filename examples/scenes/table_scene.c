@@ -177,7 +177,8 @@ tclod_status table_add_smooth(table_model *m, tclod_scene *s, const float bounds
     tclod_id id;
     tclod_status st;
     if (!(w >= 0.0) || !(p > 0.0) || (shape == TABLE_POWER && p > 1.0) || !(k >= 0.0) ||
-        !(steep >= k) || !(kink >= 0.0 && kink < 1.0) || (shape != TABLE_POWER && shape != TABLE_LOG))
+        !(steep >= k) || !(kink >= 0.0 && kink < 1.0) ||
+        (shape != TABLE_POWER && shape != TABLE_LOG))
         return TCLOD_ERR_ARG;
     if (tclod_scene_smooth_count(s) != t->count)
         return TCLOD_ERR_STATE;

@@ -131,19 +131,19 @@ TCLOD_API float tclod_view_distance(const tclod_view *view, const float bounds[4
 
 /* What a callback is asked about. Valid only during the call. */
 typedef struct tclod_query {
-    tclod_id id;           /* node id, or first smooth object of a group */
-    uint32_t count;        /* smooth objects in the group (1 for nodes) */
-    const tclod_view *view; /* the frame's view; NULL when the frame has none */
-    float screen_area;     /* projected bounds in px²; 0 when the bounds are
-                              outside the frustum; -1 when no bounds or no view */
-    float distance;        /* eye to bounds centre, or -1 when no bounds or no view */
+    tclod_id id;             /* node id, or first smooth object of a group */
+    uint32_t count;          /* smooth objects in the group (1 for nodes) */
+    const tclod_view *view;  /* the frame's view; NULL when the frame has none */
+    float screen_area;       /* projected bounds in px²; 0 when the bounds are
+                                outside the frustum; -1 when no bounds or no view */
+    float distance;          /* eye to bounds centre, or -1 when no bounds or no view */
     const tclod_id *members; /* smooth queries: the count member ids of the group, in
                                 the scene's smooth order (members[0] == id); the
                                 array belongs to the scene. NULL for nodes */
-    const float *bounds;   /* the sphere screen_area and distance were measured on
-                              (x, y, z, radius): the node's or object's bounds, or
-                              the sphere around a group's members; NULL for a node
-                              without bounds */
+    const float *bounds;     /* the sphere screen_area and distance were measured on
+                                (x, y, z, radius): the node's or object's bounds, or
+                                the sphere around a group's members; NULL for a node
+                                without bounds */
 } tclod_query;
 
 /* The host's model of quality and render time. Callbacks may read anything but
@@ -235,8 +235,8 @@ TCLOD_API void tclod_scene_destroy(tclod_scene *s);
  * Errors: TCLOD_ERR_ARG (s or out_id NULL; bounds not finite; radius < 0),
  * TCLOD_ERR_HIERARCHY (parent is neither TCLOD_NONE nor an existing node),
  * TCLOD_ERR_NOMEM. Must not be called while a selector on s is solving. */
-TCLOD_API tclod_status tclod_scene_add_node(tclod_scene *s, tclod_id parent,
-                                            const float bounds[4], tclod_id *out_id);
+TCLOD_API tclod_status tclod_scene_add_node(tclod_scene *s, tclod_id parent, const float bounds[4],
+                                            tclod_id *out_id);
 
 /* Adds a smooth object (continuous resolution r in [0, 1]). bounds: x, y, z,
  * radius, required (its ground position x, z places it in the quadtree).
@@ -370,34 +370,34 @@ typedef struct tclod_selector_desc {
                                   solves cold every frame) sets 1 or solve_seconds.
                                   At most TCLOD_MAX_RESTARTS; 0 = none. Default 32 */
     /* The mixed solver's smooth part (docs/mixed.md). */
-    int smooth_precondition;   /* 1: every smooth variable carries a model of its own
-                                  benefit slope and cost (a diagonal preconditioner,
-                                  docs/mixed.md): increments are taken while their
-                                  slope beats the smooth variables' slope at the
-                                  budget, and line searches aim every variable at
-                                  its model's resolution. 0: the papers' loop with
-                                  the plain benefit gradient. Default 1 */
-    double smooth_epsilon;     /* papers' loop: barrier of the search direction
-                                  (thesis eq. 8.13), relative to each variable's
-                                  slope, a_i = db/dx_i * max(0, 1 - eps / (1 - x_i)).
-                                  In [0, 1). Default 1e-3 */
-    double smooth_tolerance;   /* papers' loop: a line search may go on until the
-                                  slope falls this fraction below slope_d (eq. 8.14
-                                  matches it exactly: 0), so that the increments
-                                  that follow come in a batch. In [0, 1).
-                                  Default 0.05 */
-    double smooth_cull_area;   /* small-detail culling: smooth groups whose bounds
-                                  project to fewer px² get no variable (not
-                                  drawn). >= 0; 0 = off. Default 1. The Robin Hood
-                                  solver culls smooth objects the same way */
+    int smooth_precondition; /* 1: every smooth variable carries a model of its own
+                                benefit slope and cost (a diagonal preconditioner,
+                                docs/mixed.md): increments are taken while their
+                                slope beats the smooth variables' slope at the
+                                budget, and line searches aim every variable at
+                                its model's resolution. 0: the papers' loop with
+                                the plain benefit gradient. Default 1 */
+    double smooth_epsilon;   /* papers' loop: barrier of the search direction
+                                (thesis eq. 8.13), relative to each variable's
+                                slope, a_i = db/dx_i * max(0, 1 - eps / (1 - x_i)).
+                                In [0, 1). Default 1e-3 */
+    double smooth_tolerance; /* papers' loop: a line search may go on until the
+                                slope falls this fraction below slope_d (eq. 8.14
+                                matches it exactly: 0), so that the increments
+                                that follow come in a batch. In [0, 1).
+                                Default 0.05 */
+    double smooth_cull_area; /* small-detail culling: smooth groups whose bounds
+                                project to fewer px² get no variable (not
+                                drawn). >= 0; 0 = off. Default 1. The Robin Hood
+                                solver culls smooth objects the same way */
     /* The Robin Hood solver (docs/robin_hood.md). */
-    tclod_value value;         /* value function. Default TCLOD_VALUE_AREA_SQRT_DEPTH */
-    tclod_misfit misfit;       /* instances whose simplest representation exceeds
-                                  their share. Default TCLOD_MISFIT_DROP */
-    double reference_area;     /* px²: the projected area at which an instance's
-                                  complexity (the cost of its finest representation)
-                                  is measured when callbacks.complexity is NULL.
-                                  > 0. Default 10000 */
+    tclod_value value;     /* value function. Default TCLOD_VALUE_AREA_SQRT_DEPTH */
+    tclod_misfit misfit;   /* instances whose simplest representation exceeds
+                              their share. Default TCLOD_MISFIT_DROP */
+    double reference_area; /* px²: the projected area at which an instance's
+                              complexity (the cost of its finest representation)
+                              is measured when callbacks.complexity is NULL.
+                              > 0. Default 10000 */
 } tclod_selector_desc;
 
 /* The largest tclod_selector_desc.lookahead. */
@@ -410,14 +410,14 @@ TCLOD_API void tclod_selector_desc_default(tclod_selector_desc *d);
 
 /* One frame's request. */
 typedef struct tclod_frame {
-    const tclod_view *view;   /* may be NULL: queries then carry screen_area and
-                                 distance -1 */
-    double budget;            /* cost units, >= 0 (+inf = unlimited) */
-    double solve_seconds;     /* wall-clock limit for the solve, >= 0; 0 = none */
-    uint32_t max_iterations;  /* limit on increments/decrements tried; 0 = none.
-                                 Either limit stops the search with a feasible
-                                 selection; the decrements that bring a warm
-                                 start back within a lowered budget always run */
+    const tclod_view *view;  /* may be NULL: queries then carry screen_area and
+                                distance -1 */
+    double budget;           /* cost units, >= 0 (+inf = unlimited) */
+    double solve_seconds;    /* wall-clock limit for the solve, >= 0; 0 = none */
+    uint32_t max_iterations; /* limit on increments/decrements tried; 0 = none.
+                                Either limit stops the search with a feasible
+                                selection; the decrements that bring a warm
+                                start back within a lowered budget always run */
 } tclod_frame;
 
 /* Why a solve stopped (tclod_stats.stop_reason). */
@@ -548,8 +548,7 @@ typedef struct tclod_smooth_group {
  * selection, and for solvers that ignore smooth objects, *n = 0. Errors:
  * TCLOD_ERR_ARG (NULL argument), TCLOD_ERR_STATE (called during a solve). */
 TCLOD_API tclod_status tclod_selector_smooth_groups(const tclod_selector *sel,
-                                                    const tclod_smooth_group **groups,
-                                                    size_t *n);
+                                                    const tclod_smooth_group **groups, size_t *n);
 
 /* Resolution in [0, 1] selected for a smooth object (the resolution of the
  * group it was drawn in); 0 = not drawn (also for unknown ids, NULL, during a
@@ -615,8 +614,8 @@ TCLOD_API double tclod_value_of(tclod_value f, double area, double depth, double
  * *render_time = rho² * frame_time / machine_c. Times in the host's unit (ms).
  * Errors: TCLOD_ERR_ARG (NULL render_time; frame_time <= 0; logic_time < 0;
  * machine_c <= 0; any of them NaN or inf), and *render_time is not written. */
-TCLOD_API tclod_status tclod_render_budget(double frame_time, double logic_time,
-                                           double machine_c, double *render_time);
+TCLOD_API tclod_status tclod_render_budget(double frame_time, double logic_time, double machine_c,
+                                           double *render_time);
 
 /* Calibration of predicted cost against measured time (seed 004 §4.2, seed 003
  * §5.3): the host reports, after each frame, the predicted cost of what it drew
@@ -666,8 +665,8 @@ TCLOD_API void tclod_calib_destroy(tclod_calib *c);
  * drew nothing, cost 0, leaves the ratio as it is), the measured render time
  * and the measured logic time (>= 0, host unit). Errors: TCLOD_ERR_ARG (NULL
  * c, a negative, NaN or infinite value), and nothing changes. */
-TCLOD_API tclod_status tclod_calib_report(tclod_calib *c, double predicted_cost,
-                                          double render_time, double logic_time);
+TCLOD_API tclod_status tclod_calib_report(tclod_calib *c, double predicted_cost, double render_time,
+                                          double logic_time);
 
 /* The current ratio measured render time / predicted cost (> 0), and logic-time
  * estimate (>= 0). 0 for NULL. */
@@ -678,8 +677,7 @@ TCLOD_API double tclod_calib_logic(const tclod_calib *c);
  * time tclod_render_budget gives for the logic estimate and machine_c, divided
  * by the ratio. Errors: TCLOD_ERR_ARG (NULL argument, frame_time <= 0, NaN or
  * inf), and *budget is not written. */
-TCLOD_API tclod_status tclod_calib_budget(const tclod_calib *c, double frame_time,
-                                          double *budget);
+TCLOD_API tclod_status tclod_calib_budget(const tclod_calib *c, double frame_time, double *budget);
 
 /* ------------------------------------------------------------------------- */
 /* Predictive geomorph scheduler                                             */
@@ -718,28 +716,28 @@ typedef struct tclod_scheduler tclod_scheduler;
 #define TCLOD_MAX_SAMPLES 8u
 
 typedef struct tclod_scheduler_desc {
-    double tau;            /* seconds: the interval, horizon unit and morph
-                              duration. A normal positive number (not 0, not
-                              subnormal) with 4 tau finite (the longest gap
-                              between updates before the pipeline restarts).
-                              Updates further apart than 4 tau restart it, so a
-                              tau shorter than the time between updates selects
-                              at once in every update (counted in emergencies).
-                              Default 0.5 (seed 004 §4.5: 10 frames at 20 Hz) */
-    uint32_t samples;      /* predicted views per selection, 1 .. TCLOD_MAX_SAMPLES,
-                              at the middles of equal parts of the target
-                              interval. Default 3 */
-    double confidence;     /* lambda >= 0: weight of the conservative camera's
-                              benefit (0: it only culls). Default 1 */
-    double max_speed;      /* theta >= 0, world units per second: the camera's
-                              speed bound; predictions are clamped to it and the
-                              conservative camera steps back for it. 0 = the
-                              camera does not move. Default 0 */
-    double max_turn_rate;  /* omega >= 0, radians per second: the bound on turning;
-                              predictions turn no faster and the conservative
-                              camera widens by it. Default 0 */
-    int morph;             /* 1: three stages with geomorphs; 0: two stages,
-                              selections switch at boundaries. Default 1 */
+    double tau;             /* seconds: the interval, horizon unit and morph
+                               duration. A normal positive number (not 0, not
+                               subnormal) with 4 tau finite (the longest gap
+                               between updates before the pipeline restarts).
+                               Updates further apart than 4 tau restart it, so a
+                               tau shorter than the time between updates selects
+                               at once in every update (counted in emergencies).
+                               Default 0.5 (seed 004 §4.5: 10 frames at 20 Hz) */
+    uint32_t samples;       /* predicted views per selection, 1 .. TCLOD_MAX_SAMPLES,
+                               at the middles of equal parts of the target
+                               interval. Default 3 */
+    double confidence;      /* lambda >= 0: weight of the conservative camera's
+                               benefit (0: it only culls). Default 1 */
+    double max_speed;       /* theta >= 0, world units per second: the camera's
+                               speed bound; predictions are clamped to it and the
+                               conservative camera steps back for it. 0 = the
+                               camera does not move. Default 0 */
+    double max_turn_rate;   /* omega >= 0, radians per second: the bound on turning;
+                               predictions turn no faster and the conservative
+                               camera widens by it. Default 0 */
+    int morph;              /* 1: three stages with geomorphs; 0: two stages,
+                               selections switch at boundaries. Default 1 */
     tclod_calib_desc calib; /* the cost feedback of tclod_scheduler_report.
                               Default: tclod_calib_desc_default */
 } tclod_scheduler_desc;
@@ -759,25 +757,25 @@ typedef struct tclod_draw {
 /* Figures of the scheduler, running totals since its creation except where
  * said. */
 typedef struct tclod_scheduler_stats {
-    double draw_cost;      /* this frame: predicted cost of the draw list */
-    double budget;         /* this frame: the budget in cost units (the update's
-                              budget divided by the calibration's scale) */
-    double select_seconds; /* this frame: time spent selecting in the update */
-    uint32_t draws;        /* this frame: items in the draw list */
-    uint32_t morphing;     /* this frame: items with fine != coarse */
-    uint32_t selections;   /* selections landed at boundaries */
-    uint32_t unfinished;   /* of those, ended early because their slices were
-                              too short */
-    uint32_t emergencies;  /* immediate selections because the draw list would
-                              have exceeded the budget (and restarts after a
-                              gap of more than 3 tau between updates) */
-    uint64_t changes;      /* level changes of drawn objects: a drawn node
-                              replaced by drawn descendants, or the reverse */
-    uint64_t morphs;       /* of those, the ones drawn as geomorphs */
-    uint64_t pops;         /* of those, the ones that switched at once */
-    uint32_t invalid_values; /* callback values that were NaN, inf or negative, in
-                              the landed selections and the scheduler's own
-                              evaluations */
+    double draw_cost;         /* this frame: predicted cost of the draw list */
+    double budget;            /* this frame: the budget in cost units (the update's
+                                 budget divided by the calibration's scale) */
+    double select_seconds;    /* this frame: time spent selecting in the update */
+    uint32_t draws;           /* this frame: items in the draw list */
+    uint32_t morphing;        /* this frame: items with fine != coarse */
+    uint32_t selections;      /* selections landed at boundaries */
+    uint32_t unfinished;      /* of those, ended early because their slices were
+                                 too short */
+    uint32_t emergencies;     /* immediate selections because the draw list would
+                                 have exceeded the budget (and restarts after a
+                                 gap of more than 3 tau between updates) */
+    uint64_t changes;         /* level changes of drawn objects: a drawn node
+                                 replaced by drawn descendants, or the reverse */
+    uint64_t morphs;          /* of those, the ones drawn as geomorphs */
+    uint64_t pops;            /* of those, the ones that switched at once */
+    uint32_t invalid_values;  /* callback values that were NaN, inf or negative, in
+                               the landed selections and the scheduler's own
+                               evaluations */
     double selection_benefit; /* the newest landed (or immediate) selection's
                               benefit and cost as its solve saw them: the
                               benefit summed over the predicted views plus
@@ -825,8 +823,8 @@ TCLOD_API void tclod_scheduler_destroy(tclod_scheduler *sch);
  * the progress of a selection under way; the next update begins it again and
  * runs it to its end when it lands. */
 TCLOD_API tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now,
-                                             const tclod_view *view, double budget,
-                                             double slice_seconds);
+                                              const tclod_view *view, double budget,
+                                              double slice_seconds);
 
 /* This frame's draw list. *items points into the scheduler: valid until the
  * next update or destroy. Before the first update *n = 0. Errors:
