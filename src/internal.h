@@ -285,14 +285,10 @@ typedef struct tclod_vars {
      * slope tested */
     int bounded;
     double bound_log, bound, bound_reach;
-    /* the preconditioner's model of each variable (mixed.c) */
-    double *m_x, *m_b, *m_db, *beta; /* benefit: anchor, value and slope there, exponent */
-    double *dc0, *c1, *dc1, *x_k;    /* cost: two lines meeting at the kink x_k */
-    double *qx, *qdb;                /* the line search's previous trial point */
-    uint32_t *moving;                /* the variables of the current line search */
-    uint8_t *state;                  /* TCLOD_VAR_* */
-    tclod_var_trial *trial;          /* the line search's trial points */
-    tclod_var_model *model;          /* the preconditioner's model (mixed.c) */
+    uint32_t *moving;       /* the variables of the current line search */
+    uint8_t *state;         /* TCLOD_VAR_* */
+    tclod_var_trial *trial; /* the line search's trial points */
+    tclod_var_model *model; /* the preconditioner's model (mixed.c) */
 } tclod_vars;
 
 enum {
