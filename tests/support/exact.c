@@ -99,11 +99,47 @@ static int exact_options(const table_model *m, tclod_id n, double budget, exact_
     return 1;
 }
 
+/* The (benefit, cost) options of all the subtrees whose root's parent is
+ * `parent` (TCLOD_NONE: the hierarchies) selected together, within budget, into
+ * *out; *found says whether there was any. 0 when memory runs out. */
+static int exact_options_below(const table_model *m, tclod_id parent, double budget,
+                               exact_list *out, int *found) {
+    exact_list acc, sub, next;
+    tclod_id i;
+    *found = 0;
+    acc.items = (exact_option *)malloc(sizeof *acc.items);
+    if (acc.items == NULL)
+        return 0;
+    acc.items[0].benefit = 0.0;
+    acc.items[0].cost = 0.0;
+    acc.count = 1;
+    for (i = 0; i < m->count; ++i) {
+        if (m->parent[i] != parent)
+            continue;
+        *found = 1;
+        if (!exact_options(m, i, budget, &sub)) {
+            free(acc.items);
+            return 0;
+        }
+        if (!exact_product(&acc, &sub, budget, &next)) {
+            free(sub.items);
+            free(acc.items);
+            return 0;
+        }
+        free(sub.items);
+        free(acc.items);
+        acc = next;
+    }
+    *out = acc;
+    return 1;
+}
+
 double exact_optimum(const table_model *m, double budget, double *cost_out) {
-    exact_list acc, root, next;
+    exact_list acc;
     double best = -1.0, best_cost = 0.0;
     tclod_id i;
     size_t k;
+    int found;
 
     if (m->count > EXACT_MAX_NODES)
         return -2.0;
@@ -111,28 +147,8 @@ double exact_optimum(const table_model *m, double budget, double *cost_out) {
         if (!isfinite(m->benefit[i]) || !isfinite(m->cost[i]) || m->benefit[i] < 0.0 ||
             m->cost[i] < 0.0)
             return -2.0;
-    acc.items = (exact_option *)malloc(sizeof *acc.items);
-    if (acc.items == NULL)
+    if (!exact_options_below(m, TCLOD_NONE, budget, &acc, &found))
         return -2.0;
-    acc.items[0].benefit = 0.0;
-    acc.items[0].cost = 0.0;
-    acc.count = 1;
-    for (i = 0; i < m->count; ++i) {
-        if (m->parent[i] != TCLOD_NONE)
-            continue;
-        if (!exact_options(m, i, budget, &root)) {
-            free(acc.items);
-            return -2.0;
-        }
-        if (!exact_product(&acc, &root, budget, &next)) {
-            free(root.items);
-            free(acc.items);
-            return -2.0;
-        }
-        free(root.items);
-        free(acc.items);
-        acc = next;
-    }
     for (k = 0; k < acc.count; ++k)
         if (acc.items[k].benefit > best) {
             best = acc.items[k].benefit;
@@ -145,37 +161,15 @@ double exact_optimum(const table_model *m, double budget, double *cost_out) {
 }
 
 double exact_best_ratio(const table_model *m, tclod_id n) {
-    exact_list acc, child, next;
+    exact_list acc;
     double best = -1.0;
-    int has_children = 0;
-    tclod_id c;
+    int has_children;
     size_t k;
 
     if (m->count > EXACT_MAX_NODES || n >= m->count)
         return -2.0;
-    acc.items = (exact_option *)malloc(sizeof *acc.items);
-    if (acc.items == NULL)
+    if (!exact_options_below(m, n, INFINITY, &acc, &has_children))
         return -2.0;
-    acc.items[0].benefit = 0.0;
-    acc.items[0].cost = 0.0;
-    acc.count = 1;
-    for (c = 0; c < m->count; ++c) {
-        if (m->parent[c] != n)
-            continue;
-        has_children = 1;
-        if (!exact_options(m, c, INFINITY, &child)) {
-            free(acc.items);
-            return -2.0;
-        }
-        if (!exact_product(&acc, &child, INFINITY, &next)) {
-            free(child.items);
-            free(acc.items);
-            return -2.0;
-        }
-        free(child.items);
-        free(acc.items);
-        acc = next;
-    }
     for (k = 0; k < acc.count && has_children; ++k) {
         double db = acc.items[k].benefit - m->benefit[n], dc = acc.items[k].cost - m->cost[n];
         double ratio = dc > 0.0 ? db / dc : INFINITY;
