@@ -35,6 +35,7 @@ configs=(
     "random|--objects 10000 --frames 20|greedy|cold"
     "random|--objects 10000 --frames 20|greedy|warm"
     "random|--objects 10000 --frames 20|robin_hood|cold"
+    "random|--objects 100000 --frames 20|robin_hood|cold"
     "random|--objects 10000 --frames 20|mixed|cold"
     "random|--objects 10000 --frames 20|threshold_tuned|cold"
     "random|--objects 10000 --frames 20|pq_stop|cold"

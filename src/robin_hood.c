@@ -372,6 +372,16 @@ static inline void cut_add_cost(tclod_selector *sel, tclod_id n, uint8_t flags, 
     costs[pos] = visible(sel, n) && !(flags & TCLOD_FLAG_DROPPED) ? sel->node[n].cost : 0.0;
 }
 
+/* cut_add_cost for level n that a share placed: evaluated and not dropped,
+ * so that what it adds is its cost (0 when it is invisible), `cost`. */
+static inline void cut_add_drawn(tclod_selector *sel, tclod_id n, double cost, double *costs) {
+    uint32_t pos = sel->cut_count++;
+    sel->node[n].cut_pos = pos;
+    sel->cut[pos] = n;
+    sel->flags[n] = 0;
+    costs[pos] = cost;
+}
+
 static void cut_add(tclod_selector *sel, tclod_id n, uint8_t flags) {
     cut_add_cost(sel, n, flags, cut_costs(sel));
 }
@@ -628,10 +638,10 @@ static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *
     if (refine < 0)
         return -1;
     if (!refine) {
-        cut_add_cost(sel, level, 0, costs);
+        *used = sel->node[level].cost;
+        cut_add_drawn(sel, level, *used, costs);
         if (step < HUGE_VAL)
             push_candidate(sel, head, value, step);
-        *used = sel->node[level].cost;
         return 0;
     }
     for (;;) {
@@ -678,7 +688,7 @@ static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *
                 break;
             }
             u = sel->node[level].cost;
-            cut_add_cost(sel, level, 0, costs);
+            cut_add_drawn(sel, level, u, costs);
             if (step < HUGE_VAL)
                 push_candidate(sel, id, v, step);
             extra -= u - base;
