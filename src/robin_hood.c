@@ -363,23 +363,21 @@ static double *cut_costs(tclod_selector *sel) {
     return sel->rh_key ? sel->rh_key + sel->rh_cap : NULL; /* NULL: an empty scene */
 }
 
-/* cut_add with cut_costs(sel) in costs. */
-static inline void cut_add_cost(tclod_selector *sel, tclod_id n, uint8_t flags, double *costs) {
+/* Puts n into the cut with `flags`, adding `add` to the total (costs:
+ * cut_costs(sel)). */
+static inline void cut_put(tclod_selector *sel, tclod_id n, uint8_t flags, double add,
+                           double *costs) {
     uint32_t pos = sel->cut_count++;
     sel->node[n].cut_pos = pos;
     sel->cut[pos] = n;
     sel->flags[n] = flags;
-    costs[pos] = visible(sel, n) && !(flags & TCLOD_FLAG_DROPPED) ? sel->node[n].cost : 0.0;
+    costs[pos] = add;
 }
 
-/* cut_add_cost for level n that a share placed: evaluated and not dropped,
- * so that what it adds is its cost (0 when it is invisible), `cost`. */
-static inline void cut_add_drawn(tclod_selector *sel, tclod_id n, double cost, double *costs) {
-    uint32_t pos = sel->cut_count++;
-    sel->node[n].cut_pos = pos;
-    sel->cut[pos] = n;
-    sel->flags[n] = 0;
-    costs[pos] = cost;
+/* cut_add with cut_costs(sel) in costs. */
+static inline void cut_add_cost(tclod_selector *sel, tclod_id n, uint8_t flags, double *costs) {
+    cut_put(sel, n, flags,
+            visible(sel, n) && !(flags & TCLOD_FLAG_DROPPED) ? sel->node[n].cost : 0.0, costs);
 }
 
 static void cut_add(tclod_selector *sel, tclod_id n, uint8_t flags) {
@@ -638,8 +636,9 @@ static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *
     if (refine < 0)
         return -1;
     if (!refine) {
+        /* a placed level: evaluated, not dropped, cost 0 when invisible */
         *used = sel->node[level].cost;
-        cut_add_drawn(sel, level, *used, costs);
+        cut_put(sel, level, 0, *used, costs);
         if (step < HUGE_VAL)
             push_candidate(sel, head, value, step);
         return 0;
@@ -688,7 +687,7 @@ static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *
                 break;
             }
             u = sel->node[level].cost;
-            cut_add_drawn(sel, level, u, costs);
+            cut_put(sel, level, 0, u, costs); /* as above */
             if (step < HUGE_VAL)
                 push_candidate(sel, id, v, step);
             extra -= u - base;
