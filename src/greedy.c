@@ -69,6 +69,31 @@ int tclod_evaluate_node(tclod_selector *sel, tclod_id n) {
     return evaluate(sel, n);
 }
 
+void tclod_bad_value(tclod_selector *sel) {
+    sel->stats.invalid_values++;
+    if (sel->desc.strict)
+        sel->failed = 1;
+}
+
+int tclod_evaluate_invisible(tclod_selector *sel, tclod_node_state *st, double b) {
+    if (!(b >= 0.0 && b < HUGE_VAL)) { /* NaN, infinite or negative */
+        tclod_bad_value(sel);
+        b = 0.0;
+    }
+    st->benefit = b; /* 0 or -0 */
+    st->cost = 0.0;
+    return sel->failed ? -1 : 0;
+}
+
+int tclod_evaluate_bad_cost(tclod_selector *sel, tclod_node_state *st, double c) {
+    if (!(c >= 0.0 && c < HUGE_VAL)) { /* NaN, infinite or negative; -0 passes */
+        tclod_bad_value(sel);
+        c = HUGE_VAL;
+    }
+    st->cost = c;
+    return sel->failed ? -1 : 0;
+}
+
 /* ---- the cut and its running sums ------------------------------------------ */
 
 static int counts(const tclod_selector *sel, tclod_id n) {
@@ -161,8 +186,8 @@ static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
     }
     db = sum_b - node[n].benefit;
     dc = sum_c - node[n].cost; /* -inf when n itself is unaffordable */
-    node[n].delta_b = db;
-    node[n].delta_c = dc;
+    sel->delta[n].delta_b = db;
+    sel->delta[n].delta_c = dc;
     if (!affordable || !isfinite(sum_c) || !(db > 0.0))
         return (double)NAN;
     return dc > 0.0 ? db / dc : HUGE_VAL;
@@ -291,7 +316,8 @@ static NOINLINE double lookahead_key(tclod_selector *sel, tclod_id n, int *faile
     double key = increment_key(sel, n, failed), best, lambda, at = 0.0, b, c, q;
     int deep = 0, rc;
     sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED; /* no jump */
-    if (*failed || first == end || !counts(sel, n) || key == HUGE_VAL || !isfinite(node[n].delta_c))
+    if (*failed || first == end || !counts(sel, n) || key == HUGE_VAL ||
+        !isfinite(sel->delta[n].delta_c))
         return key;
     for (i = first; i < end; ++i) {
         tclod_id m = s->children[i];
@@ -333,8 +359,8 @@ static NOINLINE double lookahead_key(tclod_selector *sel, tclod_id n, int *faile
         look_again(sel, n, 1.0, at, 0.0, 1, &b, &c);
         q = best;
     }
-    node[n].delta_b = b - node[n].benefit;
-    node[n].delta_c = c - node[n].cost;
+    sel->delta[n].delta_b = b - node[n].benefit;
+    sel->delta[n].delta_c = c - node[n].cost;
     sel->flags[n] |= (uint8_t)TCLOD_FLAG_JUMP;
     return q;
 }
@@ -354,7 +380,7 @@ static NOINLINE double cheapest_jump(tclod_selector *sel, tclod_id n) {
 static inline double cheap_key(tclod_selector *sel, tclod_id n, int look) {
     if (look && (sel->flags[n] & TCLOD_FLAG_JUMP))
         return -cheapest_jump(sel, n);
-    return -sel->node[n].delta_c;
+    return -sel->delta[n].delta_c;
 }
 
 /* 1 when an increment of this key waits in the plain pass's closure queue
@@ -454,7 +480,8 @@ static tclod_id pop_increment(tclod_selector *sel) {
  * cut that fits gains (n's increment unchanged then). */
 static NOINLINE double refit_jump(tclod_selector *sel, tclod_id n) {
     tclod_node_state *node = sel->node;
-    double ab = node[n].delta_b, ac = node[n].delta_c, bb, bc, b, c, weight = 0.0, lambda = 1.0;
+    double ab = sel->delta[n].delta_b, ac = sel->delta[n].delta_c, bb, bc, b, c, weight = 0.0,
+           lambda = 1.0;
     double key;
     uint32_t it;
     int rc;
@@ -487,8 +514,8 @@ static NOINLINE double refit_jump(tclod_selector *sel, tclod_id n) {
     if (key != key)
         return key;
     rc = look_again(sel, n, weight, lambda, 0.0, 1, &b, &c);
-    node[n].delta_b = b - node[n].benefit;
-    node[n].delta_c = c - node[n].cost;
+    sel->delta[n].delta_b = b - node[n].benefit;
+    sel->delta[n].delta_c = c - node[n].cost;
     sel->flags[n] |= (uint8_t)TCLOD_FLAG_REFIT;
     if (rc == 0)
         sel->flags[n] &= (uint8_t)~TCLOD_FLAG_JUMP;
@@ -513,7 +540,7 @@ static void skip_misfit(tclod_selector *sel, tclod_id n) {
 
 /* 1 when increment n fits the remaining budget. */
 static int increment_fits(const tclod_selector *sel, tclod_id n) {
-    return sel->unaffordable == 0 && sel->cost_sum + sel->node[n].delta_c <= cut_budget(sel);
+    return sel->unaffordable == 0 && sel->cost_sum + sel->delta[n].delta_c <= cut_budget(sel);
 }
 
 /* 1 when some queued increment fits the remaining budget. Increments that do
@@ -531,7 +558,7 @@ static int increment_may_fit(tclod_selector *sel) {
         } else {
             for (i = 0; i < sel->inc.count; ++i) {
                 tclod_id n = sel->inc.items[i].id;
-                tclod_heap_append(&sel->cheap, n, -sel->node[n].delta_c);
+                tclod_heap_append(&sel->cheap, n, -sel->delta[n].delta_c);
             }
         }
         tclod_heap_build(&sel->cheap);
@@ -571,8 +598,8 @@ static double decrement_key(tclod_selector *sel, tclod_id p) {
     }
     loss = sum_b - sel->node[p].benefit;
     saved = sum_c - sel->node[p].cost;
-    sel->node[p].delta_b = loss;
-    sel->node[p].delta_c = saved;
+    sel->delta[p].delta_b = loss;
+    sel->delta[p].delta_c = saved;
     if (isinf(sel->node[p].cost) || !isfinite(sum_c))
         return -HUGE_VAL;
     if (unaffordable)
@@ -656,8 +683,8 @@ static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
     const tclod_id *ch = children_of(sel, n, &count);
     tclod_id parent = sel->scene->parent[n];
     tclod_id held = tclod_heap_contains(&sel->inc, n) ? n : TCLOD_NONE;
-    double path_b = sel->path[2u * n] + sel->node[n].delta_b;
-    double path_c = sel->path[2u * n + 1u] + sel->node[n].delta_c;
+    double path_b = sel->path[2u * n] + sel->delta[n].delta_b;
+    double path_c = sel->path[2u * n + 1u] + sel->delta[n].delta_c;
     cut_remove(sel, n);
     if (sel->flags[n] & (TCLOD_FLAG_JUMP | TCLOD_FLAG_REFIT)) {
         if (apply_jump(sel, n, track_dec, &held, path_b, path_c) != 0)
@@ -930,7 +957,7 @@ static double min_loss_ratio(const tclod_selector *sel) {
     if (sel->dec.count == 0)
         return HUGE_VAL;
     tclod_id p = sel->dec.items[0].id;
-    if (!(sel->node[p].delta_c > 0.0))
+    if (!(sel->delta[p].delta_c > 0.0))
         return HUGE_VAL;
     return -sel->dec.items[0].key;
 }
@@ -938,8 +965,8 @@ static double min_loss_ratio(const tclod_selector *sel) {
 /* Makes room for increment n by decrements whose summed loss stays below its
  * gain. Returns 1 when the swap was made, 0 when it would not gain. */
 static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
-    double need = sel->cost_sum + sel->node[n].delta_c - sel->frame->budget;
-    double gain = sel->node[n].delta_b, freed = 0.0, loss = 0.0;
+    double need = sel->cost_sum + sel->delta[n].delta_c - sel->frame->budget;
+    double gain = sel->delta[n].delta_b, freed = 0.0, loss = 0.0;
     tclod_id parent = sel->scene->parent[n];
     uint32_t taken = 0, i;
     int ok = 0;
@@ -951,7 +978,7 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
     while (sel->dec.count > 0) {
         double key = sel->dec.items[0].key;
         tclod_id p = sel->dec.items[0].id;
-        if (p != parent && !(sel->node[p].delta_c > 0.0))
+        if (p != parent && !(sel->delta[p].delta_c > 0.0))
             break; /* the rest saves nothing */
         tclod_heap_pop(&sel->dec);
         sel->scratch[taken] = p;
@@ -959,8 +986,8 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
         taken++;
         if (p == parent)
             continue; /* would remove n itself */
-        freed += sel->node[p].delta_c;
-        loss += sel->node[p].delta_b;
+        freed += sel->delta[p].delta_c;
+        loss += sel->delta[p].delta_b;
         if (gain - loss <= SWAP_MARGIN * fabs(gain))
             break;
         if (freed >= need) {
@@ -996,8 +1023,8 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
 static void consider_alternative(tclod_selector *sel, tclod_id n) {
     tclod_resume *R = &sel->resume;
     const double *path = &sel->path[2u * n];
-    double c = R->alt_roots_c + path[1] + sel->node[n].delta_c;
-    double b = R->alt_roots_b + path[0] + sel->node[n].delta_b;
+    double c = R->alt_roots_c + path[1] + sel->delta[n].delta_c;
+    double b = R->alt_roots_b + path[0] + sel->delta[n].delta_b;
     if (c <= sel->frame->budget && b > R->alt_benefit && !(sel->flags[n] & TCLOD_FLAG_REFIT)) {
         R->alt_node = n;
         R->alt_benefit = b;
@@ -1012,7 +1039,7 @@ static void note_misfit(tclod_selector *sel, tclod_id n) {
         return;
     R->misfit = n;
     R->misfit_key = sel->inc.items[0].key;
-    R->lp_bound = sel->benefit_sum + sel->node[n].delta_b;
+    R->lp_bound = sel->benefit_sum + sel->delta[n].delta_b;
 }
 
 /* 1 when the current pass leaves node n's increment out. */
@@ -1044,7 +1071,7 @@ static int take_closure(tclod_selector *sel) {
     uint32_t dropped;
     while (R->closure_tail > R->closure_head) {
         tclod_id n = sel->scratch[R->closure_head];
-        double grow = sel->node[n].delta_c > 0.0 ? sel->node[n].delta_c : 0.0;
+        double grow = sel->delta[n].delta_c > 0.0 ? sel->delta[n].delta_c : 0.0;
         if (sel->unaffordable != 0 || !(R->closure_cost + grow <= cut_budget(sel)))
             break;
         R->closure_head++;

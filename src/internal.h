@@ -11,6 +11,7 @@
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 /* ---- alloc.c: memory and time --------------------------------------------- */
 
@@ -316,19 +317,24 @@ enum {
     TCLOD_FLAG_REFIT = 8u
 };
 
-/* What a selector knows of one node, packed in one record because the solver
- * touches these fields together at random ids; what an evaluation writes
- * comes first. */
+/* What a selector knows of one node, packed in one record because the solvers
+ * touch these fields together at random ids (32 bytes: two records per cache
+ * line, an object's levels in as few lines as can be). */
 typedef struct tclod_node_state {
     double benefit, cost; /* callback values of this solve (stamp == solve_id);
                              cost 0 when invisible, +inf when unaffordable */
     uint32_t stamp;
-    uint32_t cut_pos;        /* slot in cut[], or TCLOD_NONE */
-    double delta_b, delta_c; /* increment of the node: its children (with
-                                lookahead, the cut its key found) replace it */
-    float area, distance;    /* the query's screen_area and distance in this solve:
-                                a child with the same bounds reuses them */
+    uint32_t cut_pos;     /* slot in cut[], or TCLOD_NONE */
+    float area, distance; /* the query's screen_area and distance in this solve:
+                             a child with the same bounds reuses them */
 } tclod_node_state;
+
+/* The greedy's increment of a node: its children (with lookahead, the cut its
+ * key found) replace it, for delta_b more benefit and delta_c more cost. Apart
+ * from the node records, which every solver reads. */
+typedef struct tclod_delta {
+    double delta_b, delta_c;
+} tclod_delta;
 
 /* Where a solve stands between two tclod_select_step calls: the state of the
  * solver's loops, so that a step resumes exactly where the last one paused. */
@@ -397,8 +403,9 @@ struct tclod_selector {
     /* per-node buffers, cap elements each */
     uint32_t cap;
     tclod_node_state *node;
-    double *path; /* 2 per node: benefit and cost of the increments
-                     taken above it (cold solve) */
+    tclod_delta *delta; /* the greedy's increments */
+    double *path;       /* 2 per node: benefit and cost of the increments
+                           taken above it (cold solve) */
     uint8_t *flags;
     tclod_heap inc;                             /* increments, best Δb/Δc first */
     tclod_heap cheap;                           /* the same increments, smallest Δc first */
@@ -440,11 +447,13 @@ struct tclod_selector {
                                   (first half) and the cost of each cut slot (second
                                   half) */
     tclod_rh_frame *rh_stack;  /* the branches being shared out */
+    uint8_t *rh_level;         /* per node that starts a chain: the level the chain
+                                  took last (at most 255), where the next search
+                                  starts */
     /* The Robin Hood solver also keeps, in the per-node buffers it does not
-     * otherwise use: the level each chain took last in the delta_b of the
-     * chain's first node; the values of a branch's children in scratch_key, by
-     * slot in the scene's children[]; the ring of its third cycle's candidates
-     * in scratch and path. */
+     * otherwise use: the values of a branch's children in scratch_key, by slot
+     * in the scene's children[]; the ring of its third cycle's candidates in
+     * scratch and path. */
 
     uint32_t cut_count, prev_count, result_count;
     uint32_t solve_id;
@@ -521,17 +530,42 @@ void tclod_selector_restore(tclod_selector *sel, const tclod_selector_saved *k);
  * saw a bad value. */
 int tclod_evaluate_node(tclod_selector *sel, tclod_id n);
 
+/* Counts a bad callback value (and fails the solve in strict mode). */
+void tclod_bad_value(tclod_selector *sel);
+
+/* What tclod_evaluate_measured does with a benefit that is not positive and
+ * finite (0, -0, negative, NaN or infinite): the bad ones count (and fail a
+ * strict solve) and give 0; the node is invisible, its cost 0. Returns 0, or
+ * -1 when strict mode saw a bad value. */
+int tclod_evaluate_invisible(tclod_selector *sel, tclod_node_state *st, double b);
+
+/* What tclod_evaluate_measured does with a cost that is not in [0, +inf)
+ * (-0 passes, a bad one counts, fails a strict solve and gives +inf).
+ * Returns 0, or -1 when strict mode saw a bad value. */
+int tclod_evaluate_bad_cost(tclod_selector *sel, tclod_node_state *st, double c);
+
+/* The bits of a double, for the range checks of callback values: as unsigned
+ * integers the positive finite doubles are 1 ... TCLOD_BITS_MAX, +0 is 0 and
+ * +inf is TCLOD_BITS_MAX + 1; every negative one, NaN or -0 lies above. */
+#define TCLOD_BITS_MAX UINT64_C(0x7fefffffffffffff)
+static inline uint64_t tclod_bits(double x) {
+    uint64_t u;
+    memcpy(&u, &x, sizeof(u));
+    return u;
+}
+
 /* The callbacks of node n, not evaluated in this solve yet, with the screen
  * area and distance of its bounds already measured (-1 without bounds or
  * view): what tclod_evaluate_node does once it has measured. Inline for the
- * solvers' inner loops. */
+ * solvers' inner loops; what is not a positive finite benefit and a finite
+ * cost >= 0 goes out of line. */
 static inline int tclod_evaluate_measured(tclod_selector *sel, tclod_id n, float area,
                                           float distance) {
     const tclod_callbacks *cb = &sel->desc.callbacks;
     const float *bounds = &sel->scene->bounds[4u * n];
     tclod_node_state *st = &sel->node[n];
     tclod_query *q = &sel->query; /* view, count and members set for the solve */
-    double b, c = 0.0;
+    double b, c;
     st->stamp = sel->solve_id;
     st->area = area;
     st->distance = distance;
@@ -541,24 +575,14 @@ static inline int tclod_evaluate_measured(tclod_selector *sel, tclod_id n, float
     q->bounds = bounds[3] >= 0.0f ? bounds : NULL;
     sel->stats.evaluations++;
     b = cb->benefit(cb->user, q);
-    if (!(b >= 0.0 && b < HUGE_VAL)) { /* NaN, infinite or negative */
-        sel->stats.invalid_values++;
-        b = 0.0;
-        if (sel->desc.strict)
-            sel->failed = 1;
-    }
-    if (b > 0.0) {
-        c = cb->cost(cb->user, q);
-        if (!(c >= 0.0 && c < HUGE_VAL)) {
-            sel->stats.invalid_values++;
-            c = HUGE_VAL;
-            if (sel->desc.strict)
-                sel->failed = 1;
-        }
-    }
+    if (tclod_bits(b) - 1u >= TCLOD_BITS_MAX)
+        return tclod_evaluate_invisible(sel, st, b);
+    c = cb->cost(cb->user, q);
     st->benefit = b;
+    if (tclod_bits(c) > TCLOD_BITS_MAX)
+        return tclod_evaluate_bad_cost(sel, st, c);
     st->cost = c;
-    return sel->failed ? -1 : 0;
+    return 0;
 }
 
 /* Runs TCLOD_SOLVER_GREEDY for sel->frame into the working cut, from where

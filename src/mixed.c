@@ -72,12 +72,6 @@ static int value_bad(double v) {
     return !(v >= 0.0 && v <= DBL_MAX);
 }
 
-static void bad_value(tclod_selector *sel) {
-    sel->stats.invalid_values++;
-    if (sel->desc.strict)
-        sel->failed = 1;
-}
-
 int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, const float *bounds,
                       float area, float distance, double x, double *b, double *db, double *c,
                       double *dc) {
@@ -98,11 +92,11 @@ int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, const
         *db = 0.0;
         *b = cb->smooth_benefit(cb->user, &q, xs, db);
         if (value_bad(*b)) {
-            bad_value(sel);
+            tclod_bad_value(sel);
             *b = *db = 0.0;
             bad = 1;
         } else if (value_bad(*db)) {
-            bad_value(sel);
+            tclod_bad_value(sel);
             *db = 0.0;
         }
     }
@@ -110,10 +104,10 @@ int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, const
         *dc = 0.0;
         *c = cb->smooth_cost(cb->user, &q, xs, dc);
         if (value_bad(*c)) {
-            bad_value(sel);
+            tclod_bad_value(sel);
             *c = *dc = HUGE_VAL;
         } else if (value_bad(*dc)) {
-            bad_value(sel);
+            tclod_bad_value(sel);
             *dc = HUGE_VAL;
         }
     }
@@ -1039,7 +1033,7 @@ static int improve_modelled(tclod_selector *sel) {
         cand = tclod_greedy_candidate(sel, &slope_d, &R->skipped);
         sel->reserved = held;
         if (cand != TCLOD_NONE) {
-            double dc = sel->node[cand].delta_c, left = budget - sel->cost_sum - held;
+            double dc = sel->delta[cand].delta_c, left = budget - sel->cost_sum - held;
             if (dc > 0.0)
                 left -= dc;
             /* its slope beats the smooth variables' at the budget left after it

@@ -119,24 +119,17 @@ static int value_bad(double v) {
     return !(v >= 0.0) || isinf(v);
 }
 
-/* Counts a bad callback value (and fails the solve in strict mode). */
-static void bad_value(tclod_selector *sel) {
-    sel->stats.invalid_values++;
-    if (sel->desc.strict)
-        sel->failed = 1;
-}
-
 /* The importance of the instance that query q asks about: the importance
  * callback's value (a bad one counts and gives 0), or without one `benefit`. */
-static double importance_of(tclod_selector *sel, const tclod_query *q, double benefit) {
+static inline double importance_of(tclod_selector *sel, const tclod_query *q, double benefit) {
     const tclod_callbacks *cb = &sel->desc.callbacks;
     double i;
     if (!cb->importance)
         return benefit;
     i = cb->importance(cb->user, q);
-    if (!value_bad(i))
+    if (tclod_bits(i) <= TCLOD_BITS_MAX || !value_bad(i)) /* >= 0 and finite; then -0 */
         return i;
-    bad_value(sel);
+    tclod_bad_value(sel);
     return 0.0;
 }
 
@@ -200,6 +193,19 @@ static inline int evaluate_level(tclod_selector *sel, tclod_id n, tclod_id head,
 
 /* ---- instances and their order (once per scene change) -------------------------- */
 
+/* The level head's chain (of len levels) took last: where its search starts
+ * (any level would do; what is no level of the chain reads as 0). */
+static inline uint32_t last_level(const tclod_selector *sel, tclod_id head, uint32_t len) {
+    uint32_t l = sel->rh_level[head];
+    return l < len ? l : 0u;
+}
+
+/* Keeps `level` as the level head's chain took last (beyond 255, 255: the
+ * search then starts there). */
+static inline void set_last_level(tclod_selector *sel, tclod_id head, uint32_t level) {
+    sel->rh_level[head] = (uint8_t)(level < UINT8_MAX ? level : UINT8_MAX);
+}
+
 static uint32_t child_count(const tclod_scene *s, tclod_id n) {
     return s->child_first[n + 1u] - s->child_first[n];
 }
@@ -214,7 +220,7 @@ static int is_head(const tclod_scene *s, tclod_id n) {
 static double complexity_value(tclod_selector *sel, double c, double slope) {
     if (!value_bad(c) && !value_bad(slope))
         return c;
-    bad_value(sel);
+    tclod_bad_value(sel);
     return value_bad(c) ? HUGE_VAL : c;
 }
 
@@ -350,7 +356,7 @@ static void prepare(tclod_selector *sel) {
     sel->rh_order_count = count;
     /* no chain has taken a level yet: their searches start at the first */
     for (id = 0; id < n; ++id)
-        sel->node[id].delta_b = 0.0;
+        set_last_level(sel, id, 0u);
     sel->rh_version = s->version;
 }
 
@@ -465,13 +471,6 @@ static inline int fits(tclod_selector *sel, tclod_id n, tclod_id head, const tcl
     return sel->node[n].cost <= time;
 }
 
-/* The level head's chain (of len levels) took last (kept in the delta_b of
- * its first node). */
-static inline uint32_t last_level(const tclod_selector *sel, tclod_id head, uint32_t len) {
-    double l = sel->node[head].delta_b;
-    return l > 0.0 && l < (double)len ? (uint32_t)l : 0u;
-}
-
 /* The finest level of the chain ch starting at head whose cost is at most
  * `time`, which must cover the first (evaluated) level. The costs grow level
  * by level, so the levels that fit are a prefix of the chain. The search
@@ -488,7 +487,7 @@ static inline int finest_level(tclod_selector *sel, tclod_id head, const tclod_r
     assert(sel->node[head].stamp == sel->solve_id && sel->node[head].cost <= time);
     if (len == 1u) { /* a single level: nothing to search */
         *out = head;
-        sel->node[head].delta_b = 0.0;
+        set_last_level(sel, head, 0u);
         *step = HUGE_VAL;
         return 0;
     }
@@ -534,7 +533,7 @@ static inline int finest_level(tclod_selector *sel, tclod_id head, const tclod_r
     }
     lo_node = chain_node(sel, head, ch, lo);
     *out = lo_node;
-    sel->node[head].delta_b = (double)lo;
+    set_last_level(sel, head, lo);
     *step = hi < len ? sel->node[chain_node(sel, head, ch, hi)].cost - sel->node[lo_node].cost
                      : HUGE_VAL;
     return 0;
@@ -965,7 +964,7 @@ static int share_out(tclod_selector *sel) {
                 if (place_node(sel, id, &sel->rh_chains[id], v, share, &used) != 0)
                     return -1;
             } else {
-                sel->node[id].delta_b = 0.0; /* drawn, if at all, at its first level */
+                set_last_level(sel, id, 0u); /* drawn, if at all, at its first level */
                 if ((sel->desc.misfit == TCLOD_MISFIT_COARSEST || stopped) &&
                     sel->node[id].cost <= R->pool) {
                     cut_add(sel, id, 0);
@@ -1051,40 +1050,38 @@ static void skip_waiting(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     uint32_t *ids = sel->scratch;
     double *path = sel->path;
-    uint32_t cap = sel->cap, first = R->ring_first, count = R->ring_count, left = R->pass_left;
-    uint32_t back = first + count; /* where a waiting one goes: < 2 cap */
+    size_t cap = sel->cap, first = R->ring_first, back = first + R->ring_count; /* < 2 cap */
+    uint32_t count = R->ring_count, left = R->pass_left;
     double pool = R->pool, value_left = R->value_left, ring_value = R->ring_value;
     double min_step = R->min_step;
     int limited = R->limited;
     if (isinf(pool))
         return; /* every step that fits tries */
     if (back >= cap)
-        back -= cap;
-    while (left > 0u) {
-        double v = path[2u * first], step = path[2u * first + 1u];
+        back -= cap; /* where a waiting one goes */
+    for (; left > 0u; --left) {
+        const double *e = &path[2u * first];
+        double v = e[0], step = e[1];
         if (step <= pool) {
             /* its share, v pool / v_left as share_for has it (the cap at pool
              * does not matter once the step fits the pool) */
             if (step <= (value_left > 0.0 ? v * pool / value_left : 0.0))
-                break;              /* it tries */
-            ids[back] = ids[first]; /* it waits, at the back */
+                break; /* it tries */
+            /* it waits, at the back */
+            ids[back] = ids[first];
             path[2u * back] = v;
             path[2u * back + 1u] = step;
-            if (++back == cap)
-                back = 0;
+            back = back + 1u == cap ? 0u : back + 1u;
             ring_value += v;
-            if (step < min_step)
-                min_step = step;
+            min_step = step < min_step ? step : min_step;
         } else { /* done */
             limited = 1;
             count--;
         }
-        if (++first == cap)
-            first = 0;
-        left--;
+        first = first + 1u == cap ? 0u : first + 1u;
         value_left -= v;
     }
-    R->ring_first = first;
+    R->ring_first = (uint32_t)first;
     R->ring_count = count;
     R->pass_left = left;
     R->value_left = value_left;

@@ -69,10 +69,11 @@ void tclod_selector_desc_default(tclod_selector_desc *d) {
 
 /* Every per-node buffer of a selector, for growing and freeing them together.
  * Node records are filled with 0xff bytes: no cut or heap slot (TCLOD_NONE),
- * and a stamp no solve uses. */
+ * and a stamp no solve uses; increments too (NaN until computed). */
 static size_t node_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS]) {
     size_t n = 0;
     out[n++] = (tclod_array){(void **)&sel->node, sizeof(tclod_node_state), 0xff};
+    out[n++] = (tclod_array){(void **)&sel->delta, sizeof(tclod_delta), 0xff};
     out[n++] = (tclod_array){(void **)&sel->path, 2 * sizeof(double), 0};
     out[n++] = (tclod_array){(void **)&sel->flags, sizeof(uint8_t), 0};
     out[n++] = (tclod_array){(void **)&sel->inc_slot, sizeof(uint32_t), 0xff};
@@ -131,6 +132,7 @@ static size_t rh_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS])
     out[n++] = (tclod_array){(void **)&sel->rh_order, sizeof(uint32_t), -1};
     out[n++] = (tclod_array){(void **)&sel->rh_key, 2 * sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&sel->rh_stack, sizeof(tclod_rh_frame), -1};
+    out[n++] = (tclod_array){(void **)&sel->rh_level, sizeof(uint8_t), -1};
     return n;
 }
 

@@ -266,6 +266,62 @@ static void bad_benefit_makes_the_node_invisible_and_is_counted(void **state) {
     }
 }
 
+/* Values at the edges of the callbacks' ranges, under the greedy and the
+ * Robin Hood solvers with an unlimited budget. Roots 0 (b0, 1), 1 (1, c1) and
+ * 2 (1, 1), all leaves. -0 is a benefit of 0 (root 0 invisible, not a bad
+ * value) and a cost of 0; the smallest subnormal benefit makes root 0 visible
+ * and DBL_MAX is a finite cost, so both are drawn; a NaN with its sign bit set
+ * and -DBL_MIN are bad (root 0 invisible; root 1 unaffordable, so dropped).
+ * The Robin Hood solver also asks each instance's complexity, the cost of its
+ * finest level (here the root itself) at the reference area, once per scene
+ * change: a bad cost is counted twice in the first frame. */
+static void edge_values_are_told_apart_from_bad_ones(void **state) {
+    static const struct {
+        double b0, c1;
+        unsigned drawn;       /* bit i: root i is listed */
+        unsigned invalid[2];  /* bad values counted by either solver */
+        double benefit, cost; /* of the selection */
+    } cases[] = {
+        {-0.0, 1.0, 6u, {0, 0}, 2.0, 2.0},
+        {4.9406564584124654e-324, 1.0, 7u, {0, 0}, 2.0, 3.0}, /* the benefit sum absorbs it */
+        {1.0, -0.0, 7u, {0, 0}, 3.0, 2.0},
+        {1.0, DBL_MAX, 7u, {0, 0}, 3.0, DBL_MAX},
+        {-NAN, 1.0, 6u, {1, 1}, 2.0, 2.0},
+        {1.0, -DBL_MIN, 5u, {1, 2}, 2.0, 2.0},
+    };
+    static const tclod_solver solvers[] = {TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_ROBIN_HOOD};
+    helper_fixture *f = (helper_fixture *)*state;
+    size_t c, k;
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    for (k = 0; k < sizeof solvers / sizeof solvers[0]; ++k)
+        for (c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+            tclod_selector_desc d;
+            tclod_selector *sel = NULL;
+            tclod_stats st;
+            tclod_id listed[3];
+            size_t n = 0;
+            tclod_id i;
+            f->model.benefit[0] = cases[c].b0;
+            f->model.cost[1] = cases[c].c1;
+            tclod_selector_desc_default(&d);
+            table_callbacks(&f->model, &d.callbacks);
+            d.solver = solvers[k];
+            assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+            select_ok(sel, INFINITY, &st);
+            for (i = 0; i < 3; ++i)
+                if (cases[c].drawn & (1u << i))
+                    listed[n++] = i;
+            helper_assert_cut(sel, listed, n);
+            if (st.invalid_values != cases[c].invalid[k] || st.benefit != cases[c].benefit ||
+                st.cost != cases[c].cost)
+                fail_msg("solver %d, case %u: %u bad values, benefit %g, cost %g", (int)solvers[k],
+                         (unsigned)c, (unsigned)st.invalid_values, st.benefit, st.cost);
+            tclod_selector_destroy(sel);
+        }
+}
+
 /* Checks a frame in which *slot holds `bad`: on a fresh cold selector, and on
  * a warm one whose previous frame saw the good value (so the node was selected
  * or priced before turning bad). Listed ids, totals and the bad-value count
@@ -2039,6 +2095,7 @@ int main(void) {
         cmocka_unit_test(budget_holds_on_random_scenes_with_mixed_magnitudes),
         FIXTURE_TEST(roots_are_dropped_one_at_a_time_when_their_costs_overflow),
         FIXTURE_TEST(bad_benefit_makes_the_node_invisible_and_is_counted),
+        FIXTURE_TEST(edge_values_are_told_apart_from_bad_ones),
         FIXTURE_TEST(bad_cost_on_a_root_makes_it_unaffordable_and_is_counted),
         FIXTURE_TEST(bad_cost_on_a_child_keeps_its_parent_and_is_counted),
         FIXTURE_TEST(strict_mode_fails_the_call_and_keeps_the_previous_result),
