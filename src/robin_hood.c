@@ -49,11 +49,12 @@ static inline int visible(const tclod_selector *sel, tclod_id n) {
 
 /* ---- value functions (eq. 8-11) ------------------------------------------------- */
 
-/* v / I of value function f, for valid arguments. */
+/* v / I of value function f, for valid arguments (the default first: one
+ * test where it is chosen). */
 static double value_scale(tclod_value f, double area, double depth, double distance) {
-    switch (f) {
-    case TCLOD_VALUE_AREA_SQRT_DEPTH:
+    if (f == TCLOD_VALUE_AREA_SQRT_DEPTH)
         return area / sqrt(depth);
+    switch (f) {
     case TCLOD_VALUE_AREA_DEPTH:
         return area / depth;
     case TCLOD_VALUE_AREA_DEPTH2:
@@ -120,7 +121,8 @@ static int value_bad(double v) {
 }
 
 /* The importance of the instance that query q asks about: the importance
- * callback's value (a bad one counts and gives 0), or without one `benefit`. */
+ * callback's value (a bad one counts and gives 0), or without one `benefit`;
+ * -1 when a bad one failed a strict solve. */
 static inline double importance_of(tclod_selector *sel, const tclod_query *q, double benefit) {
     const tclod_callbacks *cb = &sel->desc.callbacks;
     double i;
@@ -130,7 +132,7 @@ static inline double importance_of(tclod_selector *sel, const tclod_query *q, do
     if (tclod_bits(i) <= TCLOD_BITS_MAX || !value_bad(i)) /* >= 0 and finite; then -0 */
         return i;
     tclod_bad_value(sel);
-    return 0.0;
+    return sel->failed ? -1.0 : 0.0;
 }
 
 /* Node n, which starts an instance and was not evaluated in this solve yet,
@@ -138,11 +140,12 @@ static inline double importance_of(tclod_selector *sel, const tclod_query *q, do
  * *value (0 when it is not visible). The projection that measures its screen
  * area also gives the depth and distance its value needs. `inside`: its
  * bounds lie in a sphere that tclod_view_cache_inside found inside the
- * frustum, so the frustum test would pass. Returns -1 on a strict error. */
+ * frustum, so the frustum test would pass. Returns 1 when n is visible, 0
+ * when not, -1 on a strict error. */
 TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int inside, double *value) {
     const float *b = &sel->scene->bounds[4u * n];
     const tclod_view_cache *c = &sel->view;
-    double p[3], r, d2, z, d, scale;
+    double p[3], r, d2, z, d, scale, i;
     float area;
     assert(sel->node[n].stamp != sel->solve_id);
     if (!sel->has_view || !(b[3] >= 0.0f)) {
@@ -151,8 +154,11 @@ TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int insid
         *value = 0.0;
         if (!visible(sel, n))
             return 0;
-        *value = instance_value(sel, b, importance_of(sel, &sel->query, sel->node[n].benefit));
-        return sel->failed ? -1 : 0;
+        i = importance_of(sel, &sel->query, sel->node[n].benefit);
+        if (i < 0.0)
+            return -1;
+        *value = instance_value(sel, b, i);
+        return 1;
     }
     r = (double)b[3];
     p[0] = (double)b[0] - c->eye[0];
@@ -172,8 +178,11 @@ TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int insid
     if (!visible(sel, n))
         return 0;
     /* the evaluation left n's query in sel->query */
-    *value = scale * importance_of(sel, &sel->query, sel->node[n].benefit);
-    return sel->failed ? -1 : 0;
+    i = importance_of(sel, &sel->query, sel->node[n].benefit);
+    if (i < 0.0)
+        return -1;
+    *value = scale * i;
+    return 1;
 }
 
 /* Node n, a finer level of the instance starting at head (evaluated in this
@@ -403,10 +412,13 @@ static void cut_remove(tclod_selector *sel, tclod_id n) {
 }
 
 static void cut_clear(tclod_selector *sel) {
-    uint32_t i;
-    for (i = 0; i < sel->cut_count; ++i) {
-        sel->node[sel->cut[i]].cut_pos = TCLOD_NONE;
-        sel->flags[sel->cut[i]] = 0;
+    const tclod_id *cut = sel->cut; /* in locals: the stores cannot change them */
+    tclod_node_state *node = sel->node;
+    uint8_t *flags = sel->flags;
+    uint32_t i, count = sel->cut_count;
+    for (i = 0; i < count; ++i) {
+        node[cut[i]].cut_pos = TCLOD_NONE;
+        flags[cut[i]] = 0;
     }
     sel->cut_count = 0;
 }
@@ -575,9 +587,10 @@ static int branch_children(tclod_selector *sel, tclod_id b, float reach, double 
                 continue;
             v = sel->scratch_key[first + j];
         } else {
-            if (evaluate_head(sel, c, inside, &v) != 0)
+            int seen = evaluate_head(sel, c, inside, &v);
+            if (seen < 0)
                 return -1;
-            if (!visible(sel, c))
+            if (!seen)
                 continue;
             sel->scratch_key[first + j] = v;
         }
@@ -742,7 +755,7 @@ static double smooth_value(tclod_selector *sel, uint32_t pos) {
     q.members = s->smooth_order + pos;
     q.bounds = b;
     importance = importance_of(sel, &q, benefit);
-    if (sel->failed)
+    if (importance < 0.0)
         return -1.0;
     return importance > 0.0 ? instance_value(sel, b, importance) : 0.0;
 }
@@ -873,7 +886,7 @@ static int values(tclod_selector *sel, double *total) {
         uint32_t id = sel->rh_order[k];
         double v;
         if (id < s->node_count) {
-            if (evaluate_head(sel, id, 0, &v) != 0)
+            if (evaluate_head(sel, id, 0, &v) < 0)
                 return -1;
         } else {
             v = smooth_value(sel, id - s->node_count);

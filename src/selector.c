@@ -362,16 +362,26 @@ void tclod_selector_restore(tclod_selector *sel, const tclod_selector_saved *k) 
 
 /* The working cut becomes the result: visible, kept nodes in cut order. */
 static void commit(tclod_selector *sel) {
-    uint32_t i, n = 0;
+    const tclod_id *cut;
+    const tclod_node_state *node;
+    const uint8_t *flags;
+    tclod_id *result;
+    uint32_t i, n = 0, count;
     double benefit = 0.0, cost = 0.0;
     keep_committed(sel);
-    for (i = 0; i < sel->cut_count; ++i) {
-        tclod_id id = sel->cut[i];
-        if (!(sel->node[id].benefit > 0.0) || (sel->flags[id] & TCLOD_FLAG_DROPPED))
+    /* in locals: the stores to result cannot change them */
+    cut = sel->cut;
+    node = sel->node;
+    flags = sel->flags;
+    result = sel->result;
+    count = sel->cut_count;
+    for (i = 0; i < count; ++i) {
+        tclod_id id = cut[i];
+        if (!(node[id].benefit > 0.0) || (flags[id] & TCLOD_FLAG_DROPPED))
             continue;
-        sel->result[n++] = id;
-        benefit += sel->node[id].benefit;
-        cost += sel->node[id].cost;
+        result[n++] = id;
+        benefit += node[id].benefit;
+        cost += node[id].cost;
     }
     sel->group_count = 0;
     for (i = 0; i < sel->vars.count; ++i) {
