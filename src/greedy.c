@@ -91,7 +91,7 @@ int tclod_evaluate_bad_cost(tclod_selector *sel, tclod_node_state *st, double c)
         c = HUGE_VAL;
     }
     st->cost = c;
-    return sel->failed ? -1 : 0;
+    return sel->failed ? -1 : 1;
 }
 
 /* ---- the cut and its running sums ------------------------------------------ */

@@ -250,9 +250,10 @@ enum {
     TCLOD_RH_BRANCH = 4u       /* the last level has several children */
 };
 /* A branch's child as its instance: the child's slot in the scene's
- * children[] and its chain. */
+ * children[], its id and its chain. */
 typedef struct tclod_rh_child {
     uint32_t slot;
+    tclod_id id;
     tclod_rh_chain chain;
 } tclod_rh_child;
 
@@ -452,7 +453,7 @@ struct tclod_selector {
                                   starts */
     /* The Robin Hood solver also keeps, in the per-node buffers it does not
      * otherwise use: the values of a branch's children in scratch_key, by slot
-     * in the scene's children[]; the ring of its third cycle's candidates in
+     * in the scene's children[] (-1: not visible); the ring of its third cycle's candidates in
      * scratch and path. */
 
     uint32_t cut_count, prev_count, result_count;
@@ -540,8 +541,8 @@ void tclod_bad_value(tclod_selector *sel);
 int tclod_evaluate_invisible(tclod_selector *sel, tclod_node_state *st, double b);
 
 /* What tclod_evaluate_measured does with a cost that is not in [0, +inf)
- * (-0 passes, a bad one counts, fails a strict solve and gives +inf).
- * Returns 0, or -1 when strict mode saw a bad value. */
+ * (-0 passes, a bad one counts, fails a strict solve and gives +inf) of a
+ * visible node. Returns 1, or -1 when strict mode saw a bad value. */
 int tclod_evaluate_bad_cost(tclod_selector *sel, tclod_node_state *st, double c);
 
 /* The bits of a double, for the range checks of callback values: as unsigned
@@ -558,9 +559,9 @@ static inline uint64_t tclod_bits(double x) {
  * area and distance of its bounds already measured (-1 without bounds or
  * view): what tclod_evaluate_node does once it has measured. Inline for the
  * solvers' inner loops; what is not a positive finite benefit and a finite
- * cost >= 0 goes out of line. */
-static inline int tclod_evaluate_measured(tclod_selector *sel, tclod_id n, float area,
-                                          float distance) {
+ * cost >= 0 goes out of line. Returns 1 when n is visible, 0 when not, -1
+ * when strict mode saw a bad value. */
+static inline int tclod_evaluate_seen(tclod_selector *sel, tclod_id n, float area, float distance) {
     const tclod_callbacks *cb = &sel->desc.callbacks;
     const float *bounds = &sel->scene->bounds[4u * n];
     tclod_node_state *st = &sel->node[n];
@@ -582,7 +583,13 @@ static inline int tclod_evaluate_measured(tclod_selector *sel, tclod_id n, float
     if (tclod_bits(c) > TCLOD_BITS_MAX)
         return tclod_evaluate_bad_cost(sel, st, c);
     st->cost = c;
-    return 0;
+    return 1;
+}
+
+/* tclod_evaluate_seen, returning 0 whether or not n is visible. */
+static inline int tclod_evaluate_measured(tclod_selector *sel, tclod_id n, float area,
+                                          float distance) {
+    return tclod_evaluate_seen(sel, n, area, distance) < 0 ? -1 : 0;
 }
 
 /* Runs TCLOD_SOLVER_GREEDY for sel->frame into the working cut, from where

@@ -147,6 +147,7 @@ TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int insid
     const tclod_view_cache *c = &sel->view;
     double p[3], r, d2, z, d, scale, i;
     float area;
+    int seen;
     assert(sel->node[n].stamp != sel->solve_id);
     if (!sel->has_view || !(b[3] >= 0.0f)) {
         if (tclod_evaluate_node(sel, n) != 0)
@@ -172,11 +173,10 @@ TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int insid
     /* v / I before the callbacks, so that nothing but it lives across them */
     scale = value_scale(sel->desc.value, 3.14159265358979323846 * r * r,
                         z < c->near_z ? c->near_z : z, d < c->near_z ? c->near_z : d);
-    if (tclod_evaluate_measured(sel, n, area, (float)d) != 0)
-        return -1;
     *value = 0.0;
-    if (!visible(sel, n))
-        return 0;
+    seen = tclod_evaluate_seen(sel, n, area, (float)d);
+    if (seen <= 0)
+        return seen;
     /* the evaluation left n's query in sel->query */
     i = importance_of(sel, &sel->query, sel->node[n].benefit);
     if (i < 0.0)
@@ -347,7 +347,8 @@ static void prepare(tclod_selector *sel) {
         for (j = 0; j < k; ++j) {
             tclod_rh_child *c = &sel->rh_child[first + j];
             c->slot = sel->scratch[first + j];
-            c->chain = sel->rh_chains[s->children[c->slot]];
+            c->id = s->children[c->slot];
+            c->chain = sel->rh_chains[c->id];
         }
     }
     /* the second half of rh_key holds the order's keys (none: an empty scene) */
@@ -567,10 +568,10 @@ static int branch_inside(const tclod_selector *sel, tclod_id b, float reach) {
 
 /* The children of branching node b, evaluated in id order while the summed
  * cost of their simplest levels, *reserve, is at most `time` (invisible
- * children: none). Returns 1 when all of them fit, with each visible child's
- * value in scratch_key[slot] (its slot in the scene's children[]) and their
- * sum in *value; 0 when they do not (*reserve is then a lower bound of their
- * cost); -1 on a strict error. */
+ * children: none). Returns 1 when all of them fit, with each child's value in
+ * scratch_key[slot] (its slot in the scene's children[]; -1 when it is not
+ * visible) and the visible ones' sum in *value; 0 when they do not (*reserve
+ * is then a lower bound of their cost); -1 on a strict error. */
 static int branch_children(tclod_selector *sel, tclod_id b, float reach, double time,
                            double *reserve, double *value) {
     const tclod_scene *s = sel->scene;
@@ -590,9 +591,9 @@ static int branch_children(tclod_selector *sel, tclod_id b, float reach, double 
             int seen = evaluate_head(sel, c, inside, &v);
             if (seen < 0)
                 return -1;
+            sel->scratch_key[first + j] = seen ? v : -1.0; /* -1: culled */
             if (!seen)
                 continue;
-            sel->scratch_key[first + j] = v;
         }
         r += sel->node[c].cost;
         if (!(r <= time)) {
@@ -677,13 +678,12 @@ static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *
         value_left = f->value_left;
         for (; next < end; ++next) {
             const tclod_rh_child *c = &sel->rh_child[next];
-            tclod_id id = s->children[c->slot];
-            double v, share, base, u;
-            if (!visible(sel, id)) {
-                cut_add_cost(sel, id, 0, costs); /* culled: in the cut, not drawn */
+            tclod_id id = c->id;
+            double v = sel->scratch_key[c->slot], share, base, u;
+            if (v < 0.0) { /* culled: in the cut, not drawn */
+                cut_put(sel, id, 0, 0.0, costs);
                 continue;
             }
-            v = sel->scratch_key[c->slot];
             share = value_left > 0.0 ? v * extra / value_left : 0.0;
             share = share > extra ? extra : (share > 0.0 ? share : 0.0);
             value_left -= v;
