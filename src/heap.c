@@ -19,13 +19,6 @@
 
 #define ARITY 4u
 
-/* A hint to fetch the cache line at p; nothing where the compiler has none. */
-#if defined(__GNUC__) || defined(__clang__)
-#define PREFETCH(p) __builtin_prefetch(p)
-#else
-#define PREFETCH(p) ((void)0)
-#endif
-
 /* ka > kb, or equal keys and ia < ib (keys are never NaN). Without
  * short-circuits: the outcome of a heap comparison is unpredictable, and a
  * mispredicted branch costs more than the few instructions saved. */
@@ -138,10 +131,10 @@ static void fill_hole(tclod_heap *h, uint32_t slot, const tclod_heap_entry *e) {
         uint32_t best;
         if (ARITY * first + 1u < count) {
             const tclod_heap_entry *next = &items[ARITY * first + 1u];
-            PREFETCH(next);
-            PREFETCH(next + 4);
-            PREFETCH(next + 8);
-            PREFETCH(next + 12);
+            TCLOD_PREFETCH(next);
+            TCLOD_PREFETCH(next + 4);
+            TCLOD_PREFETCH(next + 8);
+            TCLOD_PREFETCH(next + 12);
         }
         best = best_of_four(items, first);
         move_entry(h, slot, best);

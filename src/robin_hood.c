@@ -578,6 +578,11 @@ static int branch_children(tclod_selector *sel, tclod_id b, float reach, double 
     uint32_t j, first = s->child_first[b], k = child_count(s, b);
     double r = 0.0, sum = 0.0;
     int inside = branch_inside(sel, b, reach);
+    /* their sorted list, which placing them reads next, fetched while the
+     * callbacks run */
+    for (j = 0; j < k; j += 64u / sizeof(tclod_rh_child))
+        TCLOD_PREFETCH(&sel->rh_child[first + j]);
+    TCLOD_PREFETCH(&sel->rh_child[first + k - 1u]);
     for (j = 0; j < k; ++j) {
         tclod_id c = s->children[first + j];
         double v;
