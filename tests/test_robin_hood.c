@@ -207,6 +207,40 @@ static void the_leftover_refines_the_instances_that_can_refine(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* One chain of 300 levels, level k costing k + 1: the whole budget B (less
+ * the pass's margin of 1e-9 B) is its share, so it takes level
+ * ceil(B - 1e-9 B) - 2, the finest whose cost fits, and the leftover (below 1)
+ * buys no step. The level a chain took last is kept up to 255 (beyond, 255),
+ * and the next search starts there: from level 279 it must gallop up again,
+ * for level 99 down, and at 300.5 reach the chain's end. */
+static void a_chain_of_more_than_255_levels_takes_its_finest_affordable_level(void **state) {
+    static const struct {
+        double budget;
+        tclod_id level;
+    } frames[] = {{281.0, 279}, {281.0, 279}, {101.0, 99}, {300.5, 299}, {281.0, 279}};
+    helper_fixture *f = (helper_fixture *)*state;
+    double costs[300];
+    tclod_selector *sel;
+    tclod_stats st;
+    tclod_id first;
+    size_t i;
+    int k;
+    for (k = 0; k < 300; ++k)
+        costs[k] = (double)(k + 1);
+    first = add_chain(f, 1.0, costs, 300);
+    sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
+    for (i = 0; i < sizeof frames / sizeof frames[0]; ++i) {
+        const tclod_id *ids;
+        size_t n;
+        select_rh(sel, NULL, frames[i].budget, &st);
+        assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+        assert_int_equal(n, 1);
+        assert_int_equal(ids[0], first + frames[i].level);
+        assert_true(st.cost == (double)(frames[i].level + 1u));
+    }
+    tclod_selector_destroy(sel);
+}
+
 /* Values 3 : 1 share 8 as 6 : 2. Chains with levels 1, 2, 6 (value 3) and
  * 1, 2, 6 (value 1): the first takes 6, the second 2. */
 static void shares_follow_the_values(void **state) {
@@ -774,6 +808,7 @@ int main(void) {
         FIXTURE_TEST(a_scene_change_orders_the_instances_again),
         FIXTURE_TEST(the_leftover_refines_the_instances_that_can_refine),
         FIXTURE_TEST(shares_follow_the_values),
+        FIXTURE_TEST(a_chain_of_more_than_255_levels_takes_its_finest_affordable_level),
         FIXTURE_TEST(an_instance_whose_simplest_level_exceeds_its_share_is_dropped),
         FIXTURE_TEST(the_coarsest_policy_draws_a_misfit_the_time_left_covers),
         FIXTURE_TEST(smooth_objects_take_the_resolution_their_share_buys),
