@@ -254,7 +254,9 @@ typedef struct tclod_rh_chain {
 enum {
     TCLOD_RH_CONSECUTIVE = 1u, /* level k is node head + k (rh_chain need not be read) */
     TCLOD_RH_SHARED = 2u,      /* every level has the head's bounds */
-    TCLOD_RH_BRANCH = 4u       /* the last level has several children */
+    TCLOD_RH_BRANCH = 4u,      /* the last level has several children */
+    TCLOD_RH_NESTED = 8u       /* a branch whose children's sphere (reach) lies within
+                                  that of the branch above the chain's head */
 };
 /* A branch's child as its instance: the child's slot in the scene's
  * children[], its id and its chain. */
@@ -272,6 +274,7 @@ typedef struct tclod_rh_frame {
     double value_left;  /* value of the children not placed yet */
     double alloc, base; /* the time the branch's instance had, and its simplest
                            level's cost in the enclosing branch's accounting */
+    int inside;         /* its children's sphere lies inside the frustum */
 } tclod_rh_frame;
 
 /* The smooth variables of one solve (split.c fills the first block, mixed.c
@@ -390,6 +393,7 @@ typedef struct tclod_resume {
     /* Robin Hood: time not shared out yet, value of the instances left */
     double pool, value_left;
     int limited; /* an instance could refine further */
+    int plain;   /* the solve's heads take the common path (plain_heads) */
     /* Robin Hood's third cycle: the candidates' ring (robin_hood.c), the value
      * in it and the smallest step it holds (or a lower bound) ... */
     uint32_t ring_first, ring_count;
@@ -564,13 +568,14 @@ static inline uint64_t tclod_bits(double x) {
 
 /* The callbacks of node n, not evaluated in this solve yet, with the screen
  * area and distance of its bounds already measured (-1 without bounds or
- * view): what tclod_evaluate_node does once it has measured. Inline for the
+ * view) and the bounds its query carries (n's, or NULL when it has none):
+ * what tclod_evaluate_node does once it has measured. Inline for the
  * solvers' inner loops; what is not a positive finite benefit and a finite
  * cost >= 0 goes out of line. Returns 1 when n is visible, 0 when not, -1
  * when strict mode saw a bad value. */
-static inline int tclod_evaluate_seen(tclod_selector *sel, tclod_id n, float area, float distance) {
+static inline int tclod_evaluate_bounded(tclod_selector *sel, tclod_id n, float area,
+                                         float distance, const float *bounds) {
     const tclod_callbacks *cb = &sel->desc.callbacks;
-    const float *bounds = &sel->scene->bounds[4u * n];
     tclod_node_state *st = &sel->node[n];
     tclod_query *q = &sel->query; /* view, count and members set for the solve */
     double b, c;
@@ -580,7 +585,7 @@ static inline int tclod_evaluate_seen(tclod_selector *sel, tclod_id n, float are
     q->id = n;
     q->screen_area = area;
     q->distance = distance;
-    q->bounds = bounds[3] >= 0.0f ? bounds : NULL;
+    q->bounds = bounds;
     sel->stats.evaluations++;
     b = cb->benefit(cb->user, q);
     if (tclod_bits(b) - 1u >= TCLOD_BITS_MAX)
@@ -591,6 +596,12 @@ static inline int tclod_evaluate_seen(tclod_selector *sel, tclod_id n, float are
         return tclod_evaluate_bad_cost(sel, st, c);
     st->cost = c;
     return 1;
+}
+
+/* tclod_evaluate_bounded with n's bounds found in the scene. */
+static inline int tclod_evaluate_seen(tclod_selector *sel, tclod_id n, float area, float distance) {
+    const float *bounds = &sel->scene->bounds[4u * n];
+    return tclod_evaluate_bounded(sel, n, area, distance, bounds[3] >= 0.0f ? bounds : NULL);
 }
 
 /* tclod_evaluate_seen, returning 0 whether or not n is visible. */

@@ -37,8 +37,9 @@
 /* Regula falsi steps of a smooth object's inverse cost. */
 #define INVERSE_STEPS 60u
 /* The leftover is shared out again only while it is at least this share of
- * the budget: below it another pass over the candidates buys next to nothing. */
-#define REFILL_MIN 1e-4
+ * the budget: below it another pass over the candidates, which walks all of
+ * them, buys next to nothing (docs/robin_hood.md, the leftover). */
+#define REFILL_MIN 5e-4
 /* At most this many passes share the leftover out again: each takes most of
  * what is left, the smooth objects whatever the nodes' whole steps leave. */
 #define REFILL_PASSES 16u
@@ -123,10 +124,11 @@ static int value_bad(double v) {
 /* The importance of the instance that query q asks about: the importance
  * callback's value (a bad one counts and gives 0), or without one `benefit`;
  * -1 when a bad one failed a strict solve. */
-static inline double importance_of(tclod_selector *sel, const tclod_query *q, double benefit) {
+static inline double importance_of(tclod_selector *sel, const tclod_query *q, double benefit,
+                                   int plain) {
     const tclod_callbacks *cb = &sel->desc.callbacks;
     double i;
-    if (!cb->importance)
+    if (!plain && !cb->importance)
         return benefit;
     i = cb->importance(cb->user, q);
     if (tclod_bits(i) <= TCLOD_BITS_MAX || !value_bad(i)) /* >= 0 and finite; then -0 */
@@ -135,27 +137,38 @@ static inline double importance_of(tclod_selector *sel, const tclod_query *q, do
     return sel->failed ? -1.0 : 0.0;
 }
 
+/* Whether the solve has a view, the default value function and an
+ * importance callback: the common case, for which evaluate_head has a copy
+ * of its own that tests none of them. */
+static int plain_heads(const tclod_selector *sel) {
+    return sel->has_view && sel->desc.value == TCLOD_VALUE_AREA_SQRT_DEPTH &&
+           sel->desc.callbacks.importance != NULL;
+}
+
 /* Node n, which starts an instance and was not evaluated in this solve yet,
  * evaluated (as tclod_evaluate_node would), with the instance's value in
  * *value (0 when it is not visible). The projection that measures its screen
  * area also gives the depth and distance its value needs. `inside`: its
  * bounds lie in a sphere that tclod_view_cache_inside found inside the
- * frustum, so the frustum test would pass. Returns 1 when n is visible, 0
- * when not, -1 on a strict error. */
-TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int inside, double *value) {
+ * frustum, so the frustum test would pass. `plain`: plain_heads(sel) holds (a
+ * constant where it is inlined). Returns 1 when n is visible, 0 when not, -1
+ * on a strict error. */
+TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int inside, int plain,
+                                      double *value) {
     const float *b = &sel->scene->bounds[4u * n];
     const tclod_view_cache *c = &sel->view;
     double p[3], r, d2, z, d, scale, i;
     float area;
     int seen;
     assert(sel->node[n].stamp != sel->solve_id);
-    if (!sel->has_view || !(b[3] >= 0.0f)) {
+    assert(!plain || plain_heads(sel));
+    if (!(plain || sel->has_view) || !(b[3] >= 0.0f)) {
         if (tclod_evaluate_node(sel, n) != 0)
             return -1;
         *value = 0.0;
         if (!visible(sel, n))
             return 0;
-        i = importance_of(sel, &sel->query, sel->node[n].benefit);
+        i = importance_of(sel, &sel->query, sel->node[n].benefit, 0);
         if (i < 0.0)
             return -1;
         *value = instance_value(sel, b, i);
@@ -171,14 +184,15 @@ TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int insid
     area =
         inside || tclod_view_cache_visible(c, p, r) ? (float)tclod_view_cache_area(c, d2, r) : 0.0f;
     /* v / I before the callbacks, so that nothing but it lives across them */
-    scale = value_scale(sel->desc.value, 3.14159265358979323846 * r * r,
-                        z < c->near_z ? c->near_z : z, d < c->near_z ? c->near_z : d);
+    scale = value_scale(plain ? TCLOD_VALUE_AREA_SQRT_DEPTH : sel->desc.value,
+                        3.14159265358979323846 * r * r, z < c->near_z ? c->near_z : z,
+                        d < c->near_z ? c->near_z : d);
     *value = 0.0;
-    seen = tclod_evaluate_seen(sel, n, area, (float)d);
+    seen = tclod_evaluate_bounded(sel, n, area, (float)d, b);
     if (seen <= 0)
         return seen;
     /* the evaluation left n's query in sel->query */
-    i = importance_of(sel, &sel->query, sel->node[n].benefit);
+    i = importance_of(sel, &sel->query, plain ? 0.0 : sel->node[n].benefit, plain);
     if (i < 0.0)
         return -1;
     *value = scale * i;
@@ -298,6 +312,43 @@ static float branch_reach(const tclod_scene *s, tclod_id b) {
     return reach < (double)FLT_MAX ? (float)reach : -1.0f;
 }
 
+/* The head of the chain that node n belongs to. */
+static tclod_id chain_head(const tclod_scene *s, tclod_id n) {
+    while (!is_head(s, n))
+        n = s->parent[n];
+    return n;
+}
+
+/* Whether the sphere of radius r around centre c lies within the one of
+ * radius R around C, by a margin far above the rounding of the test. */
+static int sphere_within(const float *c, float r, const float *C, float R) {
+    double dx = (double)c[0] - (double)C[0], dy = (double)c[1] - (double)C[1],
+           dz = (double)c[2] - (double)C[2];
+    return r >= 0.0f && R >= 0.0f &&
+           sqrt(dx * dx + dy * dy + dz * dz) + (double)r <= (double)R * (1.0 - 1e-9);
+}
+
+/* TCLOD_RH_NESTED for every chain that ends in a branch whose reach sphere
+ * lies within the reach sphere of the branch its head is a child of: when
+ * that one lies inside the frustum (tclod_view_cache_inside), so does this
+ * one, and every sphere within it passes the frustum test. */
+static void mark_nested(tclod_selector *sel) {
+    const tclod_scene *s = sel->scene;
+    tclod_id id;
+    for (id = 0; id < s->node_count; ++id) {
+        tclod_rh_chain *ch = &sel->rh_chains[id];
+        const tclod_rh_chain *up;
+        tclod_id end, above;
+        if (!is_head(s, id) || !(ch->flags & TCLOD_RH_BRANCH) || s->parent[id] == TCLOD_NONE)
+            continue;
+        above = s->parent[id];
+        up = &sel->rh_chains[chain_head(s, above)];
+        end = sel->rh_chain[ch->at + ch->len - 1u];
+        if (sphere_within(&s->bounds[4u * end], ch->reach, &s->bounds[4u * above], up->reach))
+            ch->flags |= TCLOD_RH_NESTED;
+    }
+}
+
 /* The chains (every node belongs to the chain of the nearest instance start
  * above it), each branching node's children and the top-level instances, in
  * order of complexity. Smooth objects are identified by their position in the
@@ -333,6 +384,7 @@ static void prepare(tclod_selector *sel) {
         sel->rh_key[id] = node_complexity(sel, id, m);
     }
     assert(used == n);
+    mark_nested(sel);
     /* each branch's children, least complex first (ties: smaller id, which is the
      * smaller slot: a child range lists its ids in order), sorted in scratch */
     for (id = 0; id < n; ++id) {
@@ -492,8 +544,8 @@ static inline int fits(tclod_selector *sel, tclod_id n, tclod_id head, const tcl
  * end of the chain), about 2 log2 of the distance when it has. *step is what
  * the next level adds to the cost (HUGE_VAL at the chain's end). Returns -1
  * on a strict error. */
-static inline int finest_level(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch,
-                               double time, tclod_id *out, double *step) {
+TCLOD_ALWAYS_INLINE int finest_level(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch,
+                                     double time, tclod_id *out, double *step) {
     uint32_t len = ch->len, lo = 0, hi = len, d = 1, guess;
     tclod_id lo_node;
     int f;
@@ -568,16 +620,18 @@ static int branch_inside(const tclod_selector *sel, tclod_id b, float reach) {
 
 /* The children of branching node b, evaluated in id order while the summed
  * cost of their simplest levels, *reserve, is at most `time` (invisible
- * children: none). Returns 1 when all of them fit, with each child's value in
- * scratch_key[slot] (its slot in the scene's children[]; -1 when it is not
- * visible) and the visible ones' sum in *value; 0 when they do not (*reserve
- * is then a lower bound of their cost); -1 on a strict error. */
-static int branch_children(tclod_selector *sel, tclod_id b, float reach, double time,
-                           double *reserve, double *value) {
+ * children: none); `inside`: b's reach sphere lies inside the frustum
+ * (branch_inside), so they need no frustum test. Returns 1 when all of them
+ * fit, with each child's value in scratch_key[slot] (its slot in the scene's
+ * children[]; -1 when it is not visible) and the visible ones' sum in *value;
+ * 0 when they do not (*reserve is then a lower bound of their cost); -1 on a
+ * strict error. `plain`: plain_heads(sel) holds (a constant where it is
+ * inlined). */
+TCLOD_ALWAYS_INLINE int evaluate_children(tclod_selector *sel, tclod_id b, int inside, double time,
+                                          double *reserve, double *value, int plain) {
     const tclod_scene *s = sel->scene;
     uint32_t j, first = s->child_first[b], k = child_count(s, b);
     double r = 0.0, sum = 0.0;
-    int inside = branch_inside(sel, b, reach);
     /* their sorted list, which placing them reads next, fetched while the
      * callbacks run */
     for (j = 0; j < k; j += 64u / sizeof(tclod_rh_child))
@@ -593,7 +647,7 @@ static int branch_children(tclod_selector *sel, tclod_id b, float reach, double 
                 continue;
             v = sel->scratch_key[first + j];
         } else {
-            int seen = evaluate_head(sel, c, inside, &v);
+            int seen = evaluate_head(sel, c, inside, plain, &v);
             if (seen < 0)
                 return -1;
             sel->scratch_key[first + j] = seen ? v : -1.0; /* -1: culled */
@@ -612,23 +666,34 @@ static int branch_children(tclod_selector *sel, tclod_id b, float reach, double 
     return isfinite(r);
 }
 
+/* evaluate_children, in a copy of its own for plain_heads. */
+static int branch_children(tclod_selector *sel, tclod_id b, int inside, double time,
+                           double *reserve, double *value) {
+    if (sel->resume.plain)
+        return evaluate_children(sel, b, inside, time, reserve, value, 1);
+    return evaluate_children(sel, b, inside, time, reserve, value, 0);
+}
+
 /* The instance of value `value` starting at visible node `head` (its chain
  * ch) with `time`, which covers its first level: its finest affordable level
  * in *level and what refining it further would add in *step (HUGE_VAL: it
  * cannot). When that level is a branch whose children's simplest levels all
  * fit, returns 1 with the children's summed simplest cost in *reserve and
  * their value in *children (branch_children); else 0 (the level is drawn);
- * -1 on a strict error. */
-static inline int place_chain(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch,
-                              double time, tclod_id *level, double *step, double *reserve,
-                              double *children) {
+ * -1 on a strict error. *inside: on entry whether the reach sphere of the
+ * branch above head lies inside the frustum (0 when not known), then whether
+ * the level's does (TCLOD_RH_NESTED, or else branch_inside). */
+TCLOD_ALWAYS_INLINE int place_chain(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch,
+                                    double time, tclod_id *level, double *step, double *reserve,
+                                    double *children, int *inside) {
     int refine;
     if (finest_level(sel, head, ch, time, level, step) != 0)
         return -1;
     sel->stats.iterations++;
     if (!(ch->flags & TCLOD_RH_BRANCH) || *level != chain_node(sel, head, ch, ch->len - 1u))
         return 0;
-    refine = branch_children(sel, *level, ch->reach, time, reserve, children);
+    *inside = (*inside && (ch->flags & TCLOD_RH_NESTED)) || branch_inside(sel, *level, ch->reach);
+    refine = branch_children(sel, *level, *inside, time, reserve, children);
     if (refine == 0)
         *step = *reserve - sel->node[*level].cost;
     return refine;
@@ -650,7 +715,8 @@ static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *
     double step, reserve, children;
     uint32_t top = 0;
     tclod_id level;
-    int refine = place_chain(sel, head, ch, time, &level, &step, &reserve, &children);
+    int inside = 0; /* not known above an instance of cycle 2 or 3 */
+    int refine = place_chain(sel, head, ch, time, &level, &step, &reserve, &children, &inside);
     if (refine < 0)
         return -1;
     if (!refine) {
@@ -674,6 +740,7 @@ static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *
             f->value_left = children;
             f->alloc = time;
             f->base = top > 1u ? sel->node[head].cost : 0.0;
+            f->inside = inside;
             refine = 0;
         }
         f = &stack[top - 1u];
@@ -693,8 +760,9 @@ static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *
             share = share > extra ? extra : (share > 0.0 ? share : 0.0);
             value_left -= v;
             base = sel->node[id].cost;
-            refine =
-                place_chain(sel, id, &c->chain, base + share, &level, &step, &reserve, &children);
+            inside = f->inside;
+            refine = place_chain(sel, id, &c->chain, base + share, &level, &step, &reserve,
+                                 &children, &inside);
             if (refine < 0)
                 return -1;
             if (refine) {
@@ -759,7 +827,7 @@ static double smooth_value(tclod_selector *sel, uint32_t pos) {
     q.distance = distance;
     q.members = s->smooth_order + pos;
     q.bounds = b;
-    importance = importance_of(sel, &q, benefit);
+    importance = importance_of(sel, &q, benefit, 0);
     if (importance < 0.0)
         return -1.0;
     return importance > 0.0 ? instance_value(sel, b, importance) : 0.0;
@@ -891,7 +959,7 @@ static int values(tclod_selector *sel, double *total) {
         uint32_t id = sel->rh_order[k];
         double v;
         if (id < s->node_count) {
-            if (evaluate_head(sel, id, 0, &v) < 0)
+            if (evaluate_head(sel, id, 0, 0, &v) < 0)
                 return -1;
         } else {
             v = smooth_value(sel, id - s->node_count);
@@ -933,6 +1001,7 @@ static int robin_hood_start(tclod_selector *sel) {
     sel->reserved = 0.0;
     if (values(sel, &total) != 0)
         return -1;
+    R->plain = plain_heads(sel);
     R->pool = isinf(budget) ? budget : budget - BUDGET_MARGIN * budget;
     R->value_left = total;
     R->limited = 0;

@@ -241,6 +241,41 @@ static void a_chain_of_more_than_255_levels_takes_its_finest_affordable_level(vo
     tclod_selector_destroy(sel);
 }
 
+/* Budget B: chain K (levels 0.5 and 1, value 0.75 / B) goes first, its
+ * share B (1 - 1e-9) 0.75 / (B + 0.75) (the pass keeps 1e-9 B back), about
+ * 0.75, taking level 0; then S (one level, B - 1.3, value 1) takes all
+ * but the last 0.8 - 1e-9 B. K's step 0.5 fits that leftover; it is shared
+ * out again only when it is at least 5 10^-4 of the budget. Returns the
+ * cut's cost. */
+static double leftover_against_the_budget(helper_fixture *f, double budget, tclod_id *k) {
+    static const double ck[2] = {0.5, 1.0};
+    double cs[1];
+    tclod_selector *sel;
+    tclod_stats st;
+    cs[0] = budget - 1.3;
+    *k = add_chain(f, 0.75 / budget, ck, 2);
+    (void)add_chain(f, 1.0, cs, 1);
+    sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
+    select_rh(sel, NULL, budget, &st);
+    assert_true(listed(sel, *k) || listed(sel, *k + 1u));
+    tclod_selector_destroy(sel);
+    return st.cost;
+}
+
+/* B = 2000: the leftover 0.8 is below 5 10^-4 B = 1 and stays unused. */
+static void a_leftover_below_a_2000th_of_the_budget_is_not_shared_again(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id k;
+    assert_true(leftover_against_the_budget(f, 2000.0, &k) == 0.5 + (2000.0 - 1.3));
+}
+
+/* B = 1000: the leftover 0.8 is above 5 10^-4 B = 0.5, and K takes level 1. */
+static void a_leftover_of_a_2000th_of_the_budget_is_shared_again(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id k;
+    assert_true(leftover_against_the_budget(f, 1000.0, &k) == 1.0 + (1000.0 - 1.3));
+}
+
 /* Values 3 : 1 share 8 as 6 : 2. Chains with levels 1, 2, 6 (value 3) and
  * 1, 2, 6 (value 1): the first takes 6, the second 2. */
 static void shares_follow_the_values(void **state) {
@@ -372,6 +407,59 @@ static void a_branch_shares_its_time_among_its_children(void **state) {
     assert_true(listed(sel, r));
     assert_true(st.cost == 1.0);
     tclod_selector_destroy(sel);
+}
+
+/* A host's benefit: the table's, and 0 (not visible) where the node's
+ * bounds lie outside the frustum (screen area 0), as an engine culls. */
+static double culling_benefit(void *user, const tclod_query *q) {
+    return q->screen_area == 0.0f ? 0.0 : table_benefit(user, q);
+}
+
+static double unit_importance(void *user, const tclod_query *q) {
+    (void)user;
+    (void)q;
+    return 1.0;
+}
+
+/* Under the reference view (90 degrees, far plane 100) root R at depth 50
+ * has children A and B one unit and five units off its centre, so the sphere
+ * that holds them (radius 6) lies inside the frustum; A's children are G1,
+ * at A's centre, and G2, 100 units to the side, outside the frustum. A's
+ * children's sphere does not lie within R's, so G2 still needs its frustum
+ * test below a root found inside: it is culled, and the cut draws G1 and B
+ * (every node costs 1, budget 10). With or without an importance callback
+ * (the two ways a child is evaluated). */
+static void a_child_outside_the_frustum_is_culled_below_a_branch_inside_it(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const float br[4] = {0.0f, 0.0f, -50.0f, 10.0f}, ba[4] = {0.0f, 0.0f, -50.0f, 1.0f},
+                       bb[4] = {5.0f, 0.0f, -50.0f, 1.0f}, bg2[4] = {100.0f, 0.0f, -50.0f, 1.0f};
+    tclod_id r, a, b, g1, g2;
+    tclod_view view;
+    tclod_stats st;
+    int with_importance;
+    assert_int_equal(table_add_node(&f->model, f->scene, TCLOD_NONE, br, 1.0, 1.0, &r), TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, r, ba, 1.0, 1.0, &a), TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, r, bb, 1.0, 1.0, &b), TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, a, ba, 1.0, 1.0, &g1), TCLOD_OK);
+    assert_int_equal(table_add_node(&f->model, f->scene, a, bg2, 1.0, 1.0, &g2), TCLOD_OK);
+    helper_view(&view);
+    for (with_importance = 0; with_importance < 2; ++with_importance) {
+        tclod_selector_desc d;
+        tclod_selector *sel = NULL;
+        tclod_selector_desc_default(&d);
+        d.solver = TCLOD_SOLVER_ROBIN_HOOD;
+        table_mixed_callbacks(&f->model, &d.callbacks);
+        d.callbacks.benefit = culling_benefit;
+        d.callbacks.importance = with_importance ? unit_importance : NULL;
+        assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+        select_rh(sel, &view, 10.0, &st);
+        assert_true(listed(sel, g1));
+        assert_true(listed(sel, b));
+        assert_false(listed(sel, g2));
+        assert_false(listed(sel, a));
+        assert_true(st.cost == 2.0);
+        tclod_selector_destroy(sel);
+    }
 }
 
 /* ---- value functions (eq. 8-11) ----------------------------------------------- */
@@ -812,7 +900,10 @@ int main(void) {
         FIXTURE_TEST(an_instance_whose_simplest_level_exceeds_its_share_is_dropped),
         FIXTURE_TEST(the_coarsest_policy_draws_a_misfit_the_time_left_covers),
         FIXTURE_TEST(smooth_objects_take_the_resolution_their_share_buys),
+        FIXTURE_TEST(a_leftover_below_a_2000th_of_the_budget_is_not_shared_again),
+        FIXTURE_TEST(a_leftover_of_a_2000th_of_the_budget_is_shared_again),
         FIXTURE_TEST(a_branch_shares_its_time_among_its_children),
+        FIXTURE_TEST(a_child_outside_the_frustum_is_culled_below_a_branch_inside_it),
         cmocka_unit_test(value_functions_match_seed_003),
         FIXTURE_TEST(values_follow_the_view),
         FIXTURE_TEST(area_sqrt_depth_shares_follow_the_depth_not_the_distance),
