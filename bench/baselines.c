@@ -21,7 +21,7 @@
 
 typedef struct baseline_view {
     double eye[3], forward[3], up[3], right[3];
-    double cos_y, sin_y, cos_x, sin_x, near_z, far_z, focal_px, viewport_area;
+    double cos_y, sin_y, cos_x, sin_x, near_z, far_z, pi_focal2, viewport_area;
 } baseline_view;
 
 typedef struct baseline_entry {
@@ -72,6 +72,7 @@ static void bl_normalize(double v[3]) {
 static void bl_view_init(baseline_view *c, const tclod_view *v) {
     double half_y = 0.5 * (double)v->fov_y;
     double half_x = atan((double)v->aspect * tan(half_y));
+    double focal = 0.5 * (double)v->viewport_height / tan(half_y);
     int i;
     for (i = 0; i < 3; ++i) {
         c->eye[i] = (double)v->eye[i];
@@ -88,7 +89,7 @@ static void bl_view_init(baseline_view *c, const tclod_view *v) {
     c->sin_x = sin(half_x);
     c->near_z = (double)v->near_z;
     c->far_z = (double)v->far_z;
-    c->focal_px = 0.5 * (double)v->viewport_height / tan(half_y);
+    c->pi_focal2 = BASELINE_PI * focal * focal;
     c->viewport_area = (double)v->viewport_height * (double)v->viewport_height * (double)v->aspect;
 }
 
@@ -110,8 +111,7 @@ static void bl_measure(const baseline_view *c, const float *bounds, float *area,
     if (d2 <= r * r) {
         *area = (float)c->viewport_area;
     } else {
-        double rpx = c->focal_px * r / sqrt(d2 - r * r);
-        double a = BASELINE_PI * rpx * rpx;
+        double a = c->pi_focal2 * (r * r) / (d2 - r * r); /* as the library's view cache */
         *area = (float)(a < c->viewport_area ? a : c->viewport_area);
     }
 }

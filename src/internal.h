@@ -118,7 +118,7 @@ typedef struct tclod_view_cache {
     double cos_y, sin_y; /* of half the vertical field of view */
     double cos_x, sin_x; /* of half the horizontal field of view */
     double near_z, far_z;
-    double focal_px;      /* (viewport_height / 2) / tan(fov_y / 2) */
+    double pi_focal2;     /* pi f², f = (viewport_height / 2) / tan(fov_y / 2) */
     double viewport_area; /* viewport_height² * aspect */
 } tclod_view_cache;
 
@@ -161,11 +161,10 @@ static inline int tclod_view_cache_inside(const tclod_view_cache *c, const doubl
 /* Projected area in px² of a sphere of radius r whose centre is d2 away from
  * the eye, squared; clamped to the viewport. */
 static inline double tclod_view_cache_area(const tclod_view_cache *c, double d2, double r) {
-    double r2 = r * r, rpx, area;
+    double r2 = r * r, area;
     if (d2 <= r2)
         return c->viewport_area;
-    rpx = c->focal_px * r / sqrt(d2 - r2);
-    area = 3.14159265358979323846 * rpx * rpx;
+    area = c->pi_focal2 * r2 / (d2 - r2);
     return area < c->viewport_area ? area : c->viewport_area;
 }
 

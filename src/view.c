@@ -10,7 +10,8 @@
  * vectors); a sphere is outside when that distance exceeds its radius. The left
  * and right planes are the same with x and the horizontal half-angle. The
  * projected radius of a sphere seen at distance d is r / sqrt(d² - r²) (the
- * tangent of its angular radius) times the focal length in pixels.
+ * tangent of its angular radius) times the focal length f in pixels, so its
+ * projected area is pi f² r² / (d² - r²), with no square root.
  */
 #include "internal.h"
 
@@ -69,7 +70,7 @@ tclod_status tclod_view_validate(const tclod_view *v) {
 
 void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v) {
     double half_y = 0.5 * (double)v->fov_y;
-    double half_x = atan((double)v->aspect * tan(half_y));
+    double half_x = atan((double)v->aspect * tan(half_y)), focal;
     load3(v->eye, c->eye);
     load3(v->forward, c->forward);
     load3(v->up, c->up);
@@ -83,7 +84,8 @@ void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v) {
     c->sin_x = sin(half_x);
     c->near_z = (double)v->near_z;
     c->far_z = (double)v->far_z;
-    c->focal_px = 0.5 * (double)v->viewport_height / tan(half_y);
+    focal = 0.5 * (double)v->viewport_height / tan(half_y);
+    c->pi_focal2 = 3.14159265358979323846 * focal * focal;
     c->viewport_area = (double)v->viewport_height * (double)v->viewport_height * (double)v->aspect;
 }
 
