@@ -667,8 +667,8 @@ TCLOD_ALWAYS_INLINE int evaluate_children(tclod_selector *sel, tclod_id b, int i
 }
 
 /* evaluate_children, in a copy of its own for plain_heads. */
-static int branch_children(tclod_selector *sel, tclod_id b, int inside, double time,
-                           double *reserve, double *value) {
+TCLOD_ALWAYS_INLINE int branch_children(tclod_selector *sel, tclod_id b, int inside, double time,
+                                        double *reserve, double *value) {
     if (sel->resume.plain)
         return evaluate_children(sel, b, inside, time, reserve, value, 1);
     return evaluate_children(sel, b, inside, time, reserve, value, 0);
