@@ -36,16 +36,25 @@ static tclod_id add_chain(helper_fixture *f, double value, const double *costs, 
     return first;
 }
 
+/* The defaults with the Robin Hood solver and the table's callbacks. */
+static void rh_desc(helper_fixture *f, tclod_selector_desc *d) {
+    tclod_selector_desc_default(d);
+    d->solver = TCLOD_SOLVER_ROBIN_HOOD;
+    table_mixed_callbacks(&f->model, &d->callbacks);
+}
+
+static tclod_selector *rh_create(helper_fixture *f, const tclod_selector_desc *d) {
+    tclod_selector *sel = NULL;
+    assert_int_equal(tclod_selector_create(f->scene, d, NULL, &sel), TCLOD_OK);
+    return sel;
+}
+
 static tclod_selector *rh_selector(helper_fixture *f, tclod_value value, tclod_misfit misfit) {
     tclod_selector_desc d;
-    tclod_selector *sel = NULL;
-    tclod_selector_desc_default(&d);
-    d.solver = TCLOD_SOLVER_ROBIN_HOOD;
-    table_mixed_callbacks(&f->model, &d.callbacks);
+    rh_desc(f, &d);
     d.value = value;
     d.misfit = misfit;
-    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
-    return sel;
+    return rh_create(f, &d);
 }
 
 static void select_rh(tclod_selector *sel, const tclod_view *view, double budget, tclod_stats *st) {
@@ -131,14 +140,10 @@ static double reversed_complexity(void *user, const tclod_query *q) {
  * reversed_complexity. */
 static tclod_selector *reversed_selector(helper_fixture *f) {
     tclod_selector_desc d;
-    tclod_selector *sel = NULL;
-    tclod_selector_desc_default(&d);
-    d.solver = TCLOD_SOLVER_ROBIN_HOOD;
-    table_mixed_callbacks(&f->model, &d.callbacks);
+    rh_desc(f, &d);
     d.callbacks.complexity = reversed_complexity;
     d.value = TCLOD_VALUE_BENEFIT;
-    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
-    return sel;
+    return rh_create(f, &d);
 }
 
 static void instances_are_visited_simple_to_complex(void **state) {
@@ -324,21 +329,19 @@ static void the_coarsest_policy_draws_a_misfit_the_time_left_covers(void **state
     tclod_selector_desc d;
     tclod_selector *sel;
     tclod_stats st;
-    tclod_selector_desc_default(&d);
-    d.solver = TCLOD_SOLVER_ROBIN_HOOD;
-    table_mixed_callbacks(&f->model, &d.callbacks);
+    rh_desc(f, &d);
     d.callbacks.complexity = reversed_complexity; /* id 0 (x) first */
     d.value = TCLOD_VALUE_BENEFIT;
 
     d.misfit = TCLOD_MISFIT_DROP;
-    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    sel = rh_create(f, &d);
     select_rh(sel, NULL, 4.0, &st);
     assert_false(listed(sel, x));
     assert_true(listed(sel, y));
     tclod_selector_destroy(sel);
 
     d.misfit = TCLOD_MISFIT_COARSEST;
-    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    sel = rh_create(f, &d);
     select_rh(sel, NULL, 4.0, &st);
     assert_true(listed(sel, x));
     assert_false(listed(sel, y));
@@ -445,13 +448,11 @@ static void a_child_outside_the_frustum_is_culled_below_a_branch_inside_it(void 
     helper_view(&view);
     for (with_importance = 0; with_importance < 2; ++with_importance) {
         tclod_selector_desc d;
-        tclod_selector *sel = NULL;
-        tclod_selector_desc_default(&d);
-        d.solver = TCLOD_SOLVER_ROBIN_HOOD;
-        table_mixed_callbacks(&f->model, &d.callbacks);
+        tclod_selector *sel;
+        rh_desc(f, &d);
         d.callbacks.benefit = culling_benefit;
         d.callbacks.importance = with_importance ? unit_importance : NULL;
-        assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+        sel = rh_create(f, &d);
         select_rh(sel, &view, 10.0, &st);
         assert_true(listed(sel, g1));
         assert_true(listed(sel, b));
@@ -624,14 +625,12 @@ static double test_importance(void *user, const tclod_query *q) {
 
 static tclod_selector *importance_selector(helper_fixture *f, tclod_value value, int strict) {
     tclod_selector_desc d;
-    tclod_selector *sel = NULL;
-    tclod_selector_desc_default(&d);
-    d.solver = TCLOD_SOLVER_ROBIN_HOOD;
-    table_mixed_callbacks(&f->model, &d.callbacks);
+    tclod_selector *sel;
+    rh_desc(f, &d);
     d.callbacks.importance = test_importance;
     d.value = value;
     d.strict = strict;
-    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    sel = rh_create(f, &d);
     importance_calls = 0;
     return sel;
 }
@@ -856,12 +855,10 @@ static void budget_holds_on_random_scenes(void **state) {
                                               table_rng_uniform(&rng, 0.0, 0.1), NULL),
                              TCLOD_OK);
         }
-        tclod_selector_desc_default(&d);
-        d.solver = TCLOD_SOLVER_ROBIN_HOOD;
-        table_mixed_callbacks(&f->model, &d.callbacks);
+        rh_desc(f, &d);
         d.value = (tclod_value)table_rng_below(&rng, 5);
         d.misfit = (tclod_misfit)table_rng_below(&rng, 2);
-        assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+        sel = rh_create(f, &d);
         budget = table_rng_uniform(&rng, 0.0, 40.0);
         helper_view(&view);
         select_rh(sel, table_rng_below(&rng, 2) ? &view : NULL, budget, &st);
