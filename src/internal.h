@@ -103,12 +103,19 @@ struct tclod_scene {
 #define TCLOD_ALWAYS_INLINE static inline
 #endif
 
-/* A hint to fetch the cache line at p; nothing where the compiler has none. */
+/* A hint to fetch the cache line at p (to write it: _WRITE); nothing where
+ * the compiler has none. */
 #if defined(__GNUC__) || defined(__clang__)
 #define TCLOD_PREFETCH(p) __builtin_prefetch(p)
+#define TCLOD_PREFETCH_WRITE(p) __builtin_prefetch(p, 1)
 #else
 #define TCLOD_PREFETCH(p) ((void)0)
+#define TCLOD_PREFETCH_WRITE(p) ((void)0)
 #endif
+/* How many slots ahead a walk over the cut fetches the node record it will
+ * read: the cut lists nodes in no order of id, so each is a miss of its own
+ * once the nodes outgrow the cache (docs/robin_hood.md, memory). */
+#define TCLOD_CUT_AHEAD 16u
 
 /* ---- view.c ---------------------------------------------------------------- */
 

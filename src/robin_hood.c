@@ -43,6 +43,9 @@
 /* At most this many passes share the leftover out again: each takes most of
  * what is left, the smooth objects whatever the nodes' whole steps leave. */
 #define REFILL_PASSES 16u
+/* How many instances ahead the walks over the order fetch the records of the
+ * next ones (fetch_instance). */
+#define ORDER_AHEAD 8u
 
 static inline int visible(const tclod_selector *sel, tclod_id n) {
     return sel->node[n].benefit > 0.0;
@@ -470,6 +473,8 @@ static void cut_clear(tclod_selector *sel) {
     uint8_t *flags = sel->flags;
     uint32_t i, count = sel->cut_count;
     for (i = 0; i < count; ++i) {
+        if (i + TCLOD_CUT_AHEAD < count)
+            TCLOD_PREFETCH(&node[cut[i + TCLOD_CUT_AHEAD]]);
         node[cut[i]].cut_pos = TCLOD_NONE;
         flags[cut[i]] = 0;
     }
@@ -632,11 +637,21 @@ TCLOD_ALWAYS_INLINE int evaluate_children(tclod_selector *sel, tclod_id b, int i
     const tclod_scene *s = sel->scene;
     uint32_t j, first = s->child_first[b], k = child_count(s, b);
     double r = 0.0, sum = 0.0;
-    /* their sorted list, which placing them reads next, fetched while the
-     * callbacks run */
+    /* what the loop below and the placement after it will read, fetched all
+     * at once so that the misses overlap instead of coming one child at a
+     * time (docs/robin_hood.md, memory): their sorted list, their values'
+     * slots and, per child, its bounds and the records of its first levels */
     for (j = 0; j < k; j += 64u / sizeof(tclod_rh_child))
         TCLOD_PREFETCH(&sel->rh_child[first + j]);
     TCLOD_PREFETCH(&sel->rh_child[first + k - 1u]);
+    for (j = 0; j < k; j += 64u / sizeof(double))
+        TCLOD_PREFETCH_WRITE(&sel->scratch_key[first + j]);
+    for (j = 0; j < k; ++j) {
+        tclod_id c = s->children[first + j];
+        TCLOD_PREFETCH_WRITE(&sel->node[c]);
+        TCLOD_PREFETCH_WRITE((const char *)&sel->node[c] + 64);
+        TCLOD_PREFETCH(&s->bounds[4u * c]);
+    }
     for (j = 0; j < k; ++j) {
         tclod_id c = s->children[first + j];
         double v;
@@ -949,6 +964,23 @@ static int finish(tclod_selector *sel) {
     return tclod_greedy_enforce(sel);
 }
 
+/* The node records that cycle 1 (`evaluating`: with the bounds) or cycle 2
+ * (with the chain) will read for the instance at position k of the order,
+ * if it is a node: the order lists them by complexity, in no order of id, so
+ * each is a miss of its own once the nodes outgrow the cache. */
+static inline void fetch_instance(const tclod_selector *sel, uint32_t k, int evaluating) {
+    uint32_t id;
+    if (k >= sel->rh_order_count || (id = sel->rh_order[k]) >= sel->scene->node_count)
+        return;
+    if (evaluating) {
+        TCLOD_PREFETCH_WRITE(&sel->node[id]);
+        TCLOD_PREFETCH(&sel->scene->bounds[4u * id]);
+    } else {
+        TCLOD_PREFETCH(&sel->node[id]);
+        TCLOD_PREFETCH(&sel->rh_chains[id]);
+    }
+}
+
 /* Cycle 1 of §5.2: the value of every instance (0: not drawn) into rh_key,
  * and their total. */
 static int values(tclod_selector *sel, double *total) {
@@ -958,6 +990,7 @@ static int values(tclod_selector *sel, double *total) {
     for (k = 0; k < sel->rh_order_count; ++k) {
         uint32_t id = sel->rh_order[k];
         double v;
+        fetch_instance(sel, k + ORDER_AHEAD, 1);
         if (id < s->node_count) {
             if (evaluate_head(sel, id, 0, 0, &v) < 0)
                 return -1;
@@ -1035,6 +1068,7 @@ static int share_out(tclod_selector *sel) {
         uint32_t id = sel->rh_order[R->k];
         double v = sel->rh_key[R->k], share, used = 0.0;
         int stopped;
+        fetch_instance(sel, R->k + ORDER_AHEAD, 0);
         if (!sel->stopped && tclod_out_of_time(sel) && sel->paused)
             return 0;
         stopped = sel->stopped;

@@ -377,6 +377,8 @@ static void commit(tclod_selector *sel) {
     count = sel->cut_count;
     for (i = 0; i < count; ++i) {
         tclod_id id = cut[i];
+        if (i + TCLOD_CUT_AHEAD < count)
+            TCLOD_PREFETCH(&node[cut[i + TCLOD_CUT_AHEAD]]);
         if (!(node[id].benefit > 0.0) || (flags[id] & TCLOD_FLAG_DROPPED))
             continue;
         result[n++] = id;
