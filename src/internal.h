@@ -246,16 +246,18 @@ typedef struct tclod_var_model {
     double ldc0, ldc1, lsetup; /* ln dc0, ln dc1 and ln (c1 - dc1), where positive */
 } tclod_var_model;
 
-/* A node whose children share the time of the instance that ended at it. */
 /* The chain of single children starting at a node (an instance): where its
  * nodes lie in rh_chain, how many there are, and what prepare found out about
  * them once, so that a solve need not look again (TCLOD_RH_*). */
 typedef struct tclod_rh_chain {
     uint32_t at, len;
     uint32_t flags;
-    float reach; /* a branch: every bounded child lies within this distance of the
-                    last level's centre (rounded up); -1 when that level has no
-                    bounds */
+    float reach;           /* a branch: every bounded child lies within this distance of
+                              the last level's centre (rounded up); -1 when that level
+                              has no bounds */
+    uint32_t first, count; /* a branch: its children's range in the scene's children[]
+                              (and in rh_child), so that placing them reads no
+                              child_first[]; else 0, 0 */
 } tclod_rh_chain;
 enum {
     TCLOD_RH_CONSECUTIVE = 1u, /* level k is node head + k (rh_chain need not be read) */
@@ -272,8 +274,9 @@ typedef struct tclod_rh_child {
     tclod_rh_chain chain;
 } tclod_rh_child;
 
+/* A branch whose children share the time of the instance that ended at it,
+ * while they are placed. */
 typedef struct tclod_rh_frame {
-    tclod_id branch;    /* the node */
     uint32_t next, end; /* its next child to place and the end of its children, as
                            positions in rh_child (the scene's child range) */
     double extra;       /* time left beyond the children's simplest levels */

@@ -379,9 +379,12 @@ static void prepare(tclod_selector *sel) {
                 break;
         }
         ch->reach = -1.0f;
+        ch->first = ch->count = 0;
         if (child_count(s, m) > 1u) {
             ch->flags |= TCLOD_RH_BRANCH;
             ch->reach = branch_reach(s, m);
+            ch->first = s->child_first[m];
+            ch->count = child_count(s, m);
         }
         ch->len = used - ch->at;
         sel->rh_key[id] = node_complexity(sel, id, m);
@@ -623,19 +626,19 @@ static int branch_inside(const tclod_selector *sel, tclod_id b, float reach) {
     return tclod_view_cache_inside(&sel->view, p, (double)reach);
 }
 
-/* The children of branching node b, evaluated in id order while the summed
- * cost of their simplest levels, *reserve, is at most `time` (invisible
- * children: none); `inside`: b's reach sphere lies inside the frustum
- * (branch_inside), so they need no frustum test. Returns 1 when all of them
- * fit, with each child's value in scratch_key[slot] (its slot in the scene's
- * children[]; -1 when it is not visible) and the visible ones' sum in *value;
- * 0 when they do not (*reserve is then a lower bound of their cost); -1 on a
- * strict error. `plain`: plain_heads(sel) holds (a constant where it is
- * inlined). */
-TCLOD_ALWAYS_INLINE int evaluate_children(tclod_selector *sel, tclod_id b, int inside, double time,
-                                          double *reserve, double *value, int plain) {
+/* The children of the branch b that ends chain ch (ch->first, ch->count),
+ * evaluated in id order while the summed cost of their simplest levels,
+ * *reserve, is at most `time` (invisible children: none); `inside`: b's
+ * reach sphere lies inside the frustum (branch_inside), so they need no
+ * frustum test. Returns 1 when all of them fit, with each child's value in
+ * scratch_key[slot] (its slot in the scene's children[]; -1 when it is not
+ * visible) and the visible ones' sum in *value; 0 when they do not
+ * (*reserve is then a lower bound of their cost); -1 on a strict error.
+ * `plain`: plain_heads(sel) holds (a constant where it is inlined). */
+TCLOD_ALWAYS_INLINE int evaluate_children(tclod_selector *sel, const tclod_rh_chain *ch, int inside,
+                                          double time, double *reserve, double *value, int plain) {
     const tclod_scene *s = sel->scene;
-    uint32_t j, first = s->child_first[b], k = child_count(s, b);
+    uint32_t j, first = ch->first, k = ch->count;
     double r = 0.0, sum = 0.0;
     /* what the loop below and the placement after it will read, fetched all
      * at once so that the misses overlap instead of coming one child at a
@@ -682,11 +685,11 @@ TCLOD_ALWAYS_INLINE int evaluate_children(tclod_selector *sel, tclod_id b, int i
 }
 
 /* evaluate_children, in a copy of its own for plain_heads. */
-TCLOD_ALWAYS_INLINE int branch_children(tclod_selector *sel, tclod_id b, int inside, double time,
-                                        double *reserve, double *value) {
+TCLOD_ALWAYS_INLINE int branch_children(tclod_selector *sel, const tclod_rh_chain *ch, int inside,
+                                        double time, double *reserve, double *value) {
     if (sel->resume.plain)
-        return evaluate_children(sel, b, inside, time, reserve, value, 1);
-    return evaluate_children(sel, b, inside, time, reserve, value, 0);
+        return evaluate_children(sel, ch, inside, time, reserve, value, 1);
+    return evaluate_children(sel, ch, inside, time, reserve, value, 0);
 }
 
 /* The instance of value `value` starting at visible node `head` (its chain
@@ -708,10 +711,27 @@ TCLOD_ALWAYS_INLINE int place_chain(tclod_selector *sel, tclod_id head, const tc
     if (!(ch->flags & TCLOD_RH_BRANCH) || *level != chain_node(sel, head, ch, ch->len - 1u))
         return 0;
     *inside = (*inside && (ch->flags & TCLOD_RH_NESTED)) || branch_inside(sel, *level, ch->reach);
-    refine = branch_children(sel, *level, *inside, time, reserve, children);
+    refine = branch_children(sel, ch, *inside, time, reserve, children);
     if (refine == 0)
         *step = *reserve - sel->node[*level].cost;
     return refine;
+}
+
+/* The first lines of the children's lists (the scene's and the sorted one)
+ * of the branches that end the chains of the children at positions first ..
+ * end of rh_child: what their evaluation reads first, anywhere in memory.
+ * Fetched while the earlier siblings are placed, so that a branch that
+ * refines waits for one miss (its children's records) instead of two
+ * (docs/robin_hood.md, memory). */
+static inline void fetch_branches(const tclod_selector *sel, uint32_t first, uint32_t end) {
+    uint32_t j;
+    for (j = first; j < end; ++j) {
+        const tclod_rh_chain *ch = &sel->rh_child[j].chain;
+        if (ch->flags & TCLOD_RH_BRANCH) {
+            TCLOD_PREFETCH(&sel->scene->children[ch->first]);
+            TCLOD_PREFETCH(&sel->rh_child[ch->first]);
+        }
+    }
 }
 
 /* Places the instance of value `value` starting at visible node `head` (its
@@ -724,7 +744,6 @@ TCLOD_ALWAYS_INLINE int place_chain(tclod_selector *sel, tclod_id head, const tc
  * time used in *used; -1 on a strict error. */
 static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch, double value,
                       double time, double *used) {
-    const tclod_scene *s = sel->scene;
     tclod_rh_frame *stack = sel->rh_stack;
     double *costs = cut_costs(sel);
     double step, reserve, children;
@@ -746,11 +765,11 @@ static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *
         tclod_rh_frame *f;
         uint32_t next, end;
         double extra, value_left;
-        if (refine) { /* the children of `level` become instances sharing `time` */
+        if (refine) { /* the children of `level` (ch's end) become instances sharing `time` */
             f = &stack[top++];
-            f->branch = level;
-            f->next = s->child_first[level];
-            f->end = s->child_first[level + 1u];
+            f->next = ch->first;
+            f->end = ch->first + ch->count;
+            fetch_branches(sel, f->next, f->end);
             f->extra = time - reserve;
             f->value_left = children;
             f->alloc = time;
@@ -782,6 +801,7 @@ static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *
                 return -1;
             if (refine) {
                 head = id;
+                ch = &c->chain;
                 time = base + share;
                 ++next;
                 break;
