@@ -652,7 +652,8 @@ TCLOD_ALWAYS_INLINE int evaluate_children(tclod_selector *sel, const tclod_rh_ch
     for (j = 0; j < k; ++j) {
         tclod_id c = s->children[first + j];
         TCLOD_PREFETCH_WRITE(&sel->node[c]);
-        TCLOD_PREFETCH_WRITE((const char *)&sel->node[c] + 64);
+        /* the next line, by address: it may lie past the array's end */
+        TCLOD_PREFETCH_WRITE((const void *)((uintptr_t)&sel->node[c] + 64u));
         TCLOD_PREFETCH(&s->bounds[4u * c]);
     }
     for (j = 0; j < k; ++j) {
