@@ -192,6 +192,36 @@ static void a_scene_change_orders_the_instances_again(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* A branch's children are found again when the scene changes: roots R1 and
+ * R2 (cost 1), each with two children of cost 1, equal values, budget 10.
+ * Each root's share 5 covers its children's 2, so the cut is R1's A, B and
+ * R2's D, E, cost 4. A third child C of R1 (cost 1) moves R2's children one
+ * place on in the scene's child list; R1's share 5 still covers its three
+ * children's 3, so the cut is A, B, C, D, E, cost 5. A child range kept from
+ * the first frame would leave C out, or read C and D as R2's children. */
+static void a_scene_change_finds_the_branches_children_again(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id r1 = helper_add(f, TCLOD_NONE, 1.0, 1.0), a = helper_add(f, r1, 1.0, 1.0),
+             b = helper_add(f, r1, 1.0, 1.0), r2 = helper_add(f, TCLOD_NONE, 1.0, 1.0),
+             d = helper_add(f, r2, 1.0, 1.0), e = helper_add(f, r2, 1.0, 1.0), c;
+    tclod_selector *sel = rh_selector(f, TCLOD_VALUE_BENEFIT, TCLOD_MISFIT_DROP);
+    tclod_stats st;
+    const tclod_id *ids;
+    size_t n;
+    select_rh(sel, NULL, 10.0, &st);
+    assert_true(listed(sel, a) && listed(sel, b) && listed(sel, d) && listed(sel, e));
+    assert_true(st.cost == 4.0);
+
+    c = helper_add(f, r1, 1.0, 1.0);
+    select_rh(sel, NULL, 10.0, &st);
+    assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+    assert_int_equal(n, 5);
+    assert_true(listed(sel, a) && listed(sel, b) && listed(sel, c) && listed(sel, d) &&
+                listed(sel, e));
+    assert_true(st.cost == 5.0);
+    tclod_selector_destroy(sel);
+}
+
 /* The leftover cycle (seed 003 §7.2): K (levels 2, 9) and S (one level costing
  * 1), equal values, budget 10, K visited first. K's share 5 takes its level
  * 0, S's share 8 takes 1 and leaves 7: K's next step (9 - 2 = 7) fits the
@@ -891,6 +921,7 @@ int main(void) {
         FIXTURE_TEST(leftover_of_a_simple_instance_reaches_a_complex_one),
         FIXTURE_TEST(instances_are_visited_simple_to_complex),
         FIXTURE_TEST(a_scene_change_orders_the_instances_again),
+        FIXTURE_TEST(a_scene_change_finds_the_branches_children_again),
         FIXTURE_TEST(the_leftover_refines_the_instances_that_can_refine),
         FIXTURE_TEST(shares_follow_the_values),
         FIXTURE_TEST(a_chain_of_more_than_255_levels_takes_its_finest_affordable_level),
