@@ -100,7 +100,7 @@ static void bl_measure(const baseline_view *c, const float *bounds, float *area,
     p[1] = (double)bounds[1] - c->eye[1];
     p[2] = (double)bounds[2] - c->eye[2];
     d2 = bl_dot(p, p);
-    *distance = (float)sqrt(d2);
+    *distance = (float)(sqrt(d2) > r ? sqrt(d2) - r : 0.0); /* to the sphere, as the library's */
     z = bl_dot(p, c->forward);
     if (z < c->near_z - r || z > c->far_z + r ||
         fabs(bl_dot(p, c->up)) * c->cos_y - z * c->sin_y > r ||
@@ -262,6 +262,7 @@ static void bl_query(const baseline_selector *sel, tclod_id n, tclod_query *q) {
     q->screen_area = -1.0f;
     q->distance = -1.0f;
     q->members = NULL;
+    q->bounds = NULL;
     if (sel->view != NULL && bounds != NULL && bounds[3] >= 0.0f)
         bl_measure(&sel->vc, bounds, &q->screen_area, &q->distance);
 }

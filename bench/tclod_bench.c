@@ -390,14 +390,17 @@ static double floor_evaluate(const frontier_floor *fl, world_scene *w, const tcl
     floor_view_init(&fv, view);
     for (i = 0; i < m; ++i) {
         tclod_query q;
+        tclod_bounds qb;
+        const float *b = &w->bounds[4u * fl->list[i]];
         double d2, benefit;
         q.id = fl->list[i];
         q.count = 1;
         q.view = view;
         q.members = NULL;
-        q.bounds = &w->bounds[4u * fl->list[i]];
-        q.screen_area = (float)floor_area(&fv, q.bounds, &d2);
-        q.distance = (float)sqrt(d2);
+        qb = tclod_bounds_sphere((double)b[0], (double)b[1], (double)b[2], (double)b[3]);
+        q.bounds = &qb;
+        q.screen_area = (float)floor_area(&fv, b, &d2);
+        q.distance = (float)(sqrt(d2) > (double)b[3] ? sqrt(d2) - (double)b[3] : 0.0);
         benefit = cb.benefit(cb.user, &q);
         sum += benefit > 0.0 ? benefit + cb.cost(cb.user, &q) : 0.0;
     }

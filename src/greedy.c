@@ -38,24 +38,24 @@
 /* Screen area and distance of node n's bounds in this solve. The levels of
  * one object usually share its bounds: a parent evaluated in this solve
  * already (the parent of a chain's level always is) lends its figures. */
-static void measure(const tclod_selector *sel, tclod_id n, float *area, float *distance) {
+static void measure(const tclod_selector *sel, tclod_id n, float *area, double *distance) {
     const tclod_scene *s = sel->scene;
-    const float *bounds = &s->bounds[4u * n];
+    const tclod_node_bounds *bounds = &s->bounds[n];
     tclod_id p = s->parent[n];
     if (p != TCLOD_NONE && sel->node[p].stamp == sel->solve_id &&
-        memcmp(bounds, &s->bounds[4u * p], 4u * sizeof(float)) == 0) {
+        memcmp(bounds, &s->bounds[p], sizeof *bounds) == 0) {
         *area = sel->node[p].area;
-        *distance = sel->node[p].distance;
+        *distance = (double)sel->node[p].distance;
     } else {
-        tclod_view_measure(&sel->view, bounds, area, distance);
+        tclod_view_measure_bounds(&sel->view, bounds, s->boxes, area, distance);
     }
 }
 
 /* The callbacks of node n, not evaluated in this solve yet. */
 static int evaluate_fresh(tclod_selector *sel, tclod_id n) {
-    const float *bounds = &sel->scene->bounds[4u * n];
-    float area = -1.0f, distance = -1.0f;
-    if (sel->has_view && bounds[3] >= 0.0f)
+    float area = -1.0f;
+    double distance = -1.0;
+    if (sel->has_view && sel->scene->bounds[n].r >= 0.0)
         measure(sel, n, &area, &distance);
     return tclod_evaluate_measured(sel, n, area, distance);
 }
@@ -67,6 +67,25 @@ static int evaluate(tclod_selector *sel, tclod_id n) {
 
 int tclod_evaluate_node(tclod_selector *sel, tclod_id n) {
     return evaluate(sel, n);
+}
+
+int tclod_evaluate_self(tclod_selector *sel, tclod_id n) {
+    tclod_id owner = sel->scene->up[n];
+    tclod_node_state *st = &sel->node[n];
+    const tclod_node_state *o = &sel->node[owner];
+    tclod_query *q = &sel->query;
+    if (o->stamp != sel->solve_id && evaluate_fresh(sel, owner) < 0)
+        return -1;
+    st->stamp = sel->solve_id;
+    st->benefit = o->benefit;
+    st->cost = o->cost;
+    st->area = o->area;
+    st->distance = o->distance;
+    q->id = owner;
+    q->screen_area = o->area;
+    q->distance = o->distance;
+    q->bounds = sel->scene->bounds[owner].r >= 0.0 ? tclod_query_bounds(sel, owner) : NULL;
+    return o->benefit > 0.0;
 }
 
 void tclod_bad_value(tclod_selector *sel) {
@@ -758,6 +777,23 @@ static void keep_roots(tclod_selector *sel, uint32_t n, uint32_t first) {
         account(sel, sel->cut[i], 1.0);
 }
 
+/* TCLOD_OVERFLOW_DRAW_ROOTS: every visible root in the cut stays, over the
+ * budget, but for the unaffordable ones (an infinite cost is never drawn),
+ * which are dropped. The selection is flagged over budget. */
+static void draw_roots(tclod_selector *sel) {
+    uint32_t i;
+    for (i = 0; i < sel->cut_count; ++i) {
+        tclod_id r = sel->cut[i];
+        if (!counts(sel, r) || !isinf(sel->node[r].cost))
+            continue;
+        account(sel, r, -1.0);
+        sel->flags[r] |= TCLOD_FLAG_DROPPED;
+        sel->stats.dropped_roots++;
+        unqueue_increment(sel, r);
+    }
+    sel->stats.over_budget = sel->cost_sum > cut_budget(sel);
+}
+
 /* When even the visible roots in the cut do not fit: keeps the highest value
  * (benefit / cost) roots while they fit, skipping those that do not (fill).
  * Unaffordable roots come last and are never kept. Like every ratio greedy
@@ -765,6 +801,10 @@ static void keep_roots(tclod_selector *sel, uint32_t n, uint32_t first) {
  * root that fits alone is tried as the starting point too. */
 static void drop_roots(tclod_selector *sel) {
     uint32_t n = 0, i, best = TCLOD_NONE;
+    if (sel->desc.overflow == TCLOD_OVERFLOW_DRAW_ROOTS) {
+        draw_roots(sel);
+        return;
+    }
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id r = sel->cut[i];
         double c;
@@ -874,6 +914,62 @@ static void sort_cut(tclod_selector *sel) {
         memcpy(sel->cut, a, sizeof(tclod_id) * n);
     for (i = 0; i < n; ++i)
         sel->node[sel->cut[i]].cut_pos = i;
+}
+
+/* Puts n into the cut as a node of the previous selection would be (the warm
+ * start evaluates and counts it). */
+static void cut_append(tclod_selector *sel, tclod_id n) {
+    sel->node[n].cut_pos = sel->cut_count;
+    sel->flags[n] = 0;
+    sel->cut[sel->cut_count++] = n;
+}
+
+/* After nodes were added or removed: makes the previous cut a cut of the
+ * scene's current index again, in time proportional to the selection (the
+ * cut, the nodes above it and their children) and the roots. Removed nodes
+ * leave it. The nodes above it that are left (every one is an ancestor of a
+ * node still in it) are refined: any child of theirs neither in the cut nor
+ * above it (added since, or whose own cut nodes were all removed) joins it,
+ * as does any root in neither. No ancestor of a cut node can join it, since
+ * the index only gains leaves and loses whole subtrees. */
+static void repair_cut(tclod_selector *sel) {
+    const tclod_scene *s = sel->scene;
+    tclod_node_state *node = sel->node;
+    uint8_t *flags = sel->flags;
+    uint32_t i, k = 0, above = 0;
+    for (i = 0; i < sel->cut_count; ++i) {
+        tclod_id n = sel->cut[i];
+        if (tclod_scene_indexed(s, n)) {
+            sel->cut[k] = n;
+            node[n].cut_pos = k++;
+        } else {
+            node[n].cut_pos = TCLOD_NONE;
+            flags[n] = 0;
+        }
+    }
+    sel->cut_count = k;
+    for (i = 0; i < k; ++i) {
+        tclod_id p;
+        for (p = s->parent[sel->cut[i]]; p != TCLOD_NONE && !(flags[p] & TCLOD_FLAG_ABOVE);
+             p = s->parent[p]) {
+            flags[p] |= TCLOD_FLAG_ABOVE;
+            sel->scratch[above++] = p;
+        }
+    }
+    for (i = 0; i < s->root_count; ++i) {
+        tclod_id r = s->roots[i];
+        if (node[r].cut_pos == TCLOD_NONE && !(flags[r] & TCLOD_FLAG_ABOVE))
+            cut_append(sel, r);
+    }
+    for (i = 0; i < above; ++i) {
+        uint32_t count, j;
+        const tclod_id *ch = children_of(sel, sel->scratch[i], &count);
+        for (j = 0; j < count; ++j)
+            if (node[ch[j]].cut_pos == TCLOD_NONE && !(flags[ch[j]] & TCLOD_FLAG_ABOVE))
+                cut_append(sel, ch[j]);
+    }
+    for (i = 0; i < above; ++i)
+        flags[sel->scratch[i]] &= (uint8_t)~TCLOD_FLAG_ABOVE;
 }
 
 /* Cut = the previous cut, re-evaluated; queues its increments and decrements. */
@@ -1226,6 +1322,8 @@ static int start_decided(tclod_selector *sel) {
  * none is left, by leaving out roots one at a time. */
 static int enforce_budget(tclod_selector *sel, int dec_built) {
     const tclod_scene *s = sel->scene;
+    if (sel->stats.over_budget)
+        return 0; /* the roots alone exceed the budget, and overflow draws them */
     for (;;) {
         double sum = 0.0;
         uint32_t i;
@@ -1297,6 +1395,8 @@ static int greedy_start(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     R->warm = sel->desc.warm_start && sel->has_cut;
     R->skipped = 0;
+    if (R->warm && sel->node_version != sel->scene->node_version)
+        repair_cut(sel);
     if (R->warm)
         return start_warm(sel) != 0 ? -1 : restore_budget(sel);
     R->closure_head = R->closure_tail = 0;
@@ -1310,7 +1410,7 @@ static int greedy_start(tclod_selector *sel) {
     R->alt_benefit = 0.0;
     R->alt_roots_b = sel->benefit_sum;
     R->alt_roots_c = sel->cost_sum;
-    R->use_alt = sel->stats.dropped_roots == 0 && sel->desc.restarts > 0;
+    R->use_alt = sel->stats.dropped_roots == 0 && !sel->stats.over_budget && sel->desc.restarts > 0;
     R->misfit = TCLOD_NONE;
     R->lp_bound = 0.0;
     R->picks = R->best_picks = R->left_out = R->tries = 0;
@@ -1483,7 +1583,7 @@ void tclod_greedy_track(tclod_selector *sel) {
     R->alt_benefit = 0.0;
     R->alt_roots_b = sel->benefit_sum;
     R->alt_roots_c = sel->cost_sum;
-    R->use_alt = sel->stats.dropped_roots == 0 && sel->desc.restarts > 0;
+    R->use_alt = sel->stats.dropped_roots == 0 && !sel->stats.over_budget && sel->desc.restarts > 0;
 }
 
 tclod_id tclod_greedy_alternative(tclod_selector *sel, double *benefit) {

@@ -66,34 +66,136 @@ typedef struct tclod_smooth_node {
     uint32_t child, child_count;
 } tclod_smooth_node;
 
+/* A node's bounds as the solvers read them: the sphere around the volume
+ * (what culling shortcuts and the Robin Hood values use) and, for a box, its
+ * slot. 40 bytes; the padding is kept zero so that records compare with
+ * memcmp. */
+typedef struct tclod_node_bounds {
+    double c[3];   /* centre, world position */
+    double r;      /* the sphere's radius, or the box's enclosing sphere's; < 0: no
+                      bounds */
+    uint32_t box;  /* the box's slot in tclod_scene.boxes, or TCLOD_NONE */
+    uint32_t kind; /* tclod_bounds_kind */
+} tclod_node_bounds;
+
+/* An axis-aligned or oriented box: the half axes as given, and an
+ * orthonormal frame with half lengths (zero axes completed by cross
+ * products), which the measures use. */
+typedef struct tclod_box {
+    double axes[3][3]; /* as given; an AABB's are diagonal */
+    double u[3][3];    /* unit axes */
+    double h[3];       /* half lengths along them, >= 0 */
+} tclod_box;
+
+/* Per-node flags of a scene (tclod_scene.flags). */
+enum {
+    TCLOD_NODE_LIVE = 1u,    /* added by the host and not removed */
+    TCLOD_NODE_ADD = 2u,     /* additive refinement */
+    TCLOD_NODE_EMPTY = 4u,   /* nothing to draw */
+    TCLOD_NODE_SELF = 8u,    /* the drawing of an additive node among its children (its
+                                "self leaf"): an id no call returns */
+    TCLOD_NODE_INDEXED = 16u /* in the child index (the tree the solvers see) */
+};
+
+/* What a scene knows of a selector or scheduler over it: enough to refuse
+ * changes while one holds the scene, and to give a removed id again only once
+ * every user has solved since (docs/scenes.md, ids). Written by its user only,
+ * so that users on several threads never write the same memory. */
+typedef struct tclod_scene_user {
+    uint32_t synced; /* the scene's epoch when the user's last solve began: it holds
+                        no id removed after that */
+    int busy;        /* in a call that reads the scene, callbacks included */
+    int holding;     /* a begun solve holds the scene (between begin and its end) */
+} tclod_scene_user;
+
+/* Removed ids waiting until every user has solved since their removal: a
+ * ring in removal order, each with the epoch it was removed in. */
+typedef struct tclod_retired {
+    tclod_id *id;
+    uint32_t *epoch;
+    uint32_t head, count;
+} tclod_retired;
+
 struct tclod_scene {
     tclod_allocator alloc;
 
-    /* nodes, structure of arrays, indexed by id */
-    uint32_t node_count, node_cap;
-    tclod_id *parent; /* TCLOD_NONE for roots; parent < id always */
-    float *bounds;    /* 4 per node: x, y, z, radius; radius < 0 = no bounds */
+    /* nodes, structure of arrays, indexed by id (< node_count) */
+    uint32_t node_count, node_cap, live_nodes;
+    tclod_id *up; /* the parent the host gave (TCLOD_NONE: a root); a
+                     self leaf's owner */
+    tclod_id *first_child, *next_sibling, *prev_sibling; /* the host's tree */
+    tclod_id *self;            /* a non-empty additive node's self leaf, or TCLOD_NONE */
+    tclod_node_bounds *bounds; /* a self leaf has its owner's */
+    uint8_t *flags;            /* TCLOD_NODE_* */
+    tclod_id *free_ids;        /* ids to give again, a stack */
+    uint32_t free_count;
+    tclod_retired retired; /* ids not to give again yet */
+    uint32_t self_count;   /* self leaves in use */
 
-    uint32_t smooth_count, smooth_cap;
-    float *smooth_bounds; /* 4 per smooth object */
+    /* boxes, by slot; free slots on a stack */
+    uint32_t box_count, box_cap, box_free_count;
+    tclod_box *boxes;
+    uint32_t *box_free;
 
-    /* child index, rebuilt lazily when version != index_version */
+    uint32_t smooth_count, smooth_cap, smooth_live;
+    float *smooth_bounds;  /* 4 per smooth object */
+    uint8_t *smooth_flags; /* TCLOD_NODE_LIVE */
+    tclod_id *smooth_free;
+    uint32_t smooth_free_count;
+    tclod_retired smooth_retired;
+
+    /* The child index: the tree the solvers see, rebuilt lazily when nodes were
+     * added or removed. It holds the live nodes that draw, each below its
+     * nearest ancestor that draws (empty nodes are passed over: their children
+     * hang from their parent, or are roots), and below every additive node
+     * with children its self leaf. */
     uint32_t index_cap;
+    tclod_id *parent;      /* the index's parent of an indexed node (TCLOD_NONE: a
+                              root); node_cap elements */
     uint32_t *child_first; /* children of n: children[child_first[n] .. child_first[n+1]) */
     tclod_id *children;    /* ascending ids within each parent */
     tclod_id *roots;       /* ascending ids */
     uint32_t root_count;
+    tclod_id *order; /* the indexed nodes, parents before children */
+    uint32_t order_count;
 
-    /* smooth quadtree, rebuilt with the child index */
+    /* smooth quadtree, rebuilt when smooth objects changed */
     uint32_t smooth_index_cap;
-    tclod_id *smooth_order; /* position -> smooth id, quadtree order */
+    tclod_id *smooth_order; /* position -> smooth id, quadtree order (live ones) */
     uint32_t *smooth_pos;   /* smooth id -> position */
     tclod_smooth_node *qt;  /* 2 * smooth_index_cap nodes; qt[0] is the root */
     uint32_t qt_count;
 
-    uint32_t version;       /* bumped by every change */
-    uint32_t index_version; /* version the child index describes */
+    /* users, and the epoch removals are counted in */
+    tclod_scene_user **users;
+    uint32_t user_count, user_cap;
+    uint32_t epoch;
+
+    uint32_t version;        /* bumped by every change */
+    uint32_t node_version;   /* bumped when nodes are added or removed */
+    uint32_t smooth_version; /* bumped when smooth objects are added, removed or moved */
+    uint32_t index_version;  /* node_version the child index describes */
+    uint32_t qt_version;     /* smooth_version the quadtree describes */
 };
+
+/* Registers u as a user of s (u->synced the current epoch, not busy, not
+ * holding). Errors: TCLOD_ERR_NOMEM. */
+tclod_status tclod_scene_attach(tclod_scene *s, tclod_scene_user *u);
+/* Unregisters u. */
+void tclod_scene_detach(tclod_scene *s, tclod_scene_user *u);
+
+/* Whether node n draws in the index (live, not empty, or a self leaf in use). */
+static inline int tclod_scene_indexed(const tclod_scene *s, tclod_id n) {
+    return (s->flags[n] & TCLOD_NODE_INDEXED) != 0;
+}
+
+/* The node a callback is asked about for node n: n, or a self leaf's owner. */
+static inline tclod_id tclod_scene_owner(const tclod_scene *s, tclod_id n) {
+    return (s->flags[n] & TCLOD_NODE_SELF) ? s->up[n] : n;
+}
+
+/* The public form of node n's bounds into *out (kind NONE without). */
+void tclod_scene_public_bounds(const tclod_scene *s, tclod_id n, tclod_bounds *out);
 
 /* A function of the solvers' inner loops that must be inlined where it is
  * called, whatever the compiler's estimate of its size. */
@@ -125,15 +227,20 @@ typedef struct tclod_view_cache {
     double cos_y, sin_y; /* of half the vertical field of view */
     double cos_x, sin_x; /* of half the horizontal field of view */
     double near_z, far_z;
-    double pi_focal2;     /* pi f², f = (viewport_height / 2) / tan(fov_y / 2) */
+    double focal;         /* f = (viewport_height / 2) / tan(fov_y / 2), pixels */
+    double pi_focal2;     /* pi f² */
     double viewport_area; /* viewport_height² * aspect */
+    double plane[4][3];   /* outward unit normals of the top, bottom, right and left
+                             planes, which pass through the eye */
 } tclod_view_cache;
 
 /* Fills c from a view that passed tclod_view_validate. */
 void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v);
-/* Projected area (0 outside the frustum) and distance of a bounding sphere. */
-void tclod_view_cache_measure(const tclod_view_cache *c, const float bounds[4], float *area,
-                              float *distance);
+
+/* Checks public bounds b and converts them to the solvers' form: *nb and,
+ * for a box, *box (nb->box is left for the caller to set). Returns TCLOD_OK or
+ * TCLOD_ERR_ARG. */
+tclod_status tclod_bounds_convert(const tclod_bounds *b, tclod_node_bounds *nb, tclod_box *box);
 
 /* The sphere of radius r centred at p (relative to the eye) meets the frustum
  * (view.c explains the planes). */
@@ -175,7 +282,39 @@ static inline double tclod_view_cache_area(const tclod_view_cache *c, double d2,
     return area < c->viewport_area ? area : c->viewport_area;
 }
 
-/* tclod_view_cache_measure, inline for the solvers' inner loops. */
+/* Distance from the eye to a sphere of radius r whose centre is d2 away,
+ * squared: 0 inside. */
+static inline double tclod_sphere_distance(double d2, double r) {
+    double d = sqrt(d2) - r;
+    return d > 0.0 ? d : 0.0;
+}
+
+/* Projected area (0 outside the frustum) and distance (0 inside) of a box,
+ * p its centre relative to the eye. */
+void tclod_view_cache_measure_box(const tclod_view_cache *c, const double p[3],
+                                  const tclod_box *box, float *area, double *distance);
+
+/* Projected area (0 outside the frustum) and distance (to the volume, 0
+ * inside) of node bounds b (with a bounded sphere: b->r >= 0); boxes from
+ * boxes[]. */
+static inline void tclod_view_measure_bounds(const tclod_view_cache *c, const tclod_node_bounds *b,
+                                             const tclod_box *boxes, float *area,
+                                             double *distance) {
+    double p[3], r = b->r, d2;
+    p[0] = b->c[0] - c->eye[0];
+    p[1] = b->c[1] - c->eye[1];
+    p[2] = b->c[2] - c->eye[2];
+    if (b->box != TCLOD_NONE) {
+        tclod_view_cache_measure_box(c, p, &boxes[b->box], area, distance);
+        return;
+    }
+    d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+    *distance = tclod_sphere_distance(d2, r);
+    *area = tclod_view_cache_visible(c, p, r) ? (float)tclod_view_cache_area(c, d2, r) : 0.0f;
+}
+
+/* The same for a sphere given as floats (x, y, z, radius): smooth objects and
+ * their groups. */
 static inline void tclod_view_measure(const tclod_view_cache *c, const float bounds[4], float *area,
                                       float *distance) {
     double p[3], r = (double)bounds[3], d2;
@@ -183,8 +322,26 @@ static inline void tclod_view_measure(const tclod_view_cache *c, const float bou
     p[1] = (double)bounds[1] - c->eye[1];
     p[2] = (double)bounds[2] - c->eye[2];
     d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
-    *distance = (float)sqrt(d2);
+    *distance = (float)tclod_sphere_distance(d2, r);
     *area = tclod_view_cache_visible(c, p, r) ? (float)tclod_view_cache_area(c, d2, r) : 0.0f;
+}
+
+/* Projected area (0 outside the frustum) and distance of valid public bounds
+ * (kind NONE: -1 and -1). */
+void tclod_view_cache_measure_any(const tclod_view_cache *c, const tclod_bounds *b, float *area,
+                                  float *distance);
+
+/* tclod_view_measure, out of line. */
+void tclod_view_cache_measure(const tclod_view_cache *c, const float bounds[4], float *area,
+                              float *distance);
+
+/* A public sphere for a float one (x, y, z, radius), for queries. */
+static inline void tclod_sphere_bounds(const float b[4], tclod_bounds *out) {
+    out->kind = TCLOD_BOUNDS_SPHERE;
+    out->center[0] = (double)b[0];
+    out->center[1] = (double)b[1];
+    out->center[2] = (double)b[2];
+    out->radius = (double)b[3];
 }
 
 /* ---- heap.c: indexed 4-ary max-heap ------------------------------------------- */
@@ -334,7 +491,9 @@ enum {
     TCLOD_FLAG_DROPPED = 1u,
     TCLOD_FLAG_JUMP = 2u,
     TCLOD_FLAG_REFINE = 4u,
-    TCLOD_FLAG_REFIT = 8u
+    TCLOD_FLAG_REFIT = 8u,
+    TCLOD_FLAG_ABOVE = 16u /* while a warm start repairs its cut after the scene
+                              changed: a node above the cut */
 };
 
 /* What a selector knows of one node, packed in one record because the solvers
@@ -419,7 +578,11 @@ struct tclod_selector {
     tclod_scene *scene; /* read-only except for its lazy child index */
     tclod_allocator alloc;
     tclod_selector_desc desc;
-    int busy; /* a solve is running: re-entry is refused */
+    int busy;              /* a solve is running: re-entry is refused */
+    tclod_scene_user user; /* what the scene knows of this selector */
+    int holds;             /* a begun solve holds the scene against changes (0 for a
+                              scheduler's own selector, whose solve is begun again
+                              when the scene changed) */
 
     /* per-node buffers, cap elements each */
     uint32_t cap;
@@ -438,6 +601,8 @@ struct tclod_selector {
                                   inside these, where a slot's four children share
                                   one cache line (cap >= nodes + 3) */
     tclod_id *cut, *prev_cut, *result, *scratch;
+    tclod_id *drawn; /* the result as tclod_selector_cut lists it: self leaves as
+                        their additive nodes */
     double *scratch_key;
 
     /* per-smooth-object buffers, smooth_cap elements each */
@@ -478,12 +643,16 @@ struct tclod_selector {
 
     uint32_t cut_count, prev_count, result_count;
     uint32_t solve_id;
-    uint32_t scene_version; /* scene version the cut belongs to */
-    int has_cut;            /* cut/prev_cut describe a selection of that version */
+    uint32_t scene_version;  /* scene version the cut belongs to */
+    uint32_t node_version;   /* the scene's node version the cut belongs to */
+    uint32_t smooth_version; /* the smooth version the groups belong to */
+    int has_cut;             /* cut/prev_cut describe a selection (of that node version,
+                                or repaired to the scene's at the next warm start) */
 
     /* the solve in progress */
     int pending;              /* begun and not finished, cancelled or failed */
     uint32_t pending_version; /* scene version at its beginning */
+    uint32_t begin_epoch;     /* the scene's epoch at its beginning */
     tclod_frame frame_data;   /* the frame it solves, copied at its beginning ... */
     tclod_view view_data;     /* ... with its view */
     tclod_resume resume;
@@ -498,6 +667,7 @@ struct tclod_selector {
     tclod_query query;         /* a node's query while a step runs: the frame's view,
                                   count 1, no members; tclod_evaluate_measured sets the
                                   rest */
+    tclod_bounds qbounds;      /* the volume the query points at */
     tclod_view_cache view;
     int has_view;
     int failed;      /* strict mode: a bad callback value was seen */
@@ -526,10 +696,10 @@ tclod_status tclod_selector_reserve(tclod_selector *sel);
  * the keeper's: cut and result with room for the scene's nodes, groups for
  * its smooth objects. */
 typedef struct tclod_selector_saved {
-    tclod_id *cut, *result;
+    tclod_id *cut, *result, *drawn;
     tclod_smooth_group *groups;
     uint32_t cut_count, result_count, group_count;
-    uint32_t scene_version;
+    uint32_t scene_version, node_version, smooth_version;
     int has_cut;
     double closure_hint; /* as it was when the keeping began */
     int valid;           /* a commit has happened since: the fields above hold
@@ -575,26 +745,50 @@ static inline uint64_t tclod_bits(double x) {
     return u;
 }
 
+/* Node n is a self leaf (an additive node's own drawing among its children):
+ * it takes its owner's values, evaluating the owner first if needed, with no
+ * callback of its own; the query is left as the owner's. Returns as
+ * tclod_evaluate_bounded. */
+int tclod_evaluate_self(tclod_selector *sel, tclod_id n);
+
+/* Puts node n's bounds (it has some) into the query's volume. */
+static inline const tclod_bounds *tclod_query_bounds(tclod_selector *sel, tclod_id n) {
+    const tclod_node_bounds *b = &sel->scene->bounds[n];
+    tclod_bounds *q = &sel->qbounds;
+    if (b->box != TCLOD_NONE) {
+        tclod_scene_public_bounds(sel->scene, n, q);
+        return q;
+    }
+    q->kind = TCLOD_BOUNDS_SPHERE;
+    q->center[0] = b->c[0];
+    q->center[1] = b->c[1];
+    q->center[2] = b->c[2];
+    q->radius = b->r;
+    return q;
+}
+
 /* The callbacks of node n, not evaluated in this solve yet, with the screen
  * area and distance of its bounds already measured (-1 without bounds or
- * view) and the bounds its query carries (n's, or NULL when it has none):
- * what tclod_evaluate_node does once it has measured. Inline for the
- * solvers' inner loops; what is not a positive finite benefit and a finite
- * cost >= 0 goes out of line. Returns 1 when n is visible, 0 when not, -1
+ * view); `bounded`: n has bounds, which the query then carries: what
+ * tclod_evaluate_node does once it has measured. Inline for the solvers'
+ * inner loops; what is not a positive finite benefit and a finite cost >= 0,
+ * and self leaves, go out of line. Returns 1 when n is visible, 0 when not, -1
  * when strict mode saw a bad value. */
 static inline int tclod_evaluate_bounded(tclod_selector *sel, tclod_id n, float area,
-                                         float distance, const float *bounds) {
+                                         double distance, int bounded) {
     const tclod_callbacks *cb = &sel->desc.callbacks;
     tclod_node_state *st = &sel->node[n];
     tclod_query *q = &sel->query; /* view, count and members set for the solve */
     double b, c;
+    if (sel->scene->flags[n] & TCLOD_NODE_SELF)
+        return tclod_evaluate_self(sel, n);
     st->stamp = sel->solve_id;
     st->area = area;
-    st->distance = distance;
+    st->distance = (float)distance;
     q->id = n;
     q->screen_area = area;
-    q->distance = distance;
-    q->bounds = bounds;
+    q->distance = st->distance;
+    q->bounds = bounded ? tclod_query_bounds(sel, n) : NULL;
     sel->stats.evaluations++;
     b = cb->benefit(cb->user, q);
     if (tclod_bits(b) - 1u >= TCLOD_BITS_MAX)
@@ -607,15 +801,15 @@ static inline int tclod_evaluate_bounded(tclod_selector *sel, tclod_id n, float 
     return 1;
 }
 
-/* tclod_evaluate_bounded with n's bounds found in the scene. */
-static inline int tclod_evaluate_seen(tclod_selector *sel, tclod_id n, float area, float distance) {
-    const float *bounds = &sel->scene->bounds[4u * n];
-    return tclod_evaluate_bounded(sel, n, area, distance, bounds[3] >= 0.0f ? bounds : NULL);
+/* tclod_evaluate_bounded with whether n has bounds found in the scene. */
+static inline int tclod_evaluate_seen(tclod_selector *sel, tclod_id n, float area,
+                                      double distance) {
+    return tclod_evaluate_bounded(sel, n, area, distance, sel->scene->bounds[n].r >= 0.0);
 }
 
 /* tclod_evaluate_seen, returning 0 whether or not n is visible. */
 static inline int tclod_evaluate_measured(tclod_selector *sel, tclod_id n, float area,
-                                          float distance) {
+                                          double distance) {
     return tclod_evaluate_seen(sel, n, area, distance) < 0 ? -1 : 0;
 }
 

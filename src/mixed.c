@@ -80,13 +80,15 @@ int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, const
     double xs = x > TCLOD_SLOPE_FLOOR ? x : TCLOD_SLOPE_FLOOR;
     int bad = 0;
     tclod_query q;
+    tclod_bounds qb;
     q.id = s->smooth_order[first];
     q.count = count;
     q.view = sel->frame->view;
     q.screen_area = area;
     q.distance = distance;
     q.members = s->smooth_order + first;
-    q.bounds = bounds ? bounds : &s->smooth_bounds[4u * q.id];
+    tclod_sphere_bounds(bounds ? bounds : &s->smooth_bounds[4u * q.id], &qb);
+    q.bounds = &qb;
     sel->stats.evaluations++;
     if (b) {
         *db = 0.0;

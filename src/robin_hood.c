@@ -87,24 +87,25 @@ static inline double value_at(const tclod_selector *sel, double area, double dep
     return value_scale(sel->desc.value, area, depth, distance) * importance;
 }
 
-/* The value of an instance with bounds b (NULL or radius < 0: none) and
- * importance I > 0 under this frame's view: a = pi r², z the depth of the
- * centre along the view direction and d its distance, both at least the near
- * plane. Without bounds a = 1; without a view z = d = 1. Bounds and view are
- * finite (the scene and the frame check them) and the importance is a
- * sanitised callback value, so tclod_value_of's checks would all pass: only
- * what the value function uses is computed. */
-static inline double instance_value(const tclod_selector *sel, const float *b, double importance) {
+/* The value of an instance whose bounds are the sphere of radius r (< 0:
+ * none; a box's enclosing sphere) around centre b, of importance I > 0, under
+ * this frame's view: a = pi r², z the depth of the centre along the view
+ * direction and d its distance, both at least the near plane. Without bounds
+ * a = 1; without a view z = d = 1. Bounds and view are finite (the scene and
+ * the frame check them) and the importance is a sanitised callback value, so
+ * tclod_value_of's checks would all pass: only what the value function uses
+ * is computed. */
+static inline double instance_value(const tclod_selector *sel, const double b[3], double r,
+                                    double importance) {
     tclod_value f = sel->desc.value;
     double area = 1.0, depth = 1.0, distance = 1.0;
     if (f == TCLOD_VALUE_BENEFIT)
         return importance;
-    if (b && b[3] >= 0.0f) {
-        area = 3.14159265358979323846 * (double)b[3] * (double)b[3];
+    if (r >= 0.0) {
+        area = 3.14159265358979323846 * r * r;
         if (sel->has_view) {
             const tclod_view_cache *c = &sel->view;
-            double p0 = (double)b[0] - c->eye[0], p1 = (double)b[1] - c->eye[1],
-                   p2 = (double)b[2] - c->eye[2];
+            double p0 = b[0] - c->eye[0], p1 = b[1] - c->eye[1], p2 = b[2] - c->eye[2];
             depth = p0 * c->forward[0] + p1 * c->forward[1] + p2 * c->forward[2];
             if (depth < c->near_z)
                 depth = c->near_z;
@@ -158,14 +159,14 @@ static int plain_heads(const tclod_selector *sel) {
  * on a strict error. */
 TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int inside, int plain,
                                       double *value) {
-    const float *b = &sel->scene->bounds[4u * n];
+    const tclod_node_bounds *b = &sel->scene->bounds[n];
     const tclod_view_cache *c = &sel->view;
-    double p[3], r, d2, z, d, scale, i;
+    double p[3], r, d2, z, d, scale, i, distance;
     float area;
     int seen;
     assert(sel->node[n].stamp != sel->solve_id);
     assert(!plain || plain_heads(sel));
-    if (!(plain || sel->has_view) || !(b[3] >= 0.0f)) {
+    if (!(plain || sel->has_view) || !(b->r >= 0.0)) {
         if (tclod_evaluate_node(sel, n) != 0)
             return -1;
         *value = 0.0;
@@ -174,24 +175,29 @@ TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int insid
         i = importance_of(sel, &sel->query, sel->node[n].benefit, 0);
         if (i < 0.0)
             return -1;
-        *value = instance_value(sel, b, i);
+        *value = instance_value(sel, b->c, b->r, i);
         return 1;
     }
-    r = (double)b[3];
-    p[0] = (double)b[0] - c->eye[0];
-    p[1] = (double)b[1] - c->eye[1];
-    p[2] = (double)b[2] - c->eye[2];
+    r = b->r;
+    p[0] = b->c[0] - c->eye[0];
+    p[1] = b->c[1] - c->eye[1];
+    p[2] = b->c[2] - c->eye[2];
     d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
     d = sqrt(d2);
     z = p[0] * c->forward[0] + p[1] * c->forward[1] + p[2] * c->forward[2];
-    area =
-        inside || tclod_view_cache_visible(c, p, r) ? (float)tclod_view_cache_area(c, d2, r) : 0.0f;
+    if (b->box != TCLOD_NONE) {
+        tclod_view_cache_measure_box(c, p, &sel->scene->boxes[b->box], &area, &distance);
+    } else {
+        area = inside || tclod_view_cache_visible(c, p, r) ? (float)tclod_view_cache_area(c, d2, r)
+                                                           : 0.0f;
+        distance = d > r ? d - r : 0.0;
+    }
     /* v / I before the callbacks, so that nothing but it lives across them */
     scale = value_scale(plain ? TCLOD_VALUE_AREA_SQRT_DEPTH : sel->desc.value,
                         3.14159265358979323846 * r * r, z < c->near_z ? c->near_z : z,
                         d < c->near_z ? c->near_z : d);
     *value = 0.0;
-    seen = tclod_evaluate_bounded(sel, n, area, (float)d, b);
+    seen = tclod_evaluate_bounded(sel, n, area, distance, 1);
     if (seen <= 0)
         return seen;
     /* the evaluation left n's query in sel->query */
@@ -207,12 +213,14 @@ TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int insid
  * (`shared`: all of the chain's levels have them) takes its screen area and
  * distance. Returns -1 on a strict error. */
 static inline int evaluate_level(tclod_selector *sel, tclod_id n, tclod_id head, int shared) {
-    const float *bounds = sel->scene->bounds;
-    float area = sel->node[head].area, distance = sel->node[head].distance;
-    if (!shared && memcmp(&bounds[4u * n], &bounds[4u * head], 4u * sizeof(float)) != 0) {
-        area = distance = -1.0f;
-        if (sel->has_view && bounds[4u * n + 3u] >= 0.0f)
-            tclod_view_measure(&sel->view, &bounds[4u * n], &area, &distance);
+    const tclod_scene *s = sel->scene;
+    float area = sel->node[head].area;
+    double distance = (double)sel->node[head].distance;
+    if (!shared && memcmp(&s->bounds[n], &s->bounds[head], sizeof(tclod_node_bounds)) != 0) {
+        area = -1.0f;
+        distance = -1.0;
+        if (sel->has_view && s->bounds[n].r >= 0.0)
+            tclod_view_measure_bounds(&sel->view, &s->bounds[n], s->boxes, &area, &distance);
     }
     return tclod_evaluate_measured(sel, n, area, distance);
 }
@@ -236,6 +244,8 @@ static uint32_t child_count(const tclod_scene *s, tclod_id n) {
     return s->child_first[n + 1u] - s->child_first[n];
 }
 
+/* Whether node n (in the index) starts an instance: a root, or one of several
+ * children. */
 static int is_head(const tclod_scene *s, tclod_id n) {
     return s->parent[n] == TCLOD_NONE || child_count(s, s->parent[n]) > 1u;
 }
@@ -257,13 +267,15 @@ static double complexity_value(tclod_selector *sel, double c, double slope) {
 static double node_complexity(tclod_selector *sel, tclod_id head, tclod_id end) {
     const tclod_callbacks *cb = &sel->desc.callbacks;
     tclod_query q;
+    tclod_bounds qb;
     q.count = 1;
     q.view = NULL;
     q.screen_area = (float)sel->desc.reference_area;
     q.distance = -1.0f;
     q.members = NULL;
-    q.id = cb->complexity ? head : end;
-    q.bounds = sel->scene->bounds[4u * q.id + 3u] >= 0.0f ? &sel->scene->bounds[4u * q.id] : NULL;
+    q.id = tclod_scene_owner(sel->scene, cb->complexity ? head : end);
+    tclod_scene_public_bounds(sel->scene, q.id, &qb);
+    q.bounds = qb.kind != TCLOD_BOUNDS_NONE ? &qb : NULL;
     return complexity_value(
         sel, cb->complexity ? cb->complexity(cb->user, &q) : cb->cost(cb->user, &q), 0.0);
 }
@@ -272,6 +284,7 @@ static double smooth_complexity(tclod_selector *sel, uint32_t pos) {
     const tclod_callbacks *cb = &sel->desc.callbacks;
     const tclod_scene *s = sel->scene;
     tclod_query q;
+    tclod_bounds qb;
     double c, d;
     q.id = s->smooth_order[pos];
     q.count = 1;
@@ -279,7 +292,8 @@ static double smooth_complexity(tclod_selector *sel, uint32_t pos) {
     q.screen_area = (float)sel->desc.reference_area;
     q.distance = -1.0f;
     q.members = s->smooth_order + pos;
-    q.bounds = &s->smooth_bounds[4u * q.id];
+    tclod_sphere_bounds(&s->smooth_bounds[4u * q.id], &qb);
+    q.bounds = &qb;
     if (cb->complexity)
         return complexity_value(sel, cb->complexity(cb->user, &q), 0.0);
     d = 0.0;
@@ -296,22 +310,24 @@ static int with_smooth(const tclod_selector *sel) {
  * child lies, padded well beyond its rounding (-1 when b has no bounds), for
  * tclod_view_cache_inside. */
 static float branch_reach(const tclod_scene *s, tclod_id b) {
-    const float *bb = &s->bounds[4u * b];
+    const tclod_node_bounds *bb = &s->bounds[b];
     uint32_t j, first = s->child_first[b], k = child_count(s, b);
     double reach = 0.0;
-    if (!(bb[3] >= 0.0f))
+    if (!(bb->r >= 0.0))
         return -1.0f;
     for (j = 0; j < k; ++j) {
-        const float *cb = &s->bounds[4u * s->children[first + j]];
-        double dx = (double)cb[0] - (double)bb[0], dy = (double)cb[1] - (double)bb[1],
-               dz = (double)cb[2] - (double)bb[2], r;
-        if (!(cb[3] >= 0.0f))
+        const tclod_node_bounds *cb = &s->bounds[s->children[first + j]];
+        double dx = cb->c[0] - bb->c[0], dy = cb->c[1] - bb->c[1], dz = cb->c[2] - bb->c[2], r;
+        if (!(cb->r >= 0.0))
             continue;
-        r = sqrt(dx * dx + dy * dy + dz * dz) + (double)cb[3];
+        r = sqrt(dx * dx + dy * dy + dz * dz) + cb->r;
         if (r > reach)
             reach = r;
     }
-    reach += 1e-6 * (reach + fabs((double)bb[0]) + fabs((double)bb[1]) + fabs((double)bb[2]));
+    /* a margin relative to the coordinates: the inside test works in double
+     * relative to the eye, so what earth-centred coordinates lose is far below
+     * it */
+    reach += 1e-6 * reach + 1e-12 * (fabs(bb->c[0]) + fabs(bb->c[1]) + fabs(bb->c[2]));
     return reach < (double)FLT_MAX ? (float)reach : -1.0f;
 }
 
@@ -324,9 +340,8 @@ static tclod_id chain_head(const tclod_scene *s, tclod_id n) {
 
 /* Whether the sphere of radius r around centre c lies within the one of
  * radius R around C, by a margin far above the rounding of the test. */
-static int sphere_within(const float *c, float r, const float *C, float R) {
-    double dx = (double)c[0] - (double)C[0], dy = (double)c[1] - (double)C[1],
-           dz = (double)c[2] - (double)C[2];
+static int sphere_within(const double c[3], float r, const double C[3], float R) {
+    double dx = c[0] - C[0], dy = c[1] - C[1], dz = c[2] - C[2];
     return r >= 0.0f && R >= 0.0f &&
            sqrt(dx * dx + dy * dy + dz * dz) + (double)r <= (double)R * (1.0 - 1e-9);
 }
@@ -337,8 +352,9 @@ static int sphere_within(const float *c, float r, const float *C, float R) {
  * one, and every sphere within it passes the frustum test. */
 static void mark_nested(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
-    tclod_id id;
-    for (id = 0; id < s->node_count; ++id) {
+    uint32_t i;
+    for (i = 0; i < s->order_count; ++i) {
+        tclod_id id = s->order[i];
         tclod_rh_chain *ch = &sel->rh_chains[id];
         const tclod_rh_chain *up;
         tclod_id end, above;
@@ -347,7 +363,7 @@ static void mark_nested(tclod_selector *sel) {
         above = s->parent[id];
         up = &sel->rh_chains[chain_head(s, above)];
         end = sel->rh_chain[ch->at + ch->len - 1u];
-        if (sphere_within(&s->bounds[4u * end], ch->reach, &s->bounds[4u * above], up->reach))
+        if (sphere_within(s->bounds[end].c, ch->reach, s->bounds[above].c, up->reach))
             ch->flags |= TCLOD_RH_NESTED;
     }
 }
@@ -361,18 +377,21 @@ static void prepare(tclod_selector *sel) {
     uint32_t n = s->node_count, used = 0, i, count = 0;
     double *keys;
     tclod_id id;
-    for (id = 0; id < n; ++id) {
-        tclod_rh_chain *ch = &sel->rh_chains[id];
-        const float *b = &s->bounds[4u * id];
+    for (i = 0; i < s->order_count; ++i) {
+        tclod_rh_chain *ch;
+        const tclod_node_bounds *b;
         tclod_id m;
+        id = s->order[i];
         if (!is_head(s, id))
             continue;
+        ch = &sel->rh_chains[id];
+        b = &s->bounds[id];
         ch->at = used;
         ch->flags = TCLOD_RH_CONSECUTIVE | TCLOD_RH_SHARED;
         for (m = id;; m = s->children[s->child_first[m]]) {
             if (m != id + (used - ch->at))
                 ch->flags &= ~(uint32_t)TCLOD_RH_CONSECUTIVE;
-            if (memcmp(&s->bounds[4u * m], b, 4u * sizeof(float)) != 0)
+            if (memcmp(&s->bounds[m], b, sizeof *b) != 0)
                 ch->flags &= ~(uint32_t)TCLOD_RH_SHARED;
             sel->rh_chain[used++] = m;
             if (child_count(s, m) != 1u)
@@ -389,7 +408,7 @@ static void prepare(tclod_selector *sel) {
         ch->len = used - ch->at;
         sel->rh_key[id] = node_complexity(sel, id, m);
     }
-    assert(used == n);
+    assert(used == s->order_count);
     mark_nested(sel);
     /* each branch's children, least complex first (ties: smaller id, which is the
      * smaller slot: a child range lists its ids in order), sorted in scratch */
@@ -416,7 +435,7 @@ static void prepare(tclod_selector *sel) {
         keys[count++] = -sel->rh_key[s->roots[i]];
     }
     if (with_smooth(sel))
-        for (i = 0; i < s->smooth_count; ++i) {
+        for (i = 0; i < s->smooth_live; ++i) {
             sel->rh_order[count] = n + i;
             keys[count++] = -smooth_complexity(sel, i);
         }
@@ -616,13 +635,13 @@ TCLOD_ALWAYS_INLINE int finest_level(tclod_selector *sel, tclod_id head, const t
  * its children, lies inside the frustum: then none of them needs the frustum
  * test. */
 static int branch_inside(const tclod_selector *sel, tclod_id b, float reach) {
-    const float *bb = &sel->scene->bounds[4u * b];
+    const tclod_node_bounds *bb = &sel->scene->bounds[b];
     double p[3];
     if (!sel->has_view || !(reach >= 0.0f))
         return 0;
-    p[0] = (double)bb[0] - sel->view.eye[0];
-    p[1] = (double)bb[1] - sel->view.eye[1];
-    p[2] = (double)bb[2] - sel->view.eye[2];
+    p[0] = bb->c[0] - sel->view.eye[0];
+    p[1] = bb->c[1] - sel->view.eye[1];
+    p[2] = bb->c[2] - sel->view.eye[2];
     return tclod_view_cache_inside(&sel->view, p, (double)reach);
 }
 
@@ -654,7 +673,7 @@ TCLOD_ALWAYS_INLINE int evaluate_children(tclod_selector *sel, const tclod_rh_ch
         TCLOD_PREFETCH_WRITE(&sel->node[c]);
         /* the next line, by address: it may lie past the array's end */
         TCLOD_PREFETCH_WRITE((const void *)((uintptr_t)&sel->node[c] + 64u));
-        TCLOD_PREFETCH(&s->bounds[4u * c]);
+        TCLOD_PREFETCH(&s->bounds[c]);
     }
     for (j = 0; j < k; ++j) {
         tclod_id c = s->children[first + j];
@@ -845,9 +864,10 @@ static void smooth_measure(const tclod_selector *sel, uint32_t pos, float *area,
 static double smooth_value(tclod_selector *sel, uint32_t pos) {
     const tclod_scene *s = sel->scene;
     const float *b = &s->smooth_bounds[4u * s->smooth_order[pos]];
-    double benefit, importance, db;
+    double benefit, importance, db, c[3];
     float area, distance;
     tclod_query q;
+    tclod_bounds qb;
     smooth_measure(sel, pos, &area, &distance);
     if (sel->has_view && (!(area > 0.0f) || (double)area < sel->desc.smooth_cull_area))
         return 0.0;
@@ -862,11 +882,15 @@ static double smooth_value(tclod_selector *sel, uint32_t pos) {
     q.screen_area = area;
     q.distance = distance;
     q.members = s->smooth_order + pos;
-    q.bounds = b;
+    tclod_sphere_bounds(b, &qb);
+    q.bounds = &qb;
     importance = importance_of(sel, &q, benefit, 0);
     if (importance < 0.0)
         return -1.0;
-    return importance > 0.0 ? instance_value(sel, b, importance) : 0.0;
+    c[0] = (double)b[0];
+    c[1] = (double)b[1];
+    c[2] = (double)b[2];
+    return importance > 0.0 ? instance_value(sel, c, (double)b[3], importance) : 0.0;
 }
 
 /* The resolution of smooth object pos whose cost is `time` (the largest that
@@ -995,7 +1019,7 @@ static inline void fetch_instance(const tclod_selector *sel, uint32_t k, int eva
         return;
     if (evaluating) {
         TCLOD_PREFETCH_WRITE(&sel->node[id]);
-        TCLOD_PREFETCH(&sel->scene->bounds[4u * id]);
+        TCLOD_PREFETCH(&sel->scene->bounds[id]);
     } else {
         TCLOD_PREFETCH(&sel->node[id]);
         TCLOD_PREFETCH(&sel->rh_chains[id]);
@@ -1031,7 +1055,7 @@ static int values(tclod_selector *sel, double *total) {
 static void empty_variables(tclod_selector *sel) {
     tclod_vars *V = &sel->vars;
     uint32_t i;
-    V->count = with_smooth(sel) ? sel->scene->smooth_count : 0u;
+    V->count = with_smooth(sel) ? sel->scene->smooth_live : 0u;
     for (i = 0; i < V->count; ++i) {
         V->first[i] = i;
         V->size[i] = 1;

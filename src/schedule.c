@@ -116,7 +116,9 @@ typedef struct pipeline {
     int started;
     double boundary;                    /* b_j, the start of the current interval */
     double now, budget;                 /* of the last update; budget in cost units */
-    uint32_t scene_version;             /* of the landed selections */
+    uint32_t node_version;              /* the scene's node version the landed selections
+                                           were purged to */
+    uint32_t smooth_version;            /* and its smooth version */
     uint32_t prev, cur, next;           /* S_{j-1}, S_j, S_{j+1} in gen[] (may coincide) */
     int ready;                          /* the pending selection finished: it lands next, ... */
     uint32_t landing;                   /* ... from gen[landing] */
@@ -141,6 +143,7 @@ struct tclod_scheduler {
     tclod_selector *sel; /* solves with the callbacks below */
     tclod_calib *calib;
     int busy;
+    tclod_scene_user user; /* what the scene knows of this scheduler */
 
     /* the views the callbacks answer for */
     int current_only; /* pass the host's values through */
@@ -275,12 +278,10 @@ tclod_status tclod_conservative_view(const tclod_view *view, double horizon, dou
     back = reach > 0.0 ? reach / sin(half) : 0.0;
     load3(view->forward, f);
     {
-        double len = length3(f), e[3];
-        load3(view->eye, e);
-        e[0] -= back * f[0] / len;
-        e[1] -= back * f[1] / len;
-        e[2] -= back * f[2] / len;
-        store3(e, v.eye);
+        double len = length3(f);
+        v.eye[0] = view->eye[0] - back * f[0] / len;
+        v.eye[1] = view->eye[1] - back * f[1] / len;
+        v.eye[2] = view->eye[2] - back * f[2] / len;
     }
     v.fov_y = (float)fov_y;
     v.aspect = (float)(tan(0.5 * fov_x) / tan(0.5 * fov_y));
@@ -365,8 +366,7 @@ static void predict(const tclod_scheduler *sch, double t, tclod_view *out) {
         for (c = 0; c < 3; ++c) {
             for (k = 0; k < n; ++k) {
                 const tclod_view *h = &sch->hist_v[slots[k]];
-                const float *src = field == 0 ? h->eye : field == 1 ? h->forward : h->up;
-                x[k] = (double)src[c];
+                x[k] = field == 0 ? h->eye[c] : (double)(field == 1 ? h->forward : h->up)[c];
             }
             p[field][c] = fit(times, x, n, dt);
             now[field][c] = fit(times, x, n, 0.0);
@@ -408,7 +408,9 @@ static void predict(const tclod_scheduler *sch, double t, tclod_view *out) {
             for (c = 0; c < 3; ++c)
                 p[field][c] = b[c];
     }
-    store3(p[0], v.eye);
+    v.eye[0] = p[0][0];
+    v.eye[1] = p[0][1];
+    v.eye[2] = p[0][2];
     store3(p[1], v.forward);
     store3(p[2], v.up);
     if (tclod_view_validate(&v) != TCLOD_OK)
@@ -449,7 +451,7 @@ static tclod_query query_for(const tclod_scheduler *sch, const tclod_query *q, u
     tclod_query r = *q;
     r.view = &sch->sv.views[k];
     if (q->bounds)
-        tclod_view_cache_measure(&sch->sv.caches[k], q->bounds, &r.screen_area, &r.distance);
+        tclod_view_cache_measure_any(&sch->sv.caches[k], q->bounds, &r.screen_area, &r.distance);
     return r;
 }
 
@@ -602,6 +604,7 @@ static size_t node_arrays(tclod_scheduler *sch, tclod_array out[TCLOD_MAX_ARRAYS
     out[n++] = (tclod_array){(void **)&sch->items[1], 3 * sizeof(tclod_draw), -1};
     out[n++] = (tclod_array){(void **)&sch->kept.cut, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sch->kept.result, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&sch->kept.drawn, sizeof(tclod_id), -1};
     for (g = 0; g < 2u; ++g) {
         plan_state *P = &sch->plans[g];
         out[n++] = (tclod_array){(void **)&P->regions, sizeof(region), -1};
@@ -711,7 +714,13 @@ tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_d
     st = tclod_calib_create(&d->calib, &alloc, &sch->calib);
     if (st == TCLOD_OK)
         st = tclod_selector_create(s, &inner, &alloc, &sch->sel);
+    if (st == TCLOD_OK) {
+        /* its selection under way is begun again when the scene changes */
+        sch->sel->holds = 0;
+        st = tclod_scene_attach(sch->scene, &sch->user);
+    }
     if (st != TCLOD_OK) {
+        tclod_selector_destroy(sch->sel);
         tclod_calib_destroy(sch->calib);
         tclod_mem_free(&alloc, sch, sizeof *sch);
         return st;
@@ -726,6 +735,7 @@ void tclod_scheduler_destroy(tclod_scheduler *sch) {
     if (!sch || sch->busy)
         return;
     alloc = sch->alloc;
+    tclod_scene_detach(sch->scene, &sch->user);
     tclod_selector_destroy(sch->sel);
     tclod_calib_destroy(sch->calib);
     tclod_arrays_free(&alloc, arrays, node_arrays(sch, arrays), sch->node_cap);
@@ -768,15 +778,17 @@ static uint32_t next_memo_epoch(tclod_scheduler *sch) {
     return PLAN(sch)->memo_epoch;
 }
 
-/* The depth of every node, when the scene changed. */
+/* The depth of every node in the index, when nodes were added or removed. */
 static void update_depths(tclod_scheduler *sch) {
     const tclod_scene *s = sch->scene;
-    uint32_t n;
-    if (sch->depth_version == s->version + 1u)
+    uint32_t i;
+    if (sch->depth_version == s->node_version + 1u)
         return;
-    for (n = 0; n < s->node_count; ++n)
+    for (i = 0; i < s->order_count; ++i) { /* parents before children */
+        tclod_id n = s->order[i];
         sch->depth[n] = s->parent[n] == TCLOD_NONE ? 0u : sch->depth[s->parent[n]] + 1u;
-    sch->depth_version = s->version + 1u;
+    }
+    sch->depth_version = s->node_version + 1u;
 }
 
 /* Sets the callbacks' views for a selection begun now: samples of the target
@@ -832,11 +844,10 @@ static tclod_status begin_again(tclod_scheduler *sch) {
 /* Copies the selector's result into generation g, with its costs. */
 static void store(tclod_scheduler *sch, uint32_t g) {
     generation *G = &sch->gen[g];
-    const tclod_id *ids = NULL, *order = NULL;
+    const tclod_id *ids = sch->sel->result, *order = NULL; /* the index's ids */
     const tclod_smooth_group *groups = NULL;
-    size_t n = 0, ng = 0, i;
+    size_t n = sch->sel->result_count, ng = 0, i;
     uint32_t order_count = 0, k;
-    tclod_selector_cut(sch->sel, &ids, &n);
     for (i = 0; i < n; ++i) {
         G->ids[i] = ids[i];
         G->cost[i] = sch->sel->node[ids[i]].cost;
@@ -1036,17 +1047,23 @@ static void bad_value(tclod_scheduler *sch) {
 static double memo(tclod_scheduler *sch, tclod_id n, int *visible) {
     plan_state *P = PLAN(sch);
     if (P->memo_mark[n] != P->memo_epoch) {
-        const float *b = &sch->scene->bounds[4u * n];
+        const tclod_scene *s = sch->scene;
         tclod_query q;
+        tclod_bounds qb;
         double benefit, cost = 0.0;
         memset(&q, 0, sizeof q);
-        q.id = n;
+        q.id = tclod_scene_owner(s, n);
         q.count = 1;
         q.view = &sch->sv.conservative;
         q.screen_area = q.distance = -1.0f;
-        q.bounds = b[3] >= 0.0f ? b : NULL;
-        if (q.bounds)
-            tclod_view_cache_measure(&sch->sv.conservative_cache, b, &q.screen_area, &q.distance);
+        tclod_scene_public_bounds(s, q.id, &qb);
+        q.bounds = qb.kind != TCLOD_BOUNDS_NONE ? &qb : NULL;
+        if (q.bounds) {
+            double d;
+            tclod_view_measure_bounds(&sch->sv.conservative_cache, &s->bounds[n], s->boxes,
+                                      &q.screen_area, &d);
+            q.distance = (float)d;
+        }
         benefit = wrap_benefit(sch, &q);
         if (value_bad(benefit)) {
             bad_value(sch);
@@ -1239,9 +1256,10 @@ static void emit_item(tclod_scheduler *sch, tclod_id fine, tclod_id coarse, floa
                       void *ctx) {
     tclod_draw *d = &sch->items[sch->back][sch->item_count[sch->back]++];
     int vis;
-    d->fine = fine;
-    d->coarse = coarse;
-    d->weight = weight;
+    /* the host's ids: a self leaf is its additive node, which does not morph */
+    d->fine = tclod_scene_owner(sch->scene, fine);
+    d->coarse = tclod_scene_owner(sch->scene, coarse);
+    d->weight = d->fine == d->coarse ? 1.0f : weight;
     *(double *)ctx += memo(sch, fine, &vis);
 }
 
@@ -1324,7 +1342,8 @@ static tclod_status select_now(tclod_scheduler *sch, const tclod_view *view, int
         count_switches(sch, sch->list_x, n, sch->gen[g].ids, sch->gen[g].count);
     }
     sch->p.prev = sch->p.cur = sch->p.next = g;
-    sch->p.scene_version = sch->scene->version;
+    sch->p.node_version = sch->scene->node_version;
+    sch->p.smooth_version = sch->scene->smooth_version;
     make_plan(sch);
     start = clock_in();
     st = begin(sch, view);
@@ -1398,6 +1417,44 @@ static int arguments_valid(const tclod_scheduler *sch, double now, const tclod_v
     return budget >= 0.0 && slice >= 0.0 && !isinf(slice);
 }
 
+/* Generation slot g is one the pipeline or the outputs use. */
+static int slot_used(const tclod_scheduler *sch, uint32_t g) {
+    return g == sch->p.prev || g == sch->p.cur || g == sch->p.next || g == sch->shown.prev ||
+           g == sch->shown.cur || g == sch->shown.next || (sch->p.ready && g == sch->p.landing);
+}
+
+/* After the scene changed: the landed selections lose the nodes and smooth
+ * objects removed since (the scene's index no longer holds them), so that
+ * they leave the draw list now, mid-morph too. Returns whether the plan must
+ * be made again. */
+static int purge(tclod_scheduler *sch) {
+    const tclod_scene *s = sch->scene;
+    int nodes = sch->p.node_version != s->node_version;
+    int smooth = sch->p.smooth_version != s->smooth_version;
+    uint32_t g, i, k;
+    if (nodes)
+        for (g = 0; g < GEN_SLOTS; ++g) {
+            generation *G = &sch->gen[g];
+            if (!slot_used(sch, g))
+                continue;
+            for (i = k = 0; i < G->count; ++i)
+                if (tclod_scene_indexed(s, G->ids[i])) {
+                    G->ids[k] = G->ids[i];
+                    G->cost[k++] = G->cost[i];
+                }
+            G->count = k;
+        }
+    if (smooth)
+        for (g = 0; g < GEN_SLOTS; ++g)
+            if (slot_used(sch, g))
+                for (i = 0; i < s->smooth_count; ++i)
+                    if (!tclod_scene_smooth_live(s, i))
+                        sch->gen[g].res[i] = 0.0;
+    sch->p.node_version = s->node_version;
+    sch->p.smooth_version = s->smooth_version;
+    return nodes;
+}
+
 /* The pipeline's work of one update; the outputs are made in the back
  * buffers. */
 static tclod_status advance(tclod_scheduler *sch, double now, const tclod_view *view,
@@ -1407,8 +1464,9 @@ static tclod_status advance(tclod_scheduler *sch, double now, const tclod_view *
     /* a restart: the first update, a changed scene, a long gap, or times so
      * large that tau no longer moves the boundary (checked at every step:
      * rounding to even can move it once and then not again) */
-    int restart = !sch->p.started || sch->p.scene_version != sch->scene->version ||
-                  now - sch->p.boundary > (MAX_GAP + 1.0) * tau;
+    int restart = !sch->p.started || now - sch->p.boundary > (MAX_GAP + 1.0) * tau;
+    if (!restart && purge(sch))
+        make_plan(sch);
     if (!restart && sch->p.lost) {
         double start = clock_in();
         st = begin_again(sch);
@@ -1497,20 +1555,28 @@ static void put_back(tclod_scheduler *sch) {
 tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclod_view *view,
                                     double budget, double slice_seconds) {
     tclod_status st;
+    uint32_t epoch;
     if (!sch || !arguments_valid(sch, now, view, budget, slice_seconds) ||
         !tclod_selector_scene_ok(sch->sel))
         return TCLOD_ERR_ARG;
     if (sch->busy)
         return TCLOD_ERR_STATE;
-    sch->busy = 1;
+    sch->busy = sch->user.busy = 1;
     st = tclod_scene_prepare(sch->scene);
     if (st == TCLOD_OK)
         st = reserve(sch);
     if (st != TCLOD_OK) {
-        sch->busy = 0;
+        sch->busy = sch->user.busy = 0;
         return st;
     }
+    /* a selection under way on a scene that changed since it began is begun
+     * again (it saw part of the old scene) */
+    if (tclod_select_pending(sch->sel) && sch->sel->pending_version != sch->scene->version) {
+        tclod_select_cancel(sch->sel);
+        sch->p.lost = 1;
+    }
     keep(sch);
+    epoch = sch->scene->epoch;
     sch->p.stats.select_seconds = 0.0;
     sch->p.budget = budget / tclod_calib_scale(sch->calib);
     sch->p.stats.budget = sch->p.budget;
@@ -1529,11 +1595,12 @@ tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclo
         sch->shown.items = sch->back;
         sch->shown.stats = sch->p.stats;
         sch->back = 1u - sch->back;
+        sch->user.synced = epoch; /* its selections name no node removed before that */
     } else {
         put_back(sch);
     }
     tclod_selector_keep(sch->sel, NULL);
-    sch->busy = 0;
+    sch->busy = sch->user.busy = 0;
     return st;
 }
 

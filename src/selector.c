@@ -85,6 +85,7 @@ static size_t node_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS
     out[n++] = (tclod_array){(void **)&sel->cut, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->prev_cut, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->result, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&sel->drawn, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->scratch, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->scratch_key, sizeof(double), -1};
     return n;
@@ -170,7 +171,7 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
         return TCLOD_ERR_ARG;
     if (!tclod_solver_available(d->solver) || !d->callbacks.benefit || !d->callbacks.cost)
         return TCLOD_ERR_ARG;
-    if (d->solver == TCLOD_SOLVER_MIXED && s->smooth_count > 0 &&
+    if (d->solver == TCLOD_SOLVER_MIXED && s->smooth_live > 0 &&
         (!d->callbacks.smooth_benefit || !d->callbacks.smooth_cost))
         return TCLOD_ERR_ARG;
     if (!flag(d->warm_start) || !flag(d->split_smooth) || !flag(d->strict) ||
@@ -187,7 +188,8 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
     if (!(d->smooth_cull_area >= 0.0) || isinf(d->smooth_cull_area))
         return TCLOD_ERR_ARG;
     if ((unsigned)d->value > (unsigned)TCLOD_VALUE_BENEFIT ||
-        (unsigned)d->misfit > (unsigned)TCLOD_MISFIT_COARSEST)
+        (unsigned)d->misfit > (unsigned)TCLOD_MISFIT_COARSEST ||
+        (unsigned)d->overflow > (unsigned)TCLOD_OVERFLOW_DRAW_ROOTS)
         return TCLOD_ERR_ARG;
     if (!(d->reference_area > 0.0) || isinf(d->reference_area))
         return TCLOD_ERR_ARG;
@@ -195,10 +197,16 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
     if (!sel)
         return TCLOD_ERR_NOMEM;
     memset(sel, 0, sizeof *sel);
-    /* the scene is only written through its lazy child index */
+    /* the scene is only written through its lazy child index and its list of
+     * users */
     sel->scene = (tclod_scene *)(uintptr_t)s;
     sel->alloc = alloc;
     sel->desc = *d;
+    sel->holds = 1;
+    if (tclod_scene_attach(sel->scene, &sel->user) != TCLOD_OK) {
+        tclod_mem_free(&alloc, sel, sizeof *sel);
+        return TCLOD_ERR_NOMEM;
+    }
     *out = sel;
     return TCLOD_OK;
 }
@@ -209,6 +217,7 @@ void tclod_selector_destroy(tclod_selector *sel) {
     if (!sel || sel->busy)
         return;
     alloc = sel->alloc;
+    tclod_scene_detach(sel->scene, &sel->user);
     tclod_arrays_free(&alloc, buffers, node_buffers(sel, buffers), sel->cap);
     tclod_arrays_free(&alloc, buffers, smooth_buffers(sel, buffers), sel->smooth_cap);
     tclod_arrays_free(&alloc, buffers, rh_buffers(sel, buffers), sel->rh_cap);
@@ -278,7 +287,7 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
 int tclod_selector_scene_ok(const tclod_selector *sel) {
     /* the mixed solver without smooth callbacks solves like the greedy while
      * the scene has no smooth objects */
-    return sel->desc.solver != TCLOD_SOLVER_MIXED || sel->scene->smooth_count == 0 ||
+    return sel->desc.solver != TCLOD_SOLVER_MIXED || sel->scene->smooth_live == 0 ||
            (sel->desc.callbacks.smooth_benefit && sel->desc.callbacks.smooth_cost);
 }
 
@@ -305,14 +314,18 @@ static void keep_committed(tclod_selector *sel) {
         return;
     if (sel->prev_count)
         memcpy(k->cut, sel->prev_cut, sizeof(tclod_id) * sel->prev_count);
-    if (sel->result_count)
+    if (sel->result_count) {
         memcpy(k->result, sel->result, sizeof(tclod_id) * sel->result_count);
+        memcpy(k->drawn, sel->drawn, sizeof(tclod_id) * sel->result_count);
+    }
     if (sel->group_count)
         memcpy(k->groups, sel->groups, sizeof(tclod_smooth_group) * sel->group_count);
     k->cut_count = sel->prev_count;
     k->result_count = sel->result_count;
     k->group_count = sel->group_count;
     k->scene_version = sel->scene_version;
+    k->node_version = sel->node_version;
+    k->smooth_version = sel->smooth_version;
     k->has_cut = sel->has_cut;
     k->valid = 1;
 }
@@ -350,13 +363,17 @@ void tclod_selector_restore(tclod_selector *sel, const tclod_selector_saved *k) 
         memcpy(sel->prev_cut, k->cut, sizeof(tclod_id) * k->cut_count);
     sel->prev_count = k->cut_count;
     roll_back(sel);
-    if (k->result_count)
+    if (k->result_count) {
         memcpy(sel->result, k->result, sizeof(tclod_id) * k->result_count);
+        memcpy(sel->drawn, k->drawn, sizeof(tclod_id) * k->result_count);
+    }
     if (k->group_count)
         memcpy(sel->groups, k->groups, sizeof(tclod_smooth_group) * k->group_count);
     sel->result_count = k->result_count;
     sel->group_count = k->group_count;
     sel->scene_version = k->scene_version;
+    sel->node_version = k->node_version;
+    sel->smooth_version = k->smooth_version;
     sel->has_cut = k->has_cut;
 }
 
@@ -385,6 +402,13 @@ static void commit(tclod_selector *sel) {
         benefit += node[id].benefit;
         cost += node[id].cost;
     }
+    /* the host's ids: a self leaf draws its additive node */
+    if (sel->scene->self_count) {
+        for (i = 0; i < n; ++i)
+            sel->drawn[i] = tclod_scene_owner(sel->scene, result[i]);
+    } else if (n) {
+        memcpy(sel->drawn, result, sizeof(tclod_id) * n);
+    }
     sel->group_count = 0;
     for (i = 0; i < sel->vars.count; ++i) {
         tclod_smooth_group *g;
@@ -399,15 +423,31 @@ static void commit(tclod_selector *sel) {
         benefit += g->benefit;
         cost += g->cost;
     }
-    assert(cost <= sel->frame->budget);
+    assert(cost <= sel->frame->budget || sel->stats.over_budget);
     sel->result_count = n;
     if (sel->cut_count)
         memcpy(sel->prev_cut, sel->cut, sizeof(tclod_id) * sel->cut_count);
     sel->prev_count = sel->cut_count;
     sel->has_cut = 1;
     sel->scene_version = sel->scene->version;
+    sel->node_version = sel->scene->node_version;
+    sel->smooth_version = sel->scene->smooth_version;
+    sel->user.synced = sel->begin_epoch; /* it names no node removed before that */
     sel->stats.benefit = benefit;
     sel->stats.cost = cost;
+}
+
+/* The selector's busy flag, which the scene sees too. */
+static void set_busy(tclod_selector *sel, int busy) {
+    sel->busy = busy;
+    sel->user.busy = busy;
+}
+
+/* Whether a solve is pending, which holds the scene unless the selector is a
+ * scheduler's. */
+static void set_pending(tclod_selector *sel, int pending) {
+    sel->pending = pending;
+    sel->user.holding = pending && sel->holds;
 }
 
 tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f) {
@@ -421,17 +461,13 @@ tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f) {
         return status;
     if (!tclod_selector_scene_ok(sel))
         return TCLOD_ERR_ARG;
-    sel->busy = 1;
+    set_busy(sel, 1);
     status = tclod_scene_prepare(sel->scene);
     if (status == TCLOD_OK)
         status = reserve(sel, sel->scene->node_count, sel->scene->smooth_count);
-    sel->busy = 0;
+    set_busy(sel, 0);
     if (status != TCLOD_OK)
         return status;
-    if (sel->scene_version != sel->scene->version) { /* start over like a new selector */
-        sel->has_cut = 0;
-        sel->closure_hint = 0.0;
-    }
     if (++sel->solve_id == UINT32_MAX) { /* the fill value of new records */
         uint32_t i;
         for (i = 0; i < sel->cap; ++i)
@@ -453,8 +489,9 @@ tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f) {
     sel->elapsed = 0.0;
     sel->reserved = 0.0;
     sel->vars.count = 0;
-    sel->pending = 1;
+    set_pending(sel, 1);
     sel->pending_version = sel->scene->version;
+    sel->begin_epoch = sel->scene->epoch;
     return TCLOD_OK;
 }
 
@@ -463,7 +500,7 @@ tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f) {
 static void abandon(tclod_selector *sel) {
     tclod_greedy_end(sel);
     roll_back(sel);
-    sel->pending = 0;
+    set_pending(sel, 0);
 }
 
 /* Runs the begun solve until it finishes or the slice (slice_end on the
@@ -477,7 +514,7 @@ static tclod_status run(tclod_selector *sel, double slice_seconds, uint32_t slic
         abandon(sel); /* the scene changed under the solve */
         return TCLOD_ERR_STATE;
     }
-    sel->busy = 1;
+    set_busy(sel, 1);
     sel->start_time = tclod_now();
     sel->slice_end = slice_seconds > 0.0 ? sel->start_time + slice_seconds : 0.0;
     sel->slice_iterations = 0;
@@ -511,15 +548,20 @@ static tclod_status run(tclod_selector *sel, double slice_seconds, uint32_t slic
     } else if (sel->paused) {
         *done = 0;
     } else {
+        if (sel->stats.over_budget)
+            sel->stats.stop_reason = TCLOD_STOP_OVER_BUDGET;
+        else if (sel->stats.dropped_roots && (sel->stats.stop_reason == TCLOD_STOP_BUDGET ||
+                                              sel->stats.stop_reason == TCLOD_STOP_FINEST))
+            sel->stats.stop_reason = TCLOD_STOP_ROOTS_DROPPED;
         commit(sel);
         sel->stats.solve_seconds = sel->elapsed;
-        sel->pending = 0;
+        set_pending(sel, 0);
         *done = 1;
         if (st)
             *st = sel->stats;
     }
     sel->frame = NULL;
-    sel->busy = 0;
+    set_busy(sel, 0);
     return status;
 }
 
@@ -570,7 +612,7 @@ tclod_status tclod_selector_cut(const tclod_selector *sel, const tclod_id **ids,
         return TCLOD_ERR_ARG;
     if (sel->busy)
         return TCLOD_ERR_STATE;
-    *ids = sel->result;
+    *ids = sel->drawn;
     *n = sel->result_count;
     return TCLOD_OK;
 }
@@ -593,10 +635,12 @@ double tclod_selector_resolution(const tclod_selector *sel, tclod_id smooth) {
         return 0.0;
     s = sel->scene;
     /* positions belong to the quadtree the result was made with */
-    if (smooth >= s->smooth_count || sel->scene_version != s->version ||
-        s->index_version != s->version)
+    if (smooth >= s->smooth_count || sel->smooth_version != s->smooth_version ||
+        s->qt_version != s->smooth_version)
         return 0.0;
     pos = s->smooth_pos[smooth];
+    if (pos == TCLOD_NONE)
+        return 0.0;
     hi = sel->group_count;
     while (hi - lo > 1u) { /* the last group with first <= pos */
         uint32_t mid = lo + (hi - lo) / 2u;

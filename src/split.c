@@ -293,7 +293,7 @@ static int split_tree(tclod_selector *sel) {
 
 int tclod_split_variables(tclod_selector *sel) {
     sel->vars.count = 0;
-    if (sel->scene->smooth_count == 0)
+    if (sel->scene->smooth_live == 0)
         return 0;
     if (!sel->desc.split_smooth) {
         split_flat(sel);

@@ -1,6 +1,6 @@
 /*
  * View helpers: frustum test, projected screen area and distance of bounding
- * spheres (DESIGN.md §3, "View helpers").
+ * volumes: spheres, axis-aligned and oriented boxes (docs/scenes.md, bounds).
  *
  * A view is orthonormalised once per frame into a tclod_view_cache. The four
  * side planes pass through the eye; with a point p (relative to the eye) in
@@ -12,10 +12,22 @@
  * projected radius of a sphere seen at distance d is r / sqrt(d² - r²) (the
  * tangent of its angular radius) times the focal length f in pixels, so its
  * projected area is pi f² r² / (d² - r²), with no square root.
+ *
+ * A box is tested plane by plane: it is outside a plane when its centre's
+ * signed distance exceeds its reach along the plane's normal n,
+ * sum_i h_i |u_i · n| (u_i its unit axes, h_i its half lengths). Its projected
+ * area is that of its silhouette: the faces turned towards the eye (at most
+ * three) project without overlapping, so the silhouette's area is the sum of
+ * theirs, each a quadrilateral clipped at the near plane and projected. Its
+ * distance from the eye is the length of the eye's excess over the half
+ * lengths in the box's frame (0 inside), what 3D Tiles' screen-space error
+ * divides by. Everything is computed in double relative to the eye, so that
+ * earth-centred coordinates (|x| about 6.4e6 m) keep their millimetres.
  */
 #include "internal.h"
 
 #include <math.h>
+#include <string.h>
 
 static double dot3(const double a[3], const double b[3]) {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -41,6 +53,12 @@ static void load3(const float in[3], double out[3]) {
     out[0] = (double)in[0];
     out[1] = (double)in[1];
     out[2] = (double)in[2];
+}
+
+static void copy3(const double in[3], double out[3]) {
+    out[0] = in[0];
+    out[1] = in[1];
+    out[2] = in[2];
 }
 
 tclod_status tclod_view_validate(const tclod_view *v) {
@@ -71,7 +89,8 @@ tclod_status tclod_view_validate(const tclod_view *v) {
 void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v) {
     double half_y = 0.5 * (double)v->fov_y;
     double half_x = atan((double)v->aspect * tan(half_y)), focal;
-    load3(v->eye, c->eye);
+    int k;
+    copy3(v->eye, c->eye);
     load3(v->forward, c->forward);
     load3(v->up, c->up);
     normalize3(c->forward);
@@ -85,8 +104,273 @@ void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v) {
     c->near_z = (double)v->near_z;
     c->far_z = (double)v->far_z;
     focal = 0.5 * (double)v->viewport_height / tan(half_y);
+    c->focal = focal;
     c->pi_focal2 = 3.14159265358979323846 * focal * focal;
     c->viewport_area = (double)v->viewport_height * (double)v->viewport_height * (double)v->aspect;
+    /* top, bottom, right, left: |y| cos a - z sin a as p · n */
+    for (k = 0; k < 3; ++k) {
+        c->plane[0][k] = c->up[k] * c->cos_y - c->forward[k] * c->sin_y;
+        c->plane[1][k] = -c->up[k] * c->cos_y - c->forward[k] * c->sin_y;
+        c->plane[2][k] = c->right[k] * c->cos_x - c->forward[k] * c->sin_x;
+        c->plane[3][k] = -c->right[k] * c->cos_x - c->forward[k] * c->sin_x;
+    }
+}
+
+/* ---- bounds ------------------------------------------------------------------ */
+
+/* Largest |cos| between two non-zero half axes of an oriented box. */
+#define ORTHOGONAL_TOLERANCE 1e-3
+
+tclod_bounds tclod_bounds_sphere(double x, double y, double z, double radius) {
+    tclod_bounds b;
+    memset(&b, 0, sizeof b);
+    b.kind = TCLOD_BOUNDS_SPHERE;
+    b.center[0] = x;
+    b.center[1] = y;
+    b.center[2] = z;
+    b.radius = radius;
+    return b;
+}
+
+tclod_bounds tclod_bounds_aabb(const double center[3], const double half_extents[3]) {
+    tclod_bounds b;
+    memset(&b, 0, sizeof b);
+    b.kind = TCLOD_BOUNDS_AABB;
+    if (center)
+        copy3(center, b.center);
+    if (half_extents)
+        copy3(half_extents, b.half_extents);
+    return b;
+}
+
+tclod_bounds tclod_bounds_obb(const double center[3], const double half_axes[9]) {
+    tclod_bounds b;
+    int i;
+    memset(&b, 0, sizeof b);
+    b.kind = TCLOD_BOUNDS_OBB;
+    if (center)
+        copy3(center, b.center);
+    if (half_axes)
+        for (i = 0; i < 3; ++i)
+            copy3(half_axes + 3 * i, b.half_axes[i]);
+    return b;
+}
+
+static int finite3(const double v[3]) {
+    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
+/* The unit axes of a box whose non-zero axes (lengths h) are u[i] already:
+ * the missing ones completed by cross products into a right-handed frame. */
+static void complete_frame(double u[3][3], const double h[3]) {
+    int zero = (h[0] == 0.0) + (h[1] == 0.0) + (h[2] == 0.0), i;
+    if (zero == 3) {
+        for (i = 0; i < 3; ++i) {
+            u[i][0] = i == 0;
+            u[i][1] = i == 1;
+            u[i][2] = i == 2;
+        }
+        return;
+    }
+    if (zero == 2) {
+        int a = h[0] > 0.0 ? 0 : (h[1] > 0.0 ? 1 : 2), b = (a + 1) % 3, c = (a + 2) % 3, k = 0;
+        double e[3] = {0.0, 0.0, 0.0};
+        /* the world axis least along u[a] */
+        for (i = 1; i < 3; ++i)
+            if (fabs(u[a][i]) < fabs(u[a][k]))
+                k = i;
+        e[k] = 1.0;
+        cross3(u[a], e, u[b]);
+        normalize3(u[b]);
+        cross3(u[a], u[b], u[c]);
+        normalize3(u[c]);
+        return;
+    }
+    if (zero == 1) {
+        int z = h[0] == 0.0 ? 0 : (h[1] == 0.0 ? 1 : 2);
+        cross3(u[(z + 1) % 3], u[(z + 2) % 3], u[z]);
+        normalize3(u[z]);
+    }
+}
+
+tclod_status tclod_bounds_convert(const tclod_bounds *b, tclod_node_bounds *nb, tclod_box *box) {
+    int i, j;
+    if (!b)
+        return TCLOD_ERR_ARG;
+    memset(nb, 0, sizeof *nb);
+    nb->box = TCLOD_NONE;
+    nb->kind = TCLOD_BOUNDS_NONE;
+    nb->r = -1.0;
+    switch (b->kind) {
+    case TCLOD_BOUNDS_NONE:
+        return TCLOD_OK;
+    case TCLOD_BOUNDS_SPHERE:
+        if (!finite3(b->center) || !isfinite(b->radius) || !(b->radius >= 0.0))
+            return TCLOD_ERR_ARG;
+        copy3(b->center, nb->c);
+        nb->r = b->radius;
+        nb->kind = TCLOD_BOUNDS_SPHERE;
+        return TCLOD_OK;
+    case TCLOD_BOUNDS_AABB:
+        if (!finite3(b->center) || !finite3(b->half_extents))
+            return TCLOD_ERR_ARG;
+        for (i = 0; i < 3; ++i)
+            if (!(b->half_extents[i] >= 0.0))
+                return TCLOD_ERR_ARG;
+        memset(box, 0, sizeof *box);
+        for (i = 0; i < 3; ++i) {
+            box->axes[i][i] = b->half_extents[i];
+            box->u[i][i] = 1.0;
+            box->h[i] = b->half_extents[i];
+        }
+        break;
+    case TCLOD_BOUNDS_OBB:
+        if (!finite3(b->center))
+            return TCLOD_ERR_ARG;
+        for (i = 0; i < 3; ++i) {
+            if (!finite3(b->half_axes[i]))
+                return TCLOD_ERR_ARG;
+            copy3(b->half_axes[i], box->axes[i]);
+            copy3(b->half_axes[i], box->u[i]);
+            box->h[i] = normalize3(box->u[i]);
+            if (!isfinite(box->h[i]))
+                return TCLOD_ERR_ARG; /* the length overflowed */
+        }
+        for (i = 0; i < 3; ++i)
+            for (j = i + 1; j < 3; ++j)
+                if (box->h[i] > 0.0 && box->h[j] > 0.0 &&
+                    !(fabs(dot3(box->u[i], box->u[j])) <= ORTHOGONAL_TOLERANCE))
+                    return TCLOD_ERR_ARG; /* skewed: not a box */
+        complete_frame(box->u, box->h);
+        break;
+    default:
+        return TCLOD_ERR_ARG;
+    }
+    copy3(b->center, nb->c);
+    /* the corners' distance from the centre, rounded up */
+    nb->r = sqrt(box->h[0] * box->h[0] + box->h[1] * box->h[1] + box->h[2] * box->h[2]);
+    nb->r += nb->r * 1e-12;
+    if (!isfinite(nb->r))
+        return TCLOD_ERR_ARG;
+    nb->kind = (uint32_t)b->kind;
+    return TCLOD_OK;
+}
+
+tclod_status tclod_bounds_validate(const tclod_bounds *b) {
+    tclod_node_bounds nb;
+    tclod_box box;
+    return tclod_bounds_convert(b, &nb, &box);
+}
+
+/* ---- boxes ------------------------------------------------------------------ */
+
+/* Whether the box with centre p (relative to the eye) meets the frustum. */
+static int box_visible(const tclod_view_cache *c, const double p[3], const tclod_box *b) {
+    double z = dot3(p, c->forward), reach = 0.0;
+    int k, i;
+    for (i = 0; i < 3; ++i)
+        reach += b->h[i] * fabs(dot3(b->u[i], c->forward));
+    if (c->near_z - z > reach || z - c->far_z > reach)
+        return 0;
+    for (k = 0; k < 4; ++k) {
+        reach = 0.0;
+        for (i = 0; i < 3; ++i)
+            reach += b->h[i] * fabs(dot3(b->u[i], c->plane[k]));
+        if (dot3(p, c->plane[k]) > reach)
+            return 0;
+    }
+    return 1;
+}
+
+/* The eye's coordinates in the frame of a box whose centre is p (relative to
+ * the eye): t[i] = -p · u_i. */
+static void box_coordinates(const double p[3], const tclod_box *b, double t[3]) {
+    int i;
+    for (i = 0; i < 3; ++i)
+        t[i] = -dot3(p, b->u[i]);
+}
+
+/* The area in px² of the projection of the quadrilateral q[0..4) (points
+ * relative to the eye), clipped at the near plane. */
+static double projected_quad(const tclod_view_cache *c, const double q[4][3]) {
+    double vx[4], vy[4], vz[4], px[8], py[8], area = 0.0;
+    int i, n = 0;
+    for (i = 0; i < 4; ++i) {
+        vx[i] = dot3(q[i], c->right);
+        vy[i] = dot3(q[i], c->up);
+        vz[i] = dot3(q[i], c->forward);
+    }
+    /* Sutherland-Hodgman against z >= near: at most 5 vertices (8 kept) */
+    for (i = 0; i < 4; ++i) {
+        int j = (i + 1) % 4;
+        int in_i = vz[i] >= c->near_z, in_j = vz[j] >= c->near_z;
+        if (in_i) {
+            px[n] = c->focal * vx[i] / vz[i];
+            py[n] = c->focal * vy[i] / vz[i];
+            n++;
+        }
+        if (in_i != in_j) {
+            double t = (c->near_z - vz[i]) / (vz[j] - vz[i]);
+            double x = vx[i] + t * (vx[j] - vx[i]), y = vy[i] + t * (vy[j] - vy[i]);
+            px[n] = c->focal * x / c->near_z;
+            py[n] = c->focal * y / c->near_z;
+            n++;
+        }
+    }
+    for (i = 0; i < n; ++i) {
+        int j = (i + 1) % n;
+        area += px[i] * py[j] - px[j] * py[i];
+    }
+    return 0.5 * fabs(area);
+}
+
+/* The area of the silhouette of the box with centre p (relative to the eye),
+ * and whether the eye is inside. */
+static double box_area(const tclod_view_cache *c, const double p[3], const tclod_box *b,
+                       const double t[3]) {
+    double area = 0.0;
+    int i, k;
+    if (fabs(t[0]) <= b->h[0] && fabs(t[1]) <= b->h[1] && fabs(t[2]) <= b->h[2])
+        return c->viewport_area;
+    for (i = 0; i < 3; ++i) {
+        int j = (i + 1) % 3, l = (i + 2) % 3;
+        double side;
+        for (side = -1.0; side <= 1.0; side += 2.0) {
+            double q[4][3], f[3];
+            if (!(side * t[i] > b->h[i]))
+                continue; /* the face is turned away */
+            for (k = 0; k < 3; ++k)
+                f[k] = p[k] + side * b->h[i] * b->u[i][k];
+            for (k = 0; k < 3; ++k) {
+                double a = b->h[j] * b->u[j][k], e = b->h[l] * b->u[l][k];
+                q[0][k] = f[k] + a + e;
+                q[1][k] = f[k] - a + e;
+                q[2][k] = f[k] - a - e;
+                q[3][k] = f[k] + a - e;
+            }
+            area += projected_quad(c, (const double(*)[3])q);
+        }
+    }
+    return area < c->viewport_area ? area : c->viewport_area;
+}
+
+static double box_distance(const tclod_box *b, const double t[3]) {
+    double d2 = 0.0;
+    int i;
+    for (i = 0; i < 3; ++i) {
+        double e = fabs(t[i]) - b->h[i];
+        if (e > 0.0)
+            d2 += e * e;
+    }
+    return sqrt(d2);
+}
+
+void tclod_view_cache_measure_box(const tclod_view_cache *c, const double p[3],
+                                  const tclod_box *box, float *area, double *distance) {
+    double t[3];
+    box_coordinates(p, box, t);
+    *distance = box_distance(box, t);
+    *area = box_visible(c, p, box) ? (float)box_area(c, p, box, t) : 0.0f;
 }
 
 void tclod_view_cache_measure(const tclod_view_cache *c, const float bounds[4], float *area,
@@ -94,36 +378,96 @@ void tclod_view_cache_measure(const tclod_view_cache *c, const float bounds[4], 
     tclod_view_measure(c, bounds, area, distance);
 }
 
-int tclod_view_sphere_visible(const tclod_view *view, const float bounds[4]) {
-    tclod_view_cache c;
-    double p[3];
-    if (!view || !bounds)
+void tclod_view_cache_measure_any(const tclod_view_cache *c, const tclod_bounds *b, float *area,
+                                  float *distance) {
+    tclod_node_bounds nb;
+    tclod_box box;
+    double d;
+    *area = *distance = -1.0f;
+    if (tclod_bounds_convert(b, &nb, &box) != TCLOD_OK || nb.r < 0.0)
+        return;
+    nb.box = nb.kind > TCLOD_BOUNDS_SPHERE ? 0u : TCLOD_NONE;
+    tclod_view_measure_bounds(c, &nb, &box, area, &d);
+    *distance = (float)d;
+}
+
+/* ---- public helpers ---------------------------------------------------------- */
+
+/* The view's cache and b converted, with b's centre relative to the eye in p.
+ * Returns 0 when b has no bounds (or an argument is NULL or invalid). */
+static int prepare_bounds(const tclod_view *view, const tclod_bounds *b, tclod_view_cache *c,
+                          tclod_node_bounds *nb, tclod_box *box, double p[3]) {
+    if (!view || !b || tclod_bounds_convert(b, nb, box) != TCLOD_OK || nb->r < 0.0)
         return 0;
-    tclod_view_cache_init(&c, view);
-    p[0] = (double)bounds[0] - c.eye[0];
-    p[1] = (double)bounds[1] - c.eye[1];
-    p[2] = (double)bounds[2] - c.eye[2];
-    return tclod_view_cache_visible(&c, p, (double)bounds[3]);
+    tclod_view_cache_init(c, view);
+    p[0] = nb->c[0] - c->eye[0];
+    p[1] = nb->c[1] - c->eye[1];
+    p[2] = nb->c[2] - c->eye[2];
+    return 1;
+}
+
+int tclod_view_bounds_visible(const tclod_view *view, const tclod_bounds *b) {
+    tclod_view_cache c;
+    tclod_node_bounds nb;
+    tclod_box box;
+    double p[3];
+    if (!prepare_bounds(view, b, &c, &nb, &box, p))
+        return b && b->kind == TCLOD_BOUNDS_NONE && view != NULL;
+    if (nb.kind == TCLOD_BOUNDS_SPHERE)
+        return tclod_view_cache_visible(&c, p, nb.r);
+    return box_visible(&c, p, &box);
+}
+
+double tclod_view_bounds_area(const tclod_view *view, const tclod_bounds *b) {
+    tclod_view_cache c;
+    tclod_node_bounds nb;
+    tclod_box box;
+    double p[3], t[3];
+    if (!prepare_bounds(view, b, &c, &nb, &box, p))
+        return -1.0;
+    if (nb.kind == TCLOD_BOUNDS_SPHERE)
+        return tclod_view_cache_area(&c, dot3(p, p), nb.r);
+    box_coordinates(p, &box, t);
+    return box_area(&c, p, &box, t);
+}
+
+double tclod_view_bounds_distance(const tclod_view *view, const tclod_bounds *b) {
+    tclod_view_cache c;
+    tclod_node_bounds nb;
+    tclod_box box;
+    double p[3], t[3];
+    if (!prepare_bounds(view, b, &c, &nb, &box, p))
+        return -1.0;
+    if (nb.kind == TCLOD_BOUNDS_SPHERE)
+        return tclod_sphere_distance(dot3(p, p), nb.r);
+    box_coordinates(p, &box, t);
+    return box_distance(&box, t);
+}
+
+int tclod_view_sphere_visible(const tclod_view *view, const float bounds[4]) {
+    tclod_bounds b;
+    if (!bounds)
+        return 0;
+    tclod_sphere_bounds(bounds, &b);
+    return tclod_view_bounds_visible(view, &b);
 }
 
 float tclod_view_screen_area(const tclod_view *view, const float bounds[4]) {
-    tclod_view_cache c;
-    double p[3];
-    if (!view || !bounds)
+    tclod_bounds b;
+    double area;
+    if (!bounds)
         return 0.0f;
-    tclod_view_cache_init(&c, view);
-    p[0] = (double)bounds[0] - c.eye[0];
-    p[1] = (double)bounds[1] - c.eye[1];
-    p[2] = (double)bounds[2] - c.eye[2];
-    return (float)tclod_view_cache_area(&c, dot3(p, p), (double)bounds[3]);
+    tclod_sphere_bounds(bounds, &b);
+    area = tclod_view_bounds_area(view, &b);
+    return area < 0.0 ? 0.0f : (float)area;
 }
 
 float tclod_view_distance(const tclod_view *view, const float bounds[4]) {
-    double d[3];
-    if (!view || !bounds)
+    tclod_bounds b;
+    double d;
+    if (!bounds)
         return 0.0f;
-    d[0] = (double)bounds[0] - (double)view->eye[0];
-    d[1] = (double)bounds[1] - (double)view->eye[1];
-    d[2] = (double)bounds[2] - (double)view->eye[2];
-    return (float)sqrt(dot3(d, d));
+    tclod_sphere_bounds(bounds, &b);
+    d = tclod_view_bounds_distance(view, &b);
+    return d < 0.0 ? 0.0f : (float)d;
 }

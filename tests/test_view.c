@@ -25,10 +25,9 @@ static void assert_close(double got, double want, double rel) {
         fail_msg("got %.9g, expected %.9g (relative tolerance %g)", got, want, rel);
 }
 
-/* The 14 floats of a view, in declaration order. */
+/* The 11 floats of a view after its eye, numbered 3 .. 13 in declaration
+ * order. */
 static float *view_field(tclod_view *v, int i) {
-    if (i < 3)
-        return &v->eye[i];
     if (i < 6)
         return &v->forward[i - 3];
     if (i < 9)
@@ -45,6 +44,14 @@ static float *view_field(tclod_view *v, int i) {
     default:
         return &v->viewport_height;
     }
+}
+
+/* Sets field i of the 14 numbers of a view, in declaration order. */
+static void set_view_field(tclod_view *v, int i, float value) {
+    if (i < 3)
+        v->eye[i] = (double)value;
+    else
+        *view_field(v, i) = value;
 }
 
 static void validate_accepts_a_normal_view(void **state) {
@@ -76,7 +83,7 @@ static void validate_rejects_nan_or_inf_in_any_field(void **state) {
         for (i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
             tclod_view v;
             helper_view(&v);
-            *view_field(&v, field) = bad[i];
+            set_view_field(&v, field, bad[i]);
             if (tclod_view_validate(&v) != TCLOD_ERR_ARG)
                 fail_msg("field %d = %g accepted", field, (double)bad[i]);
         }
@@ -128,7 +135,7 @@ static void validate_rejects_out_of_range_parameters(void **state) {
     for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         tclod_view v;
         helper_view(&v);
-        *view_field(&v, cases[i].field) = cases[i].value;
+        set_view_field(&v, cases[i].field, cases[i].value);
         if (tclod_view_validate(&v) != TCLOD_ERR_ARG)
             fail_msg("field %d = %g accepted", cases[i].field, (double)cases[i].value);
     }
@@ -262,17 +269,19 @@ static void screen_area_is_clamped_to_the_viewport(void **state) {
     assert_close(tclod_view_screen_area(&v, around), 2.0e6, 1e-6);
 }
 
-static void distance_is_eye_to_centre(void **state) {
+static void distance_is_eye_to_the_sphere(void **state) {
     tclod_view v;
-    const float a[4] = {4.0f, 6.0f, 3.0f, 7.0f};  /* (3, 4, 0) from the eye */
-    const float b[4] = {1.0f, 2.0f, -9.0f, 0.0f}; /* (0, 0, -12) */
+    const float a[4] = {4.0f, 6.0f, 3.0f, 7.0f};  /* (3, 4, 0) from the eye: inside */
+    const float b[4] = {1.0f, 2.0f, -9.0f, 0.0f}; /* (0, 0, -12), a point */
+    const float c[4] = {4.0f, 6.0f, 3.0f, 2.0f};  /* 5 away, radius 2 */
     (void)state;
     helper_view(&v);
-    v.eye[0] = 1.0f;
-    v.eye[1] = 2.0f;
-    v.eye[2] = 3.0f;
-    assert_close(tclod_view_distance(&v, a), 5.0, 1e-6);
+    v.eye[0] = 1.0;
+    v.eye[1] = 2.0;
+    v.eye[2] = 3.0;
+    assert_true(tclod_view_distance(&v, a) == 0.0f);
     assert_close(tclod_view_distance(&v, b), 12.0, 1e-6);
+    assert_close(tclod_view_distance(&v, c), 3.0, 1e-6);
 }
 
 /* What the callbacks saw, per node. */
@@ -302,8 +311,8 @@ static double capture_cost(void *user, const tclod_query *q) {
 }
 
 static void query_carries_screen_area_and_distance_from_bounds(void **state) {
-    /* Three roots: 0 in front at distance 10, 1 behind the eye at distance
-     * 10, 2 without bounds. */
+    /* Three roots: 0 in front at distance 10 (9 to its sphere), 1 behind the
+     * eye at distance 10, 2 without bounds. */
     const float front[4] = {0.0f, 0.0f, -10.0f, 1.0f};
     const float behind[4] = {0.0f, 0.0f, 10.0f, 1.0f};
     tclod_scene *s = NULL;
@@ -339,9 +348,9 @@ static void query_carries_screen_area_and_distance_from_bounds(void **state) {
     }
     /* pi * 500² / 99, as in screen_area_matches_hand_computation. */
     assert_close(c.query[0].screen_area, PI * 250000.0 / 99.0, 1e-4);
-    assert_close(c.query[0].distance, 10.0, 1e-6);
+    assert_close(c.query[0].distance, 9.0, 1e-6);
     assert_true(c.query[1].screen_area == 0.0f);
-    assert_close(c.query[1].distance, 10.0, 1e-6);
+    assert_close(c.query[1].distance, 9.0, 1e-6);
     assert_true(c.query[2].screen_area == -1.0f);
     assert_true(c.query[2].distance == -1.0f);
 
@@ -371,7 +380,7 @@ int main(void) {
         cmocka_unit_test(sphere_visibility_follows_a_moved_and_turned_view),
         cmocka_unit_test(screen_area_matches_hand_computation),
         cmocka_unit_test(screen_area_is_clamped_to_the_viewport),
-        cmocka_unit_test(distance_is_eye_to_centre),
+        cmocka_unit_test(distance_is_eye_to_the_sphere),
         cmocka_unit_test(query_carries_screen_area_and_distance_from_bounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

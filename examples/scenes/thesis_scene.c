@@ -650,10 +650,12 @@ tclod_status thesis_build(const thesis_desc *d, thesis_scene *out) {
 /* ------------------------------------------------------------------------- */
 
 void thesis_camera_at(const thesis_scene *t, double time, tclod_view *view) {
+    double above;
     world_camera_at(&t->path, time, view);
-    view->eye[1] +=
-        (float)terrain_envelope((double)view->eye[0] / (double)t->side,
-                                (double)view->eye[2] / (double)t->side, (double)t->height);
+    above = world_float(terrain_envelope(view->eye[0] / (double)t->side,
+                                         view->eye[2] / (double)t->side, (double)t->height));
+    /* in float, like the rest of the path */
+    view->eye[1] = world_float(view->eye[1] + above);
 }
 
 /* ------------------------------------------------------------------------- */

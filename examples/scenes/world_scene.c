@@ -721,6 +721,13 @@ tclod_status world_build_flyover(const world_flyover_desc *d, world_scene *out) 
 /* Camera loop                                                               */
 /* ------------------------------------------------------------------------- */
 
+double world_float(double x) {
+    /* through memory the compiler cannot keep in a register: some optimisers
+     * (GCC 12's vectoriser) drop a double -> float -> double conversion */
+    volatile float f = (float)x;
+    return (double)f;
+}
+
 void world_camera_at(const world_path *p, double t, tclod_view *view) {
     double theta = 2.0 * WORLD_PI * (t - floor(t));
     double r = (double)p->radius, wob = (double)p->wobble;
@@ -728,9 +735,9 @@ void world_camera_at(const world_path *p, double t, tclod_view *view) {
     double dz = r * cos(theta) - 2.0 * wob * cos(2.0 * theta);
     double len = sqrt(dx * dx + dz * dz);
     double cp = cos((double)p->pitch), sp = sin((double)p->pitch);
-    view->eye[0] = (float)((double)p->centre[0] + r * cos(theta) + wob * cos(3.0 * theta));
-    view->eye[1] = (float)((double)p->altitude + (double)p->altitude_swing * sin(2.0 * theta));
-    view->eye[2] = (float)((double)p->centre[1] + r * sin(theta) - wob * sin(2.0 * theta));
+    view->eye[0] = world_float((double)p->centre[0] + r * cos(theta) + wob * cos(3.0 * theta));
+    view->eye[1] = world_float((double)p->altitude + (double)p->altitude_swing * sin(2.0 * theta));
+    view->eye[2] = world_float((double)p->centre[1] + r * sin(theta) - wob * sin(2.0 * theta));
     view->forward[0] = (float)(dx / len * cp);
     view->forward[1] = (float)-sp;
     view->forward[2] = (float)(dz / len * cp);

@@ -66,6 +66,11 @@ typedef struct world_path {
  * The result passes tclod_view_validate. */
 void world_camera_at(const world_path *path, double t, tclod_view *view);
 
+/* x rounded to float, on every compiler and optimisation level: the camera
+ * paths keep their eyes in float, so that the paths (and with them the
+ * selections the determinism test hashes) are the same under any build. */
+double world_float(double x);
+
 /* A built world: the tclod scene plus the per-node model data the callbacks read.
  * Node ids are the scene's ids. All arrays are owned by the world. */
 typedef struct world_scene {

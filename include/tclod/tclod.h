@@ -11,8 +11,11 @@
  * Conventions used throughout this header:
  *  - Every function that can fail returns a tclod_status and writes its outputs
  *    only on success; on failure nothing observable changes.
- *  - Ids are dense indices assigned in creation order, starting at 0. Nodes and
- *    smooth objects have separate id spaces.
+ *  - Ids are dense indices starting at 0, below tclod_scene_node_count (nodes)
+ *    or tclod_scene_smooth_count (smooth objects): a host may index its own
+ *    arrays with them. Nodes and smooth objects have separate id spaces. A
+ *    removed id is given again only once every selector and scheduler over
+ *    the scene has solved since the removal (docs/scenes.md, ids).
  *  - Costs and budgets are in the host's unit (milliseconds in all examples).
  *  - No global state. A scene may be read by several selectors at once (also
  *    from several threads) while nobody modifies it; a selector is used by one
@@ -27,7 +30,7 @@
 #include <stdint.h>
 
 #define TCLOD_VERSION_MAJOR 0
-#define TCLOD_VERSION_MINOR 1
+#define TCLOD_VERSION_MINOR 2
 #define TCLOD_VERSION_PATCH 0
 /* MAJOR * 10000 + MINOR * 100 + PATCH, what tclod_version() returns. */
 #define TCLOD_VERSION_NUMBER \
@@ -96,7 +99,8 @@ typedef struct tclod_allocator {
 /* A perspective camera. forward and up need not be unit length or exactly
  * orthogonal (they are orthonormalised), but must not be zero or parallel. */
 typedef struct tclod_view {
-    float eye[3];          /* world position */
+    double eye[3];         /* world position (double: earth-centred coordinates
+                              keep millimetres, docs/scenes.md) */
     float forward[3];      /* viewing direction */
     float up[3];           /* approximate up direction */
     float fov_y;           /* vertical field of view, radians, in (0, pi) */
@@ -109,20 +113,59 @@ typedef struct tclod_view {
  * Returns TCLOD_OK or TCLOD_ERR_ARG (also for view == NULL). */
 TCLOD_API tclod_status tclod_view_validate(const tclod_view *view);
 
-/* 1 if a sphere (bounds = x, y, z, radius) intersects the view frustum (the
- * six planes: near, far, left, right, top, bottom), 0 if it lies wholly
- * outside. Conservative: a sphere near a frustum corner may be reported
- * inside. Precondition: tclod_view_validate(view) == TCLOD_OK. */
+/* Bounding volumes of nodes (docs/scenes.md, bounds). Every kind has a
+ * world-space centre in double. */
+typedef enum tclod_bounds_kind {
+    TCLOD_BOUNDS_NONE = 0,   /* no bounds: queries carry screen_area and distance -1 */
+    TCLOD_BOUNDS_SPHERE = 1, /* centre and radius */
+    TCLOD_BOUNDS_AABB = 2,   /* axis-aligned box: centre and half extents */
+    TCLOD_BOUNDS_OBB = 3     /* oriented box: centre and three half axes (3D Tiles' box) */
+} tclod_bounds_kind;
+
+/* A bounding volume; only the fields of its kind are read. */
+typedef struct tclod_bounds {
+    tclod_bounds_kind kind;
+    double center[3];       /* world position */
+    double radius;          /* SPHERE: >= 0 */
+    double half_extents[3]; /* AABB: half sizes along x, y, z, each >= 0 */
+    double half_axes[3][3]; /* OBB: half_axes[i] goes from the centre to the middle of
+                               a face; mutually orthogonal (|cos| <= 1e-3 between
+                               non-zero axes); zero axes allowed (a flat box) */
+} tclod_bounds;
+
+/* Constructors: a sphere; an axis-aligned box (half_extents: 3 values); an
+ * oriented box (half_axes: 9 values, three axes of x, y, z). No checks: see
+ * tclod_bounds_validate. */
+TCLOD_API tclod_bounds tclod_bounds_sphere(double x, double y, double z, double radius);
+TCLOD_API tclod_bounds tclod_bounds_aabb(const double center[3], const double half_extents[3]);
+TCLOD_API tclod_bounds tclod_bounds_obb(const double center[3], const double half_axes[9]);
+
+/* Checks a bounding volume: a known kind, finite numbers, radius and half
+ * extents >= 0, orthogonal half axes. Returns TCLOD_OK or TCLOD_ERR_ARG (also
+ * for NULL). Kind NONE is valid. */
+TCLOD_API tclod_status tclod_bounds_validate(const tclod_bounds *b);
+
+/* 1 if bounds b intersects the view frustum (the six planes), 0 if it lies
+ * wholly outside. Conservative near frustum corners. NONE is visible.
+ * Preconditions: a valid view, valid bounds. */
+TCLOD_API int tclod_view_bounds_visible(const tclod_view *view, const tclod_bounds *b);
+
+/* Projected area of b in pixels² (the query's screen_area, without the
+ * frustum test): a sphere as pi r_px², r_px = f r / sqrt(d² - r²) with
+ * f = (viewport_height / 2) / tan(fov_y / 2); a box as the area of its
+ * silhouette (its faces towards the eye, clipped at the near plane). At most
+ * the viewport's area (viewport_height² * aspect), which it is when the eye is
+ * inside. -1 for NONE. Preconditions: a valid view, valid bounds. */
+TCLOD_API double tclod_view_bounds_area(const tclod_view *view, const tclod_bounds *b);
+
+/* Distance from the eye to b: 0 inside, else to the nearest point of the
+ * sphere or box (what 3D Tiles' screen-space error divides by). -1 for NONE.
+ * Preconditions: a valid view, valid bounds. */
+TCLOD_API double tclod_view_bounds_distance(const tclod_view *view, const tclod_bounds *b);
+
+/* The same three for a sphere given as floats (x, y, z, radius). */
 TCLOD_API int tclod_view_sphere_visible(const tclod_view *view, const float bounds[4]);
-
-/* Projected area of a bounding sphere in pixels²: pi * r_px² with
- * r_px = (viewport_height / 2) / tan(fov_y / 2) * r / sqrt(d² - r²), d the
- * distance from the eye to the centre, clamped to the viewport area
- * (viewport_height² * aspect); the whole viewport when the eye is inside the
- * sphere. Does not test the frustum. Precondition: a valid view. */
 TCLOD_API float tclod_view_screen_area(const tclod_view *view, const float bounds[4]);
-
-/* Distance from the eye to the centre of bounds. */
 TCLOD_API float tclod_view_distance(const tclod_view *view, const float bounds[4]);
 
 /* ------------------------------------------------------------------------- */
@@ -131,19 +174,22 @@ TCLOD_API float tclod_view_distance(const tclod_view *view, const float bounds[4
 
 /* What a callback is asked about. Valid only during the call. */
 typedef struct tclod_query {
-    tclod_id id;             /* node id, or first smooth object of a group */
-    uint32_t count;          /* smooth objects in the group (1 for nodes) */
-    const tclod_view *view;  /* the frame's view; NULL when the frame has none */
-    float screen_area;       /* projected bounds in px²; 0 when the bounds are
-                                outside the frustum; -1 when no bounds or no view */
-    float distance;          /* eye to bounds centre, or -1 when no bounds or no view */
-    const tclod_id *members; /* smooth queries: the count member ids of the group, in
-                                the scene's smooth order (members[0] == id); the
-                                array belongs to the scene. NULL for nodes */
-    const float *bounds;     /* the sphere screen_area and distance were measured on
-                                (x, y, z, radius): the node's or object's bounds, or
-                                the sphere around a group's members; NULL for a node
-                                without bounds */
+    tclod_id id;                /* node id, or first smooth object of a group */
+    uint32_t count;             /* smooth objects in the group (1 for nodes) */
+    const tclod_view *view;     /* the frame's view; NULL when the frame has none */
+    float screen_area;          /* projected bounds in px² (tclod_view_bounds_area); 0
+                                   when the bounds are outside the frustum; -1 when
+                                   no bounds or no view */
+    float distance;             /* eye to the bounds, 0 inside
+                                   (tclod_view_bounds_distance, in float: 0.5 mm at
+                                   10 km); -1 when no bounds or no view */
+    const tclod_id *members;    /* smooth queries: the count member ids of the group, in
+                                   the scene's smooth order (members[0] == id); the
+                                   array belongs to the scene. NULL for nodes */
+    const tclod_bounds *bounds; /* the volume screen_area and distance were measured on,
+                                   its kind saying which: the node's or object's, or
+                                   the sphere around a group's members; NULL without
+                                   bounds */
 } tclod_query;
 
 /* The host's model of quality and render time. Callbacks may read anything but
@@ -216,25 +262,55 @@ typedef struct tclod_callbacks {
 /* Scene                                                                     */
 /* ------------------------------------------------------------------------- */
 
-/* Structure only: nodes of one or more LOD hierarchies, and smooth objects.
- * Nodes are never removed; build a new scene to start over. */
+/* Structure only: nodes of one or more LOD hierarchies, and smooth objects
+ * (docs/scenes.md). The host adds, removes and moves them between frames; a
+ * selector's next warm solve picks the changes up (its work grows with the
+ * changes, not with the scene). No change is allowed while a selector over the
+ * scene has a solve begun, or from a callback: TCLOD_ERR_STATE. */
 typedef struct tclod_scene tclod_scene;
 
 /* Creates an empty scene. a may be NULL (malloc/free); it is copied. */
 TCLOD_API tclod_status tclod_scene_create(const tclod_allocator *a, tclod_scene **out);
 
-/* Frees the scene. Destroy its selectors first. NULL is allowed. */
+/* Frees the scene. Destroy its selectors and schedulers first. NULL is allowed. */
 TCLOD_API void tclod_scene_destroy(tclod_scene *s);
 
-/* Adds a node. parent is TCLOD_NONE for the root of a new hierarchy, else an
- * existing node id (a node's children together refine it; a plain object with
- * L levels is a chain of L nodes). Because a parent must exist before its
- * children, cycles are impossible. bounds is x, y, z, radius (world units) or
- * NULL for a node without bounds; with bounds the callbacks' query carries
- * screen_area and distance.
- * Errors: TCLOD_ERR_ARG (s or out_id NULL; bounds not finite; radius < 0),
- * TCLOD_ERR_HIERARCHY (parent is neither TCLOD_NONE nor an existing node),
- * TCLOD_ERR_NOMEM. Must not be called while a selector on s is solving. */
+/* How a node's children refine it (docs/scenes.md, refinement). */
+typedef enum tclod_refine {
+    TCLOD_REFINE_REPLACE = 0, /* the children together replace the node (terrain quadtrees,
+                                 an object's levels, 3D Tiles REPLACE) */
+    TCLOD_REFINE_ADD = 1      /* the node stays drawn and its children add to it
+                                 (point-cloud octrees, 3D Tiles ADD) */
+} tclod_refine;
+
+/* A node to add. */
+typedef struct tclod_node_desc {
+    tclod_id parent;     /* TCLOD_NONE: the root of a new hierarchy; else a live node.
+                            Default TCLOD_NONE */
+    tclod_bounds bounds; /* kind TCLOD_BOUNDS_NONE: no bounds (queries carry -1).
+                            Default none */
+    tclod_refine refine; /* Default TCLOD_REFINE_REPLACE */
+    int empty;           /* 1: nothing to draw (a grouping node, a tile without
+                            content): never drawn, costs nothing, no callback asks
+                            about it, its children are selected as if they hung
+                            from its parent (or were roots). Default 0 */
+} tclod_node_desc;
+
+/* Fills d with the defaults above. */
+TCLOD_API void tclod_node_desc_default(tclod_node_desc *d);
+
+/* Adds a node described by d. Errors: TCLOD_ERR_ARG (s, d or out_id NULL; bounds
+ * rejected by tclod_bounds_validate; refine or empty out of range),
+ * TCLOD_ERR_HIERARCHY (parent neither TCLOD_NONE nor a live node),
+ * TCLOD_ERR_STATE (a solve holds the scene), TCLOD_ERR_NOMEM. An additive node
+ * that is not empty takes a second id for its own drawing among its children,
+ * which no call returns (docs/scenes.md, ids). */
+TCLOD_API tclod_status tclod_scene_add_node_desc(tclod_scene *s, const tclod_node_desc *d,
+                                                 tclod_id *out_id);
+
+/* The short form: a replace node with a sphere (x, y, z, radius; NULL: no
+ * bounds). Errors as tclod_scene_add_node_desc (bounds not finite, radius < 0:
+ * TCLOD_ERR_ARG). */
 TCLOD_API tclod_status tclod_scene_add_node(tclod_scene *s, tclod_id parent, const float bounds[4],
                                             tclod_id *out_id);
 
@@ -244,24 +320,54 @@ TCLOD_API tclod_status tclod_scene_add_node(tclod_scene *s, tclod_id parent, con
 TCLOD_API tclod_status tclod_scene_add_smooth(tclod_scene *s, const float bounds[4],
                                               tclod_id *out_id);
 
+/* Removes a node with its whole subtree. Removed ids never appear in a later
+ * result. Errors: TCLOD_ERR_ARG (s NULL, node not a live node: unknown, removed
+ * already, or an id no call returned), TCLOD_ERR_STATE (a solve holds the
+ * scene); nothing changes on error. */
+TCLOD_API tclod_status tclod_scene_remove_node(tclod_scene *s, tclod_id node);
+
+/* Removes a smooth object. Errors as tclod_scene_remove_node. */
+TCLOD_API tclod_status tclod_scene_remove_smooth(tclod_scene *s, tclod_id smooth);
+
+/* Moves a node: new bounds (NULL or kind NONE: none). Errors: TCLOD_ERR_ARG (s
+ * NULL, node not live, bounds rejected by tclod_bounds_validate),
+ * TCLOD_ERR_STATE; nothing changes on error. */
+TCLOD_API tclod_status tclod_scene_set_node_bounds(tclod_scene *s, tclod_id node,
+                                                   const tclod_bounds *bounds);
+
+/* Moves a smooth object (bounds x, y, z, radius, required): it may change
+ * quadtree cell. Errors as tclod_scene_set_node_bounds. */
+TCLOD_API tclod_status tclod_scene_set_smooth_bounds(tclod_scene *s, tclod_id smooth,
+                                                     const float bounds[4]);
+
+/* A node's bounds into *out. Errors: TCLOD_ERR_ARG (NULL argument, node not
+ * live). */
+TCLOD_API tclod_status tclod_scene_node_bounds(const tclod_scene *s, tclod_id node,
+                                               tclod_bounds *out);
+
 /* Builds the scene's child index now (children stored contiguously). Optional:
  * selectors build it on demand after the scene changed. Call it after changing a
  * scene that several threads then select from concurrently. */
 TCLOD_API tclod_status tclod_scene_prepare(tclod_scene *s);
 
-/* The smooth objects in the scene's quadtree order: groups of smooth objects
- * (tclod_query.members, tclod_smooth_group) are contiguous ranges of it. The
- * quadtree is built over the objects' ground positions (x, z) when the scene
- * is prepared, so this prepares the scene if it changed. *order points into
- * the scene: valid until the scene next changes or is destroyed. Errors:
+/* The live smooth objects in the scene's quadtree order: groups of smooth
+ * objects (tclod_query.members, tclod_smooth_group) are contiguous ranges of
+ * it. The quadtree is built over the objects' ground positions (x, z) when the
+ * scene is prepared, so this prepares the scene if it changed. *order points
+ * into the scene: valid until the scene next changes or is destroyed. Errors:
  * TCLOD_ERR_ARG (NULL argument), TCLOD_ERR_NOMEM. */
 TCLOD_API tclod_status tclod_scene_smooth_order(tclod_scene *s, const tclod_id **order,
                                                 uint32_t *count);
 
-/* Number of nodes / smooth objects (0 for NULL). */
+/* The id bounds: every node id is below tclod_scene_node_count, every smooth
+ * id below tclod_scene_smooth_count (0 for NULL); size the host's arrays by
+ * them. Removed ids and those an additive node takes for itself count too. */
 TCLOD_API uint32_t tclod_scene_node_count(const tclod_scene *s);
 TCLOD_API uint32_t tclod_scene_smooth_count(const tclod_scene *s);
-/* Parent of a node; TCLOD_NONE for a root or an unknown id. */
+/* 1 when node (smooth object) is live: added and not removed. 0 otherwise. */
+TCLOD_API int tclod_scene_node_live(const tclod_scene *s, tclod_id node);
+TCLOD_API int tclod_scene_smooth_live(const tclod_scene *s, tclod_id smooth);
+/* Parent of a live node; TCLOD_NONE for a root or an id that is not live. */
 TCLOD_API tclod_id tclod_scene_parent(const tclod_scene *s, tclod_id node);
 
 /* ------------------------------------------------------------------------- */
@@ -303,6 +409,18 @@ typedef enum tclod_misfit {
                                  time still left covers it, else not drawn */
 } tclod_misfit;
 
+/* What a solve does when even the coarsest representation of every visible
+ * hierarchy (its root, or below empty roots the first nodes that draw) does not
+ * fit the budget (docs/scenes.md, overflow). */
+typedef enum tclod_overflow {
+    TCLOD_OVERFLOW_DROP_ROOTS = 0, /* the guarantee: the lowest-value roots are left out
+                                      until the rest fits (tclod_stats.dropped_roots,
+                                      stop reason TCLOD_STOP_ROOTS_DROPPED) */
+    TCLOD_OVERFLOW_DRAW_ROOTS = 1  /* every visible root is drawn at its coarsest, over
+                                      the budget, and tclod_stats.over_budget says so:
+                                      the only way a selection may exceed its budget */
+} tclod_overflow;
+
 typedef struct tclod_selector_desc {
     tclod_solver solver;       /* default TCLOD_SOLVER_GREEDY */
     tclod_callbacks callbacks; /* benefit and cost required; default all NULL */
@@ -324,6 +442,9 @@ typedef struct tclod_selector_desc {
     int strict;                /* 1: a bad callback value fails the call with
                                   TCLOD_ERR_CALLBACK (previous result kept);
                                   0: it is sanitised and counted. Default 0 */
+    tclod_overflow overflow;   /* what happens when even the visible roots do not
+                                  fit. Default TCLOD_OVERFLOW_DROP_ROOTS (the
+                                  budget guarantee) */
     uint32_t lookahead;        /* greedy and mixed solvers: how many levels below
                                   a node's children its increment may reach. The
                                   increment then replaces the node by the cut of
@@ -422,31 +543,38 @@ typedef struct tclod_frame {
 
 /* Why a solve stopped (tclod_stats.stop_reason). */
 typedef enum tclod_stop_reason {
-    TCLOD_STOP_BUDGET = 0,     /* no further increment fits the budget */
-    TCLOD_STOP_FINEST = 1,     /* no increment is left: every visible selected node is
-                                  at its finest level or refining it gains nothing */
-    TCLOD_STOP_ITERATIONS = 2, /* tclod_frame.max_iterations reached */
-    TCLOD_STOP_TIME = 3,       /* tclod_frame.solve_seconds reached */
-    TCLOD_STOP_FINISHED = 4    /* ended early by tclod_select_finish */
+    TCLOD_STOP_BUDGET = 0,        /* no further increment fits the budget */
+    TCLOD_STOP_FINEST = 1,        /* no increment is left: every visible selected node is
+                                     at its finest level or refining it gains nothing */
+    TCLOD_STOP_ITERATIONS = 2,    /* tclod_frame.max_iterations reached */
+    TCLOD_STOP_TIME = 3,          /* tclod_frame.solve_seconds reached */
+    TCLOD_STOP_FINISHED = 4,      /* ended early by tclod_select_finish */
+    TCLOD_STOP_ROOTS_DROPPED = 5, /* even the visible roots did not fit: some were left
+                                     out (tclod_stats.dropped_roots) */
+    TCLOD_STOP_OVER_BUDGET = 6    /* even the visible roots did not fit, and
+                                     TCLOD_OVERFLOW_DRAW_ROOTS drew them over the budget */
 } tclod_stop_reason;
 
 /* Figures of one tclod_select, returned by value. */
 typedef struct tclod_stats {
-    double benefit, cost;    /* of the returned selection, summed in result order
-                                (cut, then smooth groups); cost <= budget */
-    uint32_t iterations;     /* increments and decrements tried (taken or not),
-                                and line searches */
-    uint32_t increments;     /* increments taken */
-    uint32_t decrements;     /* decrements taken */
-    uint32_t line_searches;  /* gradient steps on smooth variables (mixed solver) */
-    uint32_t variables;      /* smooth variables after culling and splitting
-                                (mixed solver) */
-    uint32_t dropped_roots;  /* visible roots left out because even they did not fit */
-    uint32_t invalid_values; /* callback values that were NaN, inf or negative */
-    uint32_t evaluations;    /* nodes whose callbacks were called, plus smooth
-                                callback calls */
-    double solve_seconds;    /* wall-clock time of the solve */
-    int stop_reason;         /* a tclod_stop_reason */
+    double benefit, cost;          /* of the returned selection, summed in result order
+                                      (cut, then smooth groups); cost <= budget unless
+                                      over_budget */
+    uint32_t iterations;           /* increments and decrements tried (taken or not),
+                                      and line searches */
+    uint32_t increments;           /* increments taken */
+    uint32_t decrements;           /* decrements taken */
+    uint32_t line_searches;        /* gradient steps on smooth variables (mixed solver) */
+    uint32_t variables;            /* smooth variables after culling and splitting
+                                      (mixed solver) */
+    uint32_t dropped_roots;        /* visible roots left out because even they did not fit */
+    uint32_t over_budget;          /* 1: TCLOD_OVERFLOW_DRAW_ROOTS drew the roots over the
+                                      budget (cost > budget); else 0 */
+    uint32_t invalid_values;       /* callback values that were NaN, inf or negative */
+    uint32_t evaluations;          /* nodes whose callbacks were called, plus smooth
+                                      callback calls */
+    double solve_seconds;          /* wall-clock time of the solve */
+    tclod_stop_reason stop_reason; /* why the solve stopped */
 } tclod_stats;
 
 /* Per-view solver state and the current result. */
@@ -473,17 +601,19 @@ TCLOD_API void tclod_selector_destroy(tclod_selector *sel);
  * those of the smooth groups in the order tclod_selector_smooth_groups lists
  * them, are <= budget.
  * Roots are selected first; if even the visible roots do not fit, the lowest
- * value (benefit / cost) roots are left out and counted in st->dropped_roots.
+ * value (benefit / cost) roots are left out and counted in st->dropped_roots
+ * (unless tclod_selector_desc.overflow says otherwise). The cut lists every node
+ * drawn: with additive refinement a node and its descendants.
  * Allocates only while its buffers grow to the scene's size (the first call,
- * and after the scene grew). A changed scene restarts from the roots.
+ * and after the scene grew). A warm start survives changes to the scene: the
+ * previous cut loses the removed nodes and gains the added ones where it
+ * refined their parents.
  * st may be NULL.
  * Errors: TCLOD_ERR_ARG (NULL sel or f; budget NaN or < 0; solve_seconds NaN
  * or < 0; an invalid view; the mixed solver created without smooth callbacks
  * over a scene that has smooth objects now), TCLOD_ERR_CALLBACK (strict
- * mode), TCLOD_ERR_NOMEM, TCLOD_ERR_STATE (re-entered from a callback, or a
- * callback changed the scene during the solve: the next solve starts over
- * from the roots). On error the previous result and its stats stay as they
- * were. */
+ * mode), TCLOD_ERR_NOMEM, TCLOD_ERR_STATE (re-entered from a callback). On
+ * error the previous result and its stats stay as they were. */
 TCLOD_API tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats *st);
 
 /* Resumable selection: the same solve as tclod_select, spread over several
@@ -508,8 +638,7 @@ TCLOD_API tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, t
  * the result equals tclod_select's for the same frame.
  * Errors: begin: as tclod_select, and TCLOD_ERR_STATE when a solve is already
  * pending; step: TCLOD_ERR_ARG (NULL sel or done, slice_seconds NaN or < 0),
- * TCLOD_ERR_STATE (no solve pending, re-entered from a callback, or the scene
- * changed since begin, also from a callback: the solve is then cancelled),
+ * TCLOD_ERR_STATE (no solve pending, re-entered from a callback),
  * TCLOD_ERR_CALLBACK
  * (strict mode: the solve is cancelled). tclod_select while a solve is
  * pending returns TCLOD_ERR_STATE. */
@@ -524,8 +653,9 @@ TCLOD_API tclod_status tclod_select_cancel(tclod_selector *sel);
 /* 1 while a begun solve has neither finished nor been cancelled, else 0. */
 TCLOD_API int tclod_select_pending(const tclod_selector *sel);
 
-/* The visible nodes of the current cut (culled and dropped nodes are not
- * listed), in result order. *ids points into the selector: valid until the
+/* The nodes the current selection draws, in result order: the visible nodes
+ * of its cut (culled, dropped and empty nodes are not listed) and the additive
+ * nodes it refined, each before its descendants. *ids points into the selector: valid until the
  * next tclod_select or tclod_selector_destroy. Before the first selection
  * *n = 0. Errors: TCLOD_ERR_ARG (NULL argument), TCLOD_ERR_STATE (called
  * from a callback during a solve). */
@@ -748,7 +878,10 @@ TCLOD_API void tclod_scheduler_desc_default(tclod_scheduler_desc *d);
 /* One item of a frame's draw list: node `fine` geomorphed towards its parent
  * `coarse` with `weight` in [0, 1] (1 = exactly fine, 0 = looks like coarse).
  * fine == coarse (weight 1) when the node does not morph. The fine nodes of a
- * draw list are disjoint: none is an ancestor of another. */
+ * draw list are disjoint (none is an ancestor of another) except for additive
+ * nodes, drawn with their descendants; coarse is the nearest ancestor that
+ * draws (empty nodes are passed over), and for a child of an additive node it
+ * is that node, which stays drawn: the child fades in. */
 typedef struct tclod_draw {
     tclod_id fine, coarse;
     float weight;
@@ -806,7 +939,10 @@ TCLOD_API void tclod_scheduler_destroy(tclod_scheduler *sch);
  * its end), and makes this frame's draw list. budget is in the unit of
  * tclod_scheduler_report's render times (the callbacks' cost unit as long as
  * nothing is reported). The first update selects at once for its view; so
- * does an update after a changed scene or a gap of more than 3 tau. The
+ * does an update after a gap of more than 3 tau. The scene may change between
+ * updates (its selection under way is then begun again): removed nodes and
+ * smooth objects leave the draw list at the next update, mid-morph too, and
+ * added ones join with the next selection that lands. The
  * scheduler also calls the host's callbacks itself, for the nodes a morph
  * passes through. Allocates only when the scene grew (and on the first
  * update); all of it before anything else, so that running out of memory

@@ -50,7 +50,7 @@ void check_node_query(const probe *p, const tclod_query *q) {
         const float *b = p->m->bounds[q->id];
         float area =
             tclod_view_sphere_visible(q->view, b) ? tclod_view_screen_area(q->view, b) : 0.0f;
-        float distance = tclod_view_distance(q->view, b);
+        float distance = tclod_view_distance(q->view, b); /* to the sphere, 0 inside */
         FUZZ_CHECK(memcmp(&area, &q->screen_area, sizeof area) == 0 &&
                        memcmp(&distance, &q->distance, sizeof distance) == 0,
                    "node %u: area %.9g distance %.9g, the view helpers say %.9g %.9g",

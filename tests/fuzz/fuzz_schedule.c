@@ -190,7 +190,7 @@ static void check_conservative(fuzz_reader *in, const tclod_view *v) {
      * has not stopped at 179 degrees, and the step back and the coordinates
      * stay where float keeps them to well under the sphere's size) */
     if ((double)out.fov_y < 179.0 * 3.14159265358979323846 / 180.0 - 1e-3 && back < 1e4 &&
-        fabsf(v->eye[0]) + fabsf(v->eye[1]) + fabsf(v->eye[2]) < 1e4f && v->far_z < 1e4f) {
+        fabs(v->eye[0]) + fabs(v->eye[1]) + fabs(v->eye[2]) < 1e4 && v->far_z < 1e4f) {
         double f[3], len, depth = 0.5 * ((double)v->near_z + (double)v->far_z);
         float probe_sphere[4];
         int k;

@@ -171,8 +171,14 @@ static void check_result(const tclod_selector *sel, tclod_scene *s, const probe 
                st->benefit, st->cost, benefit, cost);
     FUZZ_CHECK(st->invalid_values == p->bad, "%u invalid values counted, %u returned",
                (unsigned)st->invalid_values, (unsigned)p->bad);
-    FUZZ_CHECK(st->stop_reason >= TCLOD_STOP_BUDGET && st->stop_reason <= TCLOD_STOP_FINISHED,
-               "stop reason %d", st->stop_reason);
+    FUZZ_CHECK(st->stop_reason >= TCLOD_STOP_BUDGET && st->stop_reason <= TCLOD_STOP_OVER_BUDGET,
+               "stop reason %d", (int)st->stop_reason);
+    /* roots left out are said, unless a limit stopped the search */
+    FUZZ_CHECK((st->stop_reason == TCLOD_STOP_ROOTS_DROPPED) ==
+                   (st->dropped_roots > 0 && st->stop_reason != TCLOD_STOP_ITERATIONS &&
+                    st->stop_reason != TCLOD_STOP_TIME && st->stop_reason != TCLOD_STOP_FINISHED),
+               "stop reason %d with %u roots dropped", (int)st->stop_reason,
+               (unsigned)st->dropped_roots);
     FUZZ_CHECK(st->variables <= m->smooth, "%u variables", (unsigned)st->variables);
     FUZZ_CHECK(st->dropped_roots <= roots + m->smooth, "%u roots dropped",
                (unsigned)st->dropped_roots);
