@@ -103,7 +103,7 @@ enum {
  * so that users on several threads never write the same memory. */
 typedef struct tclod_scene_user {
     uint32_t synced; /* the scene's epoch when the user's last solve began: it holds
-                        no id removed after that */
+                        no id removed before that (UINT32_MAX before its first) */
     int busy;        /* in a call that reads the scene, callbacks included */
     int holding;     /* a begun solve holds the scene (between begin and its end) */
 } tclod_scene_user;
@@ -178,8 +178,8 @@ struct tclod_scene {
     uint32_t qt_version;     /* smooth_version the quadtree describes */
 };
 
-/* Registers u as a user of s (u->synced the current epoch, not busy, not
- * holding). Errors: TCLOD_ERR_NOMEM. */
+/* Registers u as a user of s (holding no id yet, not busy, not holding the
+ * scene). Errors: TCLOD_ERR_NOMEM. */
 tclod_status tclod_scene_attach(tclod_scene *s, tclod_scene_user *u);
 /* Unregisters u. */
 void tclod_scene_detach(tclod_scene *s, tclod_scene_user *u);
@@ -561,7 +561,11 @@ typedef struct tclod_resume {
     /* Robin Hood: time not shared out yet, value of the instances left */
     double pool, value_left;
     int limited; /* an instance could refine further */
-    int plain;   /* the solve's heads take the common path (plain_heads) */
+    int held;    /* TCLOD_OVERFLOW_DRAW_ROOTS: the roots' simplest levels are held
+                    out of the pool (they fit), or drawn over the budget (they do
+                    not: overflowing) */
+    int overflowing;
+    int plain; /* the solve's heads take the common path (plain_heads) */
     /* Robin Hood's third cycle: the candidates' ring (robin_hood.c), the value
      * in it and the smallest step it holds (or a lower bound) ... */
     uint32_t ring_first, ring_count;
@@ -700,6 +704,7 @@ typedef struct tclod_selector_saved {
     tclod_smooth_group *groups;
     uint32_t cut_count, result_count, group_count;
     uint32_t scene_version, node_version, smooth_version;
+    uint32_t synced; /* the selector's tclod_scene_user.synced */
     int has_cut;
     double closure_hint; /* as it was when the keeping began */
     int valid;           /* a commit has happened since: the fields above hold

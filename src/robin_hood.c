@@ -837,9 +837,11 @@ static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *
         f->value_left = value_left;
         if (refine)
             continue;
-        /* the branch is done: what its children used goes back to its parent */
+        /* the branch is done: what its children used goes back to its parent
+         * (an unlimited budget: every time is infinite and stays so, and
+         * inf - inf would make it NaN) */
         {
-            double u = f->alloc - extra, b = f->base;
+            double b = f->base, u = isinf(f->alloc) ? b : f->alloc - extra;
             if (--top == 0) {
                 *used = u;
                 return 0;
@@ -1005,6 +1007,10 @@ static int finish(tclod_selector *sel) {
         sum += sel->vars.c[i];
     if (!isinf(sum) && sum <= sel->frame->budget)
         return 0;
+    if (sel->resume.overflowing) {
+        sel->stats.over_budget = 1; /* the roots alone exceed it */
+        return 0;
+    }
     sel->vars.count = 0;
     return tclod_greedy_enforce(sel);
 }
@@ -1081,6 +1087,25 @@ static int robin_hood_start(tclod_selector *sel) {
         return -1;
     R->plain = plain_heads(sel);
     R->pool = isinf(budget) ? budget : budget - BUDGET_MARGIN * budget;
+    R->held = sel->desc.overflow == TCLOD_OVERFLOW_DRAW_ROOTS;
+    R->overflowing = 0;
+    if (R->held) {
+        /* every visible root is drawn: their simplest levels first, then the
+         * rest shared out, as a branch's children share (docs/scenes.md) */
+        double roots = 0.0;
+        uint32_t k;
+        for (k = 0; k < sel->rh_order_count; ++k) {
+            uint32_t id = sel->rh_order[k];
+            if (id < sel->scene->node_count && visible(sel, id) && !isinf(sel->node[id].cost))
+                roots += sel->node[id].cost;
+        }
+        if (roots <= R->pool) {
+            R->pool -= roots;
+        } else {
+            R->overflowing = 1; /* nothing but the roots is drawn */
+            R->pool = 0.0;
+        }
+    }
     R->value_left = total;
     R->limited = 0;
     R->k = 0;
@@ -1122,13 +1147,23 @@ static int share_out(tclod_selector *sel) {
         if (stopped)
             share = 0.0;
         if (id < s->node_count) {
+            double held = 0.0;
             if (!visible(sel, id)) {
                 cut_add(sel, id, 0);
                 continue;
             }
+            if (R->held && !isinf(sel->node[id].cost)) {
+                if (R->overflowing) { /* every root at its simplest, over the budget */
+                    cut_add(sel, id, 0);
+                    continue;
+                }
+                held = sel->node[id].cost; /* out of the pool already */
+                share += held;
+            }
             if (sel->node[id].cost <= share) {
                 if (place_node(sel, id, &sel->rh_chains[id], v, share, &used) != 0)
                     return -1;
+                used -= held;
             } else {
                 set_last_level(sel, id, 0u); /* drawn, if at all, at its first level */
                 if ((sel->desc.misfit == TCLOD_MISFIT_COARSEST || stopped) &&

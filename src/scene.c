@@ -147,7 +147,7 @@ tclod_status tclod_scene_attach(tclod_scene *s, tclod_scene_user *u) {
         s->users = users;
         s->user_cap = cap;
     }
-    u->synced = s->epoch;
+    u->synced = UINT32_MAX; /* no result yet: it names no node */
     u->busy = 0;
     u->holding = 0;
     s->users[s->user_count++] = u;

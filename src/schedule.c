@@ -1575,6 +1575,12 @@ tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclo
         tclod_select_cancel(sch->sel);
         sch->p.lost = 1;
     }
+    /* so is one that finished before nodes were added or removed and waits to
+     * land: it would leave the added ones out for an interval more */
+    if (sch->p.ready && sch->p.node_version != sch->scene->node_version) {
+        sch->p.ready = 0;
+        sch->p.lost = 1;
+    }
     keep(sch);
     epoch = sch->scene->epoch;
     sch->p.stats.select_seconds = 0.0;

@@ -326,6 +326,7 @@ static void keep_committed(tclod_selector *sel) {
     k->scene_version = sel->scene_version;
     k->node_version = sel->node_version;
     k->smooth_version = sel->smooth_version;
+    k->synced = sel->user.synced;
     k->has_cut = sel->has_cut;
     k->valid = 1;
 }
@@ -374,6 +375,7 @@ void tclod_selector_restore(tclod_selector *sel, const tclod_selector_saved *k) 
     sel->scene_version = k->scene_version;
     sel->node_version = k->node_version;
     sel->smooth_version = k->smooth_version;
+    sel->user.synced = k->synced;
     sel->has_cut = k->has_cut;
 }
 

@@ -704,6 +704,103 @@ static void a_split_morphs_each_child_from_its_parent(void **state) {
     tclod_scene_destroy(s);
 }
 
+/* The split above, with scene edits mid-morph: at t = 5.2 both children morph
+ * from P; C2 removed then is gone from the next update's draw list (C1 still
+ * morphs from P), and with P removed too (its subtree with it) nothing is
+ * drawn at the update after. */
+static void a_removed_node_leaves_the_draw_list_mid_morph(void **state) {
+    wish_host h;
+    tclod_scene *s = NULL;
+    tclod_scheduler *sch;
+    const tclod_draw *items;
+    size_t n;
+    tclod_id p, c1, c2, g;
+    (void)state;
+    memset(&h, 0, sizeof h);
+    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+    assert_int_equal(tclod_scene_add_node(s, TCLOD_NONE, NULL, &p), TCLOD_OK);
+    assert_int_equal(tclod_scene_add_node(s, p, NULL, &c1), TCLOD_OK);
+    assert_int_equal(tclod_scene_add_node(s, p, NULL, &c2), TCLOD_OK);
+    assert_int_equal(tclod_scene_add_node(s, c1, NULL, &g), TCLOD_OK);
+    h.depth[c1] = h.depth[c2] = 1;
+    h.depth[g] = 2;
+    sch = wish_scheduler(s, &h, 1, 0);
+    run_frames(sch, 0, 30);
+    h.target = 2;
+    run_frames(sch, 30, 53);
+    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 2);
+    /* edits between updates are allowed although a selection is under way */
+    assert_int_equal(tclod_scene_remove_node(s, c2), TCLOD_OK);
+    run_frames(sch, 53, 54);
+    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(items[0].fine, c1);
+    assert_int_equal(items[0].coarse, p);
+    assert_int_equal(tclod_scene_remove_node(s, p), TCLOD_OK);
+    run_frames(sch, 54, 55);
+    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 0);
+    /* and it goes on: a new root is drawn once a selection with it lands */
+    assert_int_equal(tclod_scene_add_node(s, TCLOD_NONE, NULL, &p), TCLOD_OK);
+    h.depth[p] = 0;
+    run_frames(sch, 55, 80);
+    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(items[0].fine, p);
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
+/* An additive node A with one child B, which costs more than the budget
+ * (1000 of 100) until t = 3 and 2 from then on: B fades in during [5, 6)
+ * from A, which stays drawn as it is: the draw list holds A (A <- A, weight
+ * 1) and B (B <- A, the weight rising), and both at the end. */
+static void an_additive_node_stays_drawn_while_its_child_fades_in(void **state) {
+    wish_host h;
+    tclod_scene *s = NULL;
+    tclod_scheduler *sch;
+    const tclod_draw *items;
+    size_t n, k;
+    tclod_node_desc d;
+    tclod_id a, b;
+    (void)state;
+    memset(&h, 0, sizeof h);
+    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+    tclod_node_desc_default(&d);
+    d.refine = TCLOD_REFINE_ADD;
+    assert_int_equal(tclod_scene_add_node_desc(s, &d, &a), TCLOD_OK);
+    assert_int_equal(tclod_scene_add_node(s, a, NULL, &b), TCLOD_OK);
+    h.depth[b] = 1;
+    h.cost[b] = 1000.0;
+    sch = wish_scheduler(s, &h, 1, 0);
+    run_frames(sch, 0, 30);
+    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(items[0].fine, a);
+    h.cost[b] = 0.0;
+    run_frames(sch, 30, 56);
+    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 2);
+    for (k = 0; k < n; ++k) {
+        if (items[k].fine == a) {
+            assert_int_equal(items[k].coarse, a);
+            assert_float_equal(items[k].weight, 1.0, 0.0);
+        } else {
+            assert_int_equal(items[k].fine, b);
+            assert_int_equal(items[k].coarse, a);
+            assert_float_equal(items[k].weight, 0.5, 1e-5);
+        }
+    }
+    run_frames(sch, 56, 61);
+    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 2);
+    assert_float_equal(items[0].weight, 1.0, 0.0);
+    assert_float_equal(items[1].weight, 1.0, 0.0);
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
 static void a_region_that_would_cost_more_while_it_morphs_switches(void **state) {
     /* A costs 5 and its child B 2, against "a node costs no more than the
      * nodes below it". B, wished from 3, lands as S_5: the up-morph A -> B
@@ -1592,6 +1689,8 @@ int main(void) {
         cmocka_unit_test(a_selection_is_asked_for_its_target_interval_and_the_conservative_camera),
         cmocka_unit_test(up_morph_ends_with_its_interval_and_down_morph_before_its_interval),
         cmocka_unit_test(successive_monotone_up_morphs_follow_each_other),
+        cmocka_unit_test(a_removed_node_leaves_the_draw_list_mid_morph),
+        cmocka_unit_test(an_additive_node_stays_drawn_while_its_child_fades_in),
         cmocka_unit_test(an_up_morph_overridden_by_a_down_morph_collapses),
         cmocka_unit_test(a_jump_of_three_levels_is_three_adjacent_morphs),
         cmocka_unit_test(successive_down_morphs_each_end_when_their_interval_begins),

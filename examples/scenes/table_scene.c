@@ -18,6 +18,7 @@ void table_free(table_model *m) {
     free(m->parent);
     free(m->benefit);
     free(m->cost);
+    free(m->kind);
     free(m->benefit_calls);
     free(m->cost_calls);
     free(m->smooth.shape);
@@ -47,6 +48,9 @@ static int table_reserve(table_model *m, uint32_t need) {
     if ((p = realloc(m->cost, cap * sizeof *m->cost)) == NULL)
         return 0;
     m->cost = (double *)p;
+    if ((p = realloc(m->kind, cap * sizeof *m->kind)) == NULL)
+        return 0;
+    m->kind = (uint8_t *)p;
     if ((p = realloc(m->benefit_calls, cap * sizeof *m->benefit_calls)) == NULL)
         return 0;
     m->benefit_calls = (uint32_t *)p;
@@ -57,26 +61,68 @@ static int table_reserve(table_model *m, uint32_t need) {
     return 1;
 }
 
-tclod_status table_add_node(table_model *m, tclod_scene *s, tclod_id parent, const float bounds[4],
-                            double benefit, double cost, tclod_id *out_id) {
+tclod_status table_add_node_desc(table_model *m, tclod_scene *s, const tclod_node_desc *d,
+                                 double benefit, double cost, tclod_id *out_id) {
     tclod_id id = TCLOD_NONE;
+    uint32_t count, i;
     tclod_status st;
-    /* The model is indexed by scene id: both must grow in step. */
+    /* The model is indexed by scene id: both must grow in step. An additive
+     * node may take a second id. */
     if (tclod_scene_node_count(s) != m->count)
         return TCLOD_ERR_STATE;
-    if (m->count == UINT32_MAX || !table_reserve(m, m->count + 1u))
+    if (m->count > UINT32_MAX - 2u || !table_reserve(m, m->count + 2u))
         return TCLOD_ERR_NOMEM;
-    st = tclod_scene_add_node(s, parent, bounds, &id);
+    st = tclod_scene_add_node_desc(s, d, &id);
     if (st != TCLOD_OK)
         return st;
-    m->parent[id] = parent;
+    count = tclod_scene_node_count(s);
+    for (i = m->count; i < count; ++i) {
+        m->parent[i] = TCLOD_NONE;
+        m->kind[i] = TABLE_NONE;
+        m->benefit[i] = m->cost[i] = 0.0;
+        m->benefit_calls[i] = m->cost_calls[i] = 0;
+    }
+    m->count = count;
+    m->parent[id] = d->parent;
+    m->kind[id] = (uint8_t)(d->empty ? TABLE_EMPTY
+                                     : (d->refine == TCLOD_REFINE_ADD ? TABLE_ADD : TABLE_REPLACE));
     m->benefit[id] = benefit;
     m->cost[id] = cost;
     m->benefit_calls[id] = 0;
     m->cost_calls[id] = 0;
-    m->count++;
     if (out_id != NULL)
         *out_id = id;
+    return TCLOD_OK;
+}
+
+tclod_status table_add_node(table_model *m, tclod_scene *s, tclod_id parent, const float bounds[4],
+                            double benefit, double cost, tclod_id *out_id) {
+    tclod_node_desc d;
+    tclod_node_desc_default(&d);
+    d.parent = parent;
+    if (bounds)
+        d.bounds = tclod_bounds_sphere((double)bounds[0], (double)bounds[1], (double)bounds[2],
+                                       (double)bounds[3]);
+    return table_add_node_desc(m, s, &d, benefit, cost, out_id);
+}
+
+tclod_status table_remove_node(table_model *m, tclod_scene *s, tclod_id id) {
+    tclod_status st = tclod_scene_remove_node(s, id);
+    int again = 1;
+    uint32_t i;
+    if (st != TCLOD_OK)
+        return st;
+    m->kind[id] = TABLE_NONE;
+    /* parents may come after their children in id order: until nothing moves */
+    while (again) {
+        again = 0;
+        for (i = 0; i < m->count; ++i)
+            if (m->kind[i] != TABLE_NONE && m->parent[i] != TCLOD_NONE &&
+                m->kind[m->parent[i]] == TABLE_NONE) {
+                m->kind[i] = TABLE_NONE;
+                again = 1;
+            }
+    }
     return TCLOD_OK;
 }
 

@@ -48,11 +48,20 @@ typedef struct table_smooth {
     double bad_value;
 } table_smooth;
 
+/* What an id of the model is (table_model.kind). */
+typedef enum table_kind {
+    TABLE_REPLACE = 0, /* a node whose children replace it */
+    TABLE_ADD = 1,     /* a node that stays drawn under its children */
+    TABLE_EMPTY = 2,   /* a node with nothing to draw */
+    TABLE_NONE = 3     /* no node: removed, or an id the scene keeps for itself */
+} table_kind;
+
 /* Per-node values and call counters, structure-of-arrays, indexed by node id. */
 typedef struct table_model {
-    uint32_t count;          /* nodes in the model (== nodes in its scene) */
+    uint32_t count;          /* ids in the model (== tclod_scene_node_count of its scene) */
     uint32_t capacity;       /* allocated length of the arrays below */
     tclod_id *parent;        /* parent id, TCLOD_NONE for roots */
+    uint8_t *kind;           /* a table_kind */
     double *benefit;         /* what table_benefit returns for the node */
     double *cost;            /* what table_cost returns for the node */
     uint32_t *benefit_calls; /* table_benefit calls since table_reset_counts */
@@ -70,10 +79,21 @@ void table_free(table_model *m);
 /* Adds a node to scene s (tclod_scene_add_node with parent and bounds, which
  * may be NULL) and records its benefit and cost. Returns the library's status,
  * TCLOD_ERR_NOMEM when the model's arrays cannot grow, or TCLOD_ERR_STATE when
- * s holds a different number of nodes than m (the model must mirror s); on
+ * s holds a different number of ids than m (the model must mirror s); on
  * error neither s nor m changes. out_id may be NULL. */
 tclod_status table_add_node(table_model *m, tclod_scene *s, tclod_id parent, const float bounds[4],
                             double benefit, double cost, tclod_id *out_id);
+
+/* Adds the node that d describes to scene s (tclod_scene_add_node_desc) and
+ * records its benefit and cost and its kind; ids the scene takes besides it
+ * (an additive node's) are recorded as TABLE_NONE. Errors as table_add_node.
+ * out_id may be NULL. */
+tclod_status table_add_node_desc(table_model *m, tclod_scene *s, const tclod_node_desc *d,
+                                 double benefit, double cost, tclod_id *out_id);
+
+/* Removes node id with its subtree from scene s (tclod_scene_remove_node)
+ * and marks them TABLE_NONE in m. Returns the library's status. */
+tclod_status table_remove_node(table_model *m, tclod_scene *s, tclod_id id);
 
 /* Sets every call counter (and unknown_ids, and the smooth calls) to 0. */
 void table_reset_counts(table_model *m);

@@ -1,8 +1,10 @@
 /*
- * exact — enumeration of every cut of a small scene, and a cut checker.
+ * exact — enumeration of every selection of a small scene, and checkers.
  * Option lists are built bottom-up: options(n) = {n alone} ∪ the cartesian
- * product of options(child) over n's children, each option a (benefit, cost)
- * pair; options over the budget are pruned since costs are >= 0.
+ * product of options(child) over n's children (plus n's own benefit and cost
+ * when n is additive; only the product when n is empty), each option a
+ * (benefit, cost) pair; options over the budget are pruned since costs are
+ * >= 0.
  */
 #include "exact.h"
 
@@ -47,7 +49,7 @@ static int exact_options(const table_model *m, tclod_id n, double budget, exact_
 
     out->items = NULL;
     out->count = 0;
-    if (m->benefit[n] == 0.0) {
+    if (m->kind[n] != TABLE_EMPTY && m->benefit[n] == 0.0) {
         out->items = (exact_option *)malloc(sizeof *out->items);
         if (out->items == NULL)
             return 0;
@@ -64,7 +66,7 @@ static int exact_options(const table_model *m, tclod_id n, double budget, exact_
     acc.items[0].cost = 0.0;
     acc.count = 1;
     for (c = 0; c < m->count; ++c) {
-        if (m->parent[c] != n)
+        if (m->parent[c] != n || m->kind[c] == TABLE_NONE)
             continue;
         has_children = 1;
         if (!exact_options(m, c, budget, &child)) {
@@ -80,12 +82,27 @@ static int exact_options(const table_model *m, tclod_id n, double budget, exact_
         free(acc.items);
         acc = next;
     }
+    if (m->kind[n] == TABLE_EMPTY) {
+        *out = acc; /* its children's, or nothing to draw: {(0, 0)} */
+        return 1;
+    }
     if (!has_children)
         acc.count = 0;
     out->items = (exact_option *)malloc((acc.count + 1u) * sizeof *out->items);
     if (out->items == NULL) {
         free(acc.items);
         return 0;
+    }
+    if (m->kind[n] == TABLE_ADD) { /* refined, it stays drawn */
+        size_t i, k = 0;
+        for (i = 0; i < acc.count; ++i) {
+            double with = acc.items[i].cost + m->cost[n];
+            if (with <= budget) {
+                acc.items[k].benefit = acc.items[i].benefit + m->benefit[n];
+                acc.items[k++].cost = with;
+            }
+        }
+        acc.count = k;
     }
     if (acc.count > 0)
         memcpy(out->items, acc.items, acc.count * sizeof *acc.items);
@@ -114,7 +131,7 @@ static int exact_options_below(const table_model *m, tclod_id parent, double bud
     acc.items[0].cost = 0.0;
     acc.count = 1;
     for (i = 0; i < m->count; ++i) {
-        if (m->parent[i] != parent)
+        if (m->parent[i] != parent || m->kind[i] == TABLE_NONE)
             continue;
         *found = 1;
         if (!exact_options(m, i, budget, &sub)) {
@@ -144,8 +161,8 @@ double exact_optimum(const table_model *m, double budget, double *cost_out) {
     if (m->count > EXACT_MAX_NODES)
         return -2.0;
     for (i = 0; i < m->count; ++i)
-        if (!isfinite(m->benefit[i]) || !isfinite(m->cost[i]) || m->benefit[i] < 0.0 ||
-            m->cost[i] < 0.0)
+        if (m->kind[i] != TABLE_NONE && (!isfinite(m->benefit[i]) || !isfinite(m->cost[i]) ||
+                                         m->benefit[i] < 0.0 || m->cost[i] < 0.0))
             return -2.0;
     if (!exact_options_below(m, TCLOD_NONE, budget, &acc, &found))
         return -2.0;
@@ -202,7 +219,7 @@ int exact_check_cut(const table_model *m, const tclod_id *ids, size_t n, int roo
             listed[ids[i]] = 1;
     }
     for (v = 0; v < m->count; ++v)
-        if (m->parent[v] != TCLOD_NONE)
+        if (m->parent[v] != TCLOD_NONE && m->kind[v] != TABLE_NONE)
             has_child[m->parent[v]] = 1;
     /* Walk every leaf up to its root: count listed nodes on the path, and
      * whether an invisible node covers it. */
@@ -210,7 +227,7 @@ int exact_check_cut(const table_model *m, const tclod_id *ids, size_t n, int roo
         unsigned on_path = 0;
         int culled = 0;
         tclod_id u, root = v;
-        if (has_child[v])
+        if (has_child[v] || m->kind[v] == TABLE_NONE)
             continue;
         for (u = v; u != TCLOD_NONE; u = m->parent[u]) {
             on_path += listed[u];
@@ -236,6 +253,52 @@ int exact_check_cut(const table_model *m, const tclod_id *ids, size_t n, int roo
         }
     }
     free(listed);
+    return ok;
+}
+
+/* The parent a node hangs from in the tree the solvers see: its nearest
+ * ancestor that is not empty. */
+static tclod_id exact_drawn_parent(const table_model *m, tclod_id v) {
+    tclod_id p = m->parent[v];
+    while (p != TCLOD_NONE && m->kind[p] == TABLE_EMPTY)
+        p = m->parent[p];
+    return p;
+}
+
+int exact_check_selection(const table_model *m, const tclod_id *ids, size_t n, int roots_may_drop) {
+    /* per id: 1 listed, 2 above a listed node (refined) */
+    unsigned char *state = (unsigned char *)calloc((size_t)m->count + 1u, 1);
+    int ok = 1;
+    size_t i;
+    tclod_id v;
+    if (state == NULL)
+        return 0;
+    for (i = 0; i < n && ok; ++i) {
+        tclod_id id = ids[i];
+        if (id >= m->count || state[id] || m->kind[id] == TABLE_NONE ||
+            m->kind[id] == TABLE_EMPTY || !exact_visible(m->benefit[id]))
+            ok = 0;
+        else
+            state[id] = 1;
+    }
+    for (i = 0; i < n && ok; ++i)
+        for (v = exact_drawn_parent(m, ids[i]); v != TCLOD_NONE; v = exact_drawn_parent(m, v))
+            state[v] |= 2u;
+    for (v = 0; v < m->count && ok; ++v) {
+        tclod_id p;
+        if (m->kind[v] == TABLE_NONE || m->kind[v] == TABLE_EMPTY)
+            continue;
+        /* a refined node: additive ones are listed, replace ones not */
+        if ((state[v] & 2u) && ((m->kind[v] == TABLE_ADD) != ((state[v] & 1u) != 0)))
+            ok = 0;
+        /* every node that draws below a refined one (or at the top) is
+         * listed, refined or culled: no hole */
+        p = exact_drawn_parent(m, v);
+        if (state[v] == 0 && exact_visible(m->benefit[v]) &&
+            ((p != TCLOD_NONE && (state[p] & 2u)) || (p == TCLOD_NONE && !roots_may_drop)))
+            ok = 0;
+    }
+    free(state);
     return ok;
 }
 
