@@ -166,7 +166,7 @@ static int feasible(const tclod_selector *sel) {
 
 static const tclod_id *children_of(const tclod_selector *sel, tclod_id n, uint32_t *count) {
     const tclod_scene *s = sel->scene;
-    *count = s->child_first[n + 1u] - s->child_first[n];
+    *count = s->child_count[n];
     return s->children + s->child_first[n];
 }
 
@@ -185,7 +185,7 @@ static double ratio_key(double db, double dc) {
 static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
     const tclod_scene *s = sel->scene;
     tclod_node_state *node = sel->node;
-    uint32_t i = s->child_first[n], end = s->child_first[n + 1u];
+    uint32_t i = s->child_first[n], end = i + s->child_count[n];
     double sum_b = 0.0, sum_c = 0.0, db, dc;
     int affordable = 1;
     *failed = 0;
@@ -256,7 +256,7 @@ static int look_pass(tclod_selector *sel, tclod_id n, double weight, double lamb
     int deeper = 0;
     st[0].id = n;
     st[0].next = s->child_first[n];
-    st[0].end = s->child_first[n + 1u];
+    st[0].end = st[0].next + s->child_count[n];
     st[0].blocked = 0;
     st[0].b = st[0].c = 0.0;
     for (;;) {
@@ -274,7 +274,7 @@ static int look_pass(tclod_selector *sel, tclod_id n, double weight, double lamb
                 continue;
             }
             first = s->child_first[m];
-            end = s->child_first[m + 1u];
+            end = first + s->child_count[m];
             if (top == limit || first == end || !(node[m].benefit > 0.0)) {
                 f->b += node[m].benefit; /* invisible: +0 */
                 f->c += node[m].cost;
@@ -331,7 +331,7 @@ static int look_again(tclod_selector *sel, tclod_id n, double weight, double lam
 static NOINLINE double lookahead_key(tclod_selector *sel, tclod_id n, int *failed) {
     const tclod_scene *s = sel->scene;
     tclod_node_state *node = sel->node;
-    uint32_t first = s->child_first[n], end = s->child_first[n + 1u], i, it;
+    uint32_t first = s->child_first[n], end = first + s->child_count[n], i, it;
     double key = increment_key(sel, n, failed), best, lambda, at = 0.0, b, c, q;
     int deep = 0, rc;
     sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED; /* no jump */
@@ -342,7 +342,7 @@ static NOINLINE double lookahead_key(tclod_selector *sel, tclod_id n, int *faile
         tclod_id m = s->children[i];
         if (unaffordable(node[m].cost))
             return key; /* no increment passes one */
-        deep |= node[m].benefit > 0.0 && s->child_first[m + 1u] != s->child_first[m];
+        deep |= node[m].benefit > 0.0 && s->child_count[m] != 0u;
     }
     if (!deep)
         return key;
@@ -666,7 +666,7 @@ static NOINLINE int apply_jump(tclod_selector *sel, tclod_id n, int track_dec, t
     sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED;
     st[0].id = n;
     st[0].next = s->child_first[n];
-    st[0].end = s->child_first[n + 1u];
+    st[0].end = st[0].next + s->child_count[n];
     for (;;) {
         if (st[top].next < st[top].end) {
             tclod_id m = s->children[st[top].next++];
@@ -675,7 +675,7 @@ static NOINLINE int apply_jump(tclod_selector *sel, tclod_id n, int track_dec, t
                 ++top;
                 st[top].id = m;
                 st[top].next = s->child_first[m];
-                st[top].end = s->child_first[m + 1u];
+                st[top].end = st[top].next + s->child_count[m];
                 continue;
             }
             cut_add(sel, m);
@@ -970,6 +970,53 @@ static void repair_cut(tclod_selector *sel) {
     }
     for (i = 0; i < above; ++i)
         flags[sel->scratch[i]] &= (uint8_t)~TCLOD_FLAG_ABOVE;
+}
+
+/* Whether a proper ancestor of indexed node x is in the cut. */
+static int below_cut(const tclod_selector *sel, tclod_id x) {
+    const tclod_scene *s = sel->scene;
+    tclod_id p;
+    for (p = s->parent[x]; p != TCLOD_NONE; p = s->parent[p])
+        if (sel->node[p].cut_pos != TCLOD_NONE)
+            return 1;
+    return 0;
+}
+
+/* repair_cut from the scene's edit log, entries `from` on: the edits since
+ * the previous cut was made, in time proportional to them (times the depth
+ * of the nodes they touched). Nodes that left the index leave the cut; a node
+ * that lost its last child and is not below the cut joins it, as does an
+ * added node not below the cut (its parent was refined), in the order they
+ * were added (a parent before its children). */
+static void repair_from_log(tclod_selector *sel, uint32_t from) {
+    const tclod_scene *s = sel->scene;
+    const tclod_edit *log = s->log;
+    tclod_node_state *node = sel->node;
+    uint32_t i, end = s->log_count;
+    for (i = from; i < end; ++i) {
+        tclod_id n = log[i].node;
+        uint32_t slot = node[n].cut_pos;
+        tclod_id last;
+        if (log[i].kind != TCLOD_EDIT_REMOVED || slot == TCLOD_NONE)
+            continue;
+        last = sel->cut[--sel->cut_count];
+        sel->cut[slot] = last;
+        node[last].cut_pos = slot;
+        node[n].cut_pos = TCLOD_NONE;
+        sel->flags[n] = 0;
+    }
+    for (i = from; i < end; ++i) {
+        tclod_id p = log[i].node;
+        if (log[i].kind == TCLOD_EDIT_LOST && tclod_scene_indexed(s, p) &&
+            s->child_count[p] == 0u && node[p].cut_pos == TCLOD_NONE && !below_cut(sel, p))
+            cut_append(sel, p);
+    }
+    for (i = from; i < end; ++i) {
+        tclod_id x = log[i].node;
+        if (log[i].kind == TCLOD_EDIT_ADDED && tclod_scene_indexed(s, x) &&
+            node[x].cut_pos == TCLOD_NONE && !below_cut(sel, x))
+            cut_append(sel, x);
+    }
 }
 
 /* Cut = the previous cut, re-evaluated; queues its increments and decrements. */
@@ -1395,8 +1442,15 @@ static int greedy_start(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     R->warm = sel->desc.warm_start && sel->has_cut;
     R->skipped = 0;
-    if (R->warm && sel->node_version != sel->scene->node_version)
-        repair_cut(sel);
+    if (R->warm && sel->node_version != sel->scene->node_version) {
+        /* the edits since the cut was made, from the log while it holds them */
+        const tclod_scene *s = sel->scene;
+        uint64_t seen = sel->user.log_seen;
+        if (seen >= s->log_base && seen <= s->log_base + s->log_count)
+            repair_from_log(sel, (uint32_t)(seen - s->log_base));
+        else
+            repair_cut(sel);
+    }
     if (R->warm)
         return start_warm(sel) != 0 ? -1 : restore_budget(sel);
     R->closure_head = R->closure_tail = 0;

@@ -102,11 +102,25 @@ enum {
  * every user has solved since (docs/scenes.md, ids). Written by its user only,
  * so that users on several threads never write the same memory. */
 typedef struct tclod_scene_user {
-    uint32_t synced; /* the scene's epoch when the user's last solve began: it holds
-                        no id removed before that (UINT32_MAX before its first) */
-    int busy;        /* in a call that reads the scene, callbacks included */
-    int holding;     /* a begun solve holds the scene (between begin and its end) */
+    uint32_t synced;   /* the scene's epoch when the user's last solve began: it holds
+                          no id removed before that (UINT32_MAX before its first) */
+    int busy;          /* in a call that reads the scene, callbacks included */
+    int holding;       /* a begun solve holds the scene (between begin and its end) */
+    uint64_t log_seen; /* the edit log's end when its last solve began (UINT64_MAX
+                          before its first): the edits after it are news to it */
 } tclod_scene_user;
+
+/* An entry of a scene's edit log: what a warm start needs to bring its cut up
+ * to date without looking at the rest of the scene. */
+typedef struct tclod_edit {
+    tclod_id node;
+    uint32_t kind; /* TCLOD_EDIT_* */
+} tclod_edit;
+enum {
+    TCLOD_EDIT_ADDED = 0,   /* node joined the index */
+    TCLOD_EDIT_REMOVED = 1, /* node left it (removed, or a self leaf left behind) */
+    TCLOD_EDIT_LOST = 2     /* node lost a child in it */
+};
 
 /* Removed ids waiting until every user has solved since their removal: a
  * ring in removal order, each with the epoch it was removed in. */
@@ -144,20 +158,36 @@ struct tclod_scene {
     uint32_t smooth_free_count;
     tclod_retired smooth_retired;
 
-    /* The child index: the tree the solvers see, rebuilt lazily when nodes were
-     * added or removed. It holds the live nodes that draw, each below its
-     * nearest ancestor that draws (empty nodes are passed over: their children
-     * hang from their parent, or are roots), and below every additive node
-     * with children its self leaf. */
-    uint32_t index_cap;
+    /* The child index: the tree the solvers see, kept up to date by every edit
+     * (in time proportional to the edit). It holds the live nodes that draw,
+     * each below its nearest ancestor that draws (empty nodes are passed over:
+     * their children hang from their parent, or are roots), and below every
+     * additive node with children its self leaf. A node's children lie in a
+     * block of children[], ascending ids; a block that fills up moves to the
+     * end, and the slab is compacted when half of it is left behind. */
     tclod_id *parent;      /* the index's parent of an indexed node (TCLOD_NONE: a
-                              root); node_cap elements */
-    uint32_t *child_first; /* children of n: children[child_first[n] .. child_first[n+1]) */
-    tclod_id *children;    /* ascending ids within each parent */
-    tclod_id *roots;       /* ascending ids */
+                              root); for an empty node, the parent its children
+                              hang from */
+    uint32_t *child_first; /* n's children: children[child_first[n] ..
+                              child_first[n] + child_count[n]) */
+    uint32_t *child_count;
+    uint32_t *child_cap; /* the size of n's block */
+    tclod_id *children;
+    uint32_t children_cap, children_used, children_garbage;
+    tclod_id *roots; /* ascending ids */
     uint32_t root_count;
-    tclod_id *order; /* the indexed nodes, parents before children */
+    tclod_id *order; /* the indexed nodes, parents before children: made by
+                        tclod_scene_prepare while a user reads it */
     uint32_t order_count;
+    uint32_t order_version; /* node_version order describes, + 1; 0: none */
+    uint32_t order_users;   /* users that read order (Robin Hood selectors,
+                               schedulers) */
+    /* the edit log: entry i has the sequence number log_base + i; entries
+     * every user has seen are let go, and all of them when it is full (a user
+     * that had not seen them then looks at its whole selection instead) */
+    tclod_edit *log; /* node_cap entries */
+    uint32_t log_count;
+    uint64_t log_base;
 
     /* smooth quadtree, rebuilt when smooth objects changed */
     uint32_t smooth_index_cap;
@@ -174,15 +204,15 @@ struct tclod_scene {
     uint32_t version;        /* bumped by every change */
     uint32_t node_version;   /* bumped when nodes are added or removed */
     uint32_t smooth_version; /* bumped when smooth objects are added, removed or moved */
-    uint32_t index_version;  /* node_version the child index describes */
     uint32_t qt_version;     /* smooth_version the quadtree describes */
 };
 
 /* Registers u as a user of s (holding no id yet, not busy, not holding the
- * scene). Errors: TCLOD_ERR_NOMEM. */
-tclod_status tclod_scene_attach(tclod_scene *s, tclod_scene_user *u);
-/* Unregisters u. */
-void tclod_scene_detach(tclod_scene *s, tclod_scene_user *u);
+ * scene); `reads_order`: it reads tclod_scene.order, which tclod_scene_prepare
+ * then keeps. Errors: TCLOD_ERR_NOMEM. */
+tclod_status tclod_scene_attach(tclod_scene *s, tclod_scene_user *u, int reads_order);
+/* Unregisters u (attached with reads_order). */
+void tclod_scene_detach(tclod_scene *s, tclod_scene_user *u, int reads_order);
 
 /* Whether node n draws in the index (live, not empty, or a self leaf in use). */
 static inline int tclod_scene_indexed(const tclod_scene *s, tclod_id n) {
@@ -626,6 +656,8 @@ struct tclod_selector {
     uint32_t rh_cap;
     uint32_t rh_version; /* scene version the chains and the order describe; 0: none */
     uint32_t rh_order_count;
+    uint32_t *rh_first;        /* the scene's child index as of the last scene change, */
+    tclod_id *rh_kids;         /* contiguous in id order (robin_hood.c) */
     uint32_t *rh_chain;        /* every chain of single children, coarse to fine, end to end */
     tclod_rh_chain *rh_chains; /* per node that starts a chain: the chain */
     tclod_rh_child *rh_child;  /* per node with several children: them, least complex
@@ -680,6 +712,7 @@ struct tclod_selector {
     double benefit_sum;
     uint32_t unaffordable; /* visible, kept cut nodes with infinite cost */
     double start_time;
+    uint64_t begin_log;  /* the edit log's end at the solve's beginning */
     double closure_hint; /* the key of the last plain cold pass's first misfit:
                             DBL_MIN when it had none, 0 before the first */
     tclod_stats stats;
@@ -704,7 +737,8 @@ typedef struct tclod_selector_saved {
     tclod_smooth_group *groups;
     uint32_t cut_count, result_count, group_count;
     uint32_t scene_version, node_version, smooth_version;
-    uint32_t synced; /* the selector's tclod_scene_user.synced */
+    uint32_t synced;   /* the selector's tclod_scene_user.synced ... */
+    uint64_t log_seen; /* ... and log_seen */
     int has_cut;
     double closure_hint; /* as it was when the keeping began */
     int valid;           /* a commit has happened since: the fields above hold

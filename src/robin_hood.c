@@ -240,14 +240,19 @@ static inline void set_last_level(tclod_selector *sel, tclod_id head, uint32_t l
     sel->rh_level[head] = (uint8_t)(level < UINT8_MAX ? level : UINT8_MAX);
 }
 
-static uint32_t child_count(const tclod_scene *s, tclod_id n) {
-    return s->child_first[n + 1u] - s->child_first[n];
+/* The solver reads the scene's child index through a copy of its own, made
+ * when the scene changed, with every node's children contiguous in id order
+ * (rh_kids, rh_first): the positions of a branch's children there are the
+ * slots its sorted list and its values use. */
+static uint32_t child_count(const tclod_selector *sel, tclod_id n) {
+    return sel->rh_first[n + 1u] - sel->rh_first[n];
 }
 
 /* Whether node n (in the index) starts an instance: a root, or one of several
  * children. */
-static int is_head(const tclod_scene *s, tclod_id n) {
-    return s->parent[n] == TCLOD_NONE || child_count(s, s->parent[n]) > 1u;
+static int is_head(const tclod_selector *sel, tclod_id n) {
+    tclod_id p = sel->scene->parent[n];
+    return p == TCLOD_NONE || child_count(sel, p) > 1u;
 }
 
 /* A sanitised complexity: NaN, infinite or negative (or, when it is a smooth
@@ -309,14 +314,15 @@ static int with_smooth(const tclod_selector *sel) {
 /* The distance from branching node b's centre within which every bounded
  * child lies, padded well beyond its rounding (-1 when b has no bounds), for
  * tclod_view_cache_inside. */
-static float branch_reach(const tclod_scene *s, tclod_id b) {
+static float branch_reach(const tclod_selector *sel, tclod_id b) {
+    const tclod_scene *s = sel->scene;
     const tclod_node_bounds *bb = &s->bounds[b];
-    uint32_t j, first = s->child_first[b], k = child_count(s, b);
+    uint32_t j, first = sel->rh_first[b], k = child_count(sel, b);
     double reach = 0.0;
     if (!(bb->r >= 0.0))
         return -1.0f;
     for (j = 0; j < k; ++j) {
-        const tclod_node_bounds *cb = &s->bounds[s->children[first + j]];
+        const tclod_node_bounds *cb = &s->bounds[sel->rh_kids[first + j]];
         double dx = cb->c[0] - bb->c[0], dy = cb->c[1] - bb->c[1], dz = cb->c[2] - bb->c[2], r;
         if (!(cb->r >= 0.0))
             continue;
@@ -332,9 +338,9 @@ static float branch_reach(const tclod_scene *s, tclod_id b) {
 }
 
 /* The head of the chain that node n belongs to. */
-static tclod_id chain_head(const tclod_scene *s, tclod_id n) {
-    while (!is_head(s, n))
-        n = s->parent[n];
+static tclod_id chain_head(const tclod_selector *sel, tclod_id n) {
+    while (!is_head(sel, n))
+        n = sel->scene->parent[n];
     return n;
 }
 
@@ -358,10 +364,10 @@ static void mark_nested(tclod_selector *sel) {
         tclod_rh_chain *ch = &sel->rh_chains[id];
         const tclod_rh_chain *up;
         tclod_id end, above;
-        if (!is_head(s, id) || !(ch->flags & TCLOD_RH_BRANCH) || s->parent[id] == TCLOD_NONE)
+        if (!is_head(sel, id) || !(ch->flags & TCLOD_RH_BRANCH) || s->parent[id] == TCLOD_NONE)
             continue;
         above = s->parent[id];
-        up = &sel->rh_chains[chain_head(s, above)];
+        up = &sel->rh_chains[chain_head(sel, above)];
         end = sel->rh_chain[ch->at + ch->len - 1u];
         if (sphere_within(s->bounds[end].c, ch->reach, s->bounds[above].c, up->reach))
             ch->flags |= TCLOD_RH_NESTED;
@@ -377,33 +383,43 @@ static void prepare(tclod_selector *sel) {
     uint32_t n = s->node_count, used = 0, i, count = 0;
     double *keys;
     tclod_id id;
+    /* the child index, contiguous */
+    for (id = 0; id < n; ++id) {
+        sel->rh_first[id] = used;
+        if (s->child_count[id])
+            memcpy(sel->rh_kids + used, s->children + s->child_first[id],
+                   sizeof(tclod_id) * s->child_count[id]);
+        used += s->child_count[id];
+    }
+    sel->rh_first[n] = used;
+    used = 0;
     for (i = 0; i < s->order_count; ++i) {
         tclod_rh_chain *ch;
         const tclod_node_bounds *b;
         tclod_id m;
         id = s->order[i];
-        if (!is_head(s, id))
+        if (!is_head(sel, id))
             continue;
         ch = &sel->rh_chains[id];
         b = &s->bounds[id];
         ch->at = used;
         ch->flags = TCLOD_RH_CONSECUTIVE | TCLOD_RH_SHARED;
-        for (m = id;; m = s->children[s->child_first[m]]) {
+        for (m = id;; m = sel->rh_kids[sel->rh_first[m]]) {
             if (m != id + (used - ch->at))
                 ch->flags &= ~(uint32_t)TCLOD_RH_CONSECUTIVE;
             if (memcmp(&s->bounds[m], b, sizeof *b) != 0)
                 ch->flags &= ~(uint32_t)TCLOD_RH_SHARED;
             sel->rh_chain[used++] = m;
-            if (child_count(s, m) != 1u)
+            if (child_count(sel, m) != 1u)
                 break;
         }
         ch->reach = -1.0f;
         ch->first = ch->count = 0;
-        if (child_count(s, m) > 1u) {
+        if (child_count(sel, m) > 1u) {
             ch->flags |= TCLOD_RH_BRANCH;
-            ch->reach = branch_reach(s, m);
-            ch->first = s->child_first[m];
-            ch->count = child_count(s, m);
+            ch->reach = branch_reach(sel, m);
+            ch->first = sel->rh_first[m];
+            ch->count = child_count(sel, m);
         }
         ch->len = used - ch->at;
         sel->rh_key[id] = node_complexity(sel, id, m);
@@ -413,18 +429,18 @@ static void prepare(tclod_selector *sel) {
     /* each branch's children, least complex first (ties: smaller id, which is the
      * smaller slot: a child range lists its ids in order), sorted in scratch */
     for (id = 0; id < n; ++id) {
-        uint32_t first = s->child_first[id], k = child_count(s, id), j;
+        uint32_t first = sel->rh_first[id], k = child_count(sel, id), j;
         if (k < 2u)
             continue;
         for (j = 0; j < k; ++j) {
             sel->scratch[first + j] = first + j;
-            sel->scratch_key[first + j] = -sel->rh_key[s->children[first + j]];
+            sel->scratch_key[first + j] = -sel->rh_key[sel->rh_kids[first + j]];
         }
         tclod_sort_by_key(sel->scratch + first, sel->scratch_key + first, k);
         for (j = 0; j < k; ++j) {
             tclod_rh_child *c = &sel->rh_child[first + j];
             c->slot = sel->scratch[first + j];
-            c->id = s->children[c->slot];
+            c->id = sel->rh_kids[c->slot];
             c->chain = sel->rh_chains[c->id];
         }
     }
@@ -539,8 +555,7 @@ static uint32_t pop_candidate(tclod_selector *sel, double *value, double *step) 
  * children below its end) and the next step is affordable at all. */
 static void node_candidate(tclod_selector *sel, tclod_id head, tclod_id n, double value,
                            double step) {
-    if (!(step < HUGE_VAL) ||
-        (child_count(sel->scene, n) == 0u && !(sel->flags[n] & TCLOD_FLAG_DROPPED)))
+    if (!(step < HUGE_VAL) || (child_count(sel, n) == 0u && !(sel->flags[n] & TCLOD_FLAG_DROPPED)))
         return;
     push_candidate(sel, head, value, step);
 }
@@ -669,14 +684,14 @@ TCLOD_ALWAYS_INLINE int evaluate_children(tclod_selector *sel, const tclod_rh_ch
     for (j = 0; j < k; j += 64u / sizeof(double))
         TCLOD_PREFETCH_WRITE(&sel->scratch_key[first + j]);
     for (j = 0; j < k; ++j) {
-        tclod_id c = s->children[first + j];
+        tclod_id c = sel->rh_kids[first + j];
         TCLOD_PREFETCH_WRITE(&sel->node[c]);
         /* the next line, by address: it may lie past the array's end */
         TCLOD_PREFETCH_WRITE((const void *)((uintptr_t)&sel->node[c] + 64u));
         TCLOD_PREFETCH(&s->bounds[c]);
     }
     for (j = 0; j < k; ++j) {
-        tclod_id c = s->children[first + j];
+        tclod_id c = sel->rh_kids[first + j];
         double v;
         if (sel->node[c].stamp == sel->solve_id) {
             /* a branch's children are evaluated here only: an earlier call for b
@@ -748,7 +763,7 @@ static inline void fetch_branches(const tclod_selector *sel, uint32_t first, uin
     for (j = first; j < end; ++j) {
         const tclod_rh_chain *ch = &sel->rh_child[j].chain;
         if (ch->flags & TCLOD_RH_BRANCH) {
-            TCLOD_PREFETCH(&sel->scene->children[ch->first]);
+            TCLOD_PREFETCH(&sel->rh_kids[ch->first]);
             TCLOD_PREFETCH(&sel->rh_child[ch->first]);
         }
     }

@@ -11,9 +11,10 @@
  * drawing among its children. With it every solver's replace-only increment
  * (children in place of their parent) is exact for additive refinement too:
  * refining an additive node draws its self leaf (the same benefit and cost)
- * and its children. The index is rebuilt lazily (a counting sort, linear in
- * the scene) by the first selector that needs it after nodes were added or
- * removed, or by tclod_scene_prepare. Moves change no index.
+ * and its children. Every edit keeps the index up to date in time
+ * proportional to the edit (a child goes into, or out of, its parent's block
+ * of children), so that a scene edited every frame costs no rebuild. Moves
+ * change no index.
  *
  * Ids are dense and reused, but a removed id is given again only once every
  * user of the scene (selector, scheduler) has begun a solve since the removal:
@@ -61,6 +62,12 @@ static size_t node_arrays(tclod_scene *s, tclod_array out[TCLOD_MAX_ARRAYS]) {
     out[n++] = (tclod_array){(void **)&s->retired.id, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&s->retired.epoch, sizeof(uint32_t), -1};
     out[n++] = (tclod_array){(void **)&s->parent, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&s->child_first, sizeof(uint32_t), 0};
+    out[n++] = (tclod_array){(void **)&s->child_count, sizeof(uint32_t), 0};
+    out[n++] = (tclod_array){(void **)&s->child_cap, sizeof(uint32_t), 0};
+    out[n++] = (tclod_array){(void **)&s->roots, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&s->order, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&s->log, sizeof(tclod_edit), -1};
     return n;
 }
 
@@ -81,60 +88,44 @@ static size_t box_arrays(tclod_scene *s, tclod_array out[TCLOD_MAX_ARRAYS]) {
     return n;
 }
 
-/* The arrays of the child index and the smooth quadtree, allocated together
- * so that a failure changes nothing. */
-typedef struct index_arrays {
-    uint32_t node_cap, smooth_cap;
-    uint32_t *child_first;
-    tclod_id *children, *roots, *order;
+/* The smooth quadtree's arrays, allocated together so that a failure changes
+ * nothing. */
+typedef struct quadtree_arrays {
+    uint32_t smooth_cap;
     tclod_id *smooth_order;
     uint32_t *smooth_pos;
     tclod_smooth_node *qt;
-} index_arrays;
+} quadtree_arrays;
 
-static void index_arrays_free(const tclod_allocator *a, index_arrays *x) {
-    tclod_mem_free(a, x->child_first, sizeof(uint32_t) * (x->node_cap + 1u));
-    tclod_mem_free(a, x->children, sizeof(tclod_id) * x->node_cap);
-    tclod_mem_free(a, x->roots, sizeof(tclod_id) * x->node_cap);
-    tclod_mem_free(a, x->order, sizeof(tclod_id) * x->node_cap);
+static void quadtree_arrays_free(const tclod_allocator *a, quadtree_arrays *x) {
     tclod_mem_free(a, x->smooth_order, sizeof(tclod_id) * x->smooth_cap);
     tclod_mem_free(a, x->smooth_pos, sizeof(uint32_t) * x->smooth_cap);
     tclod_mem_free(a, x->qt, sizeof(tclod_smooth_node) * 2u * (size_t)x->smooth_cap);
 }
 
-static index_arrays current_index(const tclod_scene *s) {
-    index_arrays x;
-    x.node_cap = s->index_cap;
-    x.smooth_cap = s->smooth_index_cap;
-    x.child_first = s->child_first;
-    x.children = s->children;
-    x.roots = s->roots;
-    x.order = s->order;
-    x.smooth_order = s->smooth_order;
-    x.smooth_pos = s->smooth_pos;
-    x.qt = s->qt;
-    return x;
-}
-
 void tclod_scene_destroy(tclod_scene *s) {
     tclod_array arrays[TCLOD_MAX_ARRAYS];
     tclod_allocator alloc;
-    index_arrays x;
+    quadtree_arrays x;
     if (!s)
         return;
     alloc = s->alloc;
     tclod_arrays_free(&alloc, arrays, node_arrays(s, arrays), s->node_cap);
     tclod_arrays_free(&alloc, arrays, smooth_arrays(s, arrays), s->smooth_cap);
     tclod_arrays_free(&alloc, arrays, box_arrays(s, arrays), s->box_cap);
-    x = current_index(s);
-    index_arrays_free(&alloc, &x);
+    tclod_mem_free(&alloc, s->children, sizeof(tclod_id) * s->children_cap);
+    x.smooth_cap = s->smooth_index_cap;
+    x.smooth_order = s->smooth_order;
+    x.smooth_pos = s->smooth_pos;
+    x.qt = s->qt;
+    quadtree_arrays_free(&alloc, &x);
     tclod_mem_free(&alloc, s->users, sizeof(tclod_scene_user *) * s->user_cap);
     tclod_mem_free(&alloc, s, sizeof *s);
 }
 
 /* ---- users ------------------------------------------------------------------------ */
 
-tclod_status tclod_scene_attach(tclod_scene *s, tclod_scene_user *u) {
+tclod_status tclod_scene_attach(tclod_scene *s, tclod_scene_user *u, int reads_order) {
     if (s->user_count == s->user_cap) {
         uint32_t cap = s->user_cap < 4u ? 4u : s->user_cap * 2u;
         tclod_scene_user **users =
@@ -148,14 +139,17 @@ tclod_status tclod_scene_attach(tclod_scene *s, tclod_scene_user *u) {
         s->user_cap = cap;
     }
     u->synced = UINT32_MAX; /* no result yet: it names no node */
+    u->log_seen = UINT64_MAX;
     u->busy = 0;
     u->holding = 0;
     s->users[s->user_count++] = u;
+    s->order_users += reads_order != 0;
     return TCLOD_OK;
 }
 
-void tclod_scene_detach(tclod_scene *s, tclod_scene_user *u) {
+void tclod_scene_detach(tclod_scene *s, tclod_scene_user *u, int reads_order) {
     uint32_t i;
+    s->order_users -= reads_order != 0;
     for (i = 0; i < s->user_count; ++i)
         if (s->users[i] == u) {
             s->users[i] = s->users[--s->user_count];
@@ -181,6 +175,36 @@ static uint32_t oldest_synced(const tclod_scene *s) {
         if (s->users[i]->synced < oldest)
             oldest = s->users[i]->synced;
     return oldest;
+}
+
+/* ---- the edit log ------------------------------------------------------------------- */
+
+/* Lets go of the entries every user has seen (a user that never solved has
+ * nothing to bring up to date). */
+static void trim_log(tclod_scene *s) {
+    uint64_t oldest = s->log_base + s->log_count, drop;
+    uint32_t i;
+    for (i = 0; i < s->user_count; ++i)
+        if (s->users[i]->log_seen < oldest && s->users[i]->log_seen >= s->log_base)
+            oldest = s->users[i]->log_seen;
+    drop = oldest - s->log_base;
+    if (drop == 0)
+        return;
+    memmove(s->log, s->log + drop, sizeof(tclod_edit) * (s->log_count - (uint32_t)drop));
+    s->log_count -= (uint32_t)drop;
+    s->log_base = oldest;
+}
+
+static void log_edit(tclod_scene *s, tclod_id node, uint32_t kind) {
+    if (s->log_count == s->node_cap)
+        trim_log(s);
+    if (s->log_count == s->node_cap) { /* full: users behind look at their selections */
+        s->log_base += s->log_count;
+        s->log_count = 0;
+    }
+    s->log[s->log_count].node = node;
+    s->log[s->log_count].kind = kind;
+    s->log_count++;
 }
 
 /* ---- ids ---------------------------------------------------------------------------- */
@@ -276,6 +300,153 @@ static void free_box(tclod_scene *s, uint32_t slot) {
         s->box_free[s->box_free_count++] = slot;
 }
 
+/* ---- the child index --------------------------------------------------------------- */
+
+/* Room for `more` slots at the end of the slab of children, all or nothing.
+ * When it is short, the slab is made again, its blocks packed in id order,
+ * twice as large as what they hold: what moved blocks left behind goes. */
+static tclod_status slab_reserve(tclod_scene *s, uint32_t more) {
+    uint32_t live = s->children_used - s->children_garbage, cap = 64u, n, at = 0;
+    tclod_id *fresh;
+    if (s->children_used <= UINT32_MAX - more && s->children_used + more <= s->children_cap)
+        return TCLOD_OK;
+    if (live > UINT32_MAX / 4u - more)
+        return TCLOD_ERR_NOMEM;
+    while (cap < 2u * (live + more))
+        cap *= 2u;
+    fresh = (tclod_id *)tclod_mem_alloc(&s->alloc, sizeof(tclod_id) * cap);
+    if (!fresh)
+        return TCLOD_ERR_NOMEM;
+    for (n = 0; n < s->node_count; ++n) {
+        if (s->child_cap[n] == 0u)
+            continue;
+        if (s->child_count[n])
+            memcpy(fresh + at, s->children + s->child_first[n],
+                   sizeof(tclod_id) * s->child_count[n]);
+        s->child_first[n] = at;
+        s->child_cap[n] = s->child_count[n];
+        at += s->child_count[n];
+    }
+    tclod_mem_free(&s->alloc, s->children, sizeof(tclod_id) * s->children_cap);
+    s->children = fresh;
+    s->children_cap = cap;
+    s->children_used = at;
+    s->children_garbage = 0;
+    return TCLOD_OK;
+}
+
+/* The slab room that attaching a child to p may need: p's block moved to the
+ * end at twice its size, and room for a self leaf. */
+static uint32_t attach_room(const tclod_scene *s, tclod_id p) {
+    return p == TCLOD_NONE ? 0u : 2u * s->child_cap[p] + 4u;
+}
+
+/* Where x goes in (or is in) the ascending ids a[0..n). */
+static uint32_t lower_bound(const tclod_id *a, uint32_t n, tclod_id x) {
+    uint32_t lo = 0, hi = n;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2u;
+        if (a[mid] < x)
+            lo = mid + 1u;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* Puts node x into the index below p (TCLOD_NONE: a root), in id order; the
+ * slab has room (attach_room). */
+static void attach(tclod_scene *s, tclod_id x, tclod_id p) {
+    tclod_id *list;
+    uint32_t count, at;
+    s->parent[x] = p;
+    s->flags[x] |= TCLOD_NODE_INDEXED;
+    log_edit(s, x, TCLOD_EDIT_ADDED);
+    if (p == TCLOD_NONE) {
+        list = s->roots;
+        count = s->root_count++;
+    } else {
+        if (s->child_count[p] == s->child_cap[p]) { /* the block moves to the end */
+            uint32_t cap = s->child_cap[p] ? 2u * s->child_cap[p] : 2u;
+            assert(s->children_used + cap <= s->children_cap);
+            if (s->child_count[p])
+                memcpy(s->children + s->children_used, s->children + s->child_first[p],
+                       sizeof(tclod_id) * s->child_count[p]);
+            s->children_garbage += s->child_cap[p];
+            s->child_first[p] = s->children_used;
+            s->child_cap[p] = cap;
+            s->children_used += cap;
+        }
+        list = s->children + s->child_first[p];
+        count = s->child_count[p]++;
+    }
+    at = lower_bound(list, count, x);
+    memmove(list + at + 1u, list + at, sizeof(tclod_id) * (count - at));
+    list[at] = x;
+}
+
+/* Takes indexed node x out of its parent's children (or the roots). */
+static void detach(tclod_scene *s, tclod_id x) {
+    tclod_id p = s->parent[x], *list;
+    uint32_t count, at;
+    if (p == TCLOD_NONE) {
+        list = s->roots;
+        count = s->root_count--;
+    } else {
+        list = s->children + s->child_first[p];
+        count = s->child_count[p]--;
+    }
+    at = lower_bound(list, count, x);
+    assert(at < count && list[at] == x);
+    memmove(list + at, list + at + 1u, sizeof(tclod_id) * (count - at - 1u));
+    s->flags[x] &= (uint8_t)~TCLOD_NODE_INDEXED;
+    log_edit(s, x, TCLOD_EDIT_REMOVED);
+    if (p != TCLOD_NONE)
+        log_edit(s, p, TCLOD_EDIT_LOST);
+}
+
+/* Below p a child that draws was attached (`gained`) or detached: a
+ * non-empty additive node draws itself among its children while it has any
+ * other, through its self leaf. */
+static void update_self(tclod_scene *s, tclod_id p, int gained) {
+    tclod_id self;
+    if (p == TCLOD_NONE || (self = s->self[p]) == TCLOD_NONE)
+        return;
+    if (gained && !(s->flags[self] & TCLOD_NODE_INDEXED))
+        attach(s, self, p);
+    else if (!gained && (s->flags[self] & TCLOD_NODE_INDEXED) && s->child_count[p] == 1u)
+        detach(s, self);
+}
+
+/* The nodes of the host's subtree at top, in preorder along the sibling
+ * lists: the one after n (TCLOD_NONE after the last). */
+static tclod_id next_in_subtree(const tclod_scene *s, tclod_id n, tclod_id top) {
+    if (s->first_child[n] != TCLOD_NONE)
+        return s->first_child[n];
+    while (n != top) {
+        if (s->next_sibling[n] != TCLOD_NONE)
+            return s->next_sibling[n];
+        n = s->up[n];
+    }
+    return TCLOD_NONE;
+}
+
+/* The indexed nodes breadth first from the roots, parents before children,
+ * for the users that read them. */
+static void build_order(tclod_scene *s) {
+    uint32_t head, tail = 0, i;
+    for (i = 0; i < s->root_count; ++i)
+        s->order[tail++] = s->roots[i];
+    for (head = 0; head < tail; ++head) {
+        tclod_id p = s->order[head];
+        const tclod_id *c = s->children + s->child_first[p];
+        for (i = 0; i < s->child_count[p]; ++i)
+            s->order[tail++] = c[i];
+    }
+    s->order_count = tail;
+    s->order_version = s->node_version + 1u;
+}
+
 /* ---- nodes -------------------------------------------------------------------------- */
 
 void tclod_node_desc_default(tclod_node_desc *d) {
@@ -341,7 +512,7 @@ tclod_status tclod_scene_add_node_desc(tclod_scene *s, const tclod_node_desc *d,
     tclod_box box;
     uint32_t slot = TCLOD_NONE;
     int additive;
-    tclod_id id, self = TCLOD_NONE;
+    tclod_id id, self = TCLOD_NONE, ip;
     tclod_status st;
     if (!s || !d || !out_id || tclod_bounds_convert(&d->bounds, &nb, &box) != TCLOD_OK)
         return TCLOD_ERR_ARG;
@@ -352,7 +523,14 @@ tclod_status tclod_scene_add_node_desc(tclod_scene *s, const tclod_node_desc *d,
     if (held(s))
         return TCLOD_ERR_STATE;
     additive = d->refine == TCLOD_REFINE_ADD && !d->empty;
+    /* where it goes in the index: below its parent, or where an empty one's
+     * children go */
+    ip = d->parent;
+    if (ip != TCLOD_NONE && (s->flags[ip] & TCLOD_NODE_EMPTY))
+        ip = s->parent[ip];
     st = reserve_nodes(s, additive ? 2u : 1u);
+    if (st == TCLOD_OK && !d->empty)
+        st = slab_reserve(s, attach_room(s, ip));
     if (st == TCLOD_OK && nb.kind > TCLOD_BOUNDS_SPHERE)
         st = take_box(s, &box, &slot);
     if (st != TCLOD_OK)
@@ -364,6 +542,7 @@ tclod_status tclod_scene_add_node_desc(tclod_scene *s, const tclod_node_desc *d,
     s->flags[id] =
         (uint8_t)(TCLOD_NODE_LIVE | (d->refine == TCLOD_REFINE_ADD ? TCLOD_NODE_ADD : 0u) |
                   (d->empty ? TCLOD_NODE_EMPTY : 0u));
+    s->child_count[id] = s->child_cap[id] = 0;
     if (additive) {
         self = take_node_id(s);
         s->up[self] = id;
@@ -371,9 +550,16 @@ tclod_status tclod_scene_add_node_desc(tclod_scene *s, const tclod_node_desc *d,
         s->self[self] = TCLOD_NONE;
         s->bounds[self] = nb;
         s->flags[self] = TCLOD_NODE_SELF;
+        s->child_count[self] = s->child_cap[self] = 0;
         s->self_count++;
     }
     s->self[id] = self;
+    if (d->empty) {
+        s->parent[id] = ip; /* where its children go */
+    } else {
+        attach(s, id, ip);
+        update_self(s, ip, 1);
+    }
     s->live_nodes++;
     nodes_changed(s);
     *out_id = id;
@@ -391,10 +577,18 @@ tclod_status tclod_scene_add_node(tclod_scene *s, tclod_id parent, const float b
     return tclod_scene_add_node_desc(s, &d, out_id);
 }
 
-/* Takes node n out of the scene (its id retired, its box freed). */
+/* Takes node n out of the scene (its id retired, its box and its block of
+ * children freed). */
 static void drop_node(tclod_scene *s, tclod_id n) {
     tclod_id self = s->self[n];
+    /* the index's nodes below one that was taken out: a cut may hold them */
+    if (s->flags[n] & TCLOD_NODE_INDEXED)
+        log_edit(s, n, TCLOD_EDIT_REMOVED);
+    if (self != TCLOD_NONE && (s->flags[self] & TCLOD_NODE_INDEXED))
+        log_edit(s, self, TCLOD_EDIT_REMOVED);
     free_box(s, s->bounds[n].box);
+    s->children_garbage += s->child_cap[n];
+    s->child_count[n] = s->child_cap[n] = 0;
     s->flags[n] = 0;
     retire(&s->retired, s->node_cap, n, s->epoch);
     s->live_nodes--;
@@ -405,37 +599,36 @@ static void drop_node(tclod_scene *s, tclod_id n) {
     }
 }
 
+/* A flag of removal: the node is in the subtree being removed. */
+#define DYING 0x80u
+
 tclod_status tclod_scene_remove_node(tclod_scene *s, tclod_id node) {
     tclod_id n;
     if (!s || !node_live(s, node))
         return TCLOD_ERR_ARG;
     if (held(s))
         return TCLOD_ERR_STATE;
+    /* the subtree is walked three times along the sibling lists (no stack):
+     * marked, taken out of the index where it hangs from a node that stays,
+     * and dropped */
+    for (n = node; n != TCLOD_NONE; n = next_in_subtree(s, n, node))
+        s->flags[n] |= DYING;
+    for (n = node; n != TCLOD_NONE; n = next_in_subtree(s, n, node)) {
+        tclod_id p = s->parent[n];
+        if (!(s->flags[n] & TCLOD_NODE_INDEXED) || (p != TCLOD_NONE && (s->flags[p] & DYING)))
+            continue;
+        detach(s, n);
+        update_self(s, p, 0);
+    }
     unlink_child(s, node);
     s->epoch++;
-    /* the subtree in preorder along the sibling lists: no stack */
-    n = node;
-    for (;;) {
-        tclod_id next = s->first_child[n];
-        if (next == TCLOD_NONE) {
-            /* climb until a node with a next sibling, stopping at `node` */
-            tclod_id m = n;
-            for (;;) {
-                tclod_id up = s->up[m], sibling = s->next_sibling[m];
-                drop_node(s, m);
-                if (m == node) {
-                    nodes_changed(s);
-                    return TCLOD_OK;
-                }
-                if (sibling != TCLOD_NONE) {
-                    next = sibling;
-                    break;
-                }
-                m = up;
-            }
-        }
+    for (n = node; n != TCLOD_NONE;) {
+        tclod_id next = next_in_subtree(s, n, node);
+        drop_node(s, n);
         n = next;
     }
+    nodes_changed(s);
+    return TCLOD_OK;
 }
 
 tclod_status tclod_scene_set_node_bounds(tclod_scene *s, tclod_id node,
@@ -584,148 +777,31 @@ typedef struct qt_cell {
     uint32_t depth;
 } qt_cell;
 
-/* Grows the index arrays to the scene's capacities, all or nothing. */
-static tclod_status index_reserve(tclod_scene *s) {
+/* Grows the quadtree's arrays to the scene's capacity, all or nothing. */
+static tclod_status quadtree_reserve(tclod_scene *s) {
     tclod_allocator *a = &s->alloc;
-    index_arrays old = current_index(s);
-    index_arrays fresh;
-    int nodes = s->node_cap > s->index_cap || !s->child_first;
-    int smooth = s->smooth_cap > s->smooth_index_cap;
-    memset(&fresh, 0, sizeof fresh);
-    if (!nodes && !smooth)
+    quadtree_arrays fresh, gone;
+    if (s->smooth_cap <= s->smooth_index_cap)
         return TCLOD_OK;
-    if (nodes) {
-        fresh.node_cap = s->node_cap;
-        /* child_first needs one entry more than there are nodes */
-        fresh.child_first =
-            (uint32_t *)tclod_mem_alloc(a, sizeof(uint32_t) * (fresh.node_cap + 1u));
-        fresh.children = (tclod_id *)tclod_mem_alloc(a, sizeof(tclod_id) * fresh.node_cap);
-        fresh.roots = (tclod_id *)tclod_mem_alloc(a, sizeof(tclod_id) * fresh.node_cap);
-        fresh.order = (tclod_id *)tclod_mem_alloc(a, sizeof(tclod_id) * fresh.node_cap);
-        if (!fresh.child_first || !fresh.children || !fresh.roots || !fresh.order) {
-            index_arrays_free(a, &fresh);
-            return TCLOD_ERR_NOMEM;
-        }
+    fresh.smooth_cap = s->smooth_cap;
+    fresh.smooth_order = (tclod_id *)tclod_mem_alloc(a, sizeof(tclod_id) * fresh.smooth_cap);
+    fresh.smooth_pos = (uint32_t *)tclod_mem_alloc(a, sizeof(uint32_t) * fresh.smooth_cap);
+    fresh.qt = (tclod_smooth_node *)tclod_mem_alloc(a, sizeof(tclod_smooth_node) * 2u *
+                                                           (size_t)fresh.smooth_cap);
+    if (!fresh.smooth_order || !fresh.smooth_pos || !fresh.qt) {
+        quadtree_arrays_free(a, &fresh);
+        return TCLOD_ERR_NOMEM;
     }
-    if (smooth) {
-        fresh.smooth_cap = s->smooth_cap;
-        fresh.smooth_order = (tclod_id *)tclod_mem_alloc(a, sizeof(tclod_id) * fresh.smooth_cap);
-        fresh.smooth_pos = (uint32_t *)tclod_mem_alloc(a, sizeof(uint32_t) * fresh.smooth_cap);
-        fresh.qt = (tclod_smooth_node *)tclod_mem_alloc(a, sizeof(tclod_smooth_node) * 2u *
-                                                               (size_t)fresh.smooth_cap);
-        if (!fresh.smooth_order || !fresh.smooth_pos || !fresh.qt) {
-            index_arrays_free(a, &fresh);
-            return TCLOD_ERR_NOMEM;
-        }
-    }
-    if (nodes) {
-        index_arrays gone = old;
-        gone.smooth_cap = 0;
-        gone.smooth_order = NULL;
-        gone.smooth_pos = NULL;
-        gone.qt = NULL;
-        index_arrays_free(a, &gone);
-        s->index_cap = fresh.node_cap;
-        s->child_first = fresh.child_first;
-        s->children = fresh.children;
-        s->roots = fresh.roots;
-        s->order = fresh.order;
-    }
-    if (smooth) {
-        index_arrays gone = old;
-        gone.node_cap = 0;
-        gone.child_first = NULL;
-        gone.children = gone.roots = gone.order = NULL;
-        index_arrays_free(a, &gone);
-        s->smooth_index_cap = fresh.smooth_cap;
-        s->smooth_order = fresh.smooth_order;
-        s->smooth_pos = fresh.smooth_pos;
-        s->qt = fresh.qt;
-    }
+    gone.smooth_cap = s->smooth_index_cap;
+    gone.smooth_order = s->smooth_order;
+    gone.smooth_pos = s->smooth_pos;
+    gone.qt = s->qt;
+    quadtree_arrays_free(a, &gone);
+    s->smooth_index_cap = fresh.smooth_cap;
+    s->smooth_order = fresh.smooth_order;
+    s->smooth_pos = fresh.smooth_pos;
+    s->qt = fresh.qt;
     return TCLOD_OK;
-}
-
-/* The index's parent of every live node that draws: its nearest ancestor that
- * draws (empty ancestors passed over), TCLOD_NONE for a root. An empty node's
- * entry in parent[] holds the same for its children, found once per empty
- * node: a walk up a chain of empty nodes resolves them all (the chain waits in
- * order[], which is free until the index's order is made). */
-static void index_parents(tclod_scene *s) {
-    uint8_t *flags = s->flags;
-    uint32_t n = s->node_count, i;
-    for (i = 0; i < n; ++i) {
-        flags[i] &= (uint8_t)~TCLOD_NODE_INDEXED;
-        if ((flags[i] & (TCLOD_NODE_LIVE | TCLOD_NODE_EMPTY)) ==
-            (TCLOD_NODE_LIVE | TCLOD_NODE_EMPTY))
-            s->parent[i] = TCLOD_NONE - 1u; /* not resolved yet */
-    }
-    for (i = 0; i < n; ++i) {
-        tclod_id p, top;
-        uint32_t chain = 0, k;
-        if ((flags[i] & (TCLOD_NODE_LIVE | TCLOD_NODE_EMPTY)) != TCLOD_NODE_LIVE)
-            continue;
-        p = s->up[i];
-        while (p != TCLOD_NONE && (flags[p] & TCLOD_NODE_EMPTY) &&
-               s->parent[p] == TCLOD_NONE - 1u) {
-            s->order[chain++] = p;
-            p = s->up[p];
-        }
-        /* p: none, a node that draws, or an empty node resolved before */
-        top = p != TCLOD_NONE && (flags[p] & TCLOD_NODE_EMPTY) ? s->parent[p] : p;
-        for (k = 0; k < chain; ++k)
-            s->parent[s->order[k]] = top;
-        p = s->up[i];
-        s->parent[i] = p != TCLOD_NONE && (flags[p] & TCLOD_NODE_EMPTY) ? s->parent[p] : p;
-        flags[i] |= TCLOD_NODE_INDEXED;
-    }
-}
-
-/* The child index: counting sort of the indexed nodes by parent (id order
- * within a parent), self leaves below the additive nodes that have children,
- * then the nodes in breadth-first order. */
-static void build_child_index(tclod_scene *s) {
-    uint32_t n = s->node_count, i, roots = 0, head, tail;
-    uint32_t *first = s->child_first;
-    index_parents(s);
-    memset(first, 0, sizeof(uint32_t) * (n + 1u));
-    for (i = 0; i < n; ++i)
-        if ((s->flags[i] & TCLOD_NODE_INDEXED) && s->parent[i] != TCLOD_NONE)
-            first[s->parent[i] + 1u]++;
-    /* a self leaf joins when its node has children in the index */
-    for (i = 0; i < n; ++i)
-        if ((s->flags[i] & TCLOD_NODE_SELF) && first[s->up[i] + 1u] > 0u) {
-            s->flags[i] |= TCLOD_NODE_INDEXED;
-            s->parent[i] = s->up[i];
-            first[s->up[i] + 1u]++;
-        }
-    for (i = 0; i < n; ++i)
-        first[i + 1u] += first[i];
-    for (i = 0; i < n; ++i) {
-        tclod_id p;
-        if (!(s->flags[i] & TCLOD_NODE_INDEXED))
-            continue;
-        p = s->parent[i];
-        if (p == TCLOD_NONE)
-            s->roots[roots++] = i;
-        else
-            s->children[first[p]++] = i;
-    }
-    /* first[p] now holds the end of p's range: shift back by one slot */
-    for (i = n; i > 0; --i)
-        first[i] = first[i - 1u];
-    first[0] = 0;
-    s->root_count = roots;
-    /* breadth first: parents before children */
-    tail = 0;
-    for (i = 0; i < roots; ++i)
-        s->order[tail++] = s->roots[i];
-    for (head = 0; head < tail; ++head) {
-        tclod_id p = s->order[head];
-        uint32_t k;
-        for (k = first[p]; k < first[p + 1u]; ++k)
-            s->order[tail++] = s->children[k];
-    }
-    s->order_count = tail;
 }
 
 /* Moves the objects of order[begin, end) whose coordinate (0 = x, 2 = z) is
@@ -879,32 +955,26 @@ tclod_status tclod_scene_prepare(tclod_scene *s) {
     size_t cells_size = 0;
     qt_cell *cells = NULL;
     tclod_status st;
-    int nodes, smooth;
     if (!s)
         return TCLOD_ERR_ARG;
-    nodes = s->index_version != s->node_version;
-    smooth = s->qt_version != s->smooth_version;
-    if (!nodes && !smooth)
+    if (s->order_users > 0 && s->order_version != s->node_version + 1u)
+        build_order(s);
+    if (s->qt_version == s->smooth_version)
         return TCLOD_OK;
     /* the quadtree's build-time cells, taken first so no failure comes after
-     * the index arrays have been replaced */
-    if (smooth && s->smooth_live) {
+     * the arrays have been replaced */
+    if (s->smooth_live) {
         cells_size = sizeof(qt_cell) * 2u * (size_t)s->smooth_live;
         cells = (qt_cell *)tclod_mem_alloc(&s->alloc, cells_size);
         if (!cells)
             return TCLOD_ERR_NOMEM;
     }
-    st = index_reserve(s);
-    if (st == TCLOD_OK) {
-        if (smooth)
-            build_smooth_quadtree(s, cells);
-        if (nodes)
-            build_child_index(s);
-    }
+    st = quadtree_reserve(s);
+    if (st == TCLOD_OK)
+        build_smooth_quadtree(s, cells);
     tclod_mem_free(&s->alloc, cells, cells_size);
     if (st != TCLOD_OK)
         return st;
-    s->index_version = s->node_version;
     s->qt_version = s->smooth_version;
     return TCLOD_OK;
 }

@@ -717,7 +717,7 @@ tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_d
     if (st == TCLOD_OK) {
         /* its selection under way is begun again when the scene changes */
         sch->sel->holds = 0;
-        st = tclod_scene_attach(sch->scene, &sch->user);
+        st = tclod_scene_attach(sch->scene, &sch->user, 1);
     }
     if (st != TCLOD_OK) {
         tclod_selector_destroy(sch->sel);
@@ -735,7 +735,7 @@ void tclod_scheduler_destroy(tclod_scheduler *sch) {
     if (!sch || sch->busy)
         return;
     alloc = sch->alloc;
-    tclod_scene_detach(sch->scene, &sch->user);
+    tclod_scene_detach(sch->scene, &sch->user, 1);
     tclod_selector_destroy(sch->sel);
     tclod_calib_destroy(sch->calib);
     tclod_arrays_free(&alloc, arrays, node_arrays(sch, arrays), sch->node_cap);

@@ -127,6 +127,8 @@ static size_t smooth_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRA
 /* The Robin Hood solver's buffers, one element per node and smooth object. */
 static size_t rh_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS]) {
     size_t n = 0;
+    out[n++] = (tclod_array){(void **)&sel->rh_first, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&sel->rh_kids, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->rh_chain, sizeof(uint32_t), -1};
     out[n++] = (tclod_array){(void **)&sel->rh_chains, sizeof(tclod_rh_chain), -1};
     out[n++] = (tclod_array){(void **)&sel->rh_child, sizeof(tclod_rh_child), -1};
@@ -203,7 +205,8 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
     sel->alloc = alloc;
     sel->desc = *d;
     sel->holds = 1;
-    if (tclod_scene_attach(sel->scene, &sel->user) != TCLOD_OK) {
+    if (tclod_scene_attach(sel->scene, &sel->user, d->solver == TCLOD_SOLVER_ROBIN_HOOD) !=
+        TCLOD_OK) {
         tclod_mem_free(&alloc, sel, sizeof *sel);
         return TCLOD_ERR_NOMEM;
     }
@@ -217,7 +220,7 @@ void tclod_selector_destroy(tclod_selector *sel) {
     if (!sel || sel->busy)
         return;
     alloc = sel->alloc;
-    tclod_scene_detach(sel->scene, &sel->user);
+    tclod_scene_detach(sel->scene, &sel->user, sel->desc.solver == TCLOD_SOLVER_ROBIN_HOOD);
     tclod_arrays_free(&alloc, buffers, node_buffers(sel, buffers), sel->cap);
     tclod_arrays_free(&alloc, buffers, smooth_buffers(sel, buffers), sel->smooth_cap);
     tclod_arrays_free(&alloc, buffers, rh_buffers(sel, buffers), sel->rh_cap);
@@ -245,7 +248,7 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
     growth g[3];
     int uses_smooth = sel->desc.solver != TCLOD_SOLVER_GREEDY;
     int i, k;
-    if (nodes + smooth < nodes || nodes > UINT32_MAX - 3u)
+    if (nodes + smooth < nodes || nodes > UINT32_MAX - 3u || nodes + smooth > UINT32_MAX - 1u)
         return TCLOD_ERR_NOMEM; /* ids beyond 32 bits */
     g[0].count = node_buffers(sel, g[0].arrays);
     g[0].cap = &sel->cap;
@@ -257,8 +260,9 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
         uses_smooth && smooth > sel->smooth_cap ? grown(sel->smooth_cap, smooth) : sel->smooth_cap;
     g[2].count = rh_buffers(sel, g[2].arrays);
     g[2].cap = &sel->rh_cap;
-    g[2].new_cap = sel->desc.solver == TCLOD_SOLVER_ROBIN_HOOD && nodes + smooth > sel->rh_cap
-                       ? grown(sel->rh_cap, nodes + smooth)
+    /* one element more than nodes: rh_first's end */
+    g[2].new_cap = sel->desc.solver == TCLOD_SOLVER_ROBIN_HOOD && nodes + smooth + 1u > sel->rh_cap
+                       ? grown(sel->rh_cap, nodes + smooth + 1u)
                        : sel->rh_cap;
     for (i = 0; i < 3; ++i) {
         if (g[i].new_cap == *g[i].cap)
@@ -327,6 +331,7 @@ static void keep_committed(tclod_selector *sel) {
     k->node_version = sel->node_version;
     k->smooth_version = sel->smooth_version;
     k->synced = sel->user.synced;
+    k->log_seen = sel->user.log_seen;
     k->has_cut = sel->has_cut;
     k->valid = 1;
 }
@@ -376,6 +381,7 @@ void tclod_selector_restore(tclod_selector *sel, const tclod_selector_saved *k) 
     sel->node_version = k->node_version;
     sel->smooth_version = k->smooth_version;
     sel->user.synced = k->synced;
+    sel->user.log_seen = k->log_seen;
     sel->has_cut = k->has_cut;
 }
 
@@ -435,6 +441,7 @@ static void commit(tclod_selector *sel) {
     sel->node_version = sel->scene->node_version;
     sel->smooth_version = sel->scene->smooth_version;
     sel->user.synced = sel->begin_epoch; /* it names no node removed before that */
+    sel->user.log_seen = sel->begin_log;
     sel->stats.benefit = benefit;
     sel->stats.cost = cost;
 }
@@ -494,6 +501,7 @@ tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f) {
     set_pending(sel, 1);
     sel->pending_version = sel->scene->version;
     sel->begin_epoch = sel->scene->epoch;
+    sel->begin_log = sel->scene->log_base + sel->scene->log_count;
     return TCLOD_OK;
 }
 

@@ -532,6 +532,105 @@ static void warm_starts_survive_edits_with_work_in_proportion(void **state) {
     tclod_selector_destroy(cold);
 }
 
+/* A warm start whose selector fell behind by more edits than the scene's
+ * edit log holds (it keeps as many as the scene has room for nodes) brings
+ * its cut up to date by looking at its whole selection: its result is the
+ * same as that of a selector that saw every edit, and valid. */
+static void a_warm_start_behind_a_full_edit_log_looks_at_its_selection(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *steady, *behind;
+    tclod_stats a, b;
+    uint32_t i;
+    tclod_id keep = helper_add(f, TCLOD_NONE, 1.0, 1.0), child;
+    helper_add(f, keep, 3.0, 1.0);
+    helper_add(f, keep, 3.0, 1.0);
+    steady = helper_selector(f->scene, &f->model, 1);
+    behind = helper_selector(f->scene, &f->model, 1);
+    select_at(steady, INFINITY);
+    select_at(behind, INFINITY);
+    /* far more edits than the 64 entries the log has room for */
+    for (i = 0; i < 200; ++i) {
+        child = helper_add(f, keep, 2.0, 1.0);
+        select_at(steady, INFINITY);
+        if (i % 2)
+            assert_int_equal(table_remove_node(&f->model, f->scene, child), TCLOD_OK);
+    }
+    a = select_at(steady, INFINITY);
+    b = select_at(behind, INFINITY);
+    helper_check_result(behind, &f->model, &b, INFINITY, 0);
+    assert_result_live(behind, f->scene);
+    assert_true(a.benefit == b.benefit && a.cost == b.cost);
+    assert_int_equal(a.benefit, 2.0 * 3.0 + 100.0 * 2.0);
+    tclod_selector_destroy(steady);
+    tclod_selector_destroy(behind);
+}
+
+/* Random hierarchies of replace, additive and empty nodes edited at random
+ * between frames (nodes added anywhere, subtrees removed, nodes moved): every
+ * solver's warm selection stays a valid selection of the edited scene within
+ * its budget, naming live nodes only. */
+static void random_edits_keep_every_selection_valid(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *sel[3];
+    table_rng rng;
+    uint32_t frame, k;
+    table_rng_seed(&rng, 99u);
+    for (k = 0; k < 3; ++k)
+        sel[k] = solver_selector(f->scene, &f->model, solvers[k]);
+    for (frame = 0; frame < 400; ++frame) {
+        uint32_t edits = 1 + table_rng_below(&rng, 4), e;
+        double budget = table_rng_uniform(&rng, 1.0, 20.0);
+        for (e = 0; e < edits; ++e) {
+            uint32_t what = table_rng_below(&rng, 10), live = 0, i, pick;
+            tclod_id target = TCLOD_NONE;
+            for (i = 0; i < f->model.count; ++i)
+                live += f->model.kind[i] != TABLE_NONE;
+            if (live > 0) {
+                pick = table_rng_below(&rng, live);
+                for (i = 0; i < f->model.count; ++i)
+                    if (f->model.kind[i] != TABLE_NONE && pick-- == 0u) {
+                        target = i;
+                        break;
+                    }
+            }
+            if (what < 5 || live < 4) { /* add below target, or a root */
+                tclod_node_desc d;
+                uint32_t kind = table_rng_below(&rng, 8);
+                tclod_node_desc_default(&d);
+                d.parent = table_rng_below(&rng, 4) == 0 ? TCLOD_NONE : target;
+                d.refine = kind < 2 ? TCLOD_REFINE_ADD : TCLOD_REFINE_REPLACE;
+                d.empty = kind == 7;
+                assert_int_equal(table_add_node_desc(&f->model, f->scene, &d,
+                                                     table_rng_uniform(&rng, 0.5, 5.0),
+                                                     table_rng_uniform(&rng, 0.2, 2.0), NULL),
+                                 TCLOD_OK);
+            } else if (what < 8) {
+                assert_int_equal(table_remove_node(&f->model, f->scene, target), TCLOD_OK);
+            } else {
+                tclod_bounds b =
+                    tclod_bounds_sphere(table_rng_uniform(&rng, -5.0, 5.0), 0.0, -10.0, 1.0);
+                assert_int_equal(tclod_scene_set_node_bounds(f->scene, target, &b), TCLOD_OK);
+            }
+        }
+        for (k = 0; k < 3; ++k) {
+            tclod_frame fr = helper_frame(NULL, budget);
+            const tclod_id *ids;
+            size_t n;
+            tclod_stats st;
+            assert_int_equal(tclod_select(sel[k], &fr, &st), TCLOD_OK);
+            assert_int_equal(tclod_selector_cut(sel[k], &ids, &n), TCLOD_OK);
+            if (!exact_check_selection(&f->model, ids, n, 1))
+                fail_msg("frame %u solver %u: not a selection of the edited scene", (unsigned)frame,
+                         (unsigned)k);
+            assert_true(table_sum_cost(&f->model, ids, n) <= budget);
+            assert_true(st.cost == table_sum_cost(&f->model, ids, n));
+            assert_result_live(sel[k], f->scene);
+        }
+    }
+    for (k = 0; k < 3; ++k)
+        tclod_selector_destroy(sel[k]);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         FIXTURE_TEST(removing_a_node_removes_its_subtree_from_every_later_result),
@@ -542,6 +641,8 @@ int main(void) {
         FIXTURE_TEST(bad_edits_are_refused_and_change_nothing),
         FIXTURE_TEST(a_warm_start_takes_added_children_of_a_refined_node_and_drops_removed_ones),
         FIXTURE_TEST(warm_starts_survive_edits_with_work_in_proportion),
+        FIXTURE_TEST(a_warm_start_behind_a_full_edit_log_looks_at_its_selection),
+        FIXTURE_TEST(random_edits_keep_every_selection_valid),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
