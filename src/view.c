@@ -18,7 +18,9 @@
  * sum_i h_i |u_i · n| (u_i its unit axes, h_i its half lengths). Its projected
  * area is that of its silhouette: the faces turned towards the eye (at most
  * three) project without overlapping, so the silhouette's area is the sum of
- * theirs, each a quadrilateral clipped at the near plane and projected. Its
+ * theirs, each a quadrilateral clipped at the near plane and projected, plus,
+ * for a box reaching through the near plane, the section the plane cuts (the
+ * face that clipping gives the part of the box beyond it). Its
  * distance from the eye is the length of the eye's excess over the half
  * lengths in the box's frame (0 inside), what 3D Tiles' screen-space error
  * divides by. Everything is computed in double relative to the eye, so that
@@ -324,6 +326,67 @@ static double projected_quad(const tclod_view_cache *c, const double q[4][3]) {
     return 0.5 * fabs(area);
 }
 
+/* The area in px² of the projection of the box's section by the near plane,
+ * where it reaches in front of it: the cap that clipping at the near plane
+ * gives the part of the box beyond it, turned to the eye. The section is the
+ * convex polygon through the points where the box's edges cross the plane. */
+static double near_cap(const tclod_view_cache *c, const double p[3], const tclod_box *b) {
+    double x[8], y[8], z[8], px[12], py[12], ang[12], cx = 0.0, cy = 0.0, area = 0.0;
+    double lo = HUGE_VAL, hi = -HUGE_VAL, n = c->near_z;
+    int k, i, j, m = 0;
+    for (k = 0; k < 8; ++k) {
+        double q[3];
+        for (i = 0; i < 3; ++i)
+            q[i] = p[i] + ((k & 1) ? b->h[0] : -b->h[0]) * b->u[0][i] +
+                   ((k & 2) ? b->h[1] : -b->h[1]) * b->u[1][i] +
+                   ((k & 4) ? b->h[2] : -b->h[2]) * b->u[2][i];
+        x[k] = dot3(q, c->right);
+        y[k] = dot3(q, c->up);
+        z[k] = dot3(q, c->forward);
+        lo = z[k] < lo ? z[k] : lo;
+        hi = z[k] > hi ? z[k] : hi;
+    }
+    if (!(lo < n && hi > n))
+        return 0.0; /* wholly on one side */
+    for (k = 0; k < 8; ++k)
+        for (i = 0; i < 3; ++i) {
+            int l = k | (1 << i); /* the edge from k along axis i */
+            double t;
+            if (l == k || (z[k] - n) * (z[l] - n) > 0.0 || z[k] == z[l])
+                continue;
+            t = (n - z[k]) / (z[l] - z[k]);
+            px[m] = x[k] + t * (x[l] - x[k]);
+            py[m] = y[k] + t * (y[l] - y[k]);
+            cx += px[m];
+            cy += py[m];
+            m++;
+        }
+    if (m < 3)
+        return 0.0;
+    cx /= m;
+    cy /= m;
+    for (i = 0; i < m; ++i)
+        ang[i] = atan2(py[i] - cy, px[i] - cx);
+    /* the polygon in angular order (insertion sort: at most 12 points) */
+    for (i = 1; i < m; ++i)
+        for (j = i; j > 0 && ang[j] < ang[j - 1]; --j) {
+            double t = ang[j];
+            ang[j] = ang[j - 1];
+            ang[j - 1] = t;
+            t = px[j];
+            px[j] = px[j - 1];
+            px[j - 1] = t;
+            t = py[j];
+            py[j] = py[j - 1];
+            py[j - 1] = t;
+        }
+    for (i = 0; i < m; ++i) {
+        j = (i + 1) % m;
+        area += px[i] * py[j] - px[j] * py[i];
+    }
+    return 0.5 * fabs(area) * (c->focal / n) * (c->focal / n);
+}
+
 /* The area of the silhouette of the box with centre p (relative to the eye),
  * and whether the eye is inside. */
 static double box_area(const tclod_view_cache *c, const double p[3], const tclod_box *b,
@@ -351,6 +414,7 @@ static double box_area(const tclod_view_cache *c, const double p[3], const tclod
             area += projected_quad(c, (const double(*)[3])q);
         }
     }
+    area += near_cap(c, p, b);
     return area < c->viewport_area ? area : c->viewport_area;
 }
 

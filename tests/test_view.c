@@ -1428,13 +1428,17 @@ static void box_areas_never_exceed_the_viewport(void **state) {
  * side from x = -0.05 f / n to 0.05 f / n at y = -0.05 f / n, at depth 1
  * from -0.05 f to 0.05 f at y = -0.05 f. Area (0.1 f / n + 0.1 f) / 2 *
  * (0.05 f / n - 0.05 f) = 0.0025 f² (1 / n² - 1): at n = 0.1, 0.2475 f²
- * (61875 px² at f = 500). The view's near_z is the float 0.1f, 1.5e-9 more,
- * which takes 3e-8 off that: n is taken from the view. Turned about the view
- * axis with the eye the box keeps that area. Cut short to z in [-1, -0.05],
- * it keeps it too: its top face's corners at depth 0.05, before the near
- * plane, are cut at n all the same, and its end face z = -0.05, now turned
- * to the eye (t_z = 0.525 > 0.475), lies wholly before the near plane and
- * adds nothing.
+ * (61875 px² at f = 500). The part of the box beyond the near plane also
+ * turns its cut to the eye: the section at depth n, x in [-0.05, 0.05] and
+ * y in [-0.15, -0.05], projects (scaled f / n) to 0.01 f² / n², f² at
+ * n = 0.1, below the trapezoid and not overlapping it. In all 1.2475 f². The
+ * view's near_z is the float 0.1f, 1.5e-9 more, which changes that by 1e-8:
+ * n is taken from the view. Turned about the view axis with the eye the box
+ * keeps that area. Cut short to z in [-1, -0.05], it keeps it too: its top
+ * face's corners at depth 0.05, before the near plane, are cut at n all the
+ * same, the section is the same, and its end face z = -0.05, now turned to
+ * the eye (t_z = 0.525 > 0.475), lies wholly before the near plane and adds
+ * nothing.
  *
  * An oblique cut: a square slab whose top face lies in y = -0.05 with its
  * diagonals along x and z (half axes (0.225, 0, -0.225), (0.225, 0, 0.225),
@@ -1450,7 +1454,9 @@ static void box_areas_never_exceed_the_viewport(void **state) {
  * Y = -0.05 / n; the shoelace terms are 1.125/17, 1.125 Y + 0.125 X, 2 X Y,
  * 0.125 X + 1.125 Y, 1.125/17, summing to 2.25/17 + 2.25 Y + 0.25 X + 2 X Y.
  * At n = 0.1 (X = 1.5, Y = -0.5): 2.25/17 - 1.125 + 0.375 - 1.5, area
- * (2.25 - 2.25/17) / 2 = 18/17 f². */
+ * (2.25 - 2.25/17) / 2 = 18/17 f². The near plane cuts the slab along B'D',
+ * 2 (0.05 + n) wide, through its 0.1 of height: that section projects to
+ * 0.2 (0.05 + n) f² / n², 3 f² at n = 0.1, in all 18/17 f² + 3 f². */
 static void a_box_partly_behind_the_near_plane_is_clipped(void **state) {
     static const double zaxis[3] = {0.0, 0.0, 1.0};
     const double c0[3] = {0.0, -0.1, -0.25}, h[3] = {0.05, 0.05, 0.75};
@@ -1465,12 +1471,13 @@ static void a_box_partly_behind_the_near_plane_is_clipped(void **state) {
     helper_view(&v);
     f = focal_of(&v);
     n = (double)v.near_z;
-    strip = 0.0025 * f * f * (1.0 / (n * n) - 1.0);
+    strip = 0.0025 * f * f * (1.0 / (n * n) - 1.0) + 0.01 * f * f / (n * n);
     x = (0.05 + n) / n;
     y = -0.05 / n;
-    pentagon = -0.5 * (2.25 / 17.0 + 2.25 * y + 0.25 * x + 2.0 * x * y) * f * f;
-    check_close(strip, 0.2475 * 250000.0, 1e-6, "premise: the strip at n = 0.1, f = 500");
-    check_close(pentagon, 18.0 / 17.0 * 250000.0, 1e-6, "premise: the pentagon");
+    pentagon = -0.5 * (2.25 / 17.0 + 2.25 * y + 0.25 * x + 2.0 * x * y) * f * f +
+               0.2 * (0.05 + n) * f * f / (n * n);
+    check_close(strip, 1.2475 * 250000.0, 1e-6, "premise: the strip at n = 0.1, f = 500");
+    check_close(pentagon, (18.0 / 17.0 + 3.0) * 250000.0, 1e-6, "premise: the pentagon");
     b = tclod_bounds_aabb(c0, h);
     check_close(tclod_view_bounds_area(&v, &b), strip, 1e-9, "clipped strip");
     b = aabb_of(0.0, -0.1, -0.525, 0.05, 0.05, 0.475);
@@ -1485,7 +1492,29 @@ static void a_box_partly_behind_the_near_plane_is_clipped(void **state) {
     }
     b = tclod_bounds_obb(slab_c, slab);
     assert_int_equal(tclod_bounds_validate(&b), TCLOD_OK);
+    v.aspect = 2.0f; /* 4.06 f² is more than a square viewport's 4 f² */
     check_close(tclod_view_bounds_area(&v, &b), pentagon, 1e-9, "oblique cut");
+}
+
+/* A box beside the eye, reaching far behind it and ahead: x in [-1000 - d,
+ * -d], y in [-100, 100], z in [-900, 100], the eye at the origin looking down
+ * -z. Its face x = -d is seen edge on, and its section by the near plane
+ * (depth n), x in [-1000 - d, -d] and y in [-100, 100], projects to the
+ * left half of the screen and beyond: the viewport's whole area (1000² at
+ * aspect 1) once clamped, whatever small d is, instead of a sliver that
+ * would shrink with d. */
+static void a_box_beside_the_eye_fills_the_screen_however_close_its_face(void **state) {
+    const double h[3] = {500.0, 100.0, 500.0};
+    const double gaps[4] = {1e-2, 1e-3, 1e-6, 1e-9};
+    tclod_view v;
+    int i;
+    (void)state;
+    helper_view(&v);
+    for (i = 0; i < 4; ++i) {
+        const double c[3] = {-500.0 - gaps[i], 0.0, -400.0};
+        tclod_bounds b = tclod_bounds_aabb(c, h);
+        check_close(tclod_view_bounds_area(&v, &b), 1.0e6, 1e-12, "box beside the eye");
+    }
 }
 
 /* ---- distance ------------------------------------------------------------------ */
@@ -2101,6 +2130,7 @@ int main(void) {
         cmocka_unit_test(boxes_straddling_a_plane_are_visible),
         cmocka_unit_test(a_long_thin_box_beside_the_frustum_is_invisible_though_its_sphere_is_not),
         cmocka_unit_test(a_box_seen_face_on_projects_to_its_rectangle),
+        cmocka_unit_test(a_box_beside_the_eye_fills_the_screen_however_close_its_face),
         cmocka_unit_test(a_box_turned_about_the_view_axis_keeps_its_area),
         cmocka_unit_test(a_cube_seen_from_a_corner_shows_three_faces),
         cmocka_unit_test(box_areas_match_the_hull_of_their_projected_corners),
