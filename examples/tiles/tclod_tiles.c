@@ -1,0 +1,965 @@
+/*
+ * tclod_tiles — a headless 3D Tiles host driving libtclod (docs/tiles.md).
+ *
+ * It reads a tileset.json (3D Tiles 1.0 or 1.1, external tilesets included),
+ * makes every tile a libtclod node with its bounding volume, refinement and
+ * emptiness, and flies a camera down a spiral onto it. Every frame it selects
+ * the tiles to draw twice:
+ *  - libtclod's greedy selector, with a benefit from each tile's screen-space
+ *    error (tiles_model.h) and a cost from its content bytes, under a budget;
+ *  - the way CesiumJS does by default ("sse16"): refine every visible tile
+ *    whose screen-space error exceeds 16 px, whatever that costs.
+ * The budget is the sse16 traversal's median cost over the flight unless
+ * --budget-ms gives one (or, with --budget-ms sse16, each frame's budget is
+ * what the sse16 traversal spends on it). One line per frame compares the
+ * two, and a summary line ends the run:
+ *
+ *   summary: frames=N tiles=T violations=V mean_cost_ratio=R
+ *            sse16_cost_max_over_median=X benefit_vs_sse16=Y select_us_median=A
+ *            sse16_us_median=B budget_ms=M box_fallbacks=K check_errors=E
+ *            max_sse_median=S sse16_max_sse_median=S16
+ *
+ * (one line; --help explains every key). violations counts the frames whose
+ * drawn cost, summed here from this program's cost table over the ids
+ * tclod_selector_cut lists, exceeds the budget; check_errors counts where the
+ * library disagreed with this program's own sums, distances and areas, or
+ * broke 3D Tiles' refinement rules (0 when all is well).
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <tclod/tclod.h>
+
+#include "tiles_model.h"
+#include "tileset.h"
+
+/* The camera: a 1080-line viewport at 16:9 with a 60 degree vertical field of
+ * view, as a desktop CesiumJS viewer would have. */
+#define VIEWPORT_HEIGHT 1080.0f
+#define VIEWPORT_ASPECT (16.0f / 9.0f)
+#define FOV_Y_DEGREES 60.0
+#define DEFAULT_FRAMES 300ul
+/* Render cost of content: milliseconds per 10^6 bytes. Bytes stand for the
+ * vertices, indices and textures a tile sends and draws; 1 ms per MB puts the
+ * sse16 traversal of a city flight at a few tens of ms per frame. */
+#define DEFAULT_MS_PER_MB 1.0
+/* The flight (docs/tiles.md, camera): it starts this many root radii from the
+ * target, 60 degrees above the horizon, and spirals 1.25 turns down to this
+ * fraction of a radius, 15 degrees above it. */
+#define FLIGHT_START_RADII 3.0
+#define FLIGHT_END_RADII 0.08
+#define FLIGHT_START_ELEVATION 60.0
+#define FLIGHT_END_ELEVATION 15.0
+#define FLIGHT_TURNS 1.25
+/* Bounds centred farther than this from the origin are earth-centred: "up" is
+ * then the radial direction there, else +z (3D Tiles' local up). */
+#define EARTH_CENTRED_MIN 1.0e6
+#define PI 3.14159265358979323846
+
+typedef struct options {
+    unsigned long frames;
+    const char *tileset_path, *sizes_path, *csv_path;
+    double budget_ms;
+    int budget_given; /* 1: --budget-ms X; 2: --budget-ms sse16 */
+    double ms_per_mb;
+} options;
+
+/* Per-tile scratch of check_cut, stamped so that it needs no clearing. */
+typedef struct cut_check {
+    uint32_t *drawn_stamp, *refined_stamp, *stack, *refined;
+    uint32_t stamp;
+} cut_check;
+
+static int cut_check_init(cut_check *c, uint32_t tiles);
+static void cut_check_free(cut_check *c);
+
+/* Everything the callbacks read. */
+typedef struct host {
+    tileset ts;
+    size_table sizes;
+    int have_sizes;
+    tclod_scene *scene;
+    tclod_id *id_of_tile;
+    uint32_t *tile_of_id; /* TILE_NONE for ids no tile has (an additive node's own) */
+    uint32_t id_count;
+    double *cost_ms; /* per tile */
+    tiles_model model;
+    /* checks of the library's queries against this program's measures */
+    unsigned long unknown_ids, distance_errors, area_errors;
+    double worst_distance_error;
+    /* checks of the selections against 3D Tiles' rules (check_cut) */
+    cut_check rules;
+    uint32_t *rule_list;
+    unsigned long rule_errors;
+} host;
+
+/* One frame of either method. */
+typedef struct frame_result {
+    double cost, benefit, us;
+    double max_sse; /* the largest screen-space error left: of a drawn tile not refined */
+    uint32_t tiles;
+} frame_result;
+
+/* The camera path of docs/tiles.md: a spiral around and down onto the target. */
+typedef struct flight {
+    double target[3], east[3], north[3], up[3];
+    double radius; /* of the sphere around the root's bounding volume */
+    double start, end;
+    unsigned long frames;
+} flight;
+
+static void usage(FILE *out) {
+    fprintf(out,
+            "usage: tclod_tiles [--frames N] [--sizes FILE] [--csv FILE]\n"
+            "                   [--budget-ms X|sse16] [--ms-per-mb X] [--help] TILESET.json\n"
+            "\n"
+            "Flies a camera down a spiral onto a 3D Tiles tileset (1.0 or 1.1) and selects\n"
+            "the tiles to draw every frame twice: with libtclod under a render-time budget,\n"
+            "and as CesiumJS does by default (refine while the screen-space error exceeds\n"
+            "16 px, the \"sse16\" traversal). Nothing is drawn.\n"
+            "\n"
+            "  --frames N      frames of the flight, N >= 1 (default %lu)\n"
+            "  --sizes FILE    content sizes, lines uri<TAB>bytes (uri as written in the\n"
+            "                  tileset), for contents that are not on disk beside it\n"
+            "  --csv FILE      also write the per-frame columns below to FILE (with a header)\n"
+            "  --budget-ms X   budget per frame in ms, X >= 0 (default: the median of the\n"
+            "                  sse16 traversal's per-frame cost over the flight); sse16:\n"
+            "                  each frame's budget is the sse16 traversal's cost at that\n"
+            "                  frame, to compare the two at equal cost\n"
+            "  --ms-per-mb X   render cost of content in ms per 10^6 bytes, X > 0 (default %g)\n"
+            "  --help          print this text and exit\n"
+            "\n"
+            "A content's bytes are its file's size when it is beside the tileset, else its\n"
+            "line in --sizes, else %.0f. Tiles without content cost nothing. The benefit of\n"
+            "a tile is its share of the screen times 1 / (1 + sse / 64) (docs/tiles.md).\n"
+            "\n"
+            "Per frame (stdout, and --csv):\n"
+            "  frame          frame number, from 0\n"
+            "  budget_ms      the budget\n"
+            "  cost_ms        libtclod's selection: its cost, summed over the drawn tiles\n"
+            "  benefit        its benefit\n"
+            "  tiles          tiles it draws\n"
+            "  select_us      wall-clock time of tclod_select\n"
+            "  sse16_cost_ms, sse16_benefit, sse16_tiles\n"
+            "                 the same for the sse16 traversal\n"
+            "  sse16_us       wall-clock time of one sse16 traversal\n"
+            "  distance_m     the camera's distance to the target (CSV only)\n"
+            "  max_sse, sse16_max_sse\n"
+            "                 the largest screen-space error left on screen, in px: of\n"
+            "                 the drawn tiles not refined further (CSV only)\n"
+            "\n"
+            "Summary line (last line of stdout):\n"
+            "  frames                      frames flown\n"
+            "  tiles                       tiles loaded, external tilesets included\n"
+            "  violations                  frames whose drawn cost exceeds the budget\n"
+            "  mean_cost_ratio             mean over frames of cost_ms / budget_ms\n"
+            "  sse16_cost_max_over_median  the sse16 traversal's largest cost over its median\n"
+            "  benefit_vs_sse16            mean over frames of benefit / sse16_benefit (frames\n"
+            "                              where sse16_benefit is 0 left out)\n"
+            "  select_us_median            median of select_us\n"
+            "  sse16_us_median             median of sse16_us\n"
+            "  budget_ms                   the budget (with --budget-ms sse16, its median)\n"
+            "  box_fallbacks               boxes with axes that are not orthogonal, drawn as\n"
+            "                              their enclosing sphere\n"
+            "  check_errors                frames or queries where libtclod's cost, benefit,\n"
+            "                              distance or area disagreed with this program's,\n"
+            "                              or its selection broke 3D Tiles' refinement rules\n"
+            "  max_sse_median              median over frames of max_sse\n"
+            "  sse16_max_sse_median        median over frames of sse16_max_sse\n"
+            "\n"
+            "Exit status: 0 on success, 1 when the tileset or a file cannot be read or\n"
+            "libtclod fails, 2 for a bad command line.\n",
+            DEFAULT_FRAMES, DEFAULT_MS_PER_MB, TILESET_ESTIMATE_BYTES);
+}
+
+static int parse_ulong(const char *s, unsigned long *out) {
+    char *end;
+    unsigned long v;
+    if (!s || *s == '\0' || *s == '-' || *s == '+')
+        return 0;
+    errno = 0;
+    v = strtoul(s, &end, 10);
+    if (errno != 0 || *end != '\0')
+        return 0;
+    *out = v;
+    return 1;
+}
+
+static int parse_double(const char *s, double *out) {
+    char *end;
+    double v;
+    if (!s || *s == '\0')
+        return 0;
+    errno = 0;
+    v = strtod(s, &end);
+    if (errno != 0 || *end != '\0' || !isfinite(v))
+        return 0;
+    *out = v;
+    return 1;
+}
+
+/* 0 = run, 1 = --help given, 2 = bad command line (message already printed). */
+static int parse_options(int argc, char **argv, options *o) {
+    int i;
+    memset(o, 0, sizeof(*o));
+    o->frames = DEFAULT_FRAMES;
+    o->ms_per_mb = DEFAULT_MS_PER_MB;
+    for (i = 1; i < argc; ++i) {
+        const char *opt = argv[i];
+        const char *val = i + 1 < argc ? argv[i + 1] : NULL;
+        if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0)
+            return 1;
+        if (opt[0] != '-' || opt[1] == '\0') {
+            if (o->tileset_path) {
+                fprintf(stderr, "tclod_tiles: one tileset only, got '%s' and '%s'\n",
+                        o->tileset_path, opt);
+                return 2;
+            }
+            o->tileset_path = opt;
+            continue;
+        }
+        if (strcmp(opt, "--frames") != 0 && strcmp(opt, "--sizes") != 0 &&
+            strcmp(opt, "--csv") != 0 && strcmp(opt, "--budget-ms") != 0 &&
+            strcmp(opt, "--ms-per-mb") != 0) {
+            fprintf(stderr, "tclod_tiles: unknown option '%s' (try --help)\n", opt);
+            return 2;
+        }
+        if (!val) {
+            fprintf(stderr, "tclod_tiles: option %s needs a value\n", opt);
+            return 2;
+        }
+        ++i;
+        if (strcmp(opt, "--frames") == 0) {
+            if (!parse_ulong(val, &o->frames) || o->frames < 1 || o->frames > 100000000ul) {
+                fprintf(stderr, "tclod_tiles: --frames expects an integer >= 1, got '%s'\n", val);
+                return 2;
+            }
+        } else if (strcmp(opt, "--sizes") == 0) {
+            o->sizes_path = val;
+        } else if (strcmp(opt, "--csv") == 0) {
+            o->csv_path = val;
+        } else if (strcmp(opt, "--budget-ms") == 0) {
+            if (strcmp(val, "sse16") == 0) {
+                o->budget_given = 2;
+            } else if (!parse_double(val, &o->budget_ms) || o->budget_ms < 0.0) {
+                fprintf(stderr,
+                        "tclod_tiles: --budget-ms expects a number >= 0 or sse16, got '%s'\n", val);
+                return 2;
+            } else {
+                o->budget_given = 1;
+            }
+        } else {
+            if (!parse_double(val, &o->ms_per_mb) || !(o->ms_per_mb > 0.0)) {
+                fprintf(stderr, "tclod_tiles: --ms-per-mb expects a number > 0, got '%s'\n", val);
+                return 2;
+            }
+        }
+    }
+    if (!o->tileset_path) {
+        fprintf(stderr, "tclod_tiles: no tileset given (try --help)\n");
+        return 2;
+    }
+    return 0;
+}
+
+static double now_us(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e6 + (double)ts.tv_nsec * 1e-3;
+}
+
+static int compare_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The median of n values (the mean of the middle two for even n); sorts v. */
+static double median(double *v, size_t n) {
+    if (n == 0)
+        return 0.0;
+    qsort(v, n, sizeof(*v), compare_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* ---- the tileset as a libtclod scene ------------------------------------------ */
+
+static int load_tileset(const options *o, host *h) {
+    char err[1024];
+    if (o->sizes_path) {
+        if (size_table_load(o->sizes_path, &h->sizes, err, sizeof(err))) {
+            fprintf(stderr, "tclod_tiles: %s\n", err);
+            return 1;
+        }
+        h->have_sizes = 1;
+    }
+    if (tileset_load(o->tileset_path, h->have_sizes ? &h->sizes : NULL, &h->ts, err, sizeof(err))) {
+        fprintf(stderr, "tclod_tiles: %s\n", err);
+        return 1;
+    }
+    return 0;
+}
+
+/* One node per tile, parents first (the tiles' order), and the tables the
+ * callbacks index by node id. */
+static int build_scene(host *h, double ms_per_mb) {
+    tclod_status st = tclod_scene_create(NULL, &h->scene);
+    uint32_t t;
+    h->id_of_tile = (tclod_id *)malloc((h->ts.count ? h->ts.count : 1) * sizeof(tclod_id));
+    h->cost_ms = (double *)malloc((h->ts.count ? h->ts.count : 1) * sizeof(double));
+    if (st == TCLOD_OK && (!h->id_of_tile || !h->cost_ms))
+        st = TCLOD_ERR_NOMEM;
+    for (t = 0; st == TCLOD_OK && t < h->ts.count; ++t) {
+        const tile *x = &h->ts.tiles[t];
+        tclod_node_desc d;
+        tclod_node_desc_default(&d);
+        d.parent = x->parent == TILE_NONE ? TCLOD_NONE : h->id_of_tile[x->parent];
+        d.bounds = x->bounds;
+        d.refine = x->refine;
+        d.empty = x->empty;
+        st = tclod_scene_add_node_desc(h->scene, &d, &h->id_of_tile[t]);
+        if (st != TCLOD_OK) {
+            fprintf(stderr, "tclod_tiles: adding tile %lu as a node failed: %s\n", (unsigned long)t,
+                    tclod_status_string(st));
+            return 1;
+        }
+        h->cost_ms[t] = x->bytes * 1e-6 * ms_per_mb;
+    }
+    if (st == TCLOD_OK)
+        st = tclod_scene_prepare(h->scene);
+    if (st == TCLOD_OK) {
+        h->id_count = tclod_scene_node_count(h->scene);
+        h->tile_of_id =
+            (uint32_t *)malloc((h->id_count ? h->id_count : 1) * sizeof(*h->tile_of_id));
+        if (!h->tile_of_id)
+            st = TCLOD_ERR_NOMEM;
+    }
+    if (st == TCLOD_OK && model_init(&h->model, &h->ts))
+        st = TCLOD_ERR_NOMEM;
+    if (st == TCLOD_OK && !cut_check_init(&h->rules, h->ts.count))
+        st = TCLOD_ERR_NOMEM;
+    if (st == TCLOD_OK &&
+        !(h->rule_list = (uint32_t *)malloc((h->ts.count ? h->ts.count : 1) * sizeof(uint32_t))))
+        st = TCLOD_ERR_NOMEM;
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "tclod_tiles: building the scene failed: %s\n", tclod_status_string(st));
+        return 1;
+    }
+    for (t = 0; t < h->id_count; ++t)
+        h->tile_of_id[t] = TILE_NONE;
+    for (t = 0; t < h->ts.count; ++t)
+        h->tile_of_id[h->id_of_tile[t]] = t;
+    return 0;
+}
+
+static void free_host(host *h) {
+    cut_check_free(&h->rules);
+    free(h->rule_list);
+    model_free(&h->model);
+    tclod_scene_destroy(h->scene);
+    free(h->id_of_tile);
+    free(h->tile_of_id);
+    free(h->cost_ms);
+    tileset_free(&h->ts);
+    if (h->have_sizes)
+        size_table_free(&h->sizes);
+}
+
+/* ---- callbacks ----------------------------------------------------------------- */
+
+/* The tile of a queried node, or TILE_NONE (counted) for an id that is not one
+ * the scene returned: the library promises never to ask about those. */
+static uint32_t queried_tile(host *h, tclod_id id) {
+    uint32_t t = id < h->id_count ? h->tile_of_id[id] : TILE_NONE;
+    if (t == TILE_NONE)
+        ++h->unknown_ids;
+    return t;
+}
+
+static double benefit_cb(void *user, const tclod_query *q) {
+    host *h = (host *)user;
+    uint32_t t = queried_tile(h, q->id);
+    double mine, reference;
+    if (t == TILE_NONE || !(q->screen_area > 0.0f) || !q->view)
+        return 0.0; /* outside the frustum */
+    /* the query's measures, checked against this program's: the distance
+     * computed apart from the library (exact up to rounding), the area through
+     * the library's own function (q->screen_area is a float) */
+    reference = model_reference_distance(&h->ts.tiles[t].bounds, q->view->eye);
+    if (fabs(q->distance - reference) > 1e-6 * (1.0 + reference)) {
+        ++h->distance_errors;
+        if (fabs(q->distance - reference) > h->worst_distance_error)
+            h->worst_distance_error = fabs(q->distance - reference);
+    }
+    mine = model_area(&h->model, t);
+    if (fabs((double)q->screen_area - mine) > 1e-5 * (1.0 + mine))
+        ++h->area_errors;
+    return model_benefit(&h->model, t, q->distance);
+}
+
+static double cost_cb(void *user, const tclod_query *q) {
+    host *h = (host *)user;
+    uint32_t t = queried_tile(h, q->id);
+    return t == TILE_NONE ? 0.0 : h->cost_ms[t];
+}
+
+/* ---- the flight ------------------------------------------------------------------ */
+
+static void normalize(double v[3]) {
+    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (l > 0.0) {
+        v[0] /= l;
+        v[1] /= l;
+        v[2] /= l;
+    }
+}
+
+static void cross(const double a[3], const double b[3], double out[3]) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* The sphere around a bounding volume: the flight's scale. */
+static double enclosing_radius(const tclod_bounds *b) {
+    int i, k;
+    double r2 = 0.0;
+    if (b->kind == TCLOD_BOUNDS_SPHERE)
+        return b->radius;
+    for (k = 0; k < 3; ++k)
+        for (i = 0; i < 3; ++i)
+            r2 += b->kind == TCLOD_BOUNDS_AABB
+                      ? (i == k ? b->half_extents[k] * b->half_extents[k] : 0.0)
+                      : b->half_axes[k][i] * b->half_axes[k][i];
+    return sqrt(r2);
+}
+
+/* Fits the flight to the root's bounding volume: the target is its centre,
+ * "up" the radial direction there (earth-centred) or +z (a local tileset). */
+static void fit_flight(const tileset *ts, unsigned long frames, flight *f) {
+    const tclod_bounds *b = &ts->tiles[0].bounds;
+    static const double z[3] = {0.0, 0.0, 1.0}, x[3] = {1.0, 0.0, 0.0};
+    double c2;
+    int i;
+    memset(f, 0, sizeof(*f));
+    for (i = 0; i < 3; ++i)
+        f->target[i] = b->center[i];
+    c2 = f->target[0] * f->target[0] + f->target[1] * f->target[1] + f->target[2] * f->target[2];
+    if (c2 > EARTH_CENTRED_MIN * EARTH_CENTRED_MIN) {
+        memcpy(f->up, f->target, sizeof(f->up));
+        normalize(f->up);
+    } else {
+        memcpy(f->up, z, sizeof(f->up));
+    }
+    cross(z, f->up, f->east);
+    if (f->east[0] * f->east[0] + f->east[1] * f->east[1] + f->east[2] * f->east[2] < 1e-12)
+        cross(f->up, x, f->east); /* up is the polar axis: any east will do */
+    normalize(f->east);
+    cross(f->up, f->east, f->north);
+    f->radius = enclosing_radius(b);
+    if (!(f->radius > 1.0))
+        f->radius = 1.0; /* a point-like root still gets a flight of metres */
+    f->start = FLIGHT_START_RADII * f->radius;
+    f->end = FLIGHT_END_RADII * f->radius;
+    f->frames = frames;
+}
+
+/* The view at a frame: distance shrinking geometrically from start to end,
+ * elevation falling linearly, azimuth turning; the camera looks at the
+ * target with the local up as its up. */
+static void camera_at(const flight *f, unsigned long frame, tclod_view *v, double *distance) {
+    double t = f->frames > 1 ? (double)frame / (double)(f->frames - 1) : 0.0;
+    double d = f->start * pow(f->end / f->start, t);
+    double el =
+        (FLIGHT_START_ELEVATION + (FLIGHT_END_ELEVATION - FLIGHT_START_ELEVATION) * t) * PI / 180.0;
+    double az = 2.0 * PI * FLIGHT_TURNS * t;
+    int i;
+    memset(v, 0, sizeof(*v));
+    for (i = 0; i < 3; ++i) {
+        double dir = cos(el) * (cos(az) * f->east[i] + sin(az) * f->north[i]) + sin(el) * f->up[i];
+        v->eye[i] = f->target[i] + d * dir;
+        v->forward[i] = (float)-dir;
+        v->up[i] = (float)f->up[i];
+    }
+    v->fov_y = (float)(FOV_Y_DEGREES * PI / 180.0);
+    v->aspect = VIEWPORT_ASPECT;
+    /* near close enough for the ground under a low camera, far beyond the
+     * root's far side */
+    v->near_z = (float)(d * 1e-3 > 0.1 ? d * 1e-3 : 0.1);
+    v->far_z = (float)(d + 2.0 * f->radius);
+    v->viewport_height = VIEWPORT_HEIGHT;
+    *distance = d;
+}
+
+/* ---- 3D Tiles' rules, checked on a selection ----------------------------------------- */
+
+static int cut_check_init(cut_check *c, uint32_t tiles) {
+    size_t n = tiles ? tiles : 1;
+    memset(c, 0, sizeof(*c));
+    c->drawn_stamp = (uint32_t *)calloc(n, sizeof(uint32_t));
+    c->refined_stamp = (uint32_t *)calloc(n, sizeof(uint32_t));
+    c->stack = (uint32_t *)malloc(n * sizeof(uint32_t));
+    c->refined = (uint32_t *)malloc(n * sizeof(uint32_t));
+    return c->drawn_stamp && c->refined_stamp && c->stack && c->refined;
+}
+
+static void cut_check_free(cut_check *c) {
+    free(c->drawn_stamp);
+    free(c->refined_stamp);
+    free(c->stack);
+    free(c->refined);
+}
+
+/* Whether the drawn tiles (list[0 .. n), in drawing order) obey 3D Tiles:
+ * no tile twice; above a drawn tile, every tile with content is refined,
+ * which a REPLACE tile is by not being drawn and an ADD tile by being drawn
+ * too, and listed first; and no hole: below a refined tile, every tile in the
+ * frustum that neither draws nor has drawn descendants must be refined into
+ * nothing visible, so that each leaf with content reached through such tiles
+ * in the frustum is drawn. 0 when they do; else 1 and a message for the
+ * first fault in why. */
+static int check_cut(host *h, cut_check *c, const uint32_t *list, size_t n, char *why,
+                     size_t why_size) {
+    const tileset *ts = &h->ts;
+    size_t i, refined = 0;
+    uint32_t s = ++c->stamp;
+    int faults = 0;
+    if (s == 0) {
+        memset(c->drawn_stamp, 0, ts->count * sizeof(uint32_t));
+        memset(c->refined_stamp, 0, ts->count * sizeof(uint32_t));
+        s = c->stamp = 1;
+    }
+    /* every check goes on after a fault, so that the stamps are whole for
+     * max_error; the first fault is the one reported */
+    for (i = 0; i < n; ++i) {
+        uint32_t t = list[i];
+        if (c->drawn_stamp[t] == s && !faults++)
+            snprintf(why, why_size, "tile %lu is listed twice", (unsigned long)t);
+        c->drawn_stamp[t] = s;
+    }
+    for (i = 0; i < n; ++i) {
+        uint32_t a = ts->tiles[list[i]].parent;
+        for (; a != TILE_NONE; a = ts->tiles[a].parent) {
+            const tile *x = &ts->tiles[a];
+            if (c->refined_stamp[a] != s) {
+                c->refined_stamp[a] = s;
+                c->refined[refined++] = a;
+            }
+            if (x->empty)
+                continue;
+            if (x->refine == TCLOD_REFINE_REPLACE && c->drawn_stamp[a] == s && !faults++)
+                snprintf(why, why_size, "tile %lu is drawn with its replaced ancestor %lu",
+                         (unsigned long)list[i], (unsigned long)a);
+            if (x->refine == TCLOD_REFINE_ADD && c->drawn_stamp[a] != s && !faults++)
+                snprintf(why, why_size, "tile %lu is drawn but its additive ancestor %lu is not",
+                         (unsigned long)list[i], (unsigned long)a);
+        }
+    }
+    /* holes: a refined tile's children, looked through where they draw nothing */
+    for (i = 0; i < refined; ++i) {
+        const tile *p = &ts->tiles[c->refined[i]];
+        size_t top = 0;
+        uint32_t k;
+        if (p->empty)
+            continue;
+        for (k = 0; k < p->child_count; ++k)
+            c->stack[top++] = ts->children[p->first_child + k];
+        while (top > 0) {
+            uint32_t t = c->stack[--top];
+            const tile *x = &ts->tiles[t];
+            if (model_area(&h->model, t) <= 0.0 || c->drawn_stamp[t] == s ||
+                c->refined_stamp[t] == s)
+                continue;
+            if (x->child_count == 0 && !x->empty && !faults++)
+                snprintf(why, why_size,
+                         "tile %lu is refined but %lu, a leaf in the frustum below it, is not "
+                         "drawn",
+                         (unsigned long)c->refined[i], (unsigned long)t);
+            for (k = 0; k < x->child_count; ++k)
+                c->stack[top++] = ts->children[x->first_child + k];
+        }
+    }
+    return faults > 0;
+}
+
+/* Checks one method's selection at a frame; the first fault is reported. */
+static void check_rules(host *h, const char *method, unsigned long frame, const uint32_t *list,
+                        size_t n) {
+    char why[256];
+    if (check_cut(h, &h->rules, list, n, why, sizeof(why))) {
+        if (h->rule_errors++ == 0)
+            fprintf(stderr, "tclod_tiles: frame %lu: %s's selection breaks 3D Tiles' rules: %s\n",
+                    frame, method, why);
+    }
+}
+
+/* The largest screen-space error among the drawn tiles that check_rules has
+ * just found unrefined (an additive tile drawn with its children is refined,
+ * its error no longer on screen). */
+static double max_error(host *h, const uint32_t *list, size_t n) {
+    double worst = 0.0;
+    size_t i;
+    for (i = 0; i < n; ++i) {
+        uint32_t t = list[i];
+        if (h->rules.refined_stamp[t] != h->rules.stamp) {
+            double e = model_sse(&h->model, t, model_distance(&h->model, t));
+            worst = e > worst ? e : worst;
+        }
+    }
+    return worst;
+}
+
+/* ---- the sse16 traversal ---------------------------------------------------------- */
+
+/* CesiumJS's default selection without its loading logic: from the root,
+ * visible tiles (frustum test) are refined while their screen-space error
+ * exceeds 16 px; a replaced tile is not drawn, an additive one is, and so is
+ * every visible tile reached and not refined. Tiles without content draw
+ * nothing and are always refined through (libtclod's empty nodes too hand
+ * their place to their children). Explicit stack; the drawn tiles go to
+ * drawn[]. */
+static void sse16_frame(host *h, unsigned long frame, const tclod_view *v, uint32_t *stack,
+                        uint32_t *drawn, frame_result *out) {
+    const tileset *ts = &h->ts;
+    tiles_model *m = &h->model;
+    size_t top = 0;
+    uint32_t n = 0, i;
+    double cost = 0.0, benefit = 0.0, t0, t1;
+
+    model_set_view(m, v);
+    t0 = now_us();
+    stack[top++] = 0;
+    while (top > 0) {
+        uint32_t t = stack[--top];
+        const tile *x = &ts->tiles[t];
+        int refine;
+        if (!tclod_view_bounds_visible(v, &x->bounds))
+            continue;
+        refine = x->child_count > 0 &&
+                 (x->empty ||
+                  model_sse(m, t, tclod_view_bounds_distance(v, &x->bounds)) > MODEL_SSE_REF);
+        if (!x->empty && (!refine || x->refine == TCLOD_REFINE_ADD)) {
+            drawn[n++] = t;
+            cost += h->cost_ms[t];
+        }
+        if (refine)
+            for (i = x->child_count; i > 0; --i)
+                stack[top++] = ts->children[x->first_child + i - 1];
+    }
+    t1 = now_us();
+    /* its benefit under the same model, outside the timing */
+    for (i = 0; i < n; ++i)
+        benefit += model_benefit(m, drawn[i], model_distance(m, drawn[i]));
+    check_rules(h, "the sse16 traversal", frame, drawn, n);
+    out->max_sse = max_error(h, drawn, n);
+    out->cost = cost;
+    out->benefit = benefit;
+    out->tiles = n;
+    out->us = t1 - t0;
+}
+
+/* The whole flight's sse16 frames, first: their median cost is the budget. */
+static int run_sse16(host *h, const flight *f, frame_result *results) {
+    uint32_t *stack = (uint32_t *)malloc((size_t)h->ts.count * sizeof(uint32_t));
+    uint32_t *drawn = (uint32_t *)malloc((size_t)h->ts.count * sizeof(uint32_t));
+    unsigned long frame;
+    if (!stack || !drawn) {
+        free(stack);
+        free(drawn);
+        fprintf(stderr, "tclod_tiles: out of memory\n");
+        return 1;
+    }
+    for (frame = 0; frame < f->frames; ++frame) {
+        tclod_view view;
+        double distance;
+        camera_at(f, frame, &view, &distance);
+        sse16_frame(h, frame, &view, stack, drawn, &results[frame]);
+    }
+    free(stack);
+    free(drawn);
+    return 0;
+}
+
+/* ---- libtclod's frames ------------------------------------------------------------- */
+
+/* Figures over the flight, for the summary. */
+typedef struct totals {
+    unsigned long violations, cost_mismatches, benefit_mismatches, dropped_frames;
+    double sum_cost_ratio, sum_benefit_ratio;
+    unsigned long benefit_frames;
+} totals;
+
+static void print_row(FILE *out, int csv, unsigned long frame, double budget,
+                      const frame_result *mine, const frame_result *base, double distance) {
+    if (csv)
+        fprintf(out, "%lu,%.9g,%.9g,%.9g,%lu,%.3f,%.9g,%.9g,%lu,%.3f,%.3f,%.6g,%.6g\n", frame,
+                budget, mine->cost, mine->benefit, (unsigned long)mine->tiles, mine->us, base->cost,
+                base->benefit, (unsigned long)base->tiles, base->us, distance, mine->max_sse,
+                base->max_sse);
+    else
+        printf("%6lu %9.3f %9.3f %12.1f %6lu %9.1f %13.3f %13.1f %11lu %9.1f\n", frame, budget,
+               mine->cost, mine->benefit, (unsigned long)mine->tiles, mine->us, base->cost,
+               base->benefit, (unsigned long)base->tiles, base->us);
+}
+
+/* Selects every frame of the flight under the budget, prints and writes the
+ * rows, and sums the figures of the summary. */
+static int run_tclod(host *h, const flight *f, const double *budgets, const frame_result *base,
+                     FILE *csv, frame_result *mine, totals *tot) {
+    tclod_selector_desc sd;
+    tclod_selector *sel = NULL;
+    tclod_status st;
+    unsigned long frame;
+
+    tclod_selector_desc_default(&sd);
+    sd.callbacks.benefit = benefit_cb;
+    sd.callbacks.cost = cost_cb;
+    sd.callbacks.user = h;
+    st = tclod_selector_create(h->scene, &sd, NULL, &sel);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "tclod_tiles: creating the selector failed: %s\n", tclod_status_string(st));
+        return 1;
+    }
+    printf("%6s %9s %9s %12s %6s %9s %13s %13s %11s %9s\n", "frame", "budget_ms", "cost_ms",
+           "benefit", "tiles", "select_us", "sse16_cost_ms", "sse16_benefit", "sse16_tiles",
+           "sse16_us");
+    for (frame = 0; frame < f->frames; ++frame) {
+        tclod_view view;
+        tclod_frame fr;
+        tclod_stats stats;
+        const tclod_id *ids;
+        size_t n, i;
+        double t0, t1, distance, cost = 0.0, benefit = 0.0, budget = budgets[frame];
+        frame_result *r = &mine[frame];
+
+        camera_at(f, frame, &view, &distance);
+        model_set_view(&h->model, &view);
+        memset(&fr, 0, sizeof(fr));
+        fr.view = &view;
+        fr.budget = budget;
+        t0 = now_us();
+        st = tclod_select(sel, &fr, &stats);
+        t1 = now_us();
+        if (st == TCLOD_OK)
+            st = tclod_selector_cut(sel, &ids, &n);
+        if (st != TCLOD_OK) {
+            fprintf(stderr, "tclod_tiles: selecting frame %lu failed: %s\n", frame,
+                    tclod_status_string(st));
+            tclod_selector_destroy(sel);
+            return 1;
+        }
+        /* the budget guarantee, checked from outside: this program's costs of
+         * the listed tiles, summed in the listed order */
+        for (i = 0; i < n; ++i) {
+            uint32_t t = ids[i] < h->id_count ? h->tile_of_id[ids[i]] : TILE_NONE;
+            if (t == TILE_NONE) {
+                fprintf(stderr, "tclod_tiles: frame %lu: the cut lists node %lu, no tile's\n",
+                        frame, (unsigned long)ids[i]);
+                tclod_selector_destroy(sel);
+                return 1;
+            }
+            cost += h->cost_ms[t];
+            benefit += model_benefit(&h->model, t, model_distance(&h->model, t));
+            h->rule_list[i] = t;
+        }
+        check_rules(h, "libtclod", frame, h->rule_list, n);
+        r->max_sse = max_error(h, h->rule_list, n);
+        r->cost = cost;
+        r->benefit = benefit;
+        r->tiles = (uint32_t)n;
+        r->us = t1 - t0;
+        tot->violations += cost > budget;
+        tot->cost_mismatches += fabs(cost - stats.cost) > 1e-9 * (1.0 + cost);
+        tot->benefit_mismatches += fabs(benefit - stats.benefit) > 1e-6 * (1.0 + benefit);
+        tot->dropped_frames += stats.dropped_roots > 0;
+        tot->sum_cost_ratio += budget > 0.0 ? cost / budget : 0.0;
+        if (base[frame].benefit > 0.0) {
+            tot->sum_benefit_ratio += benefit / base[frame].benefit;
+            ++tot->benefit_frames;
+        }
+        print_row(stdout, 0, frame, budget, r, &base[frame], distance);
+        if (csv)
+            print_row(csv, 1, frame, budget, r, &base[frame], distance);
+    }
+    tclod_selector_destroy(sel);
+    return 0;
+}
+
+/* ---- reports ------------------------------------------------------------------------ */
+
+static void print_header(const options *o, const host *h, const flight *f, double budget) {
+    static const char *const source[3] = {"median of the sse16 traversal's costs", "--budget-ms",
+                                          "median; each frame's is the sse16 traversal's cost"};
+    const tileset_counts *c = &h->ts.counts;
+    printf("tileset %s: %lu tiles (%lu regions, %lu boxes, %lu spheres), %lu without "
+           "content, %lu refining by ADD, %lu external tilesets, depth %lu\n",
+           o->tileset_path, (unsigned long)h->ts.count, (unsigned long)c->regions,
+           (unsigned long)c->boxes, (unsigned long)c->spheres, (unsigned long)c->empty,
+           (unsigned long)c->additive, (unsigned long)c->external, (unsigned long)c->max_depth);
+    printf("box fallbacks: %lu boxes with axes that are not orthogonal are drawn as their "
+           "enclosing sphere\n",
+           (unsigned long)c->box_fallbacks);
+    printf("content: %lu contents, %.1f MB: %lu sized from files, %lu from %s, %lu estimated "
+           "at %.0f bytes; cost %g ms per MB\n",
+           (unsigned long)c->contents, c->bytes * 1e-6, (unsigned long)c->from_file,
+           (unsigned long)c->from_sizes, o->sizes_path ? o->sizes_path : "--sizes",
+           (unsigned long)c->estimated, TILESET_ESTIMATE_BYTES, o->ms_per_mb);
+    printf("flight: %lu frames, %.0f m down to %.0f m from the root's centre (radius %.0f m); "
+           "budget %.3f ms (%s)\n\n",
+           f->frames, f->start, f->end, f->radius, budget, source[o->budget_given]);
+}
+
+static void print_summary(const host *h, unsigned long frames, double budget, frame_result *mine,
+                          frame_result *base, const totals *tot) {
+    double *v = (double *)malloc(frames * sizeof(double));
+    double base_max = 0.0, base_median, select_median, sse16_median, max_sse, sse16_max_sse;
+    unsigned long i, check_errors;
+    if (!v) {
+        fprintf(stderr, "tclod_tiles: out of memory\n");
+        return;
+    }
+    for (i = 0; i < frames; ++i) {
+        v[i] = base[i].cost;
+        base_max = base[i].cost > base_max ? base[i].cost : base_max;
+    }
+    base_median = median(v, frames);
+    for (i = 0; i < frames; ++i)
+        v[i] = mine[i].us;
+    select_median = median(v, frames);
+    for (i = 0; i < frames; ++i)
+        v[i] = base[i].us;
+    sse16_median = median(v, frames);
+    for (i = 0; i < frames; ++i)
+        v[i] = mine[i].max_sse;
+    max_sse = median(v, frames);
+    for (i = 0; i < frames; ++i)
+        v[i] = base[i].max_sse;
+    sse16_max_sse = median(v, frames);
+    free(v);
+
+    check_errors = tot->cost_mismatches + tot->benefit_mismatches + h->unknown_ids +
+                   h->distance_errors + h->area_errors + h->rule_errors;
+    if (tot->cost_mismatches || tot->benefit_mismatches)
+        fprintf(stderr,
+                "tclod_tiles: in %lu frames the library's cost, in %lu its benefit, differs "
+                "from the sum over the drawn tiles\n",
+                tot->cost_mismatches, tot->benefit_mismatches);
+    if (h->unknown_ids)
+        fprintf(stderr, "tclod_tiles: %lu callback queries named a node that is no tile\n",
+                h->unknown_ids);
+    if (h->distance_errors)
+        fprintf(stderr,
+                "tclod_tiles: %lu queries carried a distance off the bounding volume's by up "
+                "to %g m\n",
+                h->distance_errors, h->worst_distance_error);
+    if (h->area_errors)
+        fprintf(stderr,
+                "tclod_tiles: %lu queries carried a screen area other than "
+                "tclod_view_bounds_area's\n",
+                h->area_errors);
+    if (h->rule_errors)
+        fprintf(stderr, "tclod_tiles: %lu selections broke 3D Tiles' rules (the first above)\n",
+                h->rule_errors);
+    if (tot->dropped_frames)
+        fprintf(stderr,
+                "tclod_tiles: in %lu frames even the root did not fit the budget and "
+                "nothing was drawn\n",
+                tot->dropped_frames);
+    printf("\nsummary: frames=%lu tiles=%lu violations=%lu mean_cost_ratio=%.4f "
+           "sse16_cost_max_over_median=%.4f benefit_vs_sse16=%.4f select_us_median=%.1f "
+           "sse16_us_median=%.1f budget_ms=%.4f box_fallbacks=%lu check_errors=%lu "
+           "max_sse_median=%.2f sse16_max_sse_median=%.2f\n",
+           frames, (unsigned long)h->ts.count, tot->violations,
+           tot->sum_cost_ratio / (double)frames, base_median > 0.0 ? base_max / base_median : 0.0,
+           tot->benefit_frames ? tot->sum_benefit_ratio / (double)tot->benefit_frames : 0.0,
+           select_median, sse16_median, budget, (unsigned long)h->ts.counts.box_fallbacks,
+           check_errors, max_sse, sse16_max_sse);
+}
+
+/* The budget of every frame into budgets[]; returns the one the header and
+ * summary report: --budget-ms X, else the median of the sse16 traversal's
+ * costs (with --budget-ms sse16 each frame's budget is that frame's cost). */
+static double choose_budgets(const options *o, const frame_result *base, double *budgets) {
+    unsigned long i;
+    double budget;
+    for (i = 0; i < o->frames; ++i)
+        budgets[i] = base[i].cost;
+    budget = o->budget_given == 1 ? o->budget_ms : median(budgets, o->frames);
+    for (i = 0; i < o->frames; ++i)
+        budgets[i] = o->budget_given == 2 ? base[i].cost : budget;
+    if (o->budget_given == 0 && !(budget > 0.0))
+        fprintf(stderr, "tclod_tiles: the sse16 traversal draws nothing in half the frames, "
+                        "so the budget is 0: give one with --budget-ms\n");
+    return budget;
+}
+
+/* The CSV file with its header, or NULL (said why). */
+static FILE *open_csv(const char *path) {
+    FILE *csv = fopen(path, "w");
+    if (!csv) {
+        fprintf(stderr, "tclod_tiles: cannot write %s: %s\n", path, strerror(errno));
+        return NULL;
+    }
+    fprintf(csv, "frame,budget_ms,cost_ms,benefit,tiles,select_us,sse16_cost_ms,"
+                 "sse16_benefit,sse16_tiles,sse16_us,distance_m,max_sse,sse16_max_sse\n");
+    return csv;
+}
+
+int main(int argc, char **argv) {
+    options opt;
+    host h;
+    flight f;
+    totals tot;
+    frame_result *base = NULL, *mine = NULL;
+    FILE *csv = NULL;
+    double budget, *budgets = NULL;
+    int rc;
+
+    memset(&h, 0, sizeof(h));
+    memset(&tot, 0, sizeof(tot));
+    rc = parse_options(argc, argv, &opt);
+    if (rc == 1) {
+        usage(stdout);
+        return 0;
+    }
+    if (rc != 0)
+        return rc;
+
+    rc = 1;
+    if (load_tileset(&opt, &h) || build_scene(&h, opt.ms_per_mb))
+        goto done;
+    fit_flight(&h.ts, opt.frames, &f);
+    base = (frame_result *)calloc(opt.frames, sizeof(*base));
+    mine = (frame_result *)calloc(opt.frames, sizeof(*mine));
+    budgets = (double *)malloc(opt.frames * sizeof(*budgets));
+    if (!base || !mine || !budgets) {
+        fprintf(stderr, "tclod_tiles: out of memory\n");
+        goto done;
+    }
+    /* the sse16 traversal over the whole flight first: it sets the budget */
+    if (run_sse16(&h, &f, base))
+        goto done;
+    budget = choose_budgets(&opt, base, budgets);
+    if (opt.csv_path && !(csv = open_csv(opt.csv_path)))
+        goto done;
+    print_header(&opt, &h, &f, budget);
+    if (run_tclod(&h, &f, budgets, base, csv, mine, &tot))
+        goto done;
+    print_summary(&h, opt.frames, budget, mine, base, &tot);
+    rc = 0;
+
+done:
+    if (csv && fclose(csv) != 0 && rc == 0) {
+        fprintf(stderr, "tclod_tiles: writing %s failed\n", opt.csv_path);
+        rc = 1;
+    }
+    free(base);
+    free(mine);
+    free(budgets);
+    free_host(&h);
+    return rc;
+}

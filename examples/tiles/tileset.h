@@ -1,0 +1,91 @@
+/*
+ * tileset — reads a 3D Tiles tileset.json (1.0 and 1.1) into a flat array of
+ * tiles in world coordinates, ready to become libtclod nodes: bounding volumes
+ * converted to tclod_bounds, transforms composed, refinement inherited, content
+ * bytes looked up, external tilesets loaded below the tiles that name them.
+ */
+#ifndef TILES_TILESET_H
+#define TILES_TILESET_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include <tclod/tclod.h>
+
+/* "No tile": the parent of the root. */
+#define TILE_NONE 0xffffffffu
+
+/* Bytes assumed for a content that is neither on disk beside its tileset nor
+ * in the sizes file: 256 KiB, the order of a typical glTF tile of a city mesh
+ * or a few tens of thousands of points. */
+#define TILESET_ESTIMATE_BYTES 262144.0
+
+/* External tilesets nest at most this deep (a tileset naming one that names
+ * one ...); deeper chains are rejected as runaway. */
+#define TILESET_MAX_EXTERNAL_DEPTH 16
+/* At most this many tiles, external tilesets included: libtclod's ids are
+ * 32-bit, and a tileset that names one external tileset many times over can
+ * grow without end. */
+#define TILESET_MAX_TILES (1u << 24)
+
+typedef struct tile {
+    tclod_bounds bounds;    /* world coordinates (earth-centred for a georeferenced set) */
+    double geometric_error; /* m, >= 0 */
+    double bytes;           /* content bytes, summed over a 1.1 tile's contents; 0 when empty */
+    uint32_t parent;        /* TILE_NONE for the root */
+    uint32_t first_child;   /* children: tileset.children[first_child .. + child_count] */
+    uint32_t child_count;
+    uint32_t add_anchor; /* the nearest ancestor with content that refines by ADD (it
+                            stays drawn below), TILE_NONE if there is none */
+    uint32_t depth;      /* 0 for the root */
+    tclod_refine refine; /* how this tile's children refine it */
+    int empty;           /* 1: no content of its own (none given, or an external
+                            tileset's link) */
+} tile;
+
+/* What the loader met, for the host's header line. */
+typedef struct tileset_counts {
+    uint32_t regions, boxes, spheres;          /* bounding volumes by kind as written */
+    uint32_t box_fallbacks;                    /* boxes whose axes are not orthogonal, kept as
+                                                  their enclosing sphere */
+    uint32_t empty, additive;                  /* tiles without content; tiles refining by ADD */
+    uint32_t external;                         /* external tilesets loaded */
+    uint32_t contents;                         /* contents (not external tilesets) */
+    uint32_t from_file, from_sizes, estimated; /* where their bytes came from */
+    uint32_t max_depth;
+    double bytes; /* all contents' bytes */
+} tileset_counts;
+
+typedef struct tileset {
+    tile *tiles; /* in depth-first order: a parent before its children */
+    uint32_t count;
+    uint32_t *children;
+    tileset_counts counts;
+} tileset;
+
+/* Content sizes given on the command line: lines "uri<TAB>bytes", the uri as
+ * written in the tileset. Blank lines and lines starting with '#' are skipped. */
+typedef struct size_entry {
+    const char *uri;
+    double bytes;
+} size_entry;
+
+typedef struct size_table {
+    size_entry *entries; /* sorted by uri */
+    size_t count;
+    char *text; /* the file, which the entries point into */
+} size_table;
+
+/* Read path into *t. 0 on success; else 1 with a message naming the file (and
+ * line) in err. */
+int size_table_load(const char *path, size_table *t, char *err, size_t err_size);
+void size_table_free(size_table *t);
+
+/* Loads the tileset at path (sizes may be NULL). 0 on success; else 1 with a
+ * message in err naming the file, the tile (as root.children[i]...) and what
+ * was wrong, and *ts untouched. */
+int tileset_load(const char *path, const size_table *sizes, tileset *ts, char *err,
+                 size_t err_size);
+void tileset_free(tileset *ts);
+
+#endif

@@ -1,0 +1,479 @@
+/*
+ * test_tiles — the 3D Tiles host's reader and benefit model
+ * (examples/tiles/tileset.c, geodesy.c, tiles_model.c): the box around a
+ * region encloses it, a tileset's volumes, transforms, refinement, contents
+ * and external tilesets come out as tiles in world coordinates, bad tilesets
+ * are refused with a message saying where, and the benefit's shares add up.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <tclod/tclod.h>
+
+#include "geodesy.h"
+#include "tiles_model.h"
+#include "tileset.h"
+
+/* A scratch directory and the files written into it, removed after each
+ * test. */
+typedef struct scratch {
+    char dir[64];
+    char files[32][128];
+    int count;
+} scratch;
+
+static scratch *scratch_new(void) {
+    scratch *s = (scratch *)calloc(1, sizeof(*s));
+    assert_non_null(s);
+    strcpy(s->dir, "/tmp/test_tiles_XXXXXX");
+    assert_non_null(mkdtemp(s->dir));
+    return s;
+}
+
+/* dir/name into out, a slot of s->files. */
+static void scratch_path(const scratch *s, const char *name, char *out) {
+    char path[sizeof(s->files[0])];
+    snprintf(path, sizeof(path), "%s/%s", s->dir, name);
+    memcpy(out, path, sizeof(path));
+}
+
+/* Writes text (or, with text NULL, n filler bytes) to dir/name; name may be
+ * in a subdirectory created before. Returns the path. */
+static const char *scratch_write(scratch *s, const char *name, const char *text, size_t n) {
+    char *path = s->files[s->count];
+    FILE *f;
+    assert_true(s->count < 32);
+    scratch_path(s, name, path);
+    f = fopen(path, "wb");
+    assert_non_null(f);
+    if (text) {
+        assert_int_equal(fwrite(text, 1, strlen(text), f), strlen(text));
+    } else {
+        size_t i;
+        for (i = 0; i < n; ++i)
+            fputc('x', f);
+    }
+    assert_int_equal(fclose(f), 0);
+    ++s->count;
+    return path;
+}
+
+/* A subdirectory, removed last. */
+static void scratch_mkdir(scratch *s, const char *name) {
+    char *path = s->files[s->count];
+    assert_true(s->count < 32);
+    scratch_path(s, name, path);
+    assert_int_equal(mkdir(path, 0777), 0);
+    ++s->count;
+}
+
+static void scratch_free(scratch *s) {
+    while (s->count > 0) {
+        const char *p = s->files[--s->count];
+        remove(p); /* files, and the subdirectories after their files */
+    }
+    rmdir(s->dir);
+    free(s);
+}
+
+/* Loads dir/name; the error message goes to err. */
+static int load(const scratch *s, const char *name, const size_table *sizes, tileset *ts, char *err,
+                size_t err_size) {
+    char path[160];
+    snprintf(path, sizeof(path), "%s/%s", s->dir, name);
+    err[0] = '\0';
+    return tileset_load(path, sizes, ts, err, err_size);
+}
+
+static void assert_close(double got, double want, double tol) {
+    if (!(fabs(got - want) <= tol))
+        fail_msg("got %.12g, expected %.12g (tolerance %g)", got, want, tol);
+}
+
+/* ---- regions ----------------------------------------------------------------- */
+
+/* Every point of a region, on a fine grid of longitude, latitude and height,
+ * lies in its box; and a box no wider than pi reaches each face (it is not
+ * padded). */
+static void region_box_encloses_the_region(void **state) {
+    static const double regions[][6] = {
+        {0.0837, 0.7982, 0.0851, 0.7992, 150.0, 420.0},         /* a city */
+        {-0.1, -0.1, 0.1, 0.1, 0.0, 1000.0},                    /* across the equator */
+        {-1.0, -0.5, 0.5, 0.3, -100.0, 9000.0},                 /* wide, deep and high */
+        {3.0, 0.2, -3.0, 0.5, 0.0, 100.0},                      /* across the antimeridian */
+        {-1.5707963, -0.2, 1.5707963, 1.2, 0.0, 100.0},         /* just under pi wide */
+        {-2.0, 1.2, 2.0, 1.5707963, 0.0, 10.0},                 /* a polar cap, band box */
+        {-3.14159, -1.5707963, 3.14159, 1.5707963, -10.0, 1e4}, /* the globe */
+        {0.5, -1.5, 1.0, 1.5, 0.0, 1e5},                        /* pole to pole */
+        {0.2, 0.3, 0.2, 0.3, 5.0, 5.0},                         /* a point */
+    };
+    size_t r;
+    (void)state;
+    for (r = 0; r < sizeof(regions) / sizeof(regions[0]); ++r) {
+        const double *g = regions[r];
+        double c[3], a[9], reach[3] = {0.0, 0.0, 0.0},
+                           east = g[2] < g[0] ? g[2] + 2 * GEO_PI : g[2];
+        int i, j, k, ax;
+        assert_true(geo_region_valid(g));
+        geo_region_box(g, c, a);
+        for (i = 0; i <= 60; ++i) {
+            for (j = 0; j <= 60; ++j) {
+                for (k = 0; k <= 2; ++k) {
+                    double p[3];
+                    geo_to_ecef(g[0] + (east - g[0]) * i / 60.0, g[1] + (g[3] - g[1]) * j / 60.0,
+                                g[4] + (g[5] - g[4]) * k / 2.0, p);
+                    for (ax = 0; ax < 3; ++ax) {
+                        const double *v = a + 3 * ax;
+                        double l2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+                        double u =
+                            (p[0] - c[0]) * v[0] + (p[1] - c[1]) * v[1] + (p[2] - c[2]) * v[2];
+                        /* |u| / |v| is the distance along the axis, at most |v| + 1e-6 m */
+                        if (l2 > 0.0) {
+                            assert_true(fabs(u) / sqrt(l2) <= sqrt(l2) + 1e-6);
+                            if (fabs(u) / l2 > reach[ax])
+                                reach[ax] = fabs(u) / l2;
+                        } else {
+                            assert_true(fabs(u) <= 1e-6);
+                        }
+                    }
+                }
+            }
+        }
+        if (east - g[0] <= GEO_PI && g[0] != g[2])
+            for (ax = 0; ax < 3; ++ax)
+                assert_true(reach[ax] > 0.999);
+    }
+}
+
+static void region_validity(void **state) {
+    static const double good[6] = {-3.14159, -1.5, 3.14159, 1.5, -100.0, 100.0};
+    static const double bad[][6] = {
+        {0.1, 0.8, 0.2, 0.7, 0.0, 1.0},  /* south above north */
+        {0.1, 0.7, 0.2, 0.8, 10.0, 1.0}, /* heights reversed */
+        {0.1, 0.7, 3.2, 0.8, 0.0, 1.0},  /* east past pi */
+        {0.1, -1.6, 0.2, 0.8, 0.0, 1.0}, /* south past the pole */
+    };
+    size_t i;
+    (void)state;
+    assert_true(geo_region_valid(good));
+    for (i = 0; i < sizeof(bad) / sizeof(bad[0]); ++i)
+        assert_false(geo_region_valid(bad[i]));
+}
+
+/* ---- reading a tileset ----------------------------------------------------------- */
+
+static const char *const main_json =
+    "{\"asset\":{\"version\":\"1.1\"},\"geometricError\":100,\"root\":{"
+    "\"geometricError\":50,\"refine\":\"add\","
+    "\"boundingVolume\":{\"region\":[0.1,0.7,0.1001,0.7001,0,30]},"
+    "\"content\":{\"uri\":\"a.glb\"},\"children\":["
+    /* 1: scaled by 2 and moved; two contents; a sphere below it */
+    "{\"geometricError\":10,\"transform\":[2,0,0,0,0,2,0,0,0,0,2,0,10,20,30,1],"
+    "\"boundingVolume\":{\"box\":[1,0,0,1,0,0,0,1,0,0,0,1]},"
+    "\"contents\":[{\"uri\":\"b.glb\"},{\"uri\":\"c%20d.glb?v=1\"}],"
+    "\"children\":[{\"geometricError\":0,\"boundingVolume\":{\"sphere\":[0,0,0,5]},"
+    "\"content\":{\"uri\":\"a.glb\"}}]},"
+    /* 2: axes not orthogonal; an external tileset in a subdirectory */
+    "{\"geometricError\":10,\"boundingVolume\":{\"box\":[0,0,0,1,0,0,1,1,0,0,0,1]},"
+    "\"content\":{\"uri\":\"sub/ext.json\"}},"
+    /* 3: no content */
+    "{\"geometricError\":10,\"refine\":\"REPLACE\",\"boundingVolume\":{\"sphere\":[0,0,0,1]}}"
+    "]}}";
+
+static const char *const ext_json =
+    "{\"asset\":{\"version\":\"1.0\"},\"geometricError\":10,\"root\":{"
+    "\"geometricError\":5,\"boundingVolume\":{\"sphere\":[1,2,3,4]},\"content\":{\"url\":\"d.glb\"}"
+    ","
+    "\"children\":[{\"geometricError\":0,\"boundingVolume\":{\"sphere\":[1,2,3,1]},"
+    "\"content\":{\"url\":\"e.glb\"}}]}}";
+
+static void reads_volumes_transforms_refinement_and_contents(void **state) {
+    scratch *s = scratch_new();
+    size_table sizes;
+    tileset ts;
+    char err[512];
+    const tile *t;
+    (void)state;
+    scratch_write(s, "tileset.json", main_json, 0);
+    scratch_write(s, "a.glb", NULL, 1234);
+    scratch_write(s, "c d.glb", NULL, 300);
+    scratch_mkdir(s, "sub");
+    scratch_write(s, "sub/ext.json", ext_json, 0);
+    scratch_write(s, "sub/d.glb", NULL, 77);
+    assert_int_equal(size_table_load(scratch_write(s, "sizes.tsv",
+                                                   "# uri<TAB>bytes\nb.glb\t1000\n\na.glb\t5\n", 0),
+                                     &sizes, err, sizeof(err)),
+                     0);
+    if (load(s, "tileset.json", &sizes, &ts, err, sizeof(err)))
+        fail_msg("%s", err);
+    assert_int_equal(ts.count, 7);
+    t = ts.tiles;
+
+    /* depth-first order: root, 1, its sphere, 2, the external root and its
+     * child, 3 */
+    assert_int_equal(t[0].parent, TILE_NONE);
+    assert_int_equal(t[1].parent, 0);
+    assert_int_equal(t[2].parent, 1);
+    assert_int_equal(t[3].parent, 0);
+    assert_int_equal(t[4].parent, 3);
+    assert_int_equal(t[5].parent, 4);
+    assert_int_equal(t[6].parent, 0);
+    assert_int_equal(t[0].child_count, 3);
+    assert_int_equal(ts.children[t[0].first_child + 2], 6);
+
+    /* the region became a box; the transformed box and sphere */
+    assert_int_equal(t[0].bounds.kind, TCLOD_BOUNDS_OBB);
+    assert_int_equal(t[1].bounds.kind, TCLOD_BOUNDS_OBB);
+    assert_close(t[1].bounds.center[0], 12.0, 1e-12);
+    assert_close(t[1].bounds.center[1], 20.0, 1e-12);
+    assert_close(t[1].bounds.center[2], 30.0, 1e-12);
+    assert_close(t[1].bounds.half_axes[0][0], 2.0, 1e-12);
+    assert_close(t[1].bounds.half_axes[2][2], 2.0, 1e-12);
+    assert_int_equal(t[2].bounds.kind, TCLOD_BOUNDS_SPHERE);
+    assert_close(t[2].bounds.center[0], 10.0, 1e-12);
+    assert_close(t[2].bounds.radius, 10.0, 1e-12);
+    /* the leaning box: its enclosing sphere, through the corner a + b + c */
+    assert_int_equal(t[3].bounds.kind, TCLOD_BOUNDS_SPHERE);
+    assert_close(t[3].bounds.radius, sqrt(6.0), 1e-12);
+    assert_int_equal(ts.counts.box_fallbacks, 1);
+    /* the external tileset's volumes are its own (no transform above it) */
+    assert_close(t[4].bounds.center[2], 3.0, 1e-12);
+    assert_close(t[4].bounds.radius, 4.0, 1e-12);
+
+    /* refinement inherited (the root's "add" in any case), ADD anchors */
+    assert_int_equal(t[0].refine, TCLOD_REFINE_ADD);
+    assert_int_equal(t[2].refine, TCLOD_REFINE_ADD);
+    assert_int_equal(t[5].refine, TCLOD_REFINE_ADD);
+    assert_int_equal(t[6].refine, TCLOD_REFINE_REPLACE);
+    assert_int_equal(t[0].add_anchor, TILE_NONE);
+    assert_int_equal(t[1].add_anchor, 0);
+    assert_int_equal(t[2].add_anchor, 1);
+    assert_int_equal(t[4].add_anchor, 0); /* tile 3 has no content: it draws nothing */
+    assert_int_equal(t[5].add_anchor, 4);
+    assert_int_equal(t[5].depth, 3);
+    assert_int_equal(ts.counts.max_depth, 3);
+
+    /* bytes: files beside their tileset first (a.glb's size on disk, not
+     * sizes.tsv's 5; "c%20d.glb?v=1" is the file "c d.glb"; d.glb beside the
+     * external tileset), then sizes.tsv, then the estimate */
+    assert_close(t[0].bytes, 1234.0, 0.0);
+    assert_close(t[1].bytes, 1300.0, 0.0);
+    assert_close(t[4].bytes, 77.0, 0.0);
+    assert_close(t[5].bytes, TILESET_ESTIMATE_BYTES, 0.0);
+    assert_false(t[0].empty);
+    assert_true(t[3].empty); /* the external tileset's link */
+    assert_true(t[6].empty);
+    assert_int_equal(ts.counts.contents, 6);
+    assert_int_equal(ts.counts.from_file, 4);
+    assert_int_equal(ts.counts.from_sizes, 1);
+    assert_int_equal(ts.counts.estimated, 1);
+    assert_int_equal(ts.counts.external, 1);
+    assert_int_equal(ts.counts.empty, 2);
+    assert_int_equal(ts.counts.regions, 1);
+    assert_int_equal(ts.counts.boxes, 2);
+    assert_int_equal(ts.counts.spheres, 4);
+
+    tileset_free(&ts);
+    size_table_free(&sizes);
+    scratch_free(s);
+}
+
+/* One bad tileset: loading fails and the message holds `expect`. */
+static void assert_refused(scratch *s, const char *json, const char *expect) {
+    tileset ts;
+    char err[512];
+    scratch_write(s, "bad.json", json, 0);
+    memset(&ts, 0, sizeof(ts));
+    assert_int_equal(load(s, "bad.json", NULL, &ts, err, sizeof(err)), 1);
+    if (!strstr(err, expect))
+        fail_msg("message '%s' does not say '%s'", err, expect);
+    assert_null(ts.tiles);
+    remove(s->files[--s->count]); /* the next case writes bad.json again */
+}
+
+#define TILE(body) "{\"asset\":{\"version\":\"1.1\"},\"root\":{" body "}}"
+#define SPHERE "\"boundingVolume\":{\"sphere\":[0,0,0,1]}"
+
+static void refuses_bad_tilesets_saying_where(void **state) {
+    scratch *s = scratch_new();
+    (void)state;
+    assert_refused(s, "{\"root\":{}}", "bad.json: no \"asset\" object");
+    assert_refused(s, "[1, 2]", "the top level is not a JSON object");
+    assert_refused(s, "{\"asset\":{\"version\":\"1.1\"},\n\"root\": {,}}",
+                   "malformed JSON near line 2, column 1");
+    assert_refused(s, TILE("\"geometricError\":-1," SPHERE), "tile root: geometricError");
+    assert_refused(s, TILE(SPHERE), "tile root: geometricError");
+    assert_refused(s, TILE("\"geometricError\":1"), "no \"boundingVolume\" object");
+    assert_refused(s, TILE("\"geometricError\":1,\"boundingVolume\":{}"),
+                   "boundingVolume has no box, region or sphere");
+    assert_refused(s, TILE("\"geometricError\":1,\"boundingVolume\":{\"sphere\":[0,0,0,-1]}"),
+                   "boundingVolume.sphere needs 4");
+    assert_refused(
+        s, TILE("\"geometricError\":1,\"boundingVolume\":{\"box\":[0,0,0,1,0,0,0,1,0,0,0,\"1\"]}"),
+        "boundingVolume.box needs 12");
+    assert_refused(s, TILE("\"geometricError\":1,\"refine\":\"MERGE\"," SPHERE),
+                   "refine must be \"REPLACE\" or \"ADD\"");
+    assert_refused(
+        s, TILE("\"geometricError\":1,\"transform\":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,0]," SPHERE),
+        "transform needs 16");
+    assert_refused(s, TILE("\"geometricError\":1,\"contents\":{}," SPHERE),
+                   "contents is not an array");
+    assert_refused(s, TILE("\"geometricError\":1,\"content\":{\"uri\":7}," SPHERE),
+                   "a content has no \"uri\" string");
+    assert_refused(s, TILE("\"geometricError\":1,\"children\":{}," SPHERE),
+                   "children is not an array");
+    assert_refused(s,
+                   TILE("\"geometricError\":1," SPHERE
+                        ",\"children\":[{\"geometricError\":1," SPHERE
+                        "},{\"geometricError\":1," SPHERE ",\"children\":[7]}]"),
+                   "tile root.children[1].children[0]: not a JSON object");
+    assert_refused(s, TILE("\"geometricError\":1,\"content\":{\"uri\":\"none.json\"}," SPHERE),
+                   "cannot open external tileset");
+    assert_refused(
+        s,
+        TILE("\"geometricError\":1,\"content\":{\"uri\":\"https://example.com/t.json\"}," SPHERE),
+        "is not a local file");
+    assert_refused(
+        s,
+        TILE(
+            "\"geometricError\":1,\"contents\":[{\"uri\":\"a.glb\"},{\"uri\":\"t.json\"}]," SPHERE),
+        "one of several contents");
+    scratch_free(s);
+}
+
+/* A chain of external tilesets one longer than allowed. */
+static void refuses_external_tilesets_nested_too_deep(void **state) {
+    scratch *s = scratch_new();
+    tileset ts;
+    char err[512], name[32], json[256];
+    int i;
+    (void)state;
+    for (i = 0; i <= TILESET_MAX_EXTERNAL_DEPTH + 1; ++i) {
+        snprintf(name, sizeof(name), "n%d.json", i);
+        snprintf(json, sizeof(json),
+                 TILE("\"geometricError\":1," SPHERE ",\"content\":{\"uri\":\"n%d.json\"}"), i + 1);
+        scratch_write(s, name,
+                      i <= TILESET_MAX_EXTERNAL_DEPTH ? json : TILE("\"geometricError\":1," SPHERE),
+                      0);
+    }
+    assert_int_equal(load(s, "n0.json", NULL, &ts, err, sizeof(err)), 1);
+    if (!strstr(err, "nest deeper than"))
+        fail_msg("%s", err);
+    /* one level less loads */
+    assert_int_equal(load(s, "n1.json", NULL, &ts, err, sizeof(err)), 0);
+    assert_int_equal(ts.counts.external, TILESET_MAX_EXTERNAL_DEPTH);
+    tileset_free(&ts);
+    scratch_free(s);
+}
+
+/* ---- the benefit model -------------------------------------------------------------- */
+
+/* A view from the origin down -z. */
+static tclod_view view_down_z(void) {
+    tclod_view v;
+    memset(&v, 0, sizeof(v));
+    v.forward[2] = -1.0f;
+    v.up[1] = 1.0f;
+    v.fov_y = 1.0f;
+    v.aspect = 1.5f;
+    v.near_z = 0.1f;
+    v.far_z = 1000.0f;
+    v.viewport_height = 600.0f;
+    return v;
+}
+
+/* Children split their parent's share: refining a tile by ADD adds what the
+ * children improve on it, by REPLACE what they improve on it too; with exact
+ * children (error 0) either way the drawn tiles' benefits sum to the parent's
+ * share. */
+static void benefits_telescope_to_the_parents_share(void **state) {
+    static const char *const kinds[2] = {"ADD", "REPLACE"};
+    int k;
+    (void)state;
+    for (k = 0; k < 2; ++k) {
+        scratch *s = scratch_new();
+        tileset ts;
+        tiles_model m;
+        tclod_view v = view_down_z();
+        char err[512], json[512];
+        double root, c1, c2, sum, d;
+        snprintf(
+            json, sizeof(json),
+            "{\"asset\":{\"version\":\"1.1\"},\"root\":{\"geometricError\":8,\"refine\":\"%s\","
+            "\"boundingVolume\":{\"sphere\":[0,0,-100,12]},\"content\":{\"uri\":\"r.glb\"},"
+            "\"children\":[{\"geometricError\":0,\"boundingVolume\":{\"sphere\":[-5,0,-100,5]},"
+            "\"content\":{\"uri\":\"a.glb\"}},{\"geometricError\":0,\"boundingVolume\":"
+            "{\"sphere\":[6,1,-100,4]},\"content\":{\"uri\":\"b.glb\"}}]}}",
+            kinds[k]);
+        scratch_write(s, "t.json", json, 0);
+        if (load(s, "t.json", NULL, &ts, err, sizeof(err)))
+            fail_msg("%s", err);
+        assert_int_equal(model_init(&m, &ts), 0);
+        model_set_view(&m, &v);
+        d = model_distance(&m, 0);
+        assert_close(d, 88.0, 1e-9);
+        assert_close(model_sse(&m, 0, d), 8.0 * 300.0 / tan(0.5) / 88.0, 1e-9);
+        root = model_benefit(&m, 0, d);
+        c1 = model_benefit(&m, 1, model_distance(&m, 1));
+        c2 = model_benefit(&m, 2, model_distance(&m, 2));
+        sum = k == 0 ? root + c1 + c2 : c1 + c2;
+        /* the root's share is its projected area; error-free children hold it whole */
+        assert_close(sum, model_area(&m, 0), 1e-9 * model_area(&m, 0));
+        assert_true(root < model_area(&m, 0));
+        /* the shares follow the children's areas */
+        assert_close(c1 / c2, model_area(&m, 1) / model_area(&m, 2), 1e-9);
+        model_free(&m);
+        tileset_free(&ts);
+        scratch_free(s);
+    }
+}
+
+/* The host's own distance, which checks the library's queries, against the
+ * library's tclod_view_bounds_distance for every kind of volume. */
+static void reference_distance_matches_the_library(void **state) {
+    tclod_view v = view_down_z();
+    static const double c[3] = {3.0, -4.0, -50.0};
+    const double s = sqrt(0.5);
+    const double turned[9] = {2.0 * s, 2.0 * s, 0.0, -s, s, 0.0, 0.0, 0.0, 5.0};
+    const double flat[9] = {10.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 10.0};
+    const double ext[3] = {1.0, 2.0, 3.0};
+    tclod_bounds b[5];
+    int i;
+    (void)state;
+    b[0] = tclod_bounds_sphere(c[0], c[1], c[2], 7.0);
+    b[1] = tclod_bounds_obb(c, turned);
+    b[2] = tclod_bounds_obb(c, flat);
+    b[3] = tclod_bounds_aabb(c, ext);
+    b[4] = tclod_bounds_sphere(0.0, 0.0, 0.0, 2.0); /* the eye inside */
+    for (i = 0; i < 5; ++i) {
+        double want = model_reference_distance(&b[i], v.eye);
+        assert_int_equal(tclod_bounds_validate(&b[i]), TCLOD_OK);
+        assert_close(tclod_view_bounds_distance(&v, &b[i]), want, 1e-9 * (1.0 + want));
+    }
+    assert_close(model_reference_distance(&b[0], v.eye), sqrt(9.0 + 16.0 + 2500.0) - 7.0, 1e-12);
+    assert_close(model_reference_distance(&b[4], v.eye), 0.0, 0.0);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(region_box_encloses_the_region),
+        cmocka_unit_test(region_validity),
+        cmocka_unit_test(reads_volumes_transforms_refinement_and_contents),
+        cmocka_unit_test(refuses_bad_tilesets_saying_where),
+        cmocka_unit_test(refuses_external_tilesets_nested_too_deep),
+        cmocka_unit_test(benefits_telescope_to_the_parents_share),
+        cmocka_unit_test(reference_distance_matches_the_library),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
