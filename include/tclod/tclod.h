@@ -345,9 +345,10 @@ TCLOD_API tclod_status tclod_scene_set_smooth_bounds(tclod_scene *s, tclod_id sm
 TCLOD_API tclod_status tclod_scene_node_bounds(const tclod_scene *s, tclod_id node,
                                                tclod_bounds *out);
 
-/* Builds the scene's child index now (children stored contiguously). Optional:
- * selectors build it on demand after the scene changed. Call it after changing a
- * scene that several threads then select from concurrently. */
+/* Builds now what selectors build on demand after the scene changed (the smooth
+ * quadtree; the node order Robin Hood selectors and schedulers read). Optional;
+ * call it after changing a scene that several threads then select from
+ * concurrently. Errors: TCLOD_ERR_ARG (NULL), TCLOD_ERR_NOMEM. */
 TCLOD_API tclod_status tclod_scene_prepare(tclod_scene *s);
 
 /* The live smooth objects in the scene's quadtree order: groups of smooth
@@ -655,7 +656,7 @@ TCLOD_API int tclod_select_pending(const tclod_selector *sel);
 
 /* The nodes the current selection draws, in result order: the visible nodes
  * of its cut (culled, dropped and empty nodes are not listed) and the additive
- * nodes it refined, each before its descendants. *ids points into the selector: valid until the
+ * nodes it refined. *ids points into the selector: valid until the
  * next tclod_select or tclod_selector_destroy. Before the first selection
  * *n = 0. Errors: TCLOD_ERR_ARG (NULL argument), TCLOD_ERR_STATE (called
  * from a callback during a solve). */
