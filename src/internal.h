@@ -75,8 +75,13 @@ typedef struct tclod_node_bounds {
     double r;      /* the sphere's radius, or the box's enclosing sphere's; < 0: no
                       bounds */
     uint32_t box;  /* the box's slot in tclod_scene.boxes, or TCLOD_NONE */
-    uint32_t kind; /* tclod_bounds_kind */
+    uint32_t kind; /* tclod_bounds_kind, with TCLOD_BOUNDS_SELF for a self leaf: the
+                      evaluation, which reads this record anyway, finds it there */
 } tclod_node_bounds;
+
+/* tclod_node_bounds.kind of a self leaf (scene.c): its owner's kind with this
+ * bit. */
+#define TCLOD_BOUNDS_SELF 0x100u
 
 /* An axis-aligned or oriented box: the half axes as given, and an
  * orthonormal frame with half lengths (zero axes completed by cross
@@ -636,7 +641,8 @@ struct tclod_selector {
                                   one cache line (cap >= nodes + 3) */
     tclod_id *cut, *prev_cut, *result, *scratch;
     tclod_id *drawn; /* the result as tclod_selector_cut lists it: self leaves as
-                        their additive nodes */
+                        their additive nodes (result itself when it has none) */
+    int drawn_is_result;
     double *scratch_key;
 
     /* per-smooth-object buffers, smooth_cap elements each */
@@ -737,6 +743,7 @@ typedef struct tclod_selector_saved {
     tclod_smooth_group *groups;
     uint32_t cut_count, result_count, group_count;
     uint32_t scene_version, node_version, smooth_version;
+    int drawn_is_result;
     uint32_t synced;   /* the selector's tclod_scene_user.synced ... */
     uint64_t log_seen; /* ... and log_seen */
     int has_cut;
@@ -798,7 +805,7 @@ static inline const tclod_bounds *tclod_query_bounds(tclod_selector *sel, tclod_
         tclod_scene_public_bounds(sel->scene, n, q);
         return q;
     }
-    q->kind = TCLOD_BOUNDS_SPHERE;
+    q->kind = TCLOD_BOUNDS_SPHERE; /* a self leaf is evaluated as its owner */
     q->center[0] = b->c[0];
     q->center[1] = b->c[1];
     q->center[2] = b->c[2];
@@ -819,7 +826,7 @@ static inline int tclod_evaluate_bounded(tclod_selector *sel, tclod_id n, float 
     tclod_node_state *st = &sel->node[n];
     tclod_query *q = &sel->query; /* view, count and members set for the solve */
     double b, c;
-    if (sel->scene->flags[n] & TCLOD_NODE_SELF)
+    if (sel->scene->bounds[n].kind & TCLOD_BOUNDS_SELF)
         return tclod_evaluate_self(sel, n);
     st->stamp = sel->solve_id;
     st->area = area;

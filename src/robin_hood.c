@@ -570,8 +570,8 @@ static inline tclod_id chain_node(const tclod_selector *sel, tclod_id head,
 
 /* 1 when node n, a level of the chain ch starting at head, costs at most
  * `time`, 0 when not, -1 on a strict error. */
-static inline int fits(tclod_selector *sel, tclod_id n, tclod_id head, const tclod_rh_chain *ch,
-                       double time) {
+TCLOD_ALWAYS_INLINE int fits(tclod_selector *sel, tclod_id n, tclod_id head,
+                             const tclod_rh_chain *ch, double time) {
     if (sel->node[n].stamp != sel->solve_id &&
         evaluate_level(sel, n, head, (ch->flags & TCLOD_RH_SHARED) != 0) != 0)
         return -1;

@@ -549,6 +549,7 @@ tclod_status tclod_scene_add_node_desc(tclod_scene *s, const tclod_node_desc *d,
         s->first_child[self] = s->next_sibling[self] = s->prev_sibling[self] = TCLOD_NONE;
         s->self[self] = TCLOD_NONE;
         s->bounds[self] = nb;
+        s->bounds[self].kind |= TCLOD_BOUNDS_SELF;
         s->flags[self] = TCLOD_NODE_SELF;
         s->child_count[self] = s->child_cap[self] = 0;
         s->self_count++;
@@ -660,8 +661,10 @@ tclod_status tclod_scene_set_node_bounds(tclod_scene *s, tclod_id node,
     }
     nb.box = slot;
     s->bounds[node] = nb;
-    if (s->self[node] != TCLOD_NONE)
+    if (s->self[node] != TCLOD_NONE) {
         s->bounds[s->self[node]] = nb;
+        s->bounds[s->self[node]].kind |= TCLOD_BOUNDS_SELF;
+    }
     changed(s);
     return TCLOD_OK;
 }
@@ -669,19 +672,20 @@ tclod_status tclod_scene_set_node_bounds(tclod_scene *s, tclod_id node,
 void tclod_scene_public_bounds(const tclod_scene *s, tclod_id n, tclod_bounds *out) {
     const tclod_node_bounds *b = &s->bounds[n];
     int i;
+    uint32_t kind = b->kind & ~TCLOD_BOUNDS_SELF;
     memset(out, 0, sizeof *out);
-    out->kind = (tclod_bounds_kind)b->kind;
-    if (b->kind == TCLOD_BOUNDS_NONE)
+    out->kind = (tclod_bounds_kind)kind;
+    if (kind == TCLOD_BOUNDS_NONE)
         return;
     out->center[0] = b->c[0];
     out->center[1] = b->c[1];
     out->center[2] = b->c[2];
-    if (b->kind == TCLOD_BOUNDS_SPHERE) {
+    if (kind == TCLOD_BOUNDS_SPHERE) {
         out->radius = b->r;
         return;
     }
     for (i = 0; i < 3; ++i) {
-        if (b->kind == TCLOD_BOUNDS_AABB)
+        if (kind == TCLOD_BOUNDS_AABB)
             out->half_extents[i] = s->boxes[b->box].h[i];
         else
             memcpy(out->half_axes[i], s->boxes[b->box].axes[i], sizeof(double) * 3);

@@ -320,8 +320,10 @@ static void keep_committed(tclod_selector *sel) {
         memcpy(k->cut, sel->prev_cut, sizeof(tclod_id) * sel->prev_count);
     if (sel->result_count) {
         memcpy(k->result, sel->result, sizeof(tclod_id) * sel->result_count);
-        memcpy(k->drawn, sel->drawn, sizeof(tclod_id) * sel->result_count);
+        if (!sel->drawn_is_result)
+            memcpy(k->drawn, sel->drawn, sizeof(tclod_id) * sel->result_count);
     }
+    k->drawn_is_result = sel->drawn_is_result;
     if (sel->group_count)
         memcpy(k->groups, sel->groups, sizeof(tclod_smooth_group) * sel->group_count);
     k->cut_count = sel->prev_count;
@@ -371,8 +373,10 @@ void tclod_selector_restore(tclod_selector *sel, const tclod_selector_saved *k) 
     roll_back(sel);
     if (k->result_count) {
         memcpy(sel->result, k->result, sizeof(tclod_id) * k->result_count);
-        memcpy(sel->drawn, k->drawn, sizeof(tclod_id) * k->result_count);
+        if (!k->drawn_is_result)
+            memcpy(sel->drawn, k->drawn, sizeof(tclod_id) * k->result_count);
     }
+    sel->drawn_is_result = k->drawn_is_result;
     if (k->group_count)
         memcpy(sel->groups, k->groups, sizeof(tclod_smooth_group) * k->group_count);
     sel->result_count = k->result_count;
@@ -411,12 +415,10 @@ static void commit(tclod_selector *sel) {
         cost += node[id].cost;
     }
     /* the host's ids: a self leaf draws its additive node */
-    if (sel->scene->self_count) {
+    sel->drawn_is_result = sel->scene->self_count == 0;
+    if (!sel->drawn_is_result)
         for (i = 0; i < n; ++i)
             sel->drawn[i] = tclod_scene_owner(sel->scene, result[i]);
-    } else if (n) {
-        memcpy(sel->drawn, result, sizeof(tclod_id) * n);
-    }
     sel->group_count = 0;
     for (i = 0; i < sel->vars.count; ++i) {
         tclod_smooth_group *g;
@@ -622,7 +624,7 @@ tclod_status tclod_selector_cut(const tclod_selector *sel, const tclod_id **ids,
         return TCLOD_ERR_ARG;
     if (sel->busy)
         return TCLOD_ERR_STATE;
-    *ids = sel->drawn;
+    *ids = sel->drawn_is_result ? sel->result : sel->drawn;
     *n = sel->result_count;
     return TCLOD_OK;
 }
