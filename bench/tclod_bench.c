@@ -9,6 +9,29 @@
  *   thesis   the thesis's test scene (seed 001 §8.4): a 5461-patch terrain quadtree and
  *            1.4 million trees in about 25 000 smooth objects (groups of <= 64 trees),
  *            budget 40 ms, solved by the mixed solver.
+ *   churn    a random world (10^4 objects, or --objects N) edited between frames as a
+ *            game edits its scene. Before every frame after the first, 1 % of the
+ *            objects move (up to 3 m along x and z, on the ground; every level gets the
+ *            new bounds), 0.1 % are removed (level 0, which takes the chain with it) and
+ *            as many are added: new chains of the world's levels, new triangles, each in
+ *            a removed object's place and under its group impostor (so that the
+ *            impostors still describe their objects). The edits come from a fixed seed.
+ *            The greedy solver, warm, on the world's loop, with the random scene's
+ *            budget (of the world as built), in three modes: warm (with the edits),
+ *            warm_noedit (the same frames and budget, no edits, on the world as built;
+ *            it runs first) and warm_edited (no edits, on the world as the warm run left
+ *            it). Times are the select call's; a frame's edits (the world's calls, with
+ *            the scene's inside) are timed on their own: columns edits (scene edit calls
+ *            per frame: levels moved, chains removed, levels added), edit_us and
+ *            edit_p99_us. Then, on stderr, the line "summary: scene=churn objects=N
+ *            warm_us_median=A warm_noedit_us_median=B ratio=A/B edit_us_median=E". Every
+ *            selection is also checked to name only live nodes. Why warm_edited: the
+ *            scene gives a removed id again only once every selector solved since, so
+ *            an object added in a removed one's place in the same frame takes other
+ *            ids (the first free after its group's); the ids of nodes near one
+ *            another, dense as built, scatter as the edits go on (all objects are
+ *            replaced in about 1000 frames), and with them the per-node records a
+ *            solve reads; warm_edited times that without edits.
  * random and flyover have no smooth objects. They run the greedy in two modes: cold
  * (warm_start 0: every frame starts from the roots) and warm (warm_start 1: from the
  * previous frame's cut, with the camera a little further along the loop); robin_hood
@@ -57,7 +80,8 @@
  * are 0 where they do not apply (object_benefit: rows other than thesis). Then
  * ns_per_evaluation (mean_us over the mean evaluations: the time per node a solve looked
  * at), violations (timed frames whose selection cost more than the budget) and
- * max_cost_ratio (the largest cost / budget of a timed frame). Every frame's selection
+ * max_cost_ratio (the largest cost / budget of a timed frame), then edits, edit_us and
+ * edit_p99_us (churn rows with edits; else 0). Every frame's selection
  * is checked against the budget by summing its nodes' (and smooth groups') costs with
  * the callbacks' formulas: a library solver that exceeds it stops the program with an
  * error; a baseline's violations are counted (only threshold_fixed, which ignores the
@@ -65,7 +89,8 @@
  *
  * The timed call of every frame goes through bench_solve, a function of its own, so
  * that callgrind can count the instructions of the timed solves alone
- * (bench/callgrind.sh).
+ * (bench/callgrind.sh); the churn scene's edits go through bench_edit, likewise
+ * (--toggle-collect=bench_edit).
  */
 #include <errno.h>
 #include <math.h>
@@ -102,6 +127,8 @@ typedef struct bench_row {
     unsigned long frames;
     unsigned long violations; /* timed frames whose selection cost more than the budget */
     double max_cost_ratio;    /* largest cost / budget over the timed frames */
+    /* churn rows: scene edit calls per frame and their time (median, p99); else 0 */
+    double edits, edit_median_us, edit_p99_us;
 } bench_row;
 
 static const char *solver_name(tclod_solver s) {
@@ -626,7 +653,7 @@ static void print_header(void) {
     printf("scene,solver,mode,objects,nodes,median_us,p99_us,benefit,cost,budget,mean_us,"
            "visible,cut,refined,evaluations,iterations,increments,decrements,frames,"
            "variables,line_searches,object_benefit,ns_per_evaluation,violations,"
-           "max_cost_ratio\n");
+           "max_cost_ratio,edits,edit_us,edit_p99_us\n");
 }
 
 static void print_row(const char *scene, const char *solver, const char *mode,
@@ -635,11 +662,12 @@ static void print_row(const char *scene, const char *solver, const char *mode,
     /* mean time over mean evaluations: the time per node the solve looked at */
     double ns_per_evaluation = r->evaluations > 0.0 ? r->mean_us * 1000.0 / r->evaluations : 0.0;
     printf("%s,%s,%s,%lu,%lu,%.2f,%.2f,%.6g,%.6g,%.6g,%.2f,%lu,%.0f,%.0f,%.0f,%.0f,%.0f,%.0f,%lu,"
-           "%.1f,%.1f,%.6g,%.1f,%lu,%.4f\n",
+           "%.1f,%.1f,%.6g,%.1f,%lu,%.4f,%.0f,%.2f,%.2f\n",
            scene, solver, mode, objects, nodes, r->median_us, r->p99_us, r->benefit, r->cost,
            budget, r->mean_us, visible, r->cut, r->refined, r->evaluations, r->iterations,
            r->increments, r->decrements, r->frames, r->variables, r->line_searches,
-           r->object_benefit, ns_per_evaluation, r->violations, r->max_cost_ratio);
+           r->object_benefit, ns_per_evaluation, r->violations, r->max_cost_ratio, r->edits,
+           r->edit_median_us, r->edit_p99_us);
     fflush(stdout);
 }
 
@@ -706,6 +734,346 @@ static int bench_scene(const char *scene, world_scene *w, double budget, unsigne
     baseline_destroy(base);
     baseline_scene_free(&bs);
     free(times);
+    return rc;
+}
+
+/* ---- churn: a random world edited between frames ------------------------------------ */
+
+/* The churn scene's world when --objects does not say, its edits' seed (fixed, so that
+ * runs repeat), the timed frames with --quick and how far a move goes. */
+#define CHURN_OBJECTS 10000u
+#define CHURN_SEED 0x636875726eull
+#define CHURN_QUICK_FRAMES 50ul
+/* A move shifts an object by up to this many metres along x and along z (a walk, not a
+ * jump: the objects stay near the group impostors they were built under). */
+#define CHURN_STEP_M 3.0f
+
+/* splitmix64: the bench's own generator (world_scene's is private to it). */
+static uint64_t churn_next(uint64_t *state) {
+    uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+/* Uniform in [0, n), n > 0 (the modulo bias is negligible for n < 2^32). */
+static uint32_t churn_below(uint64_t *state, uint32_t n) {
+    return (uint32_t)(churn_next(state) % n);
+}
+
+/* Uniform in [lo, hi). */
+static float churn_range(uint64_t *state, float lo, float hi) {
+    return lo + (hi - lo) * (float)(churn_next(state) >> 40) * (1.0f / 16777216.0f);
+}
+
+/* One frame's edits, drawn before they are timed: the objects to move (indices and
+ * displacements), the objects to remove (an index into the objects left after the
+ * removals before it) and the level-0 triangles of the objects added, one in the place
+ * of each removed one. */
+typedef struct churn_plan {
+    uint32_t moves, removals; /* objects moved and removed (= added) per frame */
+    uint32_t *move_object;
+    float *move_step; /* 2 per move: dx, dz, m */
+    uint32_t *remove_object;
+    uint32_t *add_triangles;
+    tclod_id *add_parent; /* filled while editing: each removed object's group */
+    float *add_bounds;    /* and its bounds, 4 per removal */
+    const world_cost_model *cost;
+    uint64_t rng;
+} churn_plan;
+
+static void churn_plan_free(churn_plan *p) {
+    free(p->move_object);
+    free(p->move_step);
+    free(p->remove_object);
+    free(p->add_triangles);
+    free(p->add_parent);
+    free(p->add_bounds);
+    memset(p, 0, sizeof(*p));
+}
+
+/* 1 % of the objects moved and 0.1 % removed and added every frame, at least one each. */
+static int churn_plan_init(churn_plan *p, uint32_t objects, const world_cost_model *cost) {
+    memset(p, 0, sizeof(*p));
+    p->moves = (objects + 50u) / 100u;
+    p->removals = (objects + 500u) / 1000u;
+    if (p->moves < 1u)
+        p->moves = 1u;
+    if (p->removals < 1u)
+        p->removals = 1u;
+    if (p->removals >= objects) /* a world of one object keeps it */
+        p->removals = objects - 1u;
+    p->move_object = (uint32_t *)malloc(p->moves * sizeof(uint32_t));
+    p->move_step = (float *)malloc(2u * (size_t)p->moves * sizeof(float));
+    p->remove_object = (uint32_t *)malloc((p->removals + 1u) * sizeof(uint32_t));
+    p->add_triangles = (uint32_t *)malloc((p->removals + 1u) * sizeof(uint32_t));
+    p->add_parent = (tclod_id *)malloc((p->removals + 1u) * sizeof(tclod_id));
+    p->add_bounds = (float *)malloc(4u * ((size_t)p->removals + 1u) * sizeof(float));
+    p->cost = cost;
+    p->rng = CHURN_SEED;
+    if (!p->move_object || !p->move_step || !p->remove_object || !p->add_triangles ||
+        !p->add_parent || !p->add_bounds) {
+        churn_plan_free(p);
+        return 1;
+    }
+    return 0;
+}
+
+/* Draws the next frame's edits for a world of `objects` objects. Moved objects are drawn
+ * with replacement (one may move twice in a frame, as in a game). */
+static void churn_plan_draw(churn_plan *p, uint32_t objects) {
+    uint32_t i;
+    for (i = 0; i < p->moves; ++i) {
+        p->move_object[i] = churn_below(&p->rng, objects);
+        p->move_step[2u * i] = churn_range(&p->rng, -CHURN_STEP_M, CHURN_STEP_M);
+        p->move_step[2u * i + 1u] = churn_range(&p->rng, -CHURN_STEP_M, CHURN_STEP_M);
+    }
+    for (i = 0; i < p->removals; ++i) {
+        p->remove_object[i] = churn_below(&p->rng, objects - i);
+        /* the world's distribution of level-0 triangles (world_build_random) */
+        p->add_triangles[i] = 512u + churn_below(&p->rng, 1536u);
+    }
+}
+
+static float churn_clamp(float x, float lo, float hi) {
+    return x < lo ? lo : (x > hi ? hi : x);
+}
+
+/* The timed edits of one frame, out of line like bench_solve so that callgrind can count
+ * them alone (--toggle-collect=bench_edit): the moves (every level of an object gets its
+ * new bounds; it stays on the ground, its centre on the world's square), then the
+ * removals (level 0, which takes the levels with it), then the additions: a new object
+ * (a chain of the world's levels, new triangles) in each removed object's place, under
+ * its group impostor, so that the impostors' bounds and cover still describe their
+ * objects. Returns the scene edit calls made, or 0 on an error (reported). */
+unsigned long bench_edit(churn_plan *p, world_scene *w);
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((noinline))
+#endif
+unsigned long
+bench_edit(churn_plan *p, world_scene *w) {
+    unsigned long calls = 0;
+    uint32_t i;
+    tclod_status st = TCLOD_OK;
+    for (i = 0; i < p->moves && st == TCLOD_OK; ++i) {
+        const float *ob = w->object_bounds + 4u * (size_t)p->move_object[i];
+        float b[4];
+        b[0] = churn_clamp(ob[0] + p->move_step[2u * i], 0.0f, w->side);
+        b[1] = ob[1];
+        b[2] = churn_clamp(ob[2] + p->move_step[2u * i + 1u], 0.0f, w->side);
+        b[3] = ob[3];
+        st = world_move_object(w, p->move_object[i], b);
+        calls += w->levels;
+    }
+    for (i = 0; i < p->removals && st == TCLOD_OK; ++i) {
+        uint32_t o = p->remove_object[i];
+        p->add_parent[i] = tclod_scene_parent(w->scene, world_object_level(w, o, 0));
+        memcpy(p->add_bounds + 4u * (size_t)i, w->object_bounds + 4u * (size_t)o,
+               4u * sizeof(float));
+        st = world_remove_object(w, o);
+        calls += 1u;
+    }
+    for (i = 0; i < p->removals && st == TCLOD_OK; ++i) {
+        st = world_add_object(w, p->add_parent[i], p->add_bounds + 4u * (size_t)i,
+                              p->add_triangles[i], p->cost, NULL);
+        calls += w->levels;
+    }
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "tclod_bench: churn: editing the world failed: %s\n",
+                tclod_status_string(st));
+        return 0;
+    }
+    return calls;
+}
+
+/* Warm-up plus `frames` timed frames of the greedy solver, warm, along the world's loop
+ * with a fixed budget, with the plan's edits before every frame after the first (the
+ * first solves from the roots, with no cut to repair) when plan is not NULL. times gets
+ * the select calls' times, edit_times (with plan) the edits'. Every frame's selection
+ * is checked: within the budget, and only live nodes. Returns 0 on success, 1 on an
+ * error (reported). */
+static int run_churn(world_scene *w, churn_plan *plan, double budget, unsigned long frames,
+                     double *times, double *edit_times, bench_row *row) {
+    solve_call call;
+    tclod_selector_desc sd;
+    tclod_status st;
+    unsigned long f, total = frames + WARMUP_FRAMES;
+    double sum_us = 0.0, edits = 0.0;
+
+    memset(row, 0, sizeof(*row));
+    memset(&call, 0, sizeof(call));
+    call.method = METHOD_GREEDY;
+    tclod_selector_desc_default(&sd);
+    sd.solver = TCLOD_SOLVER_GREEDY;
+    sd.callbacks = world_callbacks(w);
+    sd.warm_start = 1;
+    sd.lookahead = (uint32_t)opt_lookahead;
+    sd.restarts = (uint32_t)opt_restarts;
+    st = tclod_selector_create(w->scene, &sd, NULL, &call.sel);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "tclod_bench: creating a greedy selector failed: %s\n",
+                tclod_status_string(st));
+        return 1;
+    }
+    for (f = 0; f < total; ++f) {
+        tclod_view view;
+        const tclod_id *ids;
+        size_t n, i;
+        double t0, t1, e0 = 0.0, e1 = 0.0, cost;
+        unsigned long calls = 0;
+
+        if (plan && f > 0) {
+            churn_plan_draw(plan, w->object_count);
+            e0 = bench_now_us();
+            calls = bench_edit(plan, w);
+            e1 = bench_now_us();
+            if (calls == 0) {
+                tclod_selector_destroy(call.sel);
+                return 1;
+            }
+        }
+        world_camera_at(&w->path, (double)f / (double)FRAMES_PER_LOOP, &view);
+        memset(&call.frame, 0, sizeof(call.frame));
+        call.frame.view = &view;
+        call.frame.budget = budget;
+        t0 = bench_now_us();
+        if (f < WARMUP_FRAMES)
+            solve_once(&call);
+        else
+            bench_solve(&call);
+        t1 = bench_now_us();
+        st = call.status;
+        if (st == TCLOD_OK)
+            st = tclod_selector_cut(call.sel, &ids, &n);
+        if (st != TCLOD_OK) {
+            fprintf(stderr, "tclod_bench: tclod_select failed: %s\n", tclod_status_string(st));
+            tclod_selector_destroy(call.sel);
+            return 1;
+        }
+        cost = world_sum_cost(w, ids, n);
+        if (call.stats.cost > budget || cost > budget) {
+            fprintf(stderr, "tclod_bench: budget exceeded: cost %.17g > budget %.17g\n", cost,
+                    budget);
+            tclod_selector_destroy(call.sel);
+            return 1;
+        }
+        for (i = 0; i < n; ++i) {
+            if (!tclod_scene_node_live(w->scene, ids[i])) {
+                fprintf(stderr, "tclod_bench: churn: frame %lu selects node %u, not live\n", f,
+                        (unsigned)ids[i]);
+                tclod_selector_destroy(call.sel);
+                return 1;
+            }
+        }
+        if (f < WARMUP_FRAMES)
+            continue;
+        times[f - WARMUP_FRAMES] = t1 - t0;
+        sum_us += t1 - t0;
+        if (plan)
+            edit_times[f - WARMUP_FRAMES] = e1 - e0;
+        edits += (double)calls;
+        add_stats(row, &call.stats, n);
+        if (budget > 0.0 && cost / budget > row->max_cost_ratio)
+            row->max_cost_ratio = cost / budget;
+        row->refined += (double)refined_objects(w, ids, n);
+    }
+    tclod_selector_destroy(call.sel);
+    finish_row(row, times, frames, sum_us);
+    row->edits = edits / (double)frames;
+    if (plan) {
+        bench_sort(edit_times, frames);
+        row->edit_median_us = bench_median(edit_times, frames);
+        row->edit_p99_us = bench_percentile(edit_times, frames, 99.0);
+    }
+    return 0;
+}
+
+/* The churn rows, in the order they are printed: warm (edits), warm_noedit (no edits,
+ * the world as built) and warm_edited (no edits, the world as the warm run left it). */
+enum { CHURN_WARM, CHURN_NOEDIT, CHURN_EDITED, CHURN_MODES };
+static const char *const churn_modes[CHURN_MODES] = {"warm", "warm_noedit", "warm_edited"};
+
+/* The churn rows: warm_noedit on the world as built, then warm on the same world with
+ * the edits (which change it), then warm_edited on the world they left; printed warm
+ * first; then the summary line (stderr, so that stdout stays CSV). */
+static int bench_churn(uint32_t objects, unsigned long frames) {
+    static const int run_order[CHURN_MODES] = {CHURN_NOEDIT, CHURN_WARM, CHURN_EDITED};
+    world_random_desc d;
+    world_scene w;
+    churn_plan plan;
+    bench_row rows[CHURN_MODES];
+    unsigned long nodes[CHURN_MODES], visible;
+    int ran[CHURN_MODES] = {0, 0, 0}, k, rc = 0;
+    double budget, t0 = bench_now_us();
+    double *times = (double *)malloc(frames * sizeof(*times));
+    double *edit_times = (double *)malloc(frames * sizeof(*edit_times));
+    tclod_status st;
+
+    if (!times || !edit_times) {
+        free(times);
+        free(edit_times);
+        fprintf(stderr, "tclod_bench: out of memory\n");
+        return 1;
+    }
+    world_random_desc_default(&d);
+    d.objects = objects;
+    st = world_build_random(&d, &w);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "tclod_bench: building %u objects failed: %s\n", objects,
+                tclod_status_string(st));
+        free(times);
+        free(edit_times);
+        return 1;
+    }
+    if (churn_plan_init(&plan, objects, &d.cost) != 0) {
+        fprintf(stderr, "tclod_bench: out of memory\n");
+        world_scene_free(&w);
+        free(times);
+        free(edit_times);
+        return 1;
+    }
+    /* the random scene's budget, on the world as built, kept for every row */
+    visible = bench_world_visible(&w);
+    budget = (double)visible * bench_world_level1_cost(&w);
+    fprintf(stderr,
+            "tclod_bench: churn %u objects: %u nodes (%u groups), built in %.0f ms; "
+            "%lu objects in view, budget %.3f ms; per frame %u objects moved, %u removed, "
+            "%u added\n",
+            objects, w.node_count, w.group_count, (bench_now_us() - t0) / 1000.0, visible, budget,
+            plan.moves, plan.removals, plan.removals);
+    for (k = 0; k < CHURN_MODES && rc == 0; ++k) {
+        int m = run_order[k];
+        /* warm_edited needs the world the warm run edited: warm runs for either */
+        int wanted = row_wanted("greedy", churn_modes[m]) ||
+                     (m == CHURN_WARM && row_wanted("greedy", churn_modes[CHURN_EDITED]));
+        if (!wanted || (m == CHURN_EDITED && !ran[CHURN_WARM]))
+            continue;
+        nodes[m] = (unsigned long)w.node_count;
+        if (run_churn(&w, m == CHURN_WARM ? &plan : NULL, budget, frames, times, edit_times,
+                      &rows[m]) != 0)
+            rc = 1;
+        else
+            ran[m] = 1;
+        if (m == CHURN_WARM)
+            nodes[m] = (unsigned long)w.node_count; /* the id range the edits left */
+    }
+    for (k = 0; k < CHURN_MODES && rc == 0; ++k)
+        if (ran[k] && row_wanted("greedy", churn_modes[k]))
+            print_row("churn", "greedy", churn_modes[k], (unsigned long)objects, nodes[k], budget,
+                      visible, &rows[k]);
+    if (rc == 0 && ran[CHURN_WARM] && ran[CHURN_NOEDIT])
+        fprintf(stderr,
+                "summary: scene=churn objects=%u warm_us_median=%.2f warm_noedit_us_median=%.2f "
+                "ratio=%.3f edit_us_median=%.2f\n",
+                objects, rows[CHURN_WARM].median_us, rows[CHURN_NOEDIT].median_us,
+                rows[CHURN_NOEDIT].median_us > 0.0
+                    ? rows[CHURN_WARM].median_us / rows[CHURN_NOEDIT].median_us
+                    : 0.0,
+                rows[CHURN_WARM].edit_median_us);
+    churn_plan_free(&plan);
+    world_scene_free(&w);
+    free(times);
+    free(edit_times);
     return rc;
 }
 
@@ -794,11 +1162,23 @@ static void usage(FILE *out) {
             "fixed bias, a priority queue that stops at the first misfit, a flat per-object\n"
             "greedy) on the same frames and budgets.\n"
             "\n"
+            "The churn scene edits a random world of 10^4 objects between frames (every\n"
+            "frame 1%% of the objects move a few metres, 0.1%% are removed and 0.1%% added,\n"
+            "from a fixed seed) and times the greedy solver's warm select call (mode warm;\n"
+            "the edits' time in columns edits, edit_us, edit_p99_us) against the same\n"
+            "frames without edits on the world as built (warm_noedit) and on the world as\n"
+            "the edits left it (warm_edited); it prints\n"
+            "  summary: scene=churn objects=N warm_us_median=A warm_noedit_us_median=B\n"
+            "           ratio=A/B edit_us_median=E\n"
+            "on stderr (one line).\n"
+            "\n"
             "  --quick       10^3, 10^4 and 10^5 objects only (10^5 with a quarter of the\n"
-            "                frames), fewer thesis frames (under a minute)\n"
-            "  --scene NAME  one scene only: random, flyover or thesis\n"
+            "                frames), fewer thesis frames (under a minute), churn: at most\n"
+            "                50 frames\n"
+            "  --scene NAME  one scene only: random, flyover, churn or thesis\n"
             "  --theta X     thesis rows: split_threshold X (default: the library's)\n"
-            "  --objects N   one random world of N objects (and the other scenes) instead\n"
+            "  --objects N   one random world of N objects (and the other scenes) instead;\n"
+            "                churn: its world's objects (default 10^4)\n"
             "  --frames N    timed frames per configuration (default 200; 10^6 objects, and\n"
             "                10^5 with --quick: N/4;\n"
             "                thesis: 20 views (--quick 10), flat times each once, split\n"
@@ -806,10 +1186,11 @@ static void usage(FILE *out) {
             "  --solver NAME only the rows of one solver or baseline: greedy, mixed,\n"
             "                robin_hood, threshold_tuned, threshold_fixed, pq_stop, flat\n"
             "  --mode NAME   only the rows of one mode: cold, warm, warm_floor (thesis:\n"
-            "                split, flat, split_gradient)\n"
-            "  --lookahead N random and flyover rows: the greedy and mixed solvers'\n"
+            "                split, flat, split_gradient; churn: warm, warm_noedit,\n"
+            "                warm_edited; the summary needs warm and warm_noedit)\n"
+            "  --lookahead N random, flyover and churn rows: the greedy and mixed solvers'\n"
             "                tclod_selector_desc.lookahead (default: the library's, 0)\n"
-            "  --restarts N  random and flyover rows: tclod_selector_desc.restarts\n"
+            "  --restarts N  random, flyover and churn rows: tclod_selector_desc.restarts\n"
             "                (default: the library's, 32)\n"
             "  --help        print this text and exit\n");
 }
@@ -862,9 +1243,10 @@ int main(int argc, char **argv) {
             }
             only_scene = argv[++i];
             if (strcmp(only_scene, "random") != 0 && strcmp(only_scene, "flyover") != 0 &&
-                strcmp(only_scene, "thesis") != 0) {
+                strcmp(only_scene, "churn") != 0 && strcmp(only_scene, "thesis") != 0) {
                 fprintf(stderr,
-                        "tclod_bench: unknown scene '%s' (scenes: random, flyover, thesis)\n",
+                        "tclod_bench: unknown scene '%s' (scenes: random, flyover, churn, "
+                        "thesis)\n",
                         only_scene);
                 return 2;
             }
@@ -880,8 +1262,9 @@ int main(int argc, char **argv) {
             if (!parse_count(argc, argv, &i, 0ul, TCLOD_MAX_RESTARTS, &opt_restarts))
                 return 2;
         } else if (strcmp(argv[i], "--solver") == 0 || strcmp(argv[i], "--mode") == 0) {
-            static const char *const modes[] = {"cold",  "warm", "warm_floor",
-                                                "split", "flat", "split_gradient"};
+            static const char *const modes[] = {"cold",        "warm",          "warm_floor",
+                                                "warm_noedit", "warm_edited",   "split",
+                                                "flat",        "split_gradient"};
             int is_solver = strcmp(argv[i], "--solver") == 0, known = 0, k2;
             if (i + 1 >= argc) {
                 fprintf(stderr, "tclod_bench: %s needs a value\n", argv[i]);
@@ -983,6 +1366,19 @@ int main(int argc, char **argv) {
             return 1;
         }
         world_scene_free(&w);
+    }
+
+    if ((!only_scene || strcmp(only_scene, "churn") == 0) &&
+        (row_wanted("greedy", "warm") || row_wanted("greedy", "warm_noedit") ||
+         row_wanted("greedy", "warm_edited"))) {
+        uint32_t objects = only_objects ? only_objects : CHURN_OBJECTS;
+        /* frames as for a random world of that size, and few with --quick (CI) */
+        unsigned long n_frames =
+            objects >= 1000000u || (quick && objects >= 100000u) ? frames / 4 : frames;
+        if (quick && n_frames > CHURN_QUICK_FRAMES)
+            n_frames = CHURN_QUICK_FRAMES;
+        if (bench_churn(objects, n_frames) != 0)
+            return 1;
     }
 
     if ((!only_scene || strcmp(only_scene, "thesis") == 0) &&

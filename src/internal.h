@@ -146,7 +146,9 @@ struct tclod_scene {
     tclod_id *self;            /* a non-empty additive node's self leaf, or TCLOD_NONE */
     tclod_node_bounds *bounds; /* a self leaf has its owner's */
     uint8_t *flags;            /* TCLOD_NODE_* */
-    tclod_id *free_ids;        /* ids to give again, a stack */
+    uint8_t *free_map;         /* ids to give again: a bitset (64-bit words in the
+                                  first node_cap / 8 bytes) ... */
+    uint8_t *free_summary;     /* ... and a bit per word of it that has any */
     uint32_t free_count;
     tclod_retired retired; /* ids not to give again yet */
     uint32_t self_count;   /* self leaves in use */

@@ -282,6 +282,7 @@ void world_scene_free(world_scene *w) {
     free(w->bounds);
     free(w->object_root);
     free(w->object_bounds);
+    free(w->object_nodes);
     memset(w, 0, sizeof(*w));
 }
 
@@ -715,6 +716,193 @@ tclod_status world_build_flyover(const world_flyover_desc *d, world_scene *out) 
     if (st != TCLOD_OK)
         world_scene_free(out);
     return st;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Edits between frames                                                      */
+/* ------------------------------------------------------------------------- */
+
+/* Grows every per-node array to hold `need` entries (doubling, so that a world that
+ * gains a few nodes a frame reallocates rarely). A built world's arrays hold at least
+ * node_count entries (its builder's capacity is not kept), hence that default. */
+static tclod_status edit_reserve_nodes(world_scene *w, uint32_t need) {
+    uint32_t cap = w->node_capacity > w->node_count ? w->node_capacity : w->node_count;
+    void *p;
+    if (need <= cap)
+        return TCLOD_OK;
+    if (cap < 1024u)
+        cap = 1024u;
+    while (cap < need)
+        cap = cap > UINT32_MAX / 2u ? UINT32_MAX : cap * 2u;
+    /* each array is replaced as soon as it has grown, so a failure leaks nothing */
+    if (!(p = grow(w->kind, cap, sizeof(*w->kind))))
+        return TCLOD_ERR_NOMEM;
+    w->kind = (uint8_t *)p;
+    if (!(p = grow(w->level, cap, sizeof(*w->level))))
+        return TCLOD_ERR_NOMEM;
+    w->level = (uint8_t *)p;
+    if (!(p = grow(w->triangles, cap, sizeof(*w->triangles))))
+        return TCLOD_ERR_NOMEM;
+    w->triangles = (uint32_t *)p;
+    if (!(p = grow(w->weight, cap, sizeof(*w->weight))))
+        return TCLOD_ERR_NOMEM;
+    w->weight = (float *)p;
+    if (!(p = grow(w->cost_ms, cap, sizeof(*w->cost_ms))))
+        return TCLOD_ERR_NOMEM;
+    w->cost_ms = (float *)p;
+    if (!(p = grow(w->bounds, cap, 4u * sizeof(*w->bounds))))
+        return TCLOD_ERR_NOMEM;
+    w->bounds = (float *)p;
+    w->node_capacity = cap;
+    return TCLOD_OK;
+}
+
+/* The per-object arrays with room for `need` objects, and object_nodes filled in for
+ * the objects as built (their levels have consecutive ids from object_root) on the
+ * first edit. */
+static tclod_status edit_reserve_objects(world_scene *w, uint32_t need) {
+    uint32_t cap = w->object_capacity > w->object_count ? w->object_capacity : w->object_count;
+    size_t levels = w->levels;
+    void *p;
+    if (!w->object_nodes) {
+        uint32_t i, k;
+        tclod_id *nodes = (tclod_id *)malloc((cap ? cap : 1u) * levels * sizeof(*nodes));
+        if (!nodes)
+            return TCLOD_ERR_NOMEM;
+        for (i = 0; i < w->object_count; ++i)
+            for (k = 0; k < w->levels; ++k)
+                nodes[levels * i + k] = w->object_root[i] + k;
+        w->object_nodes = nodes;
+        w->object_capacity = cap;
+    }
+    if (need <= cap)
+        return TCLOD_OK;
+    if (cap < 64u)
+        cap = 64u;
+    while (cap < need)
+        cap = cap > UINT32_MAX / 2u ? UINT32_MAX : cap * 2u;
+    if (!(p = grow(w->object_root, cap, sizeof(*w->object_root))))
+        return TCLOD_ERR_NOMEM;
+    w->object_root = (tclod_id *)p;
+    if (!(p = grow(w->object_bounds, cap, 4u * sizeof(*w->object_bounds))))
+        return TCLOD_ERR_NOMEM;
+    w->object_bounds = (float *)p;
+    if (!(p = grow(w->object_nodes, cap, levels * sizeof(*w->object_nodes))))
+        return TCLOD_ERR_NOMEM;
+    w->object_nodes = (tclod_id *)p;
+    w->object_capacity = cap;
+    return TCLOD_OK;
+}
+
+static int edit_bounds_valid(const float b[4]) {
+    return b && isfinite(b[0]) && isfinite(b[1]) && isfinite(b[2]) && isfinite(b[3]) &&
+           b[3] >= 0.0f;
+}
+
+tclod_id world_object_level(const world_scene *w, uint32_t i, uint32_t k) {
+    if (i >= w->object_count || k >= w->levels)
+        return TCLOD_NONE;
+    return w->object_nodes ? w->object_nodes[(size_t)w->levels * i + k] : w->object_root[i] + k;
+}
+
+tclod_status world_add_object(world_scene *w, tclod_id parent, const float bounds[4],
+                              uint32_t base_triangles, const world_cost_model *model,
+                              uint32_t *out_object) {
+    tclod_id ids[8], id = parent;
+    uint32_t k, triangles = base_triangles, i, count;
+    tclod_status st;
+    if (!w || !w->scene || !edit_bounds_valid(bounds) || !model || !cost_model_valid(model) ||
+        w->levels < 1u || w->levels > 8u || w->object_count == UINT32_MAX ||
+        base_triangles > UINT32_MAX >> (2u * (w->levels - 1u)))
+        return TCLOD_ERR_ARG;
+    st = edit_reserve_objects(w, w->object_count + 1u);
+    if (st != TCLOD_OK)
+        return st;
+    /* every level may take a fresh id at the end */
+    count = tclod_scene_node_count(w->scene);
+    if (count > UINT32_MAX - 1u - w->levels)
+        return TCLOD_ERR_NOMEM;
+    st = edit_reserve_nodes(w, count + w->levels);
+    if (st != TCLOD_OK)
+        return st;
+    for (k = 0; k < w->levels; ++k) {
+        st = tclod_scene_add_node(w->scene, id, bounds, &id);
+        if (st != TCLOD_OK) {
+            /* the levels added so far go with level 0, so that nothing changed */
+            if (k > 0)
+                (void)tclod_scene_remove_node(w->scene, ids[0]);
+            return st;
+        }
+        ids[k] = id;
+    }
+    for (k = 0; k < w->levels; ++k, triangles *= 4u) {
+        id = ids[k];
+        w->kind[id] = (uint8_t)WORLD_KIND_OBJECT;
+        w->level[id] = (uint8_t)k;
+        w->triangles[id] = triangles;
+        w->weight[id] = level_accuracy(k);
+        w->cost_ms[id] = (float)(model->ms_per_draw + model->ms_per_triangle * (double)triangles);
+        memcpy(w->bounds + 4u * (size_t)id, bounds, 4u * sizeof(float));
+    }
+    i = w->object_count++;
+    w->object_root[i] = ids[0];
+    memcpy(w->object_bounds + 4u * (size_t)i, bounds, 4u * sizeof(float));
+    memcpy(w->object_nodes + (size_t)w->levels * i, ids, w->levels * sizeof(tclod_id));
+    w->node_count = tclod_scene_node_count(w->scene);
+    if (parent == TCLOD_NONE)
+        w->root_count++;
+    if (out_object)
+        *out_object = i;
+    return TCLOD_OK;
+}
+
+tclod_status world_remove_object(world_scene *w, uint32_t i) {
+    uint32_t last;
+    size_t levels;
+    tclod_id root, parent;
+    tclod_status st;
+    if (!w || !w->scene || i >= w->object_count)
+        return TCLOD_ERR_ARG;
+    st = edit_reserve_objects(w, w->object_count);
+    if (st != TCLOD_OK)
+        return st;
+    levels = w->levels;
+    root = w->object_nodes[levels * i];
+    parent = tclod_scene_parent(w->scene, root);
+    st = tclod_scene_remove_node(w->scene, root);
+    if (st != TCLOD_OK)
+        return st;
+    if (parent == TCLOD_NONE)
+        w->root_count--;
+    last = --w->object_count;
+    if (i != last) {
+        w->object_root[i] = w->object_root[last];
+        memcpy(w->object_bounds + 4u * (size_t)i, w->object_bounds + 4u * (size_t)last,
+               4u * sizeof(float));
+        memcpy(w->object_nodes + levels * i, w->object_nodes + levels * last,
+               levels * sizeof(tclod_id));
+    }
+    return TCLOD_OK;
+}
+
+tclod_status world_move_object(world_scene *w, uint32_t i, const float bounds[4]) {
+    tclod_bounds b;
+    uint32_t k;
+    if (!w || !w->scene || i >= w->object_count || !edit_bounds_valid(bounds))
+        return TCLOD_ERR_ARG;
+    b = tclod_bounds_sphere((double)bounds[0], (double)bounds[1], (double)bounds[2],
+                            (double)bounds[3]);
+    for (k = 0; k < w->levels; ++k) {
+        tclod_id id = world_object_level(w, i, k);
+        /* valid bounds of a live node: only a solve under way can refuse, and it
+         * refuses the first level already */
+        tclod_status st = tclod_scene_set_node_bounds(w->scene, id, &b);
+        if (st != TCLOD_OK)
+            return st;
+        memcpy(w->bounds + 4u * (size_t)id, bounds, 4u * sizeof(float));
+    }
+    memcpy(w->object_bounds + 4u * (size_t)i, bounds, 4u * sizeof(float));
+    return TCLOD_OK;
 }
 
 /* ------------------------------------------------------------------------- */

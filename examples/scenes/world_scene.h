@@ -94,6 +94,12 @@ typedef struct world_scene {
     uint32_t terrain_count; /* terrain patches (flyover world) */
     float side;             /* the ground is [0, side] × [0, side] in x, z; m */
     world_path path;        /* a camera loop suited to this world */
+    /* Kept by the edit functions below (world_add_object ...); zero as built. */
+    uint32_t node_capacity;   /* entries of the per-node arrays; 0: node_count */
+    uint32_t object_capacity; /* entries of the per-object arrays; 0: object_count */
+    tclod_id *object_nodes;   /* levels per object: the node ids of its levels 0 .. L-1;
+                                 NULL until the first edit (as built, object i's level k
+                                 is object_root[i] + k) */
 } world_scene;
 
 /* The random world of the benchmark. */
@@ -136,6 +142,37 @@ void world_scene_free(world_scene *w);
 /* Terrain height at (x, z), m: a sum of a few sinusoids, smooth and
  * deterministic. The flyover world places its objects on it. */
 float world_terrain_height(float x, float z, float side, float height);
+
+/* Editing a world between frames (tclod_bench --scene churn). The scene gives ids
+ * again once they are free (tclod.h), so a new level's id may be an old one or a
+ * fresh one at the end; these functions grow the per-node arrays to the scene's
+ * tclod_scene_node_count and fill the new levels' entries, and keep the objects dense:
+ * object indices run over [0, object_count) and removing object i moves the last
+ * object to index i. After an edit a level's id is object_nodes[L·i + k] (object_root[i]
+ * + k only for the objects as built) and the entries of removed ids are stale (no
+ * selection names them). Group impostors are left as they are: their bounds and weights
+ * keep describing the objects they were built over. Every function returns TCLOD_OK,
+ * TCLOD_ERR_ARG (an object index out of range, bad bounds), TCLOD_ERR_HIERARCHY (add:
+ * parent not live), TCLOD_ERR_STATE (a selector over the scene has a solve begun) or
+ * TCLOD_ERR_NOMEM, and leaves world and scene in step on error (the arrays may have
+ * grown; nothing else changed). */
+
+/* Adds an object: a chain of w->levels levels under parent (a live group, or
+ * TCLOD_NONE: its own root), with the given bounds (x, y, z, radius) at every level,
+ * base_triangles at level 0 and four times more per level, weighted and costed as the
+ * builders do (cost from model). *out_object (may be NULL) receives its index. */
+tclod_status world_add_object(world_scene *w, tclod_id parent, const float bounds[4],
+                              uint32_t base_triangles, const world_cost_model *model,
+                              uint32_t *out_object);
+
+/* Removes object i: its level-0 node, which takes the other levels with it. */
+tclod_status world_remove_object(world_scene *w, uint32_t i);
+
+/* Moves object i: every level gets bounds (x, y, z, radius). */
+tclod_status world_move_object(world_scene *w, uint32_t i, const float bounds[4]);
+
+/* The node id of object i's level k (k < levels), as built or edited. */
+tclod_id world_object_level(const world_scene *w, uint32_t i, uint32_t k);
 
 /* The callbacks, with user = w (which must outlive the selectors using them).
  * benefit: screen_area × weight; screen_area 0 (outside the frustum) gives 0,
