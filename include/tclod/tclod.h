@@ -331,7 +331,8 @@ TCLOD_API tclod_status tclod_scene_remove_smooth(tclod_scene *s, tclod_id smooth
 
 /* Moves a node: new bounds (NULL or kind NONE: none). Errors: TCLOD_ERR_ARG (s
  * NULL, node not live, bounds rejected by tclod_bounds_validate),
- * TCLOD_ERR_STATE; nothing changes on error. */
+ * TCLOD_ERR_STATE, TCLOD_ERR_NOMEM (a box where there was none); nothing
+ * changes on error. */
 TCLOD_API tclod_status tclod_scene_set_node_bounds(tclod_scene *s, tclod_id node,
                                                    const tclod_bounds *bounds);
 
