@@ -320,82 +320,87 @@ static void unwrap(tclod_retired *r, uint32_t old_cap) {
     }
 }
 
-/* Room for `more` new node ids, all or nothing. */
-static tclod_status reserve_nodes(tclod_scene *s, uint32_t more) {
-    tclod_array arrays[TCLOD_MAX_ARRAYS];
-    size_t n;
-    uint32_t cap = s->node_cap, oldest;
-    tclod_status st;
-    /* the retired ids every user has solved since are free again */
-    oldest = s->retired.count ? oldest_synced(s) : 0u;
+/* Makes the retired ids every user has solved since free again. */
+static void release_nodes(tclod_scene *s) {
+    uint32_t oldest = s->retired.count ? oldest_synced(s) : 0u;
     while (s->retired.count > 0 && s->retired.epoch[s->retired.head] <= oldest) {
         free_id(s, s->retired.id[s->retired.head]);
         s->retired.head = s->retired.head + 1u == s->node_cap ? 0u : s->retired.head + 1u;
         s->retired.count--;
     }
-    if (s->free_count >= more)
-        return TCLOD_OK;
-    more -= s->free_count;
-    if (s->node_count > UINT32_MAX - 2u - more)
-        return TCLOD_ERR_NOMEM; /* ids exhausted */
-    if (s->node_count + more <= s->node_cap)
-        return TCLOD_OK;
-    while (cap < s->node_count + more)
-        cap = grown_capacity(cap);
-    n = node_arrays(s, arrays);
-    st = tclod_arrays_grow(&s->alloc, arrays, n, s->node_cap, cap);
-    if (st != TCLOD_OK)
-        return st;
-    unwrap(&s->retired, s->node_cap);
-    s->node_cap = cap;
-    return TCLOD_OK;
 }
 
-/* A new node id (room reserved): a free one near hint, else a fresh one. */
-static tclod_id take_node_id(tclod_scene *s, tclod_id hint) {
-    if (s->free_count > 0)
-        return take_free(s, hint);
-    return s->node_count++;
+/* What an add may need to grow: the per-node arrays, the boxes and the slab
+ * of children, each taken fresh (room_alloc) before any replaces what it grows
+ * (room_commit), so that running out of memory for one leaves the others as
+ * they were too. */
+typedef struct room {
+    tclod_array node[TCLOD_MAX_ARRAYS], box[TCLOD_MAX_ARRAYS];
+    void *node_fresh[TCLOD_MAX_ARRAYS], *box_fresh[TCLOD_MAX_ARRAYS];
+    size_t node_n, box_n;
+    uint32_t node_cap, box_cap, slab_cap; /* 0: no growth */
+    tclod_id *slab;
+} room;
+
+static void room_discard(tclod_scene *s, room *r) {
+    if (r->node_cap)
+        tclod_arrays_discard(&s->alloc, r->node, r->node_n, r->node_cap, r->node_fresh);
+    if (r->box_cap)
+        tclod_arrays_discard(&s->alloc, r->box, r->box_n, r->box_cap, r->box_fresh);
+    tclod_mem_free(&s->alloc, r->slab, sizeof(tclod_id) * r->slab_cap);
 }
 
-/* A box slot for b (NOMEM leaves nothing changed). */
-static tclod_status take_box(tclod_scene *s, const tclod_box *b, uint32_t *slot) {
-    if (s->box_free_count == 0 && s->box_count == s->box_cap) {
-        tclod_array arrays[TCLOD_MAX_ARRAYS];
-        uint32_t cap = grown_capacity(s->box_cap);
-        tclod_status st =
-            tclod_arrays_grow(&s->alloc, arrays, box_arrays(s, arrays), s->box_cap, cap);
-        if (st != TCLOD_OK)
-            return st;
-        s->box_cap = cap;
+/* Room for `ids` new node ids, a box when `box`, and `slab` more slots of
+ * children, all or nothing. */
+static tclod_status room_alloc(tclod_scene *s, room *r, uint32_t ids, int box, uint32_t slab) {
+    memset(r, 0, sizeof *r);
+    release_nodes(s);
+    if (s->free_count < ids) {
+        uint32_t fresh = ids - s->free_count, cap = s->node_cap;
+        if (s->node_count > UINT32_MAX - 2u - fresh)
+            return TCLOD_ERR_NOMEM; /* ids exhausted */
+        if (s->node_count + fresh > cap) {
+            while (cap < s->node_count + fresh)
+                cap = grown_capacity(cap);
+            r->node_n = node_arrays(s, r->node);
+            if (tclod_arrays_alloc(&s->alloc, r->node, r->node_n, cap, r->node_fresh) != TCLOD_OK)
+                return TCLOD_ERR_NOMEM;
+            r->node_cap = cap;
+        }
     }
-    *slot = s->box_free_count > 0 ? s->box_free[--s->box_free_count] : s->box_count++;
-    s->boxes[*slot] = *b;
+    if (box && s->box_free_count == 0 && s->box_count == s->box_cap) {
+        uint32_t cap = grown_capacity(s->box_cap);
+        r->box_n = box_arrays(s, r->box);
+        if (tclod_arrays_alloc(&s->alloc, r->box, r->box_n, cap, r->box_fresh) != TCLOD_OK) {
+            room_discard(s, r);
+            return TCLOD_ERR_NOMEM;
+        }
+        r->box_cap = cap;
+    }
+    if (s->children_used > UINT32_MAX - slab || s->children_used + slab > s->children_cap) {
+        /* the slab is made again, twice as large as what it holds */
+        uint32_t live = s->children_used - s->children_garbage, cap = 64u;
+        if (live > UINT32_MAX / 4u - slab) {
+            room_discard(s, r);
+            return TCLOD_ERR_NOMEM;
+        }
+        while (cap < 2u * (live + slab))
+            cap *= 2u;
+        r->slab = (tclod_id *)tclod_mem_alloc(&s->alloc, sizeof(tclod_id) * cap);
+        if (!r->slab) {
+            room_discard(s, r);
+            return TCLOD_ERR_NOMEM;
+        }
+        r->slab_cap = cap;
+    }
     return TCLOD_OK;
 }
 
-static void free_box(tclod_scene *s, uint32_t slot) {
-    if (slot != TCLOD_NONE)
-        s->box_free[s->box_free_count++] = slot;
-}
-
-/* ---- the child index --------------------------------------------------------------- */
-
-/* Room for `more` slots at the end of the slab of children, all or nothing.
- * When it is short, the slab is made again, its blocks packed in id order,
- * twice as large as what they hold: what moved blocks left behind goes. */
-static tclod_status slab_reserve(tclod_scene *s, uint32_t more) {
-    uint32_t live = s->children_used - s->children_garbage, cap = 64u, n, at = 0;
-    tclod_id *fresh;
-    if (s->children_used <= UINT32_MAX - more && s->children_used + more <= s->children_cap)
-        return TCLOD_OK;
-    if (live > UINT32_MAX / 4u - more)
-        return TCLOD_ERR_NOMEM;
-    while (cap < 2u * (live + more))
-        cap *= 2u;
-    fresh = (tclod_id *)tclod_mem_alloc(&s->alloc, sizeof(tclod_id) * cap);
-    if (!fresh)
-        return TCLOD_ERR_NOMEM;
+/* The slab of children made again in fresh (cap slots): its blocks packed in
+ * id order, each as large as what it holds; what moved blocks left behind
+ * goes. */
+static void slab_rebuild(tclod_scene *s, tclod_id *fresh, uint32_t cap) {
+    uint32_t n, at = 0;
     for (n = 0; n < s->node_count; ++n) {
         if (s->child_cap[n] == 0u)
             continue;
@@ -411,8 +416,43 @@ static tclod_status slab_reserve(tclod_scene *s, uint32_t more) {
     s->children_cap = cap;
     s->children_used = at;
     s->children_garbage = 0;
-    return TCLOD_OK;
 }
+
+static void room_commit(tclod_scene *s, room *r) {
+    if (r->node_cap) {
+        tclod_arrays_commit(&s->alloc, r->node, r->node_n, s->node_cap, r->node_cap, r->node_fresh);
+        unwrap(&s->retired, s->node_cap);
+        s->node_cap = r->node_cap;
+    }
+    if (r->box_cap) {
+        tclod_arrays_commit(&s->alloc, r->box, r->box_n, s->box_cap, r->box_cap, r->box_fresh);
+        s->box_cap = r->box_cap;
+    }
+    if (r->slab)
+        slab_rebuild(s, r->slab, r->slab_cap);
+}
+
+/* A new node id (room reserved): a free one near hint, else a fresh one. */
+static tclod_id take_node_id(tclod_scene *s, tclod_id hint) {
+    if (s->free_count > 0)
+        return take_free(s, hint);
+    return s->node_count++;
+}
+
+/* A box slot for b; there is room (room_alloc, or box_reserve). */
+static uint32_t take_box(tclod_scene *s, const tclod_box *b) {
+    uint32_t slot = s->box_free_count > 0 ? s->box_free[--s->box_free_count] : s->box_count++;
+    assert(slot < s->box_cap);
+    s->boxes[slot] = *b;
+    return slot;
+}
+
+static void free_box(tclod_scene *s, uint32_t slot) {
+    if (slot != TCLOD_NONE)
+        s->box_free[s->box_free_count++] = slot;
+}
+
+/* ---- the child index --------------------------------------------------------------- */
 
 /* The slab room that attaching a child to p may need: p's block moved to the
  * end at twice its size, and room for a self leaf. */
@@ -593,6 +633,7 @@ tclod_status tclod_scene_add_node_desc(tclod_scene *s, const tclod_node_desc *d,
     int additive;
     tclod_id id, self = TCLOD_NONE, ip;
     tclod_status st;
+    room r;
     if (!s || !d || !out_id || tclod_bounds_convert(&d->bounds, &nb, &box) != TCLOD_OK)
         return TCLOD_ERR_ARG;
     if ((unsigned)d->refine > (unsigned)TCLOD_REFINE_ADD || (d->empty != 0 && d->empty != 1))
@@ -607,13 +648,13 @@ tclod_status tclod_scene_add_node_desc(tclod_scene *s, const tclod_node_desc *d,
     ip = d->parent;
     if (ip != TCLOD_NONE && (s->flags[ip] & TCLOD_NODE_EMPTY))
         ip = s->parent[ip];
-    st = reserve_nodes(s, additive ? 2u : 1u);
-    if (st == TCLOD_OK && !d->empty)
-        st = slab_reserve(s, attach_room(s, ip));
-    if (st == TCLOD_OK && nb.kind > TCLOD_BOUNDS_SPHERE)
-        st = take_box(s, &box, &slot);
+    st = room_alloc(s, &r, additive ? 2u : 1u, nb.kind > TCLOD_BOUNDS_SPHERE,
+                    d->empty ? 0u : attach_room(s, ip));
     if (st != TCLOD_OK)
         return st;
+    room_commit(s, &r);
+    if (nb.kind > TCLOD_BOUNDS_SPHERE)
+        slot = take_box(s, &box);
     nb.box = slot;
     id = take_node_id(s, d->parent);
     link_child(s, id, d->parent);
@@ -728,9 +769,12 @@ tclod_status tclod_scene_set_node_bounds(tclod_scene *s, tclod_id node,
     slot = s->bounds[node].box;
     if (nb.kind > TCLOD_BOUNDS_SPHERE) {
         if (slot == TCLOD_NONE) {
-            tclod_status st = take_box(s, &box, &slot);
+            room r;
+            tclod_status st = room_alloc(s, &r, 0u, 1, 0u);
             if (st != TCLOD_OK)
                 return st;
+            room_commit(s, &r);
+            slot = take_box(s, &box);
         } else {
             s->boxes[slot] = box;
         }

@@ -9,7 +9,8 @@
  * TCLOD_ERR_NOMEM with nothing leaked and nothing changed").
  *
  * The allocating entry points: tclod_scene_create, tclod_scene_add_node,
- * tclod_scene_add_smooth, tclod_scene_prepare, tclod_scene_smooth_order,
+ * tclod_scene_add_node_desc, tclod_scene_add_smooth, tclod_scene_set_node_bounds
+ * (a box where there was none), tclod_scene_prepare, tclod_scene_smooth_order,
  * tclod_selector_create, tclod_select and tclod_select_begin (each solver),
  * tclod_scheduler_create, tclod_scheduler_update (each solver) and
  * tclod_calib_create.
@@ -324,6 +325,137 @@ static void add_under_failure(failure_mode mode) {
     frame.max_iterations = 0;
     assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_OK);
     assert_true(st.cost <= frame.budget);
+    tclod_selector_destroy(sel);
+    tclod_scene_destroy(s);
+    assert_nothing_left(&t);
+    table_free(&m);
+}
+
+/* A box for the k-th node: axis-aligned or turned 30 degrees about y. */
+static tclod_bounds some_box(uint32_t k) {
+    const double c[3] = {(double)k, 0.0, -10.0}, half[3] = {1.0, 2.0, 0.5};
+    const double a = 0.5235987755982988, co = cos(a), si = sin(a);
+    const double axes[9] = {co, 0.0, -si, 0.0, 2.0, 0.0, 0.5 * si, 0.0, 0.5 * co};
+    return (k % 2u) ? tclod_bounds_aabb(c, half) : tclod_bounds_obb(c, axes);
+}
+
+static void edits_under_failure(failure_mode mode) {
+    /* 600 nodes with boxes, a third of them additive (a second id each),
+     * added with their k-th allocation failing until they succeed; then every
+     * tenth node moved from its box to a sphere and back to a box, and
+     * hierarchies removed and added again until the slab of children is made
+     * again, each call retried the same way. A failed call returns
+     * TCLOD_ERR_NOMEM and changes nothing: the counts, the memory, the bounds
+     * read back. The scene then selects within its budget, every node drawn
+     * live. */
+    test_alloc t;
+    tclod_allocator hooks;
+    tclod_scene *s = NULL;
+    tclod_selector *sel = NULL;
+    tclod_selector_desc d;
+    table_model m;
+    table_rng rng;
+    tclod_frame frame;
+    tclod_stats st;
+    size_t failures = 0, n, k;
+    const tclod_id *ids;
+    uint32_t i, round;
+    test_alloc_init(&t);
+    hooks = test_alloc_hooks(&t);
+    table_init(&m);
+    table_rng_seed(&rng, 83);
+    assert_int_equal(tclod_scene_create(&hooks, &s), TCLOD_OK);
+    for (i = 0; i < 600; ++i) {
+        tclod_node_desc nd;
+        tclod_node_desc_default(&nd);
+        nd.parent = i < 6 || m.count == 0 ? TCLOD_NONE : table_rng_below(&rng, m.count);
+        while (nd.parent != TCLOD_NONE && m.kind[nd.parent] == TABLE_NONE)
+            nd.parent = nd.parent == 0u ? TCLOD_NONE : nd.parent - 1u;
+        nd.bounds = some_box(i);
+        nd.refine = i % 3u == 0u ? TCLOD_REFINE_ADD : TCLOD_REFINE_REPLACE;
+        for (k = 1; k <= MAX_ALLOCATIONS_PER_CALL; ++k) {
+            size_t bytes = t.outstanding_bytes;
+            uint32_t count = tclod_scene_node_count(s);
+            tclod_id id = 777777;
+            tclod_status status;
+            arm(&t, mode, k);
+            status = table_add_node_desc(&m, s, &nd, 1.0, 1.0, &id);
+            if (status == TCLOD_OK)
+                break;
+            assert_int_equal(status, TCLOD_ERR_NOMEM);
+            assert_int_equal(id, 777777);
+            assert_int_equal(tclod_scene_node_count(s), count);
+            assert_int_equal(t.outstanding_bytes, bytes);
+            failures++;
+        }
+        assert_true(k <= MAX_ALLOCATIONS_PER_CALL);
+    }
+    assert_true(failures > 0);
+    for (i = 0; i < m.count; i += 10) {
+        tclod_bounds sphere = tclod_bounds_sphere((double)i, 1.0, 2.0, 3.0), box = some_box(i + 1u);
+        tclod_bounds before, after;
+        if (m.kind[i] == TABLE_NONE)
+            continue;
+        test_alloc_fail_from(&t, 0);
+        assert_int_equal(tclod_scene_set_node_bounds(s, i, &sphere), TCLOD_OK);
+        for (k = 1; k <= MAX_ALLOCATIONS_PER_CALL; ++k) {
+            size_t bytes = t.outstanding_bytes;
+            tclod_status status;
+            assert_int_equal(tclod_scene_node_bounds(s, i, &before), TCLOD_OK);
+            arm(&t, mode, k);
+            status = tclod_scene_set_node_bounds(s, i, &box);
+            if (status == TCLOD_OK)
+                break;
+            assert_int_equal(status, TCLOD_ERR_NOMEM);
+            assert_int_equal(tclod_scene_node_bounds(s, i, &after), TCLOD_OK);
+            assert_memory_equal(&before, &after, sizeof before);
+            assert_int_equal(t.outstanding_bytes, bytes);
+        }
+        assert_true(k <= MAX_ALLOCATIONS_PER_CALL);
+    }
+    /* remove hierarchies and add nodes again: the slab fills with moved
+     * blocks and is made again */
+    for (round = 0; round < 40; ++round) {
+        tclod_node_desc nd;
+        test_alloc_fail_from(&t, 0);
+        for (i = 0; i < m.count; ++i)
+            if (m.kind[i] != TABLE_NONE && m.parent[i] != TCLOD_NONE &&
+                table_rng_below(&rng, 8) == 0)
+                assert_int_equal(table_remove_node(&m, s, i), TCLOD_OK);
+        for (i = 0; i < 40; ++i) {
+            uint32_t pick = table_rng_below(&rng, m.count);
+            tclod_node_desc_default(&nd);
+            while (m.kind[pick] == TABLE_NONE)
+                pick = (pick + 1u) % m.count;
+            nd.parent = pick;
+            nd.refine = i % 4u == 0u ? TCLOD_REFINE_ADD : TCLOD_REFINE_REPLACE;
+            for (k = 1; k <= MAX_ALLOCATIONS_PER_CALL; ++k) {
+                size_t bytes = t.outstanding_bytes;
+                uint32_t count = tclod_scene_node_count(s);
+                tclod_status status;
+                arm(&t, mode, k);
+                status = table_add_node_desc(&m, s, &nd, 1.0, 1.0, NULL);
+                if (status == TCLOD_OK)
+                    break;
+                assert_int_equal(status, TCLOD_ERR_NOMEM);
+                assert_int_equal(tclod_scene_node_count(s), count);
+                assert_int_equal(t.outstanding_bytes, bytes);
+            }
+            assert_true(k <= MAX_ALLOCATIONS_PER_CALL);
+        }
+    }
+    test_alloc_fail_from(&t, 0);
+    selector_desc(&d, TCLOD_SOLVER_GREEDY, &m);
+    assert_int_equal(tclod_selector_create(s, &d, NULL, &sel), TCLOD_OK);
+    frame.view = NULL;
+    frame.budget = 0.5 * total_cost(&m);
+    frame.solve_seconds = 0.0;
+    frame.max_iterations = 0;
+    assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_OK);
+    assert_true(st.cost <= frame.budget);
+    assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+    for (k = 0; k < n; ++k)
+        assert_true(tclod_scene_node_live(s, ids[k]));
     tclod_selector_destroy(sel);
     tclod_scene_destroy(s);
     assert_nothing_left(&t);
@@ -974,6 +1106,7 @@ static void calib_create_reports_nomem_transient_and_persistent(void **state) {
 static mode_test scene_create = {scene_create_under_failure};
 static mode_test add = {add_under_failure};
 static mode_test prepare = {prepare_under_failure};
+static mode_test edits = {edits_under_failure};
 
 /* A cmocka test named `name` that runs mode_test m in both modes. */
 #define MODE_TEST(name, m) \
@@ -984,6 +1117,7 @@ int main(void) {
         MODE_TEST("scene_create_reports_nomem_and_holds_nothing", &scene_create),
         MODE_TEST("adding_nodes_and_smooth_objects_under_failure_adds_nothing", &add),
         MODE_TEST("prepare_and_smooth_order_under_failure_change_nothing", &prepare),
+        MODE_TEST("boxes_additive_nodes_and_edits_under_failure_change_nothing", &edits),
         cmocka_unit_test(selector_create_reports_nomem_for_every_solver),
         cmocka_unit_test(selects_that_run_out_of_memory_change_nothing_for_every_solver),
         cmocka_unit_test(selects_sharing_the_scene_allocator_leak_nothing_for_every_solver),
