@@ -157,16 +157,10 @@ typedef struct world_builder {
     world_cost_model cost;
 } world_builder;
 
-static tclod_status builder_reserve(world_builder *b, uint32_t need) {
-    world_scene *w = b->w;
-    uint32_t cap;
+/* The world's per-node arrays with room for cap nodes; each array is replaced
+ * as soon as it has grown, so a failure leaks nothing. */
+static tclod_status grow_node_arrays(world_scene *w, uint32_t cap) {
     void *p;
-    if (need <= b->capacity)
-        return TCLOD_OK;
-    cap = b->capacity ? b->capacity : 1024u;
-    while (cap < need)
-        cap = cap > UINT32_MAX / 2u ? UINT32_MAX : cap * 2u;
-    /* each array is replaced as soon as it has grown, so a failure leaks nothing */
     if (!(p = grow(w->kind, cap, sizeof(*w->kind))))
         return TCLOD_ERR_NOMEM;
     w->kind = (uint8_t *)p;
@@ -185,6 +179,20 @@ static tclod_status builder_reserve(world_builder *b, uint32_t need) {
     if (!(p = grow(w->bounds, cap, 4u * sizeof(*w->bounds))))
         return TCLOD_ERR_NOMEM;
     w->bounds = (float *)p;
+    return TCLOD_OK;
+}
+
+static tclod_status builder_reserve(world_builder *b, uint32_t need) {
+    world_scene *w = b->w;
+    uint32_t cap;
+    void *p;
+    if (need <= b->capacity)
+        return TCLOD_OK;
+    cap = b->capacity ? b->capacity : 1024u;
+    while (cap < need)
+        cap = cap > UINT32_MAX / 2u ? UINT32_MAX : cap * 2u;
+    if (grow_node_arrays(w, cap) != TCLOD_OK)
+        return TCLOD_ERR_NOMEM;
     if (!(p = grow(b->parent, cap, sizeof(*b->parent))))
         return TCLOD_ERR_NOMEM;
     b->parent = (tclod_id *)p;
@@ -727,32 +735,14 @@ tclod_status world_build_flyover(const world_flyover_desc *d, world_scene *out) 
  * node_count entries (its builder's capacity is not kept), hence that default. */
 static tclod_status edit_reserve_nodes(world_scene *w, uint32_t need) {
     uint32_t cap = w->node_capacity > w->node_count ? w->node_capacity : w->node_count;
-    void *p;
     if (need <= cap)
         return TCLOD_OK;
     if (cap < 1024u)
         cap = 1024u;
     while (cap < need)
         cap = cap > UINT32_MAX / 2u ? UINT32_MAX : cap * 2u;
-    /* each array is replaced as soon as it has grown, so a failure leaks nothing */
-    if (!(p = grow(w->kind, cap, sizeof(*w->kind))))
+    if (grow_node_arrays(w, cap) != TCLOD_OK)
         return TCLOD_ERR_NOMEM;
-    w->kind = (uint8_t *)p;
-    if (!(p = grow(w->level, cap, sizeof(*w->level))))
-        return TCLOD_ERR_NOMEM;
-    w->level = (uint8_t *)p;
-    if (!(p = grow(w->triangles, cap, sizeof(*w->triangles))))
-        return TCLOD_ERR_NOMEM;
-    w->triangles = (uint32_t *)p;
-    if (!(p = grow(w->weight, cap, sizeof(*w->weight))))
-        return TCLOD_ERR_NOMEM;
-    w->weight = (float *)p;
-    if (!(p = grow(w->cost_ms, cap, sizeof(*w->cost_ms))))
-        return TCLOD_ERR_NOMEM;
-    w->cost_ms = (float *)p;
-    if (!(p = grow(w->bounds, cap, 4u * sizeof(*w->bounds))))
-        return TCLOD_ERR_NOMEM;
-    w->bounds = (float *)p;
     w->node_capacity = cap;
     return TCLOD_OK;
 }
