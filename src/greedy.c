@@ -167,7 +167,8 @@ static int feasible(const tclod_selector *sel) {
 static const tclod_id *children_of(const tclod_selector *sel, tclod_id n, uint32_t *count) {
     const tclod_scene *s = sel->scene;
     *count = s->child_count[n];
-    return s->children + s->child_first[n];
+    /* no slab at all while no node has had a child */
+    return *count ? s->children + s->child_first[n] : NULL;
 }
 
 /* ---- increments and decrements ------------------------------------------------ */
@@ -863,6 +864,8 @@ static int start_cold(tclod_selector *sel) {
     }
     if (!feasible(sel))
         drop_roots(sel);
+    if (sel->stats.over_budget)
+        return 0; /* the roots over the budget, and nothing more */
     for (i = 0; i < sel->cut_count; ++i)
         if (queue_increment(sel, sel->cut[i], 1) != 0)
             return -1;
@@ -984,10 +987,12 @@ static int below_cut(const tclod_selector *sel, tclod_id x) {
 
 /* repair_cut from the scene's edit log, entries `from` on: the edits since
  * the previous cut was made, in time proportional to them (times the depth
- * of the nodes they touched). Nodes that left the index leave the cut; a node
- * that lost its last child and is not below the cut joins it, as does an
- * added node not below the cut (its parent was refined), in the order they
- * were added (a parent before its children). */
+ * of the nodes they touched). Nodes that left the index leave the cut; an
+ * added node not below the cut joins it (its parent was refined), in the order
+ * they were added, so that a new parent goes in before its new children, which
+ * are then below it; then a node that lost its last child and is not below the
+ * cut joins it. Added nodes come first: a node that lost its last child may
+ * itself be new, below a new node that joined. */
 static void repair_from_log(tclod_selector *sel, uint32_t from) {
     const tclod_scene *s = sel->scene;
     const tclod_edit *log = s->log;
@@ -1006,23 +1011,67 @@ static void repair_from_log(tclod_selector *sel, uint32_t from) {
         sel->flags[n] = 0;
     }
     for (i = from; i < end; ++i) {
-        tclod_id p = log[i].node;
-        if (log[i].kind == TCLOD_EDIT_LOST && tclod_scene_indexed(s, p) &&
-            s->child_count[p] == 0u && node[p].cut_pos == TCLOD_NONE && !below_cut(sel, p))
-            cut_append(sel, p);
-    }
-    for (i = from; i < end; ++i) {
         tclod_id x = log[i].node;
         if (log[i].kind == TCLOD_EDIT_ADDED && tclod_scene_indexed(s, x) &&
             node[x].cut_pos == TCLOD_NONE && !below_cut(sel, x))
             cut_append(sel, x);
     }
+    for (i = from; i < end; ++i) {
+        tclod_id p = log[i].node;
+        if (log[i].kind == TCLOD_EDIT_LOST && tclod_scene_indexed(s, p) &&
+            s->child_count[p] == 0u && node[p].cut_pos == TCLOD_NONE && !below_cut(sel, p))
+            cut_append(sel, p);
+    }
+}
+
+/* The `count` additive nodes in scratch[] were refined and are invisible now
+ * (a benefit of 0 culls a node with its whole subtree): their subtrees leave
+ * the cut and they take their place, as a cold solve would leave them. The
+ * sums are counted again. */
+static void cull_additive(tclod_selector *sel, uint32_t count) {
+    const tclod_scene *s = sel->scene;
+    uint32_t i, k = 0;
+    for (i = 0; i < count; ++i)
+        sel->flags[sel->scratch[i]] |= TCLOD_FLAG_ABOVE;
+    for (i = 0; i < sel->cut_count; ++i) {
+        tclod_id n = sel->cut[i], p;
+        for (p = s->parent[n]; p != TCLOD_NONE && !(sel->flags[p] & TCLOD_FLAG_ABOVE);
+             p = s->parent[p])
+            ;
+        if (p != TCLOD_NONE) { /* below a culled one */
+            sel->node[n].cut_pos = TCLOD_NONE;
+            sel->flags[n] = 0;
+            continue;
+        }
+        sel->cut[k] = n;
+        sel->node[n].cut_pos = k++;
+    }
+    sel->cut_count = k;
+    /* one inside another culled one stays out (scratch[count + i]: whether
+     * the i-th is outermost; each has a self leaf of its own, so 2 count ids
+     * fit) */
+    for (i = 0; i < count; ++i) {
+        tclod_id p;
+        for (p = s->parent[sel->scratch[i]]; p != TCLOD_NONE && !(sel->flags[p] & TCLOD_FLAG_ABOVE);
+             p = s->parent[p])
+            ;
+        sel->scratch[count + i] = p == TCLOD_NONE;
+    }
+    for (i = 0; i < count; ++i)
+        sel->flags[sel->scratch[i]] &= (uint8_t)~TCLOD_FLAG_ABOVE;
+    for (i = 0; i < count; ++i)
+        if (sel->scratch[count + i])
+            cut_append(sel, sel->scratch[i]); /* evaluated: its self leaf asked for it */
+    sel->cost_sum = sel->benefit_sum = 0.0;
+    sel->unaffordable = 0;
+    for (i = 0; i < sel->cut_count; ++i)
+        account(sel, sel->cut[i], 1.0);
 }
 
 /* Cut = the previous cut, re-evaluated; queues its increments and decrements. */
 static int start_warm(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
-    uint32_t i;
+    uint32_t i, culled = 0;
     if (s->node_count >= SORT_FROM_NODES)
         sort_cut(sel);
     sel->cost_sum = sel->benefit_sum = 0.0;
@@ -1033,7 +1082,12 @@ static int start_warm(tclod_selector *sel) {
         if (evaluate(sel, n) != 0)
             return -1;
         account(sel, n, 1.0);
+        /* an additive node that stays drawn, invisible now */
+        if ((s->bounds[n].kind & TCLOD_BOUNDS_SELF) && !(sel->node[n].benefit > 0.0))
+            sel->scratch[culled++] = s->up[n];
     }
+    if (culled)
+        cull_additive(sel, culled);
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id n = sel->cut[i];
         tclod_id p = s->parent[n];
@@ -1086,6 +1140,8 @@ static int restore_budget(tclod_selector *sel) {
     while (!feasible(sel)) {
         if (sel->dec.count == 0) {
             drop_roots(sel);
+            if (sel->stats.over_budget)
+                clear_heaps(sel); /* the roots over the budget, and nothing more */
             break;
         }
         sel->stats.iterations++;
@@ -1369,8 +1425,6 @@ static int start_decided(tclod_selector *sel) {
  * none is left, by leaving out roots one at a time. */
 static int enforce_budget(tclod_selector *sel, int dec_built) {
     const tclod_scene *s = sel->scene;
-    if (sel->stats.over_budget)
-        return 0; /* the roots alone exceed the budget, and overflow draws them */
     for (;;) {
         double sum = 0.0;
         uint32_t i;
@@ -1382,8 +1436,11 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
         /* an unaffordable node makes the sum infinite: never within budget */
         if (!isinf(sum) && sum <= cut_budget(sel)) {
             sel->cost_sum = sum;
+            sel->stats.over_budget = 0; /* the roots' running sum had rounded up */
             return 0;
         }
+        if (sel->stats.over_budget)
+            return 0; /* the roots alone exceed the budget, and overflow draws them */
         if (!dec_built) {
             tclod_heap_clear(&sel->dec);
             for (i = 0; i < sel->cut_count; ++i) {

@@ -558,9 +558,8 @@ static void build_order(tclod_scene *s) {
         s->order[tail++] = s->roots[i];
     for (head = 0; head < tail; ++head) {
         tclod_id p = s->order[head];
-        const tclod_id *c = s->children + s->child_first[p];
         for (i = 0; i < s->child_count[p]; ++i)
-            s->order[tail++] = c[i];
+            s->order[tail++] = s->children[s->child_first[p] + i];
     }
     s->order_count = tail;
     s->order_version = s->node_version + 1u;
@@ -824,8 +823,12 @@ tclod_status tclod_scene_node_bounds(const tclod_scene *s, tclod_id node, tclod_
 
 /* ---- smooth objects -------------------------------------------------------------------- */
 
+/* A smooth object's sphere: finite, radius >= 0, and every number at most
+ * TCLOD_SMOOTH_LIMIT in magnitude, so that the spheres around groups of them
+ * stay finite in float. */
 static int sphere_valid(const float b[4]) {
-    return isfinite(b[0]) && isfinite(b[1]) && isfinite(b[2]) && isfinite(b[3]) && b[3] >= 0.0f;
+    return fabsf(b[0]) <= TCLOD_SMOOTH_LIMIT && fabsf(b[1]) <= TCLOD_SMOOTH_LIMIT &&
+           fabsf(b[2]) <= TCLOD_SMOOTH_LIMIT && b[3] >= 0.0f && b[3] <= TCLOD_SMOOTH_LIMIT;
 }
 
 static int smooth_live(const tclod_scene *s, tclod_id n) {

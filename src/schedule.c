@@ -1640,7 +1640,11 @@ tclod_status tclod_scheduler_report_frame(tclod_scheduler *sch, double render_ti
         return TCLOD_ERR_ARG;
     if (!sch->shown.started)
         return TCLOD_ERR_STATE;
-    return tclod_calib_report(sch->calib, sch->shown.stats.draw_cost, render_time, logic_time);
+    /* a draw list whose predicted cost overflowed (its roots over the budget)
+     * tells nothing about the ratio: only the logic time is followed */
+    return tclod_calib_report(sch->calib,
+                              isinf(sch->shown.stats.draw_cost) ? 0.0 : sch->shown.stats.draw_cost,
+                              render_time, logic_time);
 }
 
 tclod_status tclod_scheduler_report(tclod_scheduler *sch, double render_time) {

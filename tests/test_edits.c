@@ -565,6 +565,31 @@ static void a_warm_start_behind_a_full_edit_log_looks_at_its_selection(void **st
     tclod_selector_destroy(behind);
 }
 
+/* A hierarchy built and cut back between two frames: after a select over an
+ * empty scene, R (b 1, c 1), its child C (2, 1) and C's child G (3, 1) are
+ * added and G removed. R's increment into C gains 1 for nothing, C has no
+ * child left: budget 10 draws {C}, benefit 2, cost 1, C once, for every
+ * solver, warm as cold. */
+static void a_warm_start_after_a_subtree_came_and_went_takes_each_node_once(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    int k;
+    for (k = 0; k < 3; ++k) {
+        tclod_selector *sel = solver_selector(f->scene, &f->model, solvers[k]);
+        tclod_id r, c, g;
+        tclod_stats st = select_at(sel, 10.0);
+        assert_true(st.cost == 0.0);
+        r = helper_add(f, TCLOD_NONE, 1.0, 1.0);
+        c = helper_add(f, r, 2.0, 1.0);
+        g = helper_add(f, c, 3.0, 1.0);
+        assert_int_equal(table_remove_node(&f->model, f->scene, g), TCLOD_OK);
+        st = select_at(sel, 10.0);
+        helper_assert_cut(sel, &c, 1);
+        assert_true(st.benefit == 2.0 && st.cost == 1.0);
+        tclod_selector_destroy(sel);
+        assert_int_equal(table_remove_node(&f->model, f->scene, r), TCLOD_OK);
+    }
+}
+
 /* Random hierarchies of replace, additive and empty nodes edited at random
  * between frames (nodes added anywhere, subtrees removed, nodes moved): every
  * solver's warm selection stays a valid selection of the edited scene within
@@ -642,6 +667,7 @@ int main(void) {
         FIXTURE_TEST(a_warm_start_takes_added_children_of_a_refined_node_and_drops_removed_ones),
         FIXTURE_TEST(warm_starts_survive_edits_with_work_in_proportion),
         FIXTURE_TEST(a_warm_start_behind_a_full_edit_log_looks_at_its_selection),
+        FIXTURE_TEST(a_warm_start_after_a_subtree_came_and_went_takes_each_node_once),
         FIXTURE_TEST(random_edits_keep_every_selection_valid),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

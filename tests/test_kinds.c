@@ -272,6 +272,57 @@ static void an_unaffordable_root_is_left_out_even_over_the_budget(void **state) 
     tclod_selector_destroy(sel);
 }
 
+/* Drawn over the budget, the roots are all that is drawn: R (b 0.75, c 1)
+ * with a child C (1, 0), budget 0. Refining R into C would cost nothing, but
+ * the policy draws the coarsest level and stops, so the result is {R}, cost
+ * 1 > 0, flagged; and over_budget is 1 exactly when the cost exceeds the
+ * budget. */
+static void drawn_over_the_budget_the_roots_are_all_that_is_drawn(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id r = add_kind(f, TCLOD_NONE, TABLE_REPLACE, 0.75, 1.0);
+    const tclod_id drawn[] = {r};
+    int k;
+    add_kind(f, r, TABLE_REPLACE, 1.0, 0.0);
+    for (k = 0; k < 3; ++k) {
+        tclod_selector *sel =
+            solver_selector(f->scene, &f->model, solvers[k], TCLOD_OVERFLOW_DRAW_ROOTS);
+        tclod_stats st = select_checked(sel, &f->model, 0.0, 0);
+        helper_assert_cut(sel, drawn, 1);
+        assert_int_equal(st.over_budget, 1);
+        assert_int_equal(st.stop_reason, TCLOD_STOP_OVER_BUDGET);
+        assert_true(st.cost == 1.0 && st.benefit == 0.75);
+        /* a warm start over the same budget does no more */
+        st = select_checked(sel, &f->model, 0.0, 0);
+        helper_assert_cut(sel, drawn, 1);
+        assert_int_equal(st.over_budget, 1);
+        tclod_selector_destroy(sel);
+    }
+}
+
+/* An additive root R (b 1, c 1) with a child C (2, 1), budget 10: {R, C}.
+ * Then R's benefit falls to 0: R is culled with its whole subtree, so the
+ * next select, warm or cold, draws nothing, cost 0. */
+static void an_invisible_additive_node_takes_its_subtree_with_it(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id r = add_kind(f, TCLOD_NONE, TABLE_ADD, 1.0, 1.0);
+    tclod_id c = add_kind(f, r, TABLE_REPLACE, 2.0, 1.0);
+    const tclod_id both[] = {r, c};
+    int k;
+    for (k = 0; k < 3; ++k) {
+        tclod_selector *sel = solver_selector(f->scene, &f->model, solvers[k], 0);
+        tclod_stats st;
+        f->model.benefit[r] = 1.0;
+        st = select_checked(sel, &f->model, 10.0, 0);
+        helper_assert_cut(sel, both, 2);
+        assert_true(st.cost == 2.0 && st.benefit == 3.0);
+        f->model.benefit[r] = 0.0;
+        st = select_checked(sel, &f->model, 10.0, 0);
+        helper_assert_cut(sel, NULL, 0);
+        assert_true(st.cost == 0.0 && st.benefit == 0.0);
+        tclod_selector_destroy(sel);
+    }
+}
+
 static void an_overflow_policy_out_of_range_is_refused(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
     tclod_selector_desc d;
@@ -494,6 +545,8 @@ int main(void) {
         FIXTURE_TEST(an_empty_node_inside_a_hierarchy_is_passed_over),
         FIXTURE_TEST(roots_over_the_budget_are_dropped_or_drawn_as_asked),
         FIXTURE_TEST(an_unaffordable_root_is_left_out_even_over_the_budget),
+        FIXTURE_TEST(drawn_over_the_budget_the_roots_are_all_that_is_drawn),
+        FIXTURE_TEST(an_invisible_additive_node_takes_its_subtree_with_it),
         FIXTURE_TEST(an_overflow_policy_out_of_range_is_refused),
         cmocka_unit_test(solvers_draw_valid_selections_on_random_mixed_hierarchies),
         cmocka_unit_test(empty_nodes_change_no_selection),

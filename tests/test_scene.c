@@ -175,8 +175,16 @@ static void add_smooth_requires_valid_bounds(void **state) {
     const float inf_bounds[4] = {INFINITY, 0.0f, 0.0f, 1.0f};
     const float negative[4] = {0.0f, 0.0f, 0.0f, -0.5f};
     const float good[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    /* beyond TCLOD_SMOOTH_LIMIT, where a sphere around two of them would not
+     * be finite in float */
+    const float huge_radius[4] = {0.0f, 0.0f, 0.0f, FLT_MAX};
+    const float far_away[4] = {0.0f, 0.0f, -2e30f, 1.0f};
+    const float at_limit[4] = {TCLOD_SMOOTH_LIMIT, 0.0f, -TCLOD_SMOOTH_LIMIT, TCLOD_SMOOTH_LIMIT};
     tclod_id id = 777;
     (void)state;
+    assert_int_equal(tclod_scene_add_smooth(s, huge_radius, &id), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scene_add_smooth(s, far_away, &id), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scene_set_smooth_bounds(s, 0, good), TCLOD_ERR_ARG);
     assert_int_equal(tclod_scene_add_smooth(s, NULL, &id), TCLOD_ERR_ARG);
     assert_int_equal(tclod_scene_add_smooth(s, nan_bounds, &id), TCLOD_ERR_ARG);
     assert_int_equal(tclod_scene_add_smooth(s, inf_bounds, &id), TCLOD_ERR_ARG);
@@ -186,6 +194,9 @@ static void add_smooth_requires_valid_bounds(void **state) {
     assert_int_equal(id, 777);
     assert_int_equal(tclod_scene_smooth_count(s), 0);
     assert_int_equal(tclod_scene_node_count(s), 0);
+    assert_int_equal(tclod_scene_add_smooth(s, at_limit, &id), TCLOD_OK);
+    assert_int_equal(tclod_scene_set_smooth_bounds(s, id, huge_radius), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scene_smooth_count(s), 1);
     tclod_scene_destroy(s);
 }
 

@@ -1681,9 +1681,55 @@ static void render_and_logic_times_go_to_the_schedulers_calibration(void **state
     tclod_scene_destroy(s);
 }
 
+/* Two roots of cost DBL_MAX each, drawn over a budget of 0 under
+ * TCLOD_OVERFLOW_DRAW_ROOTS: the draw list's predicted cost overflows to
+ * +inf, which says nothing of the render time's ratio to it. Reports of valid
+ * times are still taken; the calibration's scale stays at its guess of 1 and
+ * only the logic time is followed (10 ms, the first measurement). */
+static void roots_drawn_past_the_largest_cost_leave_reports_valid(void **state) {
+    wish_host h;
+    tclod_scene *s = NULL;
+    tclod_scheduler *sch = NULL;
+    tclod_selector_desc sd;
+    tclod_scheduler_desc d;
+    tclod_scheduler_stats st;
+    tclod_view v;
+    tclod_id a, b;
+    const tclod_calib *c;
+    const tclod_draw *items = NULL;
+    size_t n = 0;
+    (void)state;
+    memset(&h, 0, sizeof h);
+    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+    assert_int_equal(tclod_scene_add_node(s, TCLOD_NONE, NULL, &a), TCLOD_OK);
+    assert_int_equal(tclod_scene_add_node(s, TCLOD_NONE, NULL, &b), TCLOD_OK);
+    h.cost[a] = h.cost[b] = DBL_MAX;
+    tclod_selector_desc_default(&sd);
+    sd.callbacks.benefit = wish_benefit;
+    sd.callbacks.cost = wish_cost;
+    sd.callbacks.user = &h;
+    sd.overflow = TCLOD_OVERFLOW_DRAW_ROOTS;
+    tclod_scheduler_desc_default(&d);
+    assert_int_equal(tclod_scheduler_create(s, &sd, &d, NULL, &sch), TCLOD_OK);
+    c = tclod_scheduler_calib(sch);
+    helper_view(&v);
+    assert_int_equal(tclod_scheduler_update(sch, 0.0, &v, 0.0, 0.0), TCLOD_OK);
+    assert_int_equal(tclod_scheduler_get_stats(sch, &st), TCLOD_OK);
+    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 2);
+    assert_true(isinf(st.draw_cost));
+    assert_int_equal(tclod_scheduler_report_frame(sch, 2.0, 10.0), TCLOD_OK);
+    assert_int_equal(tclod_scheduler_report(sch, 2.0), TCLOD_OK);
+    assert_float_equal(tclod_calib_scale(c), 1.0, 0.0);
+    assert_float_equal(tclod_calib_logic(c), 10.0, 1e-12);
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(conservative_camera_widens_and_steps_back_as_seed_004_says),
+        cmocka_unit_test(roots_drawn_past_the_largest_cost_leave_reports_valid),
         cmocka_unit_test(prediction_is_exact_on_a_straight_path),
         cmocka_unit_test(prediction_keeps_to_the_speed_and_turn_bounds),
         cmocka_unit_test(a_selection_is_asked_for_its_target_interval_and_the_conservative_camera),

@@ -314,9 +314,14 @@ TCLOD_API tclod_status tclod_scene_add_node_desc(tclod_scene *s, const tclod_nod
 TCLOD_API tclod_status tclod_scene_add_node(tclod_scene *s, tclod_id parent, const float bounds[4],
                                             tclod_id *out_id);
 
+/* The largest magnitude of a smooth object's coordinates and radius. */
+#define TCLOD_SMOOTH_LIMIT 1e30f
+
 /* Adds a smooth object (continuous resolution r in [0, 1]). bounds: x, y, z,
- * radius, required (its ground position x, z places it in the quadtree).
- * Errors as tclod_scene_add_node, without TCLOD_ERR_HIERARCHY. */
+ * radius, required (its ground position x, z places it in the quadtree), each
+ * at most TCLOD_SMOOTH_LIMIT in magnitude, radius >= 0. Errors as
+ * tclod_scene_add_node (TCLOD_ERR_ARG also beyond the limit), without
+ * TCLOD_ERR_HIERARCHY. */
 TCLOD_API tclod_status tclod_scene_add_smooth(tclod_scene *s, const float bounds[4],
                                               tclod_id *out_id);
 
