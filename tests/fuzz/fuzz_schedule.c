@@ -4,24 +4,39 @@
  * descriptions, scenes, views, times, budgets, slices and measured render
  * times.
  *
- * The scene and the callbacks are fuzz_host's (values NaN, infinite,
- * negative, denormal or huge among them; costs do not depend on the view).
- * Two schedulers with the same descriptions see the same updates. What is
- * checked is what the header promises:
+ * The scene and the callbacks are fuzz_host's (node kinds replace, additive
+ * and empty; bounds spheres and boxes; values NaN, infinite, negative,
+ * denormal or huge among them; costs do not depend on the view). Between
+ * updates the scene grows or is edited (nodes removed with their subtrees,
+ * moved, added under removed parents; smooth objects added, removed and
+ * moved; hidden ids edited), each edit's status as fuzz_host's model
+ * predicts; an edit tried from inside the callbacks of an update must be
+ * refused with TCLOD_ERR_STATE. Two schedulers with the same descriptions
+ * see the same updates. What is checked is what the header promises:
  *  - creation fails with TCLOD_ERR_ARG exactly for bad descriptions;
  *  - an update fails with TCLOD_ERR_ARG for a bad view, time, budget or
- *    slice, with TCLOD_ERR_CALLBACK in strict mode exactly when a callback
+ *    slice (or the mixed solver without smooth callbacks once smooth
+ *    objects were added), with TCLOD_ERR_CALLBACK in strict mode exactly when a callback
  *    returned a bad value, and otherwise succeeds; a failed update keeps the
  *    last draw list and stats, and records no camera (a later update may be
  *    as early as the last successful one);
- *  - a draw list names known nodes whose fine sides form an antichain, each
- *    drawn as itself with weight 1 or morphing towards its parent with a
- *    weight in [0, 1], never a node whose cost is bad; its predicted cost is
- *    within the budget in force, and at least the summed costs of its fine
- *    nodes; the budget in force is the update's budget divided by the
- *    calibration's scale (its initial value until the first report);
- *  - smooth resolutions are in [0, 1], and 0 for unknown ids and solvers
- *    that ignore smooth objects;
+ *  - after a successful update the draw list names only live nodes that
+ *    draw (never a removed, empty or hidden id: removed nodes leave it at
+ *    the update after their removal), each once; their fine sides are
+ *    disjoint but for additive nodes drawn with their descendants; each is
+ *    drawn as itself with weight 1 or morphing towards its nearest ancestor
+ *    that draws with a weight in [0, 1], never a node whose cost is bad; its
+ *    predicted cost is within the budget in force (unless overflow draws the
+ *    roots over it), and at least the summed costs of its fine nodes; the
+ *    budget in force is the update's budget divided by the calibration's
+ *    scale (its initial value until the first report);
+ *  - smooth resolutions are in [0, 1], and 0 for unknown and removed ids and
+ *    solvers that ignore smooth objects;
+ *  - callbacks are asked only about live nodes that draw and live smooth
+ *    objects, with the node's volume and the view helpers' measures;
+ *  - a new node or smooth object gets a removed id only once both
+ *    schedulers (those that ever updated successfully) have updated
+ *    successfully since its removal;
  *  - report, predict and the conservative camera fail exactly as documented,
  *    and a conservative camera is a valid view that sees at least what its
  *    camera sees;
@@ -104,16 +119,22 @@ static void check_draws(const tclod_scheduler *sch, const host_model *m, const d
     FUZZ_CHECK(tclod_scheduler_get_stats(sch, &st) == TCLOD_OK, "get_stats");
     for (k = 0; k < l->n; ++k) {
         const tclod_draw *d = &l->items[k];
-        FUZZ_CHECK(d->fine < m->nodes && !drawn[d->fine], "draw of node %u twice or unknown",
-                   (unsigned)d->fine);
+        FUZZ_CHECK(model_draws(m, d->fine) && !drawn[d->fine],
+                   "draw of node %u twice, or of an id that is not a live node that draws (state "
+                   "%d kind %d)",
+                   (unsigned)d->fine, d->fine < m->nodes ? (int)m->state[d->fine] : -1,
+                   d->fine < m->nodes ? (int)m->kind[d->fine] : -1);
         drawn[d->fine] = 1;
         if (d->coarse == d->fine)
             FUZZ_CHECK(d->weight == 1.0f, "node %u drawn as itself with weight %g",
                        (unsigned)d->fine, (double)d->weight);
         else
-            FUZZ_CHECK(d->coarse == m->parent[d->fine] && d->weight >= 0.0f && d->weight <= 1.0f,
-                       "node %u morphs towards %u (parent %u) with weight %g", (unsigned)d->fine,
-                       (unsigned)d->coarse, (unsigned)m->parent[d->fine], (double)d->weight);
+            FUZZ_CHECK(d->coarse == drawn_parent(m, d->fine) && d->weight >= 0.0f &&
+                           d->weight <= 1.0f,
+                       "node %u morphs towards %u (its nearest ancestor that draws: %u) with "
+                       "weight %g",
+                       (unsigned)d->fine, (unsigned)d->coarse, (unsigned)drawn_parent(m, d->fine),
+                       (double)d->weight);
         morphing += d->coarse != d->fine;
         FUZZ_CHECK(!fuzz_bad(m->cost[d->fine]), "node %u drawn with cost %g", (unsigned)d->fine,
                    m->cost[d->fine]);
@@ -121,21 +142,23 @@ static void check_draws(const tclod_scheduler *sch, const host_model *m, const d
     }
     for (k = 0; k < l->n; ++k) {
         tclod_id a;
-        for (a = m->parent[l->items[k].fine]; a != TCLOD_NONE; a = m->parent[a])
-            FUZZ_CHECK(!drawn[a], "node %u drawn with its ancestor %u", (unsigned)l->items[k].fine,
-                       (unsigned)a);
+        for (a = drawn_parent(m, l->items[k].fine); a != TCLOD_NONE; a = drawn_parent(m, a))
+            FUZZ_CHECK(!drawn[a] || m->kind[a] == KIND_ADD,
+                       "node %u drawn with its ancestor %u, a replace node",
+                       (unsigned)l->items[k].fine, (unsigned)a);
     }
     for (i = 0; i < m->smooth + 2u; ++i) {
         double r = l->resolution[i];
         FUZZ_CHECK(r >= 0.0 && r <= 1.0, "resolution %.17g of smooth %u", r, (unsigned)i);
-        if (i >= m->smooth || sd->solver == TCLOD_SOLVER_GREEDY)
-            FUZZ_CHECK(r == 0.0, "resolution %.17g of smooth %u, unknown or ignored", r,
+        if (i >= m->smooth || m->smooth_state[i] != ID_LIVE || sd->solver == TCLOD_SOLVER_GREEDY)
+            FUZZ_CHECK(r == 0.0, "resolution %.17g of smooth %u, unknown, removed or ignored", r,
                        (unsigned)i);
     }
     FUZZ_CHECK(st.draws == l->n && st.morphing == morphing, "stats: %u draws %u morphing",
                (unsigned)st.draws, (unsigned)st.morphing);
-    FUZZ_CHECK(st.draw_cost <= st.budget, "draw list costs %.17g, budget in force %.17g",
-               st.draw_cost, st.budget);
+    if (sd->overflow != TCLOD_OVERFLOW_DRAW_ROOTS)
+        FUZZ_CHECK(st.draw_cost <= st.budget, "draw list costs %.17g, budget in force %.17g",
+                   st.draw_cost, st.budget);
     FUZZ_CHECK(node_cost <= st.draw_cost * (1.0 + 1e-12) || node_cost - st.draw_cost <= 1e-300,
                "the fine nodes cost %.17g, the draw list %.17g", node_cost, st.draw_cost);
     if (budget_in_force >= 0.0)
@@ -210,6 +233,7 @@ typedef struct run_state {
     host_model model;
     probe probes[2];
     draw_list before, after[2];
+    edit edit, callback_edit;
 } run_state;
 
 static run_state state;
@@ -228,16 +252,18 @@ static void run(fuzz_reader *in) {
 
     memset(&state, 0, sizeof state);
     FUZZ_CHECK(tclod_scene_create(NULL, &s) == TCLOD_OK, "scene_create");
+    model_init(m, s, 2);
     read_desc(in, &sd, m);
     read_schedule_desc(in, &d);
     n = fuzz_u8(in) % (FIRST_NODES + 1u);
     for (i = 0; i < n; ++i)
-        add_node(in, s, m);
+        add_node(in, m);
     n = fuzz_u8(in) % (FIRST_SMOOTH + 1u);
     for (i = 0; i < n; ++i)
-        add_smooth(in, s, m);
+        add_smooth(in, m);
+    verify_scene(m);
 
-    invalid = desc_invalid(&sd, m->smooth);
+    invalid = desc_invalid(&sd, m->live_smooth);
     if (invalid == 0 || invalid == -1) {
         int other = schedule_desc_invalid(&d);
         invalid = other == 1 ? 1 : (invalid == -1 || other == -1 ? -1 : 0);
@@ -280,11 +306,27 @@ static void run(fuzz_reader *in) {
 
         /* time: a step from the table, sometimes NaN or backwards */
         t = (b & 0xe0) == 0xe0 ? ((b & 1) ? (double)NAN : now - 1.0) : now + steps[b & 7u];
-        if (fuzz_u8(in) == 0x77 && m->nodes < MAX_NODES) /* the scene grows */
-            add_node(in, s, m);
+        /* the scene grows, or is edited; an edit to try from the callbacks */
+        b = fuzz_u8(in);
+        for (i = 0; i < 2; ++i)
+            state.probes[i].held_edit = NULL;
+        if (b == 0x77) {
+            add_node(in, m);
+        } else if (b >= 0xd0) {
+            uint32_t e;
+            for (e = b >= 0xe0 ? 1u + (b & 3u) : 0u; e > 0; --e) {
+                read_edit(in, m, &state.edit);
+                try_edit(m, &state.edit, 0);
+            }
+            if (b < 0xe0 || (b & 4u)) {
+                read_edit(in, m, &state.callback_edit);
+                for (i = 0; i < 2; ++i)
+                    state.probes[i].held_edit = &state.callback_edit;
+            }
+        }
         v = read_view(in, &view);
         for (i = 0; i < m->nodes; ++i)
-            if (!fuzz_bad(m->cost[i]))
+            if (model_draws(m, i) && !fuzz_bad(m->cost[i]))
                 scale += m->cost[i];
         b = fuzz_u8(in);
         budget = b < 32 ? fuzz_special_double(b) : scale * (double)(b - 32) / 128.0;
@@ -295,7 +337,8 @@ static void run(fuzz_reader *in) {
         /* "now NaN or earlier than the last successful update's": a failed
          * update records nothing, so only the successful ones count */
         bad = v == NULL || tclod_view_validate(v) != TCLOD_OK || t != t ||
-              (updated && t < last_ok) || !(budget >= 0.0) || !(slice >= 0.0);
+              (updated && t < last_ok) || !(budget >= 0.0) || !(slice >= 0.0) ||
+              smooth_callbacks_missing(&sd, m->live_smooth);
 
         for (i = 0; i < 2; ++i) {
             probe *p = &state.probes[i];
@@ -326,6 +369,7 @@ static void run(fuzz_reader *in) {
                            "a failed update changed the draw list or the stats");
                 continue;
             }
+            model_user_solved(m, i);
             if (!reported && d.calib.initial_scale >= DBL_MIN)
                 in_force = budget / d.calib.initial_scale;
             check_draws(sch[i], m, &state.after[i], &sd, in_force);
@@ -348,6 +392,8 @@ static void run(fuzz_reader *in) {
             for (i = 0; i < 2; ++i) {
                 tclod_status r = tclod_scheduler_report(sch[i], render);
                 int bad_time = !(render >= 0.0) || isinf(render);
+                tclod_scheduler_stats shown;
+                FUZZ_CHECK(tclod_scheduler_get_stats(sch[i], &shown) == TCLOD_OK, "get_stats");
                 if (!tried) /* with a bad time too, either error is right */
                     FUZZ_CHECK(r == TCLOD_ERR_STATE || (bad_time && r == TCLOD_ERR_ARG),
                                "report(%g) before any update gave %d", render, (int)r);

@@ -1,32 +1,61 @@
 /*
- * fuzz_select — libFuzzer target over scene building and selection with every
- * solver (DESIGN.md §5, the guarantees every part keeps).
+ * fuzz_select — libFuzzer target over scene building, scene edits and
+ * selection with every solver (DESIGN.md §5, the guarantees every part
+ * keeps).
  *
- * The input's bytes choose a selector description (solver, flags, option
- * values valid or not), a scene (parents valid or not, bounds with NaN or
- * infinities, smooth objects), the callbacks' values (NaN, infinities,
- * negatives, denormals, huge values, honest or dishonest slopes), and up to
- * four frames (budget, view, limits; values may change and the scene may grow
- * between frames). Two selectors with the same description see the same
- * frames: the first through tclod_select, the second through tclod_select or
- * the resumable calls (tclod_select_begin, then tclod_select_step with
- * byte-chosen iteration slices, possibly ended early by tclod_select_finish
- * or dropped by tclod_select_cancel). After every call the target checks what
- * the header promises:
- *  - scene calls fail exactly when their arguments are bad, and then change
- *    nothing;
+ * The input's bytes choose a selector description (solver, flags, overflow
+ * policy, option values valid or not), a scene (parents valid or not; node
+ * kinds replace, additive or empty; bounds none, spheres, axis-aligned and
+ * oriented boxes, with NaN, infinities, negative extents or skewed axes;
+ * smooth objects), the callbacks' values (NaN, infinities, negatives,
+ * denormals, huge values, honest or dishonest slopes), and up to six frames
+ * (budget, view, limits; values may change between frames, and the scene is
+ * edited: nodes added, removed with their subtrees, removed twice, moved with
+ * valid or bad bounds, added under removed parents, smooth objects added,
+ * removed and moved, an additive node's hidden id edited). Two selectors
+ * with the same description see the same frames: the first through
+ * tclod_select, the second through tclod_select or the resumable calls
+ * (tclod_select_begin, then tclod_select_step with byte-chosen iteration
+ * slices, possibly ended early by tclod_select_finish or dropped by
+ * tclod_select_cancel). An edit chosen by the input is also tried while the
+ * second selector's solve is pending, and another from inside the first
+ * callback of each select. After every call the target checks what the
+ * header promises:
+ *  - scene calls fail exactly when their arguments are bad (an id that is
+ *    not a live node, hidden and removed ones included; a parent that is not
+ *    live; bounds tclod_bounds_validate rejects), and then change nothing:
+ *    counts, liveness of every id, parents and bounds read back;
+ *  - an edit while a solve is pending or from a callback gives
+ *    TCLOD_ERR_STATE and changes nothing;
+ *  - a new node or smooth object gets the next fresh id, or a removed one
+ *    only once every selector that solved at all has solved since its
+ *    removal; a non-empty additive node takes a second id no call returns
+ *    (not live);
  *  - selector creation fails with TCLOD_ERR_ARG exactly for bad descriptions;
  *  - a select fails with TCLOD_ERR_ARG for a bad frame (asking no callback),
  *    with TCLOD_ERR_CALLBACK in strict mode exactly when a callback returned
  *    a bad value, and otherwise succeeds; a failed select leaves result and
  *    stats as they were;
- *  - each node's benefit and cost are asked at most once per select, cost
- *    only after a benefit > 0;
- *  - a result is an antichain of visible nodes whose costs, then the smooth
- *    groups' costs, summed in result order, are <= the budget; stats carry
- *    exactly those sums and count every bad value; smooth groups are disjoint
- *    ranges of the smooth order with resolutions in (0, 1] and the callbacks'
- *    values at those resolutions; every smooth resolution is in [0, 1];
+ *  - callbacks are asked only about live nodes that draw (never an empty,
+ *    removed or hidden id), each node's benefit and cost at most once per
+ *    select, cost only after a benefit > 0 (the Robin Hood solver's
+ *    complexity question, cost again without a view, apart); a query carries
+ *    the node's volume as added or last moved, and the screen area and
+ *    distance the view helpers give for it;
+ *  - a result is a valid selection in the tree the solvers see (empty nodes
+ *    passed over): each live node that draws listed at most once; the
+ *    ancestors of listed nodes are the refined ones, listed when additive
+ *    and not when replace; below a refined node (and at the top, unless
+ *    roots were dropped or the solver is Robin Hood's) every node is listed,
+ *    refined, culled, or refined into culled nodes; its costs, then the
+ *    smooth groups' costs, summed in result order, are <= the budget unless
+ *    stats.over_budget, which only TCLOD_OVERFLOW_DRAW_ROOTS sets, with a
+ *    cost above the budget and only roots listed; stats carry exactly those
+ *    sums and count every bad value; stop reasons follow the overflow and
+ *    dropped roots; smooth groups are disjoint ranges of the smooth order
+ *    (its live objects) with resolutions in (0, 1] and the callbacks' values
+ *    at those resolutions; every smooth resolution is in [0, 1], 0 for
+ *    removed objects;
  *  - the two selectors agree bit for bit (no time limit involved), also when
  *    the second selects in iteration slices; while a resumable solve is
  *    pending, other selects are refused; a cancelled solve keeps the result;
@@ -37,7 +66,7 @@
 
 #include "fuzz_host.h"
 
-#define MAX_FRAMES 4u
+#define MAX_FRAMES 6u
 /* The first nodes and smooth objects; more may be added between frames. */
 #define FIRST_NODES 128u
 #define FIRST_SMOOTH 32u
@@ -76,8 +105,56 @@ static int same_stats(const tclod_stats *a, const tclod_stats *b) {
            memcmp(&a->cost, &b->cost, sizeof a->cost) == 0 && a->iterations == b->iterations &&
            a->increments == b->increments && a->decrements == b->decrements &&
            a->line_searches == b->line_searches && a->variables == b->variables &&
-           a->dropped_roots == b->dropped_roots && a->invalid_values == b->invalid_values &&
-           a->evaluations == b->evaluations && a->stop_reason == b->stop_reason;
+           a->dropped_roots == b->dropped_roots && a->over_budget == b->over_budget &&
+           a->invalid_values == b->invalid_values && a->evaluations == b->evaluations &&
+           a->stop_reason == b->stop_reason;
+}
+
+/* What the probe saw of node v this select: asked, with a benefit > 0 that
+ * is not bad (visible), or asked with one that is 0 or bad (culled). */
+static int culled(const probe *p, tclod_id v) {
+    return p->benefit_calls[v] == 1 &&
+           (!(p->benefit_seen[v] > 0.0) || fuzz_bad(p->benefit_seen[v]));
+}
+
+/* The tree the solvers see: children of live nodes that draw, per drawn
+ * parent (TCLOD_NONE: the roots, at index MAX_NODES). */
+typedef struct drawn_tree {
+    uint32_t first[MAX_NODES + 2], next[MAX_NODES];
+    int8_t covered[MAX_NODES]; /* -1 unknown */
+} drawn_tree;
+
+static drawn_tree tree;
+
+static void build_tree(const host_model *m) {
+    uint32_t v;
+    for (v = 0; v < MAX_NODES + 2u; ++v)
+        tree.first[v] = TCLOD_NONE;
+    for (v = m->nodes; v-- > 0;) {
+        tclod_id p;
+        tree.covered[v] = -1;
+        if (!model_draws(m, v))
+            continue;
+        p = drawn_parent(m, v);
+        if (p == TCLOD_NONE)
+            p = MAX_NODES;
+        tree.next[v] = tree.first[p];
+        tree.first[p] = v;
+    }
+}
+
+/* Whether node v (listed nowhere below) stands for a cut of culled nodes:
+ * it has children that draw, each culled or covered so in turn. A warm
+ * start keeps such a cut when the nodes culled since. */
+static int covered(const probe *p, tclod_id v) {
+    tclod_id c;
+    if (tree.covered[v] >= 0)
+        return tree.covered[v];
+    tree.covered[v] = tree.first[v] != TCLOD_NONE;
+    for (c = tree.first[v]; c != TCLOD_NONE && tree.covered[v]; c = tree.next[c])
+        if (!culled(p, c) && !covered(p, c))
+            tree.covered[v] = 0;
+    return tree.covered[v];
 }
 
 /* Everything a successful select promises about its result. */
@@ -85,16 +162,22 @@ static void check_result(const tclod_selector *sel, tclod_scene *s, const probe 
                          const tclod_selector_desc *d, const tclod_frame *f, const tclod_stats *st,
                          const result *r) {
     const host_model *m = p->m;
-    unsigned char listed[MAX_NODES];
+    unsigned char mark[MAX_NODES]; /* 1 listed, 2 above a listed node (refined) */
     const tclod_id *order = NULL;
     uint32_t order_n = 0, pos[MAX_SMOOTH], roots = 0;
     double cost = 0.0, benefit = 0.0;
+    int roots_may_drop = d->solver == TCLOD_SOLVER_ROBIN_HOOD || st->dropped_roots > 0;
     size_t i;
-    memset(listed, 0, sizeof listed);
+    tclod_id v;
+    memset(mark, 0, sizeof mark);
     for (i = 0; i < r->n; ++i) {
         tclod_id id = r->ids[i];
-        FUZZ_CHECK(id < m->nodes && !listed[id], "cut lists %u twice or unknown", (unsigned)id);
-        listed[id] = 1;
+        FUZZ_CHECK(model_draws(m, id) && !mark[id],
+                   "the result lists %u twice, or an id that is not a live node that draws "
+                   "(state %d kind %d)",
+                   (unsigned)id, id < m->nodes ? (int)m->state[id] : -1,
+                   id < m->nodes ? (int)m->kind[id] : -1);
+        mark[id] = 1;
         FUZZ_CHECK(p->benefit_calls[id] == 1 && p->cost_calls[id] == 1,
                    "cut node %u was asked benefit %u and cost %u times this select", (unsigned)id,
                    (unsigned)p->benefit_calls[id], (unsigned)p->cost_calls[id]);
@@ -105,24 +188,52 @@ static void check_result(const tclod_selector *sel, tclod_scene *s, const probe 
         cost += p->cost_seen[id];
         benefit += p->benefit_seen[id];
     }
-    for (i = 0; i < r->n; ++i) {
-        tclod_id a;
-        for (a = m->parent[r->ids[i]]; a != TCLOD_NONE; a = m->parent[a])
-            FUZZ_CHECK(!listed[a], "cut lists %u and its ancestor %u", (unsigned)r->ids[i],
-                       (unsigned)a);
-    }
-    for (i = 0; i < m->nodes; ++i) {
-        FUZZ_CHECK(p->benefit_calls[i] <= 1 && p->cost_calls[i] <= 1,
-                   "node %u asked %u and %u times in one select", (unsigned)i,
-                   (unsigned)p->benefit_calls[i], (unsigned)p->cost_calls[i]);
-        roots += m->parent[i] == TCLOD_NONE;
+    for (i = 0; i < r->n; ++i)
+        for (v = drawn_parent(m, r->ids[i]); v != TCLOD_NONE; v = drawn_parent(m, v))
+            mark[v] |= 2u;
+    build_tree(m);
+    for (v = 0; v < m->nodes; ++v) {
+        tclod_id up;
+        FUZZ_CHECK(p->benefit_calls[v] <= 1 && p->cost_calls[v] <= 1,
+                   "node %u asked %u and %u times in one select", (unsigned)v,
+                   (unsigned)p->benefit_calls[v], (unsigned)p->cost_calls[v]);
+        if (!model_draws(m, v))
+            continue;
+        up = drawn_parent(m, v);
+        roots += up == TCLOD_NONE;
+        /* a refined node: additive ones are listed, replace ones not */
+        if ((mark[v] & 2u) && (mark[v] & 1u))
+            tally(TALLY_LISTED_ADDITIVE_REFINED);
+        if (mark[v] & 2u)
+            FUZZ_CHECK((m->kind[v] == KIND_ADD) == ((mark[v] & 1u) != 0),
+                       "%s node %u is refined (a node below it is listed) and %slisted",
+                       m->kind[v] == KIND_ADD ? "additive" : "replace", (unsigned)v,
+                       (mark[v] & 1u) ? "" : "not ");
+        /* no hole: below a refined node, and at the top, every node is
+         * listed, refined, culled or refined into culled nodes */
+        if (mark[v] == 0 && !culled(p, v) &&
+            ((up != TCLOD_NONE && (mark[up] & 2u)) || (up == TCLOD_NONE && !roots_may_drop)))
+            FUZZ_CHECK(covered(p, v),
+                       "node %u (benefit asked %u times, %g) is left out below refined node %u: a "
+                       "hole",
+                       (unsigned)v, (unsigned)p->benefit_calls[v], p->benefit_seen[v],
+                       (unsigned)up);
+        /* over the budget, the roots at their coarsest and nothing more
+         * (docs/scenes.md, overflow) */
+        if (st->over_budget)
+            FUZZ_CHECK(!(mark[v] & 1u) || up == TCLOD_NONE,
+                       "over the budget, node %u below %u is listed: not the roots' coarsest",
+                       (unsigned)v, (unsigned)up);
     }
 
-    FUZZ_CHECK(tclod_scene_smooth_order(s, &order, &order_n) == TCLOD_OK && order_n == m->smooth,
-               "smooth order of %u objects", (unsigned)order_n);
+    FUZZ_CHECK(tclod_scene_smooth_order(s, &order, &order_n) == TCLOD_OK &&
+                   order_n == m->live_smooth,
+               "smooth order of %u objects, %u live", (unsigned)order_n, (unsigned)m->live_smooth);
     memset(pos, 0xff, sizeof pos);
     for (i = 0; i < order_n; ++i) {
-        FUZZ_CHECK(order[i] < order_n && pos[order[i]] == 0xffffffffu, "order not a permutation");
+        FUZZ_CHECK(order[i] < m->smooth && m->smooth_state[order[i]] == ID_LIVE &&
+                       pos[order[i]] == 0xffffffffu,
+                   "smooth order lists %u: not live, or twice", (unsigned)order[i]);
         pos[order[i]] = (uint32_t)i;
     }
     if (d->solver == TCLOD_SOLVER_GREEDY)
@@ -152,20 +263,30 @@ static void check_result(const tclod_selector *sel, tclod_scene *s, const probe 
         cost += c;
         benefit += b;
     }
-    for (i = 0; i < order_n + 2u; ++i) {
+    for (i = 0; i < m->smooth + 2u; ++i) {
         double x = tclod_selector_resolution(sel, (tclod_id)i), expect = 0.0;
         size_t k;
-        if (i < order_n)
+        if (i < m->smooth && m->smooth_state[i] == ID_LIVE)
             for (k = 0; k < r->groups_n; ++k)
                 if (pos[i] >= r->groups[k].first &&
                     pos[i] < r->groups[k].first + r->groups[k].count)
                     expect = r->groups[k].resolution;
         FUZZ_CHECK(x >= 0.0 && x <= 1.0 && x == expect,
-                   "resolution of smooth %u is %.17g, its group says %.17g", (unsigned)i, x,
-                   expect);
+                   "resolution of smooth %u (state %d) is %.17g, its group says %.17g", (unsigned)i,
+                   i < m->smooth ? (int)m->smooth_state[i] : -1, x, expect);
     }
 
-    FUZZ_CHECK(cost <= f->budget, "selection costs %.17g, budget %.17g", cost, f->budget);
+    FUZZ_CHECK(st->over_budget <= 1u, "over_budget %u", (unsigned)st->over_budget);
+    if (st->over_budget)
+        tally(TALLY_OVER_BUDGET);
+    if (st->dropped_roots)
+        tally(TALLY_ROOTS_DROPPED);
+    if (st->over_budget)
+        FUZZ_CHECK(d->overflow == TCLOD_OVERFLOW_DRAW_ROOTS && cost > f->budget,
+                   "over_budget with overflow policy %d, cost %.17g, budget %.17g",
+                   (int)d->overflow, cost, f->budget);
+    else
+        FUZZ_CHECK(cost <= f->budget, "selection costs %.17g, budget %.17g", cost, f->budget);
     FUZZ_CHECK(st->cost == cost && st->benefit == benefit,
                "stats say benefit %.17g cost %.17g, the result sums to %.17g and %.17g",
                st->benefit, st->cost, benefit, cost);
@@ -173,15 +294,20 @@ static void check_result(const tclod_selector *sel, tclod_scene *s, const probe 
                (unsigned)st->invalid_values, (unsigned)p->bad);
     FUZZ_CHECK(st->stop_reason >= TCLOD_STOP_BUDGET && st->stop_reason <= TCLOD_STOP_OVER_BUDGET,
                "stop reason %d", (int)st->stop_reason);
-    /* roots left out are said, unless a limit stopped the search */
+    FUZZ_CHECK((st->stop_reason == TCLOD_STOP_OVER_BUDGET) == (st->over_budget == 1u),
+               "stop reason %d with over_budget %u", (int)st->stop_reason,
+               (unsigned)st->over_budget);
+    /* roots left out are said, unless a limit stopped the search or the
+     * roots were drawn over the budget */
     FUZZ_CHECK((st->stop_reason == TCLOD_STOP_ROOTS_DROPPED) ==
-                   (st->dropped_roots > 0 && st->stop_reason != TCLOD_STOP_ITERATIONS &&
+                   (st->dropped_roots > 0 && !st->over_budget &&
+                    st->stop_reason != TCLOD_STOP_ITERATIONS &&
                     st->stop_reason != TCLOD_STOP_TIME && st->stop_reason != TCLOD_STOP_FINISHED),
                "stop reason %d with %u roots dropped", (int)st->stop_reason,
                (unsigned)st->dropped_roots);
-    FUZZ_CHECK(st->variables <= m->smooth, "%u variables", (unsigned)st->variables);
-    FUZZ_CHECK(st->dropped_roots <= roots + m->smooth, "%u roots dropped",
-               (unsigned)st->dropped_roots);
+    FUZZ_CHECK(st->variables <= m->live_smooth, "%u variables", (unsigned)st->variables);
+    FUZZ_CHECK(st->dropped_roots <= roots + m->live_smooth, "%u roots dropped of %u and %u",
+               (unsigned)st->dropped_roots, (unsigned)roots, (unsigned)m->live_smooth);
 }
 
 /* ---- resumable selection ---------------------------------------------------------- */
@@ -190,10 +316,12 @@ static void check_result(const tclod_selector *sel, tclod_scene *s, const probe 
  * with slices of slice iterations (how / 4 % 16 + 1); by how % 4: 0, 2 to the
  * end (the result must then equal tclod_select's), 1 ended early by
  * tclod_select_finish after a few steps, 3 cancelled after a few steps
- * (*dropped = 1: the previous result must stay). Checks the pending state
- * and that other selects are refused meanwhile. */
+ * (*dropped = 1: the previous result must stay). Checks the pending state,
+ * that other selects are refused meanwhile, and that the scene refuses the
+ * edit `held` (if not NULL) after begin and after the first step. */
 static tclod_status select_resumable(tclod_selector *sel, const tclod_frame *f, tclod_stats *st,
-                                     uint8_t how, int *dropped) {
+                                     uint8_t how, int *dropped, const host_model *m,
+                                     const edit *held) {
     uint32_t slice = (uint32_t)(how / 4u % 16u) + 1u, steps = 0, stop_after = how / 64u;
     tclod_stats other;
     tclod_status status;
@@ -209,6 +337,8 @@ static tclod_status select_resumable(tclod_selector *sel, const tclod_frame *f, 
     FUZZ_CHECK(tclod_select(sel, f, &other) == TCLOD_ERR_STATE &&
                    tclod_select_begin(sel, f) == TCLOD_ERR_STATE,
                "select or begin while a solve is pending");
+    if (held)
+        try_held_edit(m, held);
     for (;;) {
         if (how % 4u == 1u && steps == stop_after) {
             status = tclod_select_finish(sel, st);
@@ -224,11 +354,49 @@ static tclod_status select_resumable(tclod_selector *sel, const tclod_frame *f, 
         steps++;
         if (status != TCLOD_OK || done)
             break;
+        if (held && steps == 1)
+            try_held_edit(m, held);
         FUZZ_CHECK(steps < 1000000u, "no end after %u steps of %u iterations", (unsigned)steps,
                    (unsigned)slice);
     }
     FUZZ_CHECK(!tclod_select_pending(sel), "a solve is still pending (status %d)", (int)status);
     return status;
+}
+
+/* ---- tracing ------------------------------------------------------------------- */
+
+/* FUZZ_TRACE=1 in the environment prints the scene and each select, to read
+ * a reproducer by. */
+static int tracing = -1;
+
+static void trace_model(const host_model *m) {
+    uint32_t i;
+    for (i = 0; i < m->nodes; ++i)
+        fprintf(stderr, "  node %u: state %d kind %d parent %d hidden %d bounds %d b %g c %g\n",
+                (unsigned)i, (int)m->state[i], (int)m->kind[i], (int)m->parent[i],
+                (int)m->hidden[i], (int)m->bounds[i].kind, m->benefit[i], m->cost[i]);
+    for (i = 0; i < m->smooth; ++i)
+        fprintf(stderr, "  smooth %u: state %d\n", (unsigned)i, (int)m->smooth_state[i]);
+}
+
+static void trace_select(uint32_t k, const tclod_frame *f, tclod_status got, const tclod_stats *st,
+                         const result *r, const probe *p) {
+    size_t i;
+    fprintf(stderr, "select %u: budget %.17g view %d limit %u -> %d", (unsigned)k, f->budget,
+            f->view != NULL, (unsigned)f->max_iterations, (int)got);
+    if (got == TCLOD_OK)
+        fprintf(stderr, " cost %.17g benefit %.17g stop %d dropped %u over %u iter %u", st->cost,
+                st->benefit, (int)st->stop_reason, (unsigned)st->dropped_roots,
+                (unsigned)st->over_budget, (unsigned)st->iterations);
+    fprintf(stderr, "\n  cut:");
+    for (i = 0; i < r->n; ++i)
+        fprintf(stderr, " %u", (unsigned)r->ids[i]);
+    fprintf(stderr, "\n  asked:");
+    for (i = 0; i < p->m->nodes; ++i)
+        if (p->benefit_calls[i])
+            fprintf(stderr, " %u(b %g c %g)", (unsigned)i, p->benefit_seen[i],
+                    p->cost_calls[i] ? p->cost_seen[i] : -1.0);
+    fprintf(stderr, "\n");
 }
 
 /* ---- the run ------------------------------------------------------------------- */
@@ -237,6 +405,7 @@ typedef struct run_state {
     host_model model;
     probe probes[2];
     result before, after, other;
+    edit callback_edit, pending_edit, edit;
 } run_state;
 
 static run_state state;
@@ -262,15 +431,25 @@ static void run(fuzz_reader *in) {
 
     memset(&state, 0, sizeof state);
     FUZZ_CHECK(tclod_scene_create(NULL, &s) == TCLOD_OK, "scene_create");
+    model_init(m, s, 2);
     read_desc(in, &d, m);
     n = fuzz_u8(in) % (FIRST_NODES + 1u);
     for (i = 0; i < n; ++i)
-        add_node(in, s, m);
+        add_node(in, m);
     n = fuzz_u8(in) % (FIRST_SMOOTH + 1u);
     for (i = 0; i < n; ++i)
-        add_smooth(in, s, m);
+        add_smooth(in, m);
+    verify_scene(m);
 
-    invalid = desc_invalid(&d, m->smooth);
+    if (tracing < 0)
+        tracing = getenv("FUZZ_TRACE") != NULL;
+    if (tracing) {
+        fprintf(stderr, "solver %d warm %d strict %d overflow %d lookahead %u restarts %u\n",
+                (int)d.solver, d.warm_start, d.strict, (int)d.overflow, (unsigned)d.lookahead,
+                (unsigned)d.restarts);
+        trace_model(m);
+    }
+    invalid = desc_invalid(&d, m->live_smooth);
     for (i = 0; i < 2; ++i) {
         tclod_selector *const sentinel = (tclod_selector *)(void *)&state;
         sel[i] = sentinel;
@@ -295,10 +474,12 @@ static void run(fuzz_reader *in) {
         tclod_stats stats[2];
         tclod_status got[2];
         double scale = 0.0;
-        uint8_t b, limit, how;
+        uint8_t b, g, limit, how;
         int bad_frame, valid;
+        const edit *pending = NULL;
 
-        /* between frames: changed values, a grown scene */
+        /* between frames: changed values, a grown scene, edits; and the
+         * edits tried while solves hold the scene */
         for (b = fuzz_u8(in) % 8u; b > 0 && m->nodes > 0; --b) {
             uint32_t id = fuzz_u8(in) % m->nodes;
             if (fuzz_u8(in) & 1)
@@ -306,17 +487,32 @@ static void run(fuzz_reader *in) {
             else
                 m->benefit[id] = fuzz_double(in);
         }
-        for (b = fuzz_u8(in) % 4u; b > 0; --b) {
-            if (m->nodes < MAX_NODES)
-                add_node(in, s, m);
-            if (m->smooth < MAX_SMOOTH && (fuzz_u8(in) & 1))
-                add_smooth(in, s, m);
+        g = fuzz_u8(in);
+        for (b = g % 4u; b > 0; --b) {
+            add_node(in, m);
+            if (fuzz_u8(in) & 1)
+                add_smooth(in, m);
+        }
+        for (b = (g >> 2) % 4u; b > 0; --b) {
+            read_edit(in, m, &state.edit);
+            try_edit(m, &state.edit, 0);
+        }
+        for (i = 0; i < 2; ++i)
+            state.probes[i].held_edit = NULL;
+        if (g & 0x40) {
+            read_edit(in, m, &state.callback_edit);
+            for (i = 0; i < 2; ++i)
+                state.probes[i].held_edit = &state.callback_edit;
+        }
+        if (g & 0x80) {
+            read_edit(in, m, &state.pending_edit);
+            pending = &state.pending_edit;
         }
 
         memset(&fr, 0, sizeof fr);
         fr.view = read_view(in, &view);
         for (i = 0; i < m->nodes; ++i)
-            if (!fuzz_bad(m->cost[i]))
+            if (model_draws(m, i) && !fuzz_bad(m->cost[i]))
                 scale += m->cost[i];
         b = fuzz_u8(in);
         fr.budget = b < 32 ? fuzz_special_double(b) : scale * (double)(b - 32) / 128.0;
@@ -351,7 +547,7 @@ static void run(fuzz_reader *in) {
             check_view_helpers(fr.view, m);
         bad_frame = !(fr.budget >= 0.0) || !(fr.solve_seconds >= 0.0) ||
                     (fr.view && tclod_view_validate(fr.view) != TCLOD_OK) ||
-                    smooth_callbacks_missing(&d, m->smooth);
+                    smooth_callbacks_missing(&d, m->live_smooth);
 
         how = fuzz_u8(in);
         for (i = 0; i < 2; ++i) {
@@ -364,8 +560,13 @@ static void run(fuzz_reader *in) {
             if (i == 0 || how < 64)
                 got[i] = tclod_select(sel[i], &fr, &stats[i]);
             else
-                got[i] = select_resumable(sel[i], &fr, &stats[i], how, &dropped);
+                got[i] = select_resumable(sel[i], &fr, &stats[i], how, &dropped, m, pending);
             take_result(sel[i], after);
+            if (tracing) {
+                if (i == 0)
+                    trace_model(m);
+                trace_select(i, &fr, got[i], &stats[i], after, p);
+            }
             if (bad_frame) {
                 FUZZ_CHECK(got[i] == TCLOD_ERR_ARG && p->calls == 0,
                            "a bad frame gave %d after %u callback calls", (int)got[i],
@@ -387,6 +588,7 @@ static void run(fuzz_reader *in) {
                 FUZZ_CHECK(untouched(&stats[i]), "a failed select wrote the stats");
                 FUZZ_CHECK(same_result(&state.before, after), "a failed select changed the result");
             } else {
+                model_user_solved(m, i);
                 check_result(sel[i], s, p, &d, &fr, &stats[i], after);
             }
             if (i == 1 && how >= 64 && how % 4u == 1u)
