@@ -732,9 +732,10 @@ TCLOD_ALWAYS_INLINE int branch_children(tclod_selector *sel, const tclod_rh_chai
  * in *level and what refining it further would add in *step (HUGE_VAL: it
  * cannot). When that level is a branch whose children's simplest levels all
  * fit, returns 1 with the children's summed simplest cost in *reserve and
- * their value in *children (branch_children); else 0 (the level is drawn);
- * -1 on a strict error. *inside: on entry whether the reach sphere of the
- * branch above head lies inside the frustum (0 when not known), then whether
+ * their value in *children (branch_children); else 0 (the level is drawn;
+ * a branch of benefit 0 is culled with its subtree, as in the other solvers,
+ * and the finest visible level above it drawn); -1 on a strict error. *inside: on entry whether the
+ * reach sphere of the branch above head lies inside the frustum (0 when not known), then whether
  * the level's does (TCLOD_RH_NESTED, or else branch_inside). */
 TCLOD_ALWAYS_INLINE int place_chain(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch,
                                     double time, tclod_id *level, double *step, double *reserve,
@@ -745,6 +746,23 @@ TCLOD_ALWAYS_INLINE int place_chain(tclod_selector *sel, tclod_id head, const tc
     sel->stats.iterations++;
     if (!(ch->flags & TCLOD_RH_BRANCH) || *level != chain_node(sel, head, ch, ch->len - 1u))
         return 0;
+    if (!visible(sel, *level)) {
+        /* a branch of benefit 0 is culled with its subtree: the finest
+         * visible level above it is drawn instead (the head at the latest),
+         * as the greedy would never refine into it */
+        uint32_t k;
+        for (k = ch->len - 2u; k > 0u; --k) {
+            int f = fits(sel, chain_node(sel, head, ch, k), head, ch, time);
+            if (f < 0)
+                return -1;
+            if (f && visible(sel, chain_node(sel, head, ch, k)))
+                break;
+        }
+        *level = chain_node(sel, head, ch, k);
+        set_last_level(sel, head, k);
+        *step = HUGE_VAL;
+        return 0;
+    }
     *inside = (*inside && (ch->flags & TCLOD_RH_NESTED)) || branch_inside(sel, *level, ch->reach);
     refine = branch_children(sel, ch, *inside, time, reserve, children);
     if (refine == 0)

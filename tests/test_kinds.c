@@ -323,6 +323,27 @@ static void an_invisible_additive_node_takes_its_subtree_with_it(void **state) {
     }
 }
 
+/* The same below a visible node: P (b 1, c 1) with one child A, additive, of
+ * benefit 0, which has children X and Y (2, 1 each); budget 10. Refining P
+ * into A would draw nothing (A is culled with X and Y), so every solver draws
+ * {P}, benefit 1 (the Robin Hood solver, for which P and A are one object's
+ * two levels, steps back from A to P). */
+static void an_invisible_additive_node_culls_its_subtree_below_a_visible_one(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id p = add_kind(f, TCLOD_NONE, TABLE_REPLACE, 1.0, 1.0);
+    tclod_id a = add_kind(f, p, TABLE_ADD, 0.0, 1.0);
+    int k;
+    add_kind(f, a, TABLE_REPLACE, 2.0, 1.0);
+    add_kind(f, a, TABLE_REPLACE, 2.0, 1.0);
+    for (k = 0; k < 3; ++k) {
+        tclod_selector *sel = solver_selector(f->scene, &f->model, solvers[k], 0);
+        tclod_stats st = select_checked(sel, &f->model, 10.0, 0);
+        helper_assert_cut(sel, &p, 1);
+        assert_true(st.benefit == 1.0 && st.cost == 1.0);
+        tclod_selector_destroy(sel);
+    }
+}
+
 static void an_overflow_policy_out_of_range_is_refused(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
     tclod_selector_desc d;
@@ -547,6 +568,7 @@ int main(void) {
         FIXTURE_TEST(an_unaffordable_root_is_left_out_even_over_the_budget),
         FIXTURE_TEST(drawn_over_the_budget_the_roots_are_all_that_is_drawn),
         FIXTURE_TEST(an_invisible_additive_node_takes_its_subtree_with_it),
+        FIXTURE_TEST(an_invisible_additive_node_culls_its_subtree_below_a_visible_one),
         FIXTURE_TEST(an_overflow_policy_out_of_range_is_refused),
         cmocka_unit_test(solvers_draw_valid_selections_on_random_mixed_hierarchies),
         cmocka_unit_test(empty_nodes_change_no_selection),
