@@ -178,7 +178,15 @@ void probe_reset(probe *p, const tclod_view *view) {
 int same_view(const tclod_view *q, const tclod_view *frame) {
     if (frame == NULL || q == NULL)
         return q == frame;
-    return memcmp(q, frame, sizeof *q) == 0;
+    /* field by field, bit for bit: the struct's padding is not compared */
+    return memcmp(q->eye, frame->eye, sizeof q->eye) == 0 &&
+           memcmp(q->forward, frame->forward, sizeof q->forward) == 0 &&
+           memcmp(q->up, frame->up, sizeof q->up) == 0 &&
+           memcmp(&q->fov_y, &frame->fov_y, sizeof q->fov_y) == 0 &&
+           memcmp(&q->aspect, &frame->aspect, sizeof q->aspect) == 0 &&
+           memcmp(&q->near_z, &frame->near_z, sizeof q->near_z) == 0 &&
+           memcmp(&q->far_z, &frame->far_z, sizeof q->far_z) == 0 &&
+           memcmp(&q->viewport_height, &frame->viewport_height, sizeof q->viewport_height) == 0;
 }
 
 int is_complexity_query(const tclod_query *q) {
@@ -204,8 +212,7 @@ static void check_measures(const tclod_query *q, const tclod_bounds *b, const ch
         static tclod_bounds last_bounds;
         static float last_area, last_distance;
         static int filled;
-        if (!filled || memcmp(&last_view, q->view, sizeof last_view) != 0 ||
-            !same_bounds(&last_bounds, b)) {
+        if (!filled || !same_view(&last_view, q->view) || !same_bounds(&last_bounds, b)) {
             last_view = *q->view;
             last_bounds = *b;
             last_area = tclod_view_bounds_visible(q->view, b)
