@@ -1,6 +1,6 @@
 /*
  * tclod_mixed_figure — data for docs/figures/slope_matching.svg: the slope
- * matching of the mixed solver's line search (thesis, seed 001 §8.3, Figure
+ * matching of the mixed solver's line search (thesis, [Thesis8 §8.3], Figure
  * 8.1 and eq. 8.8-8.14), benefit against predicted cost.
  *
  * The scene is as small as the picture: one discrete root with a single child

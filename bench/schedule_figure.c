@@ -1,6 +1,6 @@
 /*
  * tclod_schedule_figure — data for docs/figures/schedule_timeline.svg: the
- * levels the predictive geomorph scheduler draws over time (seed 004 Fig. 5
+ * levels the predictive geomorph scheduler draws over time ([GEO Fig. 5]
  * and 6), from a real run over the flyover world (examples/scenes/
  * world_scene.h) at 60 frames per second, tau = 0.5 s, morphing on.
  *

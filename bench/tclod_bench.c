@@ -6,7 +6,7 @@
  *            The world and the camera loop scale with sqrt(N), so the same share of
  *            the world is in view at every N and the work grows with N.
  *   flyover  the example's terrain quadtree plus 5000 objects, budget 10 ms.
- *   thesis   the thesis's test scene (seed 001 §8.4): a 5461-patch terrain quadtree and
+ *   thesis   the thesis's test scene ([Thesis8 §8.4]): a 5461-patch terrain quadtree and
  *            1.4 million trees in about 25 000 smooth objects (groups of <= 64 trees),
  *            budget 40 ms, solved by the mixed solver.
  *   churn    a random world (10^4 objects, or --objects N) edited between frames as a
@@ -112,7 +112,7 @@
  * mode comes from the roots), the rest settle caches. */
 #define WARMUP_FRAMES 3u
 #define FLYOVER_BUDGET_MS 10.0
-/* The thesis's rendering budget (seed 001 §8.4, Results: 40 ms per frame). */
+/* The thesis's rendering budget ([Thesis8 §8.4], Results: 40 ms per frame). */
 #define THESIS_BUDGET_MS 40.0
 /* Views of the thesis rows, spread over the loop (the flat mode's timed frames: a flat
  * solve moves thousands of variables), and the split mode's timed frames with --quick. */

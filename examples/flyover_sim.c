@@ -4,7 +4,7 @@
  * A camera flies a closed loop over one of two scenes:
  *  - flyover (default): the flyover world, a 4^6-patch terrain quadtree and 5000
  *    buildings and trees of 6 levels (examples/scenes/world_scene.h), budget 10 ms;
- *  - thesis (--scene thesis): the thesis's test scene (seed 001 §8.4), a 120 km
+ *  - thesis (--scene thesis): the thesis's test scene ([Thesis8 §8.4]), a 120 km
  *    terrain quadtree of 5461 patches and 1.4 million trees in about 25 000 smooth
  *    groups whose resolution is continuous (examples/scenes/thesis_scene.h), budget
  *    40 ms, solved by the mixed solver with quadtree variable splitting (--split 0
@@ -21,7 +21,7 @@
  * searches and drawn smooth groups (variables=, line_searches=, smooth_groups=).
  *
  * With --simulate-gpu the program also plays the part of the machine that would draw
- * the selection, to test frame-time adherence the way seed 003 §7.1 (Table 2) does:
+ * the selection, to test frame-time adherence the way [RH §7.1 (Table 2)] does:
  * a target frame time T replaces the fixed budget; every frame the budget comes from
  * the calibration (tclod_calib_budget), a hidden "true" render time and logic time are
  * made up for what was selected, the frame time follows from them by the paper's
@@ -52,7 +52,7 @@
 #define FRAMES_PER_LOOP 2400u
 /* The thesis scene's loop is about 197 km long: 12.5 min at 60 Hz, about 260 m/s. */
 #define THESIS_FRAMES_PER_LOOP 45000u
-/* The thesis's rendering budget (seed 001 §8.4, Results: 40 ms per frame). */
+/* The thesis's rendering budget ([Thesis8 §8.4], Results: 40 ms per frame). */
 #define THESIS_BUDGET_MS 40.0
 /* The table on stdout shows every this many frames. */
 #define PRINT_EVERY 20u
@@ -60,7 +60,7 @@
  * camera's measured speed and turn rate it gives the scheduler as bounds. */
 #define SCHEDULER_HZ 60.0
 #define SCHEDULER_MARGIN 1.25
-/* Without --target-ms, --simulate-gpu aims at 25 ms (seed 003 Table 2's 0.025 s). */
+/* Without --target-ms, --simulate-gpu aims at 25 ms ([RH Table 2]'s 0.025 s). */
 #define DEFAULT_TARGET_MS 25.0
 
 /* The hidden model of --simulate-gpu (docs/calibration.md). True render time =
@@ -125,7 +125,7 @@ static void usage(FILE *out) {
             "\n"
             "  --scene S       flyover: terrain quadtree and 5000 objects of 6 levels (default);\n"
             "                  thesis: terrain quadtree and 1.4 million trees in smooth groups\n"
-            "                  of continuous resolution (seed 001 ch. 8.4)\n"
+            "                  of continuous resolution ([Thesis8 §8.4])\n"
             "  --frames N      frames to simulate, N >= 1 (default 600)\n"
             "  --budget-ms X   render-time budget per frame in ms, X > 0 (default 10; thesis 40)\n"
             "  --solver S      selection algorithm (default greedy; thesis mixed: greedy\n"
@@ -143,7 +143,7 @@ static void usage(FILE *out) {
             "                  table, frame_ms,target_ms,scale,unconstrained_ms,factor to the\n"
             "                  CSV and the frame-time figures to the summary line\n"
             "  --target-ms T   --simulate-gpu: target frame time in ms, T > 0 (default 25)\n"
-            "  --gpu-c C       --simulate-gpu: the simulated machine's constant C of seed 003\n"
+            "  --gpu-c C       --simulate-gpu: the simulated machine's constant C of [RH]\n"
             "                  eq. 7, C > 0 (default 1, what the calibration assumes)\n"
             "  --scheduler     select through the predictive geomorph\n"
             "                  scheduler (docs/scheduler.md): each selection is for an\n"
@@ -783,7 +783,7 @@ done:
     return rc;
 }
 
-/* Frame-time figures of --simulate-gpu over all frames (seed 003 §7.1 measures
+/* Frame-time figures of --simulate-gpu over all frames ([RH §7.1] measures
  * every frame too, the first ones included). */
 typedef struct frame_figures {
     double sum, sum_sq, sum_err; /* of t_f, t_f², |t_f - T| / T */
@@ -852,7 +852,7 @@ int main(int argc, char **argv) {
          * opt.gpu_c, 1 unless --gpu-c says otherwise. */
         tclod_calib_desc_default(&cd);
         st = tclod_calib_create(&cd, NULL, &calib);
-        /* The unconstrained frame (seed 003 Fig. 3's bold line): every visible
+        /* The unconstrained frame ([RH Fig. 3]'s bold line): every visible
          * object at its finest, whatever the budget; a second selector with an
          * unlimited budget finds it. Any solver's unlimited selection is the same,
          * so the greedy's does for the flyover scene. */

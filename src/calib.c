@@ -1,10 +1,10 @@
 /*
- * Frame time: the render budget of a target frame time (seed 003 §5.3,
+ * Frame time: the render budget of a target frame time ([RH §5.3],
  * eq. 5-7) and the calibration of predicted cost against measured render time
- * (seed 004 §4.2, "feedback strategy ... weighted average"; DESIGN.md §3).
+ * ([GEO §4.2], "feedback strategy ... weighted average"; docs/calibration.md).
  *
  * CPU (logic) and GPU (render) work in parallel, so a frame is neither their
- * sum nor their maximum. Seed 003 models the render time that fits a frame of
+ * sum nor their maximum. [RH] models the render time that fits a frame of
  * t_f with logic t_l as t_r = rho² t_f / C, rho = 1 - min(1, (t_l / t_f)²).
  * Predicted costs are wrong by a factor that drifts with the scene and the
  * driver; after each frame the host reports what it drew and how long it

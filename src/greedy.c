@@ -1,6 +1,6 @@
 /*
  * TCLOD_SOLVER_GREEDY: the Mason–Blake increment over LOD hierarchies
- * (Mason & Blake 1997, as summarised in seed 004 §3.1–3.2 and seed 000 §2.1.1).
+ * ([MB97], as summarised in [GEO §3.1–3.2] and [ZMK02 §2.1.1]).
  *
  * A selection is a cut through the hierarchies. An increment replaces a cut
  * node by its children; increments are taken best Δbenefit/Δcost first from an

@@ -1,7 +1,7 @@
 /*
  * TCLOD_SOLVER_MIXED: Mason–Blake increments on discrete nodes interleaved with
- * gradient-ascent steps on smooth variables (seed 000 §3.3-3.4; thesis (seed
- * 001) ch. 8, eq. 8.1-8.14 and the kinked cost of eq. 8.18).
+ * gradient-ascent steps on smooth variables ([ZMK02 §3.3-3.4]; [Thesis8]
+ * ch. 8, eq. 8.1-8.14 and the kinked cost of eq. 8.18).
  *
  * The papers' loop (smooth_precondition = 0) compares the best discrete
  * increment that fits, slope_d = Δb/Δc (eq. 8.8), with the slope of the smooth

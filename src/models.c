@@ -1,12 +1,12 @@
 /*
  * Benefit and cost models of the source papers, as helpers hosts may call from
- * their callbacks (DESIGN.md §3, "View helpers").
+ * their callbacks (docs/api.md, "Views"; docs/mixed.md, the models).
  *
- * - terrain patch benefit S * 2^(d - dmax), thesis (seed 001) eq. 8.21;
- * - tree-group benefit k * S * (N / 64) * sqrt(x / N), thesis eq. 8.20;
- * - splat cost with a per-tree setup, piecewise linear, thesis eq. 8.18;
- * - triangle-strip cost c_vertex * n, thesis eq. 8.19 and seed 004 §4.2;
- * - accuracy * screen size, seed 004 §4.2.
+ * - terrain patch benefit S * 2^(d - dmax), [Thesis8 eq. 8.21];
+ * - tree-group benefit k * S * (N / 64) * sqrt(x / N), [Thesis8 eq. 8.20];
+ * - splat cost with a per-tree setup, piecewise linear, [Thesis8 eq. 8.18];
+ * - triangle-strip cost c_vertex * n, [Thesis8 eq. 8.19] and [GEO §4.2];
+ * - accuracy * screen size, [GEO §4.2].
  * The formulas are written out in the header; docs/mixed.md derives the
  * resolution convention (x = r * N).
  */

@@ -1,6 +1,6 @@
 /*
  * TCLOD_SOLVER_ROBIN_HOOD: proportional time distribution, "Robin Hood's
- * algorithm for TCLOD" (seed 003 §5).
+ * algorithm for TCLOD" ([RH §5]).
  *
  * Every visible instance gets a value (eq. 8-11: its un-projected area over
  * its depth or distance, times its importance). The render time, the frame's
@@ -10,7 +10,7 @@
  * change): each takes the finest representation its share affords and hands
  * what it leaves back for the instances after it, so simple objects' surplus
  * reaches complex ones (cycles 1 and 2: values, then shares). What the last
- * ones cannot use goes, in a third and last cycle (seed 003 §7.2: spend the
+ * ones cannot use goes, in a third and last cycle ([RH §7.2]: spend the
  * remaining time on the quality of the instances), to the instances that can
  * still refine: shared out again in proportion to value, pass after pass,
  * while a pass refines something and a step fits what is left.
@@ -1324,7 +1324,7 @@ static void skip_waiting(tclod_selector *sel) {
     R->limited = limited;
 }
 
-/* Cycle 3 (seed 003 §7.2: what the instances cannot use is better spent on
+/* Cycle 3 ([RH §7.2]: what the instances cannot use is better spent on
  * their quality): what is left is shared out again, pass after pass, among
  * the instances that can still refine, in proportion to value and with what
  * each leaves going on to the next, as in cycle 2: first the nodes' instances

@@ -1,6 +1,6 @@
 /*
- * The predictive geomorph scheduler (seed 004 §3.3-3.4, §4.2-4.5; DESIGN.md
- * §3; docs/scheduler.md).
+ * The predictive geomorph scheduler ([GEO §3.3-3.4, §4.2-4.5];
+ * docs/scheduler.md).
  *
  * Time is cut into intervals I_j = [b_j, b_j + tau). The selection begun at
  * b_j runs in slices during I_j for the target interval I_{j+L} (L = 2 with
@@ -30,7 +30,7 @@
  *
  * Node relations are found with epoch marks on per-node arrays: the members
  * of a cut are marked black, and a node belongs to the meet of two cuts when
- * no proper ancestor of it is marked (seed 004 §4.4's black and grey nodes).
+ * no proper ancestor of it is marked ([GEO §4.4]'s black and grey nodes).
  *
  * An update is all or nothing. It grows every buffer (the selector's too)
  * before it changes anything; it keeps the pipeline's state from its start,

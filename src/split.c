@@ -1,6 +1,6 @@
 /*
  * Smooth variables of a frame: quadtree culling and variable splitting
- * (seed 000 §3.5 and Appendix A; thesis (seed 001) eq. 8.15-8.23, Algorithm 3).
+ * ([ZMK02 §3.5] and Appendix A; [Thesis8 eq. 8.15-8.23, Algorithm 3]).
  *
  * The scene keeps its smooth objects in a quadtree over their ground positions
  * (scene.c), so every quadtree node is a contiguous range of the smooth order.

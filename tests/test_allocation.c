@@ -5,8 +5,8 @@
  * allocation failing (transient) and once with every allocation from the
  * k-th on failing (persistent). Each failure must return TCLOD_ERR_NOMEM,
  * leak nothing and change nothing: the scene, the previous result and the
- * outputs stay as they were (DESIGN.md §5, "allocation failure returns
- * TCLOD_ERR_NOMEM with nothing leaked and nothing changed").
+ * outputs stay as they were (docs/api.md, "Allocators": a failed
+ * allocation is TCLOD_ERR_NOMEM, with nothing leaked and nothing changed).
  *
  * The allocating entry points: tclod_scene_create, tclod_scene_add_node,
  * tclod_scene_add_node_desc, tclod_scene_add_smooth, tclod_scene_set_node_bounds
@@ -839,7 +839,7 @@ static void select_begin_reports_nomem_and_steps_allocate_nothing_for_every_solv
 }
 
 static void robin_hood_selects_after_the_first_allocate_nothing(void **state) {
-    /* DESIGN.md §5, "no allocation per frame once buffers have grown", for
+    /* docs/api.md, "No allocation per frame" once buffers have grown, for
      * the Robin Hood solver (test_guarantees.c checks the greedy and mixed
      * ones): after the first select of a scene, 30 frames with moving views,
      * changing budgets and both misfit policies allocate nothing. */

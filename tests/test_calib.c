@@ -1,7 +1,7 @@
 /*
  * test_calib — the header's "Frame time" section (src/calib.c): the render
- * budget of seed 003 §5.3 (eq. 5-7) on inputs worked out by hand, and the
- * calibration of predicted cost against measured render time (seed 004 §4.2):
+ * budget of [RH §5.3 (eq. 5-7)] on inputs worked out by hand, and the
+ * calibration of predicted cost against measured render time ([GEO §4.2]):
  * convergence on a constant hidden factor, step changes at the rise and fall
  * rates, the dead band, the logic estimate, the budget it gives, and the
  * error contract (bad arguments and allocation failures change nothing).

@@ -1,5 +1,5 @@
 /*
- * test_guarantees — what every selection keeps (DESIGN.md §5), exercised
+ * test_guarantees — what every selection keeps (docs/api.md), exercised
  * through the greedy solver, the selector and the allocator hooks
  * (src/selector.c, src/alloc.c): the exact budget guarantee under floating
  * point absorption, bad callback values (sanitised or, in strict mode,
@@ -1044,7 +1044,7 @@ static void assert_mixed_snapshot(const tclod_selector *sel, const mixed_snapsho
     }
 }
 
-/* Asserts what a mixed selection over a table_model promises (DESIGN.md §5,
+/* Asserts what a mixed selection over a table_model promises (docs/api.md,
  * tclod_select): the costs of the listed cut nodes, then those of the drawn
  * groups recomputed member by member, summed in double in that order, are
  * <= budget and are st->cost exactly; every group is a non-empty range of the

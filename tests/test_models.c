@@ -1,9 +1,9 @@
 /*
  * test_models — the ready-made benefit and cost models of the header's
  * "Benefit and cost models" section (src/models.c): the terrain patch benefit
- * (thesis eq. 8.21), the tree-group benefit (eq. 8.20), the kinked splat cost
- * (eq. 8.18), the triangle-strip cost (eq. 8.19, seed 004 §4.2) and the
- * accuracy benefit of seed 004 §4.2, against values worked out by hand, with
+ * ([Thesis8 eq. 8.21]), the tree-group benefit (eq. 8.20), the kinked splat cost
+ * (eq. 8.18), the triangle-strip cost (eq. 8.19, [GEO §4.2]) and the
+ * accuracy benefit of [GEO §4.2], against values worked out by hand, with
  * the thesis's measured constants where it gives them.
  */
 #include <setjmp.h>
@@ -225,7 +225,7 @@ static void accuracy_is_one_once_faces_reach_the_pixels(void **state) {
 }
 
 static void accuracy_follows_the_formula_when_only_the_original_reaches_the_pixels(void **state) {
-    /* F < S <= F0: by the header's (and seed 004's) formula
+    /* F < S <= F0: by the header's (and [GEO]'s) formula
      * max(1, S / F0) / max(1, S / F) = 1 / (S / F) = F / S.
      * S 1000, F0 4000, F 250: 1 / 4 = 0.25, benefit 250.
      * S 1000, F0 1000, F 500: 1 / 2, benefit 500.

@@ -1,5 +1,5 @@
 /*
- * test_robin_hood — the Robin Hood solver (src/robin_hood.c, seed 003 §5):
+ * test_robin_hood — the Robin Hood solver (src/robin_hood.c, [RH §5]):
  * shares proportional to value (eq. 2-4), leftover passed on, the
  * simple-to-complex order, the value functions (eq. 8-11), the misfit
  * policies, smooth objects' inverse cost, branches, and the budget.
@@ -222,7 +222,7 @@ static void a_scene_change_finds_the_branches_children_again(void **state) {
     tclod_selector_destroy(sel);
 }
 
-/* The leftover cycle (seed 003 §7.2): K (levels 2, 9) and S (one level costing
+/* The leftover cycle ([RH §7.2]): K (levels 2, 9) and S (one level costing
  * 1), equal values, budget 10, K visited first. K's share 5 takes its level
  * 0, S's share 8 takes 1 and leaves 7: K's next step (9 - 2 = 7) fits the
  * leftover, so K ends at its level 1 and the frame uses all of its 10. */
@@ -495,7 +495,7 @@ static void a_child_outside_the_frustum_is_culled_below_a_branch_inside_it(void 
 
 /* ---- value functions (eq. 8-11) ----------------------------------------------- */
 
-static void value_functions_match_seed_003(void **state) {
+static void value_functions_match_the_robin_hood_paper(void **state) {
     (void)state;
     /* a = 4, z = 16, d = 20, I = 0.5 */
     assert_true(tclod_value_of(TCLOD_VALUE_AREA_SQRT_DEPTH, 4.0, 16.0, 20.0, 0.5) ==
@@ -932,7 +932,7 @@ int main(void) {
         FIXTURE_TEST(a_leftover_of_a_2000th_of_the_budget_is_shared_again),
         FIXTURE_TEST(a_branch_shares_its_time_among_its_children),
         FIXTURE_TEST(a_child_outside_the_frustum_is_culled_below_a_branch_inside_it),
-        cmocka_unit_test(value_functions_match_seed_003),
+        cmocka_unit_test(value_functions_match_the_robin_hood_paper),
         FIXTURE_TEST(values_follow_the_view),
         FIXTURE_TEST(area_sqrt_depth_shares_follow_the_depth_not_the_distance),
         FIXTURE_TEST(sqrt_area_distance2_shares_follow_the_distance),

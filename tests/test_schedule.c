@@ -1,5 +1,5 @@
 /*
- * test_schedule — the predictive geomorph scheduler (src/schedule.c; seed 004
+ * test_schedule — the predictive geomorph scheduler (src/schedule.c; [GEO]
  * §3.3-3.4, §4.3-4.5): the conservative camera on hand-computed values, linear
  * prediction (exact on a straight path, clamped to the speed and turn bounds),
  * the timing of Fig. 6 (a down-morph ends when its interval begins, an
@@ -155,7 +155,7 @@ static void expect_one(tclod_scheduler *sch, uint32_t frame, tclod_id fine, tclo
 
 /* ---- the conservative camera and the prediction --------------------------- */
 
-static void conservative_camera_widens_and_steps_back_as_seed_004_says(void **state) {
+static void conservative_camera_widens_and_steps_back_as_the_geomorph_paper_says(void **state) {
     tclod_view v, c;
     (void)state;
     helper_view(&v);
@@ -1728,7 +1728,7 @@ static void roots_drawn_past_the_largest_cost_leave_reports_valid(void **state) 
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(conservative_camera_widens_and_steps_back_as_seed_004_says),
+        cmocka_unit_test(conservative_camera_widens_and_steps_back_as_the_geomorph_paper_says),
         cmocka_unit_test(roots_drawn_past_the_largest_cost_leave_reports_valid),
         cmocka_unit_test(prediction_is_exact_on_a_straight_path),
         cmocka_unit_test(prediction_keeps_to_the_speed_and_turn_bounds),

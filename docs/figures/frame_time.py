@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draws frame time against the target over a simulated flight, as SVG.
 
-In the manner of seed 003's Figure 3 (time-critical test, linear path): the
+In the manner of [RH]'s Figure 3 (time-critical test, linear path): the
 target frame time as a dashed line, the frame time the calibrated budget gave
 as a thin solid line, and the unconstrained frame time (every visible object
 at its finest) as a bold light line. Below it, the frame time's deviation from

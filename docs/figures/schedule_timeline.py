@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draws the predictive geomorph scheduler's timeline as SVG.
 
-In the manner of seed 004's Figures 5 and 6: time runs left to right, cut into
+In the manner of [GEO]'s Figures 5 and 6: time runs left to right, cut into
 intervals of tau. The top band shows the pipeline: the selection that runs
 during interval I_j (in slices, while the frames draw) is for I_{j+2}. Below,
 the level positions of three objects of the flyover world as the scheduler

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draws the slope matching of the mixed solver's line search as SVG.
 
-In the manner of the thesis's Figure 8.1 (seed 001, eq. 8.8-8.14): benefit
+In the manner of the thesis's Figure 8.1 ([Thesis8], eq. 8.8-8.14): benefit
 against predicted cost. From the roots O the smooth variables follow the
 benefit gradient (solid curve) until, at Q, the curve's slope has fallen to
 slope_d, the slope of the discrete increment (dashed, O -> P); the increment

@@ -1,6 +1,6 @@
 /*
  * glfw_forest — a minimal host engine around libtclod: GLFW and OpenGL draw the
- * thesis's terrain and forest (seed 001 §8.4, examples/scenes/thesis_scene.h) as
+ * thesis's terrain and forest ([Thesis8 §8.4], examples/scenes/thesis_scene.h) as
  * libtclod selects it, every frame, so that frames take a target time.
  *
  * Every frame the host
@@ -66,7 +66,7 @@
  * pitch below the horizon, radians. */
 #define FLIGHT_ALTITUDE 60.0f
 #define FLIGHT_PITCH 0.2f
-/* The tree groups' benefit weight k (thesis eq. 8.20). The thesis's k = 50 makes
+/* The tree groups' benefit weight k ([Thesis8 eq. 8.20]). The thesis's k = 50 makes
  * a tree worth so much more than the ground that at a small budget (a software
  * renderer's) the terrain stays one patch while any tree is in view; this host
  * values its ground more. */
@@ -358,8 +358,8 @@ static uint32_t skirt_top(uint32_t k) {
 
 /* The patch's 33 × 33 vertices with colours from height, slope and sun, and its
  * skirts, into c->scratch: what every patch of any depth sends, 2112 strip
- * vertices (thesis eq. 8.19), at its own spacing, plus the skirts' 264.
- * weight < 1 geomorphs it (seed 004 §4.3) towards its parent: every height lies
+ * vertices ([Thesis8 eq. 8.19]), at its own spacing, plus the skirts' 264.
+ * weight < 1 geomorphs it ([GEO §4.3]) towards its parent: every height lies
  * between its own and the parent's surface at that vertex (weight 1 = the patch
  * itself). The parent's vertices are the patch's even ones; the others lie on
  * the parent's cell edges (the mean of the two ends) or on the diagonal its

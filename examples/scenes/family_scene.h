@@ -16,7 +16,7 @@
  *   weakly correlated    w uniform in [1, R], p uniform in [w - R/10, w + R/10], p >= 1;
  *   strongly correlated  w uniform in [1, R], p = w + R/10;
  *   not diminishing      as uncorrelated, but nothing orders the steps.
- * In the first three families the steps show diminishing returns, as DESIGN.md §1 asks of
+ * In the first three families the steps show diminishing returns, as docs/api.md asks of
  * a host: along a chain the steps are sorted by falling p/w, and in a tree a node's step
  * never gains more per unit of cost than its parent's (drawn again until it does). The
  * fourth family keeps the steps in the order drawn, so a step often gains more per unit

@@ -1,5 +1,5 @@
 /*
- * thesis_scene — the thesis's terrain flyover with trees (seed 001, ch. 8.4),
+ * thesis_scene — the thesis's terrain flyover with trees ([Thesis8 §8.4]),
  * built procedurally. See thesis_scene.h for the scene and its model.
  *
  * Both the height field and the forest mask are sums of separable terms

@@ -1,6 +1,6 @@
 /*
  * thesis_scene — the terrain flyover with 1.4 million trees of the thesis's test
- * application (seed 001, chapter 8.4 "Test Application" and "Benefit and Cost
+ * application ([Thesis8 §8.4], "Test Application" and "Benefit and Cost
  * Heuristics"), for the mixed solver's example and benchmark.
  *
  * The thesis flies over a 2049 × 2049 height field of 120 km × 120 km (Styria)
@@ -19,7 +19,7 @@
  *    middle heights (few trees in the valleys, none above the tree line).
  *    Every non-empty block of 8 × 8 cells is one smooth object (N_i <= 64 trees).
  *
- * Model (thesis eq. 8.18–8.21), in milliseconds:
+ * Model ([Thesis8 eq. 8.18–8.21]), in milliseconds:
  *   terrain patch at depth d:  benefit = S · 2^(d − dmax)                  (eq. 8.21)
  *                              cost    = c_vertex · 2112                    (eq. 8.19)
  *   group of smooth objects sharing the resolution r (count members, N trees in all,

@@ -3,16 +3,16 @@
  * their camera loop and their benefit/cost model. See world_scene.h.
  *
  * Model, per node, precomputed at build time (the callbacks only multiply):
- *   cost    = ms_per_draw + ms_per_triangle × triangles            (thesis eq. 8.18/8.19,
- *                                                                   seed 004 §4.2)
- *   benefit = screen area × weight                                 (seed 004 §4.2:
+ *   cost    = ms_per_draw + ms_per_triangle × triangles            ([Thesis8 eq. 8.18/8.19],
+ *                                                                   [GEO §4.2])
+ *   benefit = screen area × weight                                 ([GEO §4.2]:
  *                                                                   accuracy × screen size)
- *   importance = weight: Robin Hood's I (seed 003 eq. 8-11), whose value functions
+ *   importance = weight: Robin Hood's I ([RH eq. 8-11]), whose value functions
  *       measure size and place themselves, so the area must not enter it twice
  * with these weights:
  *   object level k (of a chain):  1 − 2^−(k+1)  and triangles T0·4^k, so each finer
  *       level adds half the benefit of the previous step for four times the triangles;
- *   terrain patch at depth d:     2^(d − dmax) (thesis eq. 8.21: the share of the
+ *   terrain patch at depth d:     2^(d − dmax) ([Thesis8 eq. 8.21]: the share of the
  *       full-resolution texels shown) and a fixed triangle count per patch (eq. 8.19),
  *       so four children cost four times their parent. Doubling per level (rather
  *       than the objects' 1 − 2^−(k+1)) keeps a split worth taking while more than

@@ -4,7 +4,7 @@
  * Two worlds, one node model:
  *  - the random world: N objects at random on a square ground plane, each a chain
  *    of L discrete levels, grouped by a quadtree of group impostors so that a
- *    region outside the frustum collapses to one invisible node (DESIGN §1);
+ *    region outside the frustum collapses to one invisible node (docs/api.md);
  *  - the flyover world: a height-field terrain as a quadtree of patches plus
  *    thousands of buildings and trees, each a chain of discrete levels with its
  *    own root, and a closed camera loop over it.
@@ -12,11 +12,11 @@
  * Both share one benefit/cost model, precomputed per node in structure-of-arrays
  * form so that the callbacks are a multiply and two loads:
  *   benefit = screen area (px²) × weight,   cost = ms_per_draw + ms_per_triangle × triangles.
- * The weights follow seed 004 §4.2 (benefit = accuracy × projected size): object
+ * The weights follow [GEO §4.2] (benefit = accuracy × projected size): object
  * level k has accuracy 1 − 2^−(k+1), group impostors less, a terrain patch at depth
- * d 2^(d − dmax) (thesis eq. 8.21); the cost is linear in the triangles sent plus a per-draw setup
- * (thesis eq. 8.18, 8.19; seed 004 §4.2). world_scene.c explains the weights and why every chain
- * shows diminishing returns.
+ * d 2^(d − dmax) ([Thesis8 eq. 8.21]); the cost is linear in the triangles sent
+ * plus a per-draw setup ([Thesis8 eq. 8.18, 8.19]; [GEO §4.2]). world_scene.c
+ * explains the weights and why every chain shows diminishing returns.
  *
  * Not part of the library: no header of libtclod depends on this one.
  */

@@ -215,7 +215,7 @@ typedef struct tclod_query {
  *          (d_dr is never NULL and must be written). Both should be >= 0 and
  *          nondecreasing in r; benefit concave (diminishing returns) and cost
  *          0 at r = 0. Cost may be piecewise linear with kinks (a setup cost
- *          per object that makes the first units dearer, thesis eq. 8.18).
+ *          per object that makes the first units dearer, [Thesis8 eq. 8.18]).
  *          At r = 0 a smooth object is not drawn: it counts no benefit and no
  *          cost whatever the callbacks say. Derivatives are asked at r >= 1e-9
  *          (at 0 a square-root benefit has an infinite slope). NaN, inf or
@@ -242,7 +242,7 @@ typedef struct tclod_callbacks {
     /* importance: Robin Hood solver, optional (NULL = the benefit: the
      *          benefit of the instance's first node, a smooth object's
      *          smooth_benefit at r = 1). The importance I that the value
-     *          functions multiply (tclod_value, seed 003 eq. 8-11): what an
+     *          functions multiply (tclod_value, [RH eq. 8-11]): what an
      *          instance is worth apart from its size and place, such as a
      *          weight per kind of object, >= 0. The value functions measure
      *          size and place themselves, so a benefit that grows with screen
@@ -392,7 +392,7 @@ typedef enum tclod_solver {
  * tclod_selector_create rejects the others with TCLOD_ERR_ARG. */
 TCLOD_API int tclod_solver_available(tclod_solver solver);
 
-/* Value functions of the Robin Hood solver (seed 003 eq. 8-11): how an
+/* Value functions of the Robin Hood solver ([RH eq. 8-11]): how an
  * instance's share of the render time follows its size and place. a is the
  * instance's un-projected area (pi r² of its bounds), z its depth along the
  * view direction, d its distance from the eye, I its importance: the
@@ -411,7 +411,7 @@ typedef enum tclod_value {
  * representation costs more than its share. */
 typedef enum tclod_misfit {
     TCLOD_MISFIT_DROP = 0,    /* not drawn; its share goes on to the instances after it
-                                 (seed 003 §5.2) */
+                                 ([RH §5.2]) */
     TCLOD_MISFIT_COARSEST = 1 /* drawn at its simplest representation when the render
                                  time still left covers it, else not drawn */
 } tclod_misfit;
@@ -506,7 +506,7 @@ typedef struct tclod_selector_desc {
                                 its model's resolution. 0: the papers' loop with
                                 the plain benefit gradient. Default 1 */
     double smooth_epsilon;   /* papers' loop: barrier of the search direction
-                                (thesis eq. 8.13), relative to each variable's
+                                ([Thesis8 eq. 8.13]), relative to each variable's
                                 slope, a_i = db/dx_i * max(0, 1 - eps / (1 - x_i)).
                                 In [0, 1). Default 1e-3 */
     double smooth_tolerance; /* papers' loop: a line search may go on until the
@@ -704,7 +704,7 @@ TCLOD_API double tclod_selector_resolution(const tclod_selector *sel, tclod_id s
  * the full-resolution texels the patch shows. 0 for a negative screen_area. */
 TCLOD_API double tclod_benefit_terrain(double screen_area, uint32_t depth, uint32_t max_depth);
 
-/* Group of `trees` trees drawn at resolution r in [0, 1] (thesis eq. 8.20, with
+/* Group of `trees` trees drawn at resolution r in [0, 1] ([Thesis8 eq. 8.20], with
  * the resolution x_i = r * trees): k * S * (trees / 64) * sqrt(r). Its
  * derivative goes to *d_dr (may be NULL), taken at r = 1e-12 when r is smaller
  * (the square root's slope is infinite at 0). The thesis uses k = 50 with
@@ -713,7 +713,7 @@ TCLOD_API double tclod_benefit_tree_group(double k, double screen_area, double t
                                           double *d_dr);
 
 /* Splat rendering time of a group of `trees` instances whose full resolution
- * has `splats` splats in all, at resolution r in [0, 1] (thesis eq. 8.18): with
+ * has `splats` splats in all, at resolution r in [0, 1] ([Thesis8 eq. 8.18]): with
  * n = r * splats splats drawn, (c_splat + c_tree) * n while n < trees (every
  * splat is a separate tree that needs its own setup), else
  * c_splat * n + c_tree * trees. Piecewise linear, steeper for the first units.
@@ -722,11 +722,11 @@ TCLOD_API double tclod_benefit_tree_group(double k, double screen_area, double t
 TCLOD_API double tclod_cost_splats(double c_splat, double c_tree, double splats, double trees,
                                    double r, double *d_dr);
 
-/* Triangle-strip rendering time (thesis eq. 8.19; seed 004 §4.2):
+/* Triangle-strip rendering time ([Thesis8 eq. 8.19]; [GEO §4.2]):
  * c_vertex * vertices. The thesis measured c_vertex = 0.06 us. */
 TCLOD_API double tclod_cost_vertices(double c_vertex, double vertices);
 
-/* Benefit of representation r of an object (seed 004 §4.2):
+/* Benefit of representation r of an object ([GEO §4.2]):
  * accuracy * screen_size with
  * accuracy = max(1, screen_size / original_faces) / max(1, screen_size / faces):
  * faces / original_faces while both have fewer faces than the object covers
@@ -735,7 +735,7 @@ TCLOD_API double tclod_cost_vertices(double c_vertex, double vertices);
  * original_faces > 0; 0 for a screen_size <= 0. */
 TCLOD_API double tclod_benefit_accuracy(double screen_size, double faces, double original_faces);
 
-/* Value of an instance by one of the Robin Hood value functions (seed 003
+/* Value of an instance by one of the Robin Hood value functions ([RH]
  * eq. 8-11): area a (un-projected, >= 0), depth z and distance d (> 0),
  * importance I (>= 0). 0 for NaN or out-of-range inputs. */
 TCLOD_API double tclod_value_of(tclod_value f, double area, double depth, double distance,
@@ -745,7 +745,7 @@ TCLOD_API double tclod_value_of(tclod_value f, double area, double depth, double
 /* Frame time                                                                */
 /* ------------------------------------------------------------------------- */
 
-/* The render time that fits a target frame time (seed 003 eq. 5-7), for a
+/* The render time that fits a target frame time ([RH eq. 5-7]), for a
  * machine where CPU (logic) and GPU (render) work in parallel: with
  * l = min(1, (logic_time / frame_time)²) and rho = 1 - l,
  * *render_time = rho² * frame_time / machine_c. Times in the host's unit (ms).
@@ -754,7 +754,7 @@ TCLOD_API double tclod_value_of(tclod_value f, double area, double depth, double
 TCLOD_API tclod_status tclod_render_budget(double frame_time, double logic_time, double machine_c,
                                            double *render_time);
 
-/* Calibration of predicted cost against measured time (seed 004 §4.2, seed 003
+/* Calibration of predicted cost against measured time ([GEO §4.2], [RH]
  * §5.3): the host reports, after each frame, the predicted cost of what it drew
  * (tclod_stats.cost) and the render and logic times it measured; an
  * exponentially weighted ratio measured / predicted then turns a target frame
@@ -821,7 +821,7 @@ TCLOD_API tclod_status tclod_calib_budget(const tclod_calib *c, double frame_tim
 /* ------------------------------------------------------------------------- */
 
 /* Selection for a future interval, amortised over the frames before it, with
- * geomorphs between the selections (seed 004 §3.3-3.4, §4.2-4.5;
+ * geomorphs between the selections ([GEO §3.3-3.4, §4.2-4.5];
  * docs/scheduler.md). Time is cut into intervals of tau seconds. During an
  * interval the frames draw the selections that have landed while the next
  * selection runs in per-frame slices; it lands at the next boundary (ended
@@ -860,7 +860,7 @@ typedef struct tclod_scheduler_desc {
                                Updates further apart than 4 tau restart it, so a
                                tau shorter than the time between updates selects
                                at once in every update (counted in emergencies).
-                               Default 0.5 (seed 004 §4.5: 10 frames at 20 Hz) */
+                               Default 0.5 ([GEO §4.5]: 10 frames at 20 Hz) */
     uint32_t samples;       /* predicted views per selection, 1 .. TCLOD_MAX_SAMPLES,
                                at the middles of equal parts of the target
                                interval. Default 3 */
@@ -1013,7 +1013,7 @@ TCLOD_API tclod_status tclod_scheduler_get_stats(const tclod_scheduler *sch,
 TCLOD_API tclod_status tclod_scheduler_predict(const tclod_scheduler *sch, double t,
                                                tclod_view *out);
 
-/* The conservative camera of seed 004 §3.3: a view that contains every view
+/* The conservative camera of [GEO §3.3]: a view that contains every view
  * the camera can reach within `horizon` seconds when it moves at most
  * max_speed (theta) and turns at most max_turn_rate (omega). Its fields of
  * view widen by 2 * horizon * omega (vertical, and horizontal through the

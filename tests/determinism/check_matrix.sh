@@ -2,7 +2,7 @@
 # Builds tests/determinism/test_determinism across compilers, optimisation
 # levels, instruction sets and library kinds, and checks that every build
 # prints the same hash per configuration and passes its golden hashes
-# (DESIGN.md §5, "Determinism").
+# (docs/api.md, "Determinism").
 #
 #   tests/determinism/check_matrix.sh [--quick] [WORK_DIR]
 #

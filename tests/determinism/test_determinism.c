@@ -1,7 +1,7 @@
 /*
  * test_determinism — golden hashes of the selections along fixed camera
- * paths (DESIGN.md §5, "Determinism: same scene, callbacks and frames ->
- * bit-identical selection, on every compiler and optimisation level"), in
+ * paths (docs/api.md, "Determinism": same scene, callbacks and frames give
+ * a bit-identical selection, on every compiler and optimisation level), in
  * the manner of Box2D's test/test_determinism.c.
  *
  * Scenes: the shared flyover world (examples/scenes/world_scene.h: a terrain

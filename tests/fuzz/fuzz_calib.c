@@ -7,7 +7,7 @@
  * What is checked is what the header promises:
  *  - creation and every call fail with TCLOD_ERR_ARG exactly for the
  *    arguments the header calls bad, and a failed call changes nothing;
- *  - tclod_render_budget follows seed 003 eq. 5-7 (to rounding) and lies in
+ *  - tclod_render_budget follows [RH eq. 5-7] (to rounding) and lies in
  *    [0, frame_time / machine_c];
  *  - after a report the logic estimate is the exponentially weighted average
  *    with logic_rate; the ratio is left alone by a frame that drew nothing or

@@ -1,7 +1,7 @@
 /*
  * fuzz_select — libFuzzer target over scene building, scene edits and
- * selection with every solver (DESIGN.md §5, the guarantees every part
- * keeps).
+ * selection with every solver (the guarantees every part keeps,
+ * docs/api.md).
  *
  * The input's bytes choose a selector description (solver, flags, overflow
  * policy, option values valid or not), a scene (parents valid or not; node
