@@ -158,8 +158,11 @@ struct tclod_scheduler {
     pipeline p;
     generation gen[GEN_SLOTS];
     plan_state plans[2];
-    int failed; /* strict mode: the scheduler's own evaluations saw a
-                   bad value during this update */
+    int failed;         /* strict mode: the scheduler's own evaluations saw a
+                           bad value during this update */
+    int smooth_removed; /* smooth objects were removed since the landed
+                           selections: their resolutions go to 0 when the
+                           update succeeds */
 
     /* what a failed update puts back: the pipeline, the views (once a
      * selection began), the slot the update recorded into, and the
@@ -1423,14 +1426,15 @@ static int slot_used(const tclod_scheduler *sch, uint32_t g) {
            g == sch->shown.cur || g == sch->shown.next || (sch->p.ready && g == sch->p.landing);
 }
 
-/* After the scene changed: the landed selections lose the nodes and smooth
- * objects removed since (the scene's index no longer holds them), so that
- * they leave the draw list now, mid-morph too. Returns whether the plan must
- * be made again. */
+/* After the scene changed: the landed selections lose the nodes removed
+ * since (the scene's index no longer holds them), so that they leave the
+ * draw list now, mid-morph too. Removed smooth objects leave at the update's
+ * success (clear_removed_smooth): until then the outputs show the last
+ * successful update's resolutions. Returns whether the plan must be made
+ * again. */
 static int purge(tclod_scheduler *sch) {
     const tclod_scene *s = sch->scene;
     int nodes = sch->p.node_version != s->node_version;
-    int smooth = sch->p.smooth_version != s->smooth_version;
     uint32_t g, i, k;
     if (nodes)
         for (g = 0; g < GEN_SLOTS; ++g) {
@@ -1444,15 +1448,23 @@ static int purge(tclod_scheduler *sch) {
                 }
             G->count = k;
         }
-    if (smooth)
-        for (g = 0; g < GEN_SLOTS; ++g)
-            if (slot_used(sch, g))
-                for (i = 0; i < s->smooth_count; ++i)
-                    if (!tclod_scene_smooth_live(s, i))
-                        sch->gen[g].res[i] = 0.0;
+    if (sch->p.smooth_version != s->smooth_version)
+        sch->smooth_removed = 1;
     sch->p.node_version = s->node_version;
     sch->p.smooth_version = s->smooth_version;
     return nodes;
+}
+
+/* A successful update: the smooth objects removed before it show resolution
+ * 0 in every generation it left in use. */
+static void clear_removed_smooth(tclod_scheduler *sch) {
+    const tclod_scene *s = sch->scene;
+    uint32_t g, i;
+    for (g = 0; g < GEN_SLOTS; ++g)
+        if (slot_used(sch, g))
+            for (i = 0; i < s->smooth_count; ++i)
+                if (!tclod_scene_smooth_live(s, i))
+                    sch->gen[g].res[i] = 0.0;
 }
 
 /* The pipeline's work of one update; the outputs are made in the back
@@ -1531,6 +1543,7 @@ static void keep(tclod_scheduler *sch) {
     sch->views_saved = 0;
     sch->touched = 0;
     sch->pending_at_start = tclod_select_pending(sch->sel);
+    sch->smooth_removed = 0;
     tclod_selector_keep(sch->sel, &sch->kept);
 }
 
@@ -1601,6 +1614,8 @@ tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclo
         sch->shown.items = sch->back;
         sch->shown.stats = sch->p.stats;
         sch->back = 1u - sch->back;
+        if (sch->smooth_removed)
+            clear_removed_smooth(sch);
         sch->user.synced = epoch; /* its selections name no node removed before that */
     } else {
         put_back(sch);

@@ -1608,6 +1608,47 @@ static void a_failed_update_records_no_camera(void **state) {
     tclod_scene_destroy(s);
 }
 
+static void a_failed_update_after_a_removal_shows_what_it_showed(void **state) {
+    /* a root (cost 1) and two smooth objects of equal weight under a budget
+     * of 2 settle at r = 1/2 each. Object a is then removed and the next
+     * update fails on a NaN cost: the draw list and both resolutions stay
+     * as the last successful update showed them; the update after drops a */
+    wish_host h;
+    tclod_scene *s = NULL;
+    tclod_scheduler *sch;
+    tclod_id root, a, b;
+    float ba[4] = {-2.0f, 0.0f, -10.0f, 1.0f}, bb[4] = {2.0f, 0.0f, -10.0f, 1.0f};
+    const tclod_draw *items;
+    size_t n;
+    tclod_view v;
+    uint32_t f;
+    (void)state;
+    memset(&h, 0, sizeof h);
+    h.strict = 1;
+    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+    assert_int_equal(tclod_scene_add_node(s, TCLOD_NONE, NULL, &root), TCLOD_OK);
+    assert_int_equal(tclod_scene_add_smooth(s, ba, &a), TCLOD_OK);
+    assert_int_equal(tclod_scene_add_smooth(s, bb, &b), TCLOD_OK);
+    h.weight[a] = h.weight[b] = 1.0;
+    sch = wish_scheduler(s, &h, 1, 1);
+    helper_view(&v);
+    for (f = 0; f < 30; ++f)
+        assert_int_equal(tclod_scheduler_update(sch, f / 10.0, &v, 2.0, 0.0), TCLOD_OK);
+    assert_float_equal(tclod_scheduler_resolution(sch, a), 0.5, 1e-3);
+    assert_int_equal(tclod_scene_remove_smooth(s, a), TCLOD_OK);
+    h.nan_costs = 1;
+    assert_int_equal(tclod_scheduler_update(sch, 3.0, &v, 2.0, 0.0), TCLOD_ERR_CALLBACK);
+    assert_float_equal(tclod_scheduler_resolution(sch, a), 0.5, 1e-3);
+    assert_float_equal(tclod_scheduler_resolution(sch, b), 0.5, 1e-3);
+    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(items[0].fine, root);
+    assert_int_equal(tclod_scheduler_update(sch, 3.0, &v, 2.0, 0.0), TCLOD_OK);
+    assert_float_equal(tclod_scheduler_resolution(sch, a), 0.0, 0.0);
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
 static void a_slower_machine_lowers_the_budget_through_the_calibration(void **state) {
     wish_host h;
     tclod_scene *s;
@@ -1754,6 +1795,7 @@ int main(void) {
         cmocka_unit_test(a_failed_update_puts_the_warm_start_back),
         cmocka_unit_test(a_failed_update_begins_the_lost_selection_again_with_its_views),
         cmocka_unit_test(a_failed_update_records_no_camera),
+        cmocka_unit_test(a_failed_update_after_a_removal_shows_what_it_showed),
         cmocka_unit_test(a_slower_machine_lowers_the_budget_through_the_calibration),
         cmocka_unit_test(render_and_logic_times_go_to_the_schedulers_calibration),
     };
