@@ -98,8 +98,8 @@ static int solve(figure *f, uint32_t max_iterations, tclod_stats *stats, double 
     tclod_selector_desc_default(&d);
     d.solver = TCLOD_SOLVER_MIXED;
     table_mixed_callbacks(&f->model, &d.callbacks);
-    d.smooth_precondition = 0;
-    d.smooth_tolerance = 0.0;
+    d.mixed.plain_gradient = 1;
+    d.mixed.smooth_tolerance = TCLOD_OFF;
     memset(&frame, 0, sizeof frame);
     frame.budget = BUDGET_MS;
     frame.max_iterations = max_iterations;

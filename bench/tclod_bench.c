@@ -465,9 +465,9 @@ static int run_config(world_scene *w, bench_method method, int warm, double budg
             sd.callbacks.smooth_benefit = bench_no_smooth;
             sd.callbacks.smooth_cost = bench_no_smooth;
         }
-        sd.warm_start = warm;
-        sd.lookahead = (uint32_t)opt_lookahead;
-        sd.restarts = (uint32_t)opt_restarts;
+        sd.cold_start = !(warm);
+        sd.greedy.lookahead = (uint32_t)opt_lookahead;
+        sd.greedy.restarts = opt_restarts > 0 ? (int32_t)opt_restarts : TCLOD_OFF;
         st = tclod_selector_create(w->scene, &sd, NULL, &call.sel);
         if (st != TCLOD_OK) {
             fprintf(stderr, "tclod_bench: creating a %s selector failed: %s\n",
@@ -576,11 +576,11 @@ static int run_thesis(thesis_scene *t, int split, int precondition, double theta
     tclod_selector_desc_default(&sd);
     sd.solver = TCLOD_SOLVER_MIXED;
     sd.callbacks = thesis_callbacks(t);
-    sd.warm_start = 0;
-    sd.split_smooth = split;
-    sd.smooth_precondition = precondition;
+    sd.cold_start = 1;
+    sd.mixed.split_smooth = split;
+    sd.mixed.plain_gradient = !(precondition);
     if (theta >= 0.0)
-        sd.split_threshold = theta;
+        sd.mixed.split_threshold = theta;
     st = tclod_selector_create(t->scene, &sd, NULL, &sel);
     if (st != TCLOD_OK) {
         fprintf(stderr, "tclod_bench: creating a mixed selector failed: %s\n",
@@ -702,8 +702,6 @@ static int bench_scene(const char *scene, world_scene *w, double budget, unsigne
     }
     for (s = 0; s < sizeof(order) / sizeof(order[0]) && rc == 0; ++s) {
         bench_method m = order[s];
-        if (m <= METHOD_ROBIN_HOOD && !tclod_solver_available(method_solvers[m]))
-            continue;
         if (m == METHOD_FLAT && bs.object_count == 0)
             continue;
         for (warm = 0; warm <= (m == METHOD_GREEDY) && rc == 0; ++warm) {
@@ -906,9 +904,9 @@ static int run_churn(world_scene *w, churn_plan *plan, double budget, unsigned l
     tclod_selector_desc_default(&sd);
     sd.solver = TCLOD_SOLVER_GREEDY;
     sd.callbacks = world_callbacks(w);
-    sd.warm_start = 1;
-    sd.lookahead = (uint32_t)opt_lookahead;
-    sd.restarts = (uint32_t)opt_restarts;
+    sd.cold_start = 0;
+    sd.greedy.lookahead = (uint32_t)opt_lookahead;
+    sd.greedy.restarts = opt_restarts > 0 ? (int32_t)opt_restarts : TCLOD_OFF;
     st = tclod_selector_create(w->scene, &sd, NULL, &call.sel);
     if (st != TCLOD_OK) {
         fprintf(stderr, "tclod_bench: creating a greedy selector failed: %s\n",
@@ -1099,10 +1097,6 @@ static int bench_thesis(int quick, unsigned long frames, double theta) {
     double *times, t0 = bench_now_us();
     int mode, rc = 0;
 
-    if (!tclod_solver_available(TCLOD_SOLVER_MIXED)) {
-        fprintf(stderr, "tclod_bench: thesis: the mixed solver is not in this build, skipped\n");
-        return 0;
-    }
     split_frames = quick && frames > THESIS_QUICK_FRAMES ? THESIS_QUICK_FRAMES : frames;
     views = quick ? THESIS_QUICK_VIEWS : THESIS_VIEWS;
     if (views > split_frames)
@@ -1228,8 +1222,8 @@ int main(int argc, char **argv) {
     tclod_selector_desc defaults;
 
     tclod_selector_desc_default(&defaults);
-    opt_lookahead = defaults.lookahead;
-    opt_restarts = defaults.restarts;
+    opt_lookahead = defaults.greedy.lookahead;
+    opt_restarts = (unsigned long)defaults.greedy.restarts;
     for (i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--quick") == 0) {
             quick = 1;

@@ -194,16 +194,14 @@ static tclod_status solvers_create(const tclod_scene *s, tclod_callbacks cb, sol
     for (i = 0; i < LIBRARY_METHODS; ++i) {
         tclod_selector_desc d;
         tclod_status st;
-        if (!tclod_solver_available(kinds[i]))
-            continue;
         tclod_selector_desc_default(&d);
         d.solver = kinds[i];
         d.callbacks = cb;
-        d.warm_start = 0; /* every budget and view on its own */
+        d.cold_start = 1; /* every budget and view on its own */
         if (i >= METHOD_GREEDY_LOOKAHEAD)
-            d.lookahead = lookahead;
+            d.greedy.lookahead = lookahead;
         if (i == METHOD_GREEDY_RESTARTS)
-            d.restarts = TCLOD_MAX_RESTARTS;
+            d.greedy.restarts = TCLOD_MAX_RESTARTS;
         st = tclod_selector_create(s, &d, NULL, &out->sel[i]);
         if (st != TCLOD_OK)
             return st;

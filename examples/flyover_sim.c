@@ -315,10 +315,6 @@ static int parse_options(int argc, char **argv, options *o) {
                             val);
                     return 2;
                 }
-                if (!tclod_solver_available(o->solver)) {
-                    fprintf(stderr, "flyover_sim: solver %s is not available in this build\n", val);
-                    return 2;
-                }
                 o->solver_name = val;
                 o->solver_given = 1;
             } else if (strcmp(opt, "--csv") == 0) {
@@ -375,11 +371,6 @@ static int parse_options(int argc, char **argv, options *o) {
         if (!o->solver_given) {
             o->solver = TCLOD_SOLVER_MIXED;
             o->solver_name = "mixed";
-            if (!tclod_solver_available(o->solver)) {
-                fprintf(stderr, "flyover_sim: solver mixed (the thesis scene's default) is not "
-                                "available in this build; choose one with --solver\n");
-                return 2;
-            }
         }
         if (o->split < 0)
             o->split = 1;
@@ -685,7 +676,7 @@ static int run_scheduler(const options *opt, sim_scene *sim, const tclod_selecto
     camera_bounds(sim, &speed, &turn);
     tclod_scheduler_desc_default(&d);
     d.tau = opt->tau;
-    d.morph = opt->morph;
+    d.two_stage = !(opt->morph);
     d.max_speed = SCHEDULER_MARGIN * speed;
     d.max_turn_rate = SCHEDULER_MARGIN * turn;
     status = tclod_scheduler_create(scene, sd, &d, NULL, &sch);
@@ -719,7 +710,7 @@ static int run_scheduler(const options *opt, sim_scene *sim, const tclod_selecto
                sim->world.levels, sim->world.node_count, sim->world.root_count);
     printf("scheduler over solver %s, warm start %d, tau %.3f s, morph %d, slice %.0f us, "
            "%.0f Hz, max speed %.1f m/s, max turn %.3f rad/s, budget %.3f ms, %lu frames\n\n",
-           opt->solver_name, sd->warm_start, d.tau, d.morph, opt->slice_us, SCHEDULER_HZ,
+           opt->solver_name, !sd->cold_start, d.tau, !d.two_stage, opt->slice_us, SCHEDULER_HZ,
            d.max_speed, d.max_turn_rate, opt->budget_ms, opt->frames);
     printf("%7s %10s %7s %9s %9s %10s %10s\n", "frame", "update_us", "drawn", "morphing", "cost_ms",
            "budget_ms", "selections");
@@ -768,7 +759,7 @@ static int run_scheduler(const options *opt, sim_scene *sim, const tclod_selecto
            opt->frames, opt->solver_name, sum_us / (double)opt->frames,
            percentile(update_us, opt->frames, 99.0), sum_ratio / (double)opt->frames, violations,
            violations, st.changes ? (double)st.morphs / (double)st.changes : 1.0,
-           (double)st.pops / (double)opt->frames, sum_us / (double)opt->frames, d.tau, d.morph,
+           (double)st.pops / (double)opt->frames, sum_us / (double)opt->frames, d.tau, !d.two_stage,
            (double)st.changes / (double)opt->frames, (unsigned long)st.selections,
            (unsigned long)st.unfinished, (unsigned long)st.emergencies);
     rc = 0;
@@ -829,9 +820,9 @@ int main(int argc, char **argv) {
     sd.solver = opt.solver;
     sd.callbacks =
         opt.scene == SCENE_THESIS ? thesis_callbacks(&sim.thesis) : world_callbacks(&sim.world);
-    sd.warm_start = opt.warm;
+    sd.cold_start = !(opt.warm);
     if (opt.split >= 0)
-        sd.split_smooth = opt.split;
+        sd.mixed.split_smooth = opt.split;
     if (opt.scheduler) {
         rc = run_scheduler(&opt, &sim, &sd);
         free_scene(&sim);
@@ -905,11 +896,11 @@ int main(int argc, char **argv) {
         if (opt.simulate_gpu)
             printf("solver %s, warm start %d, split %d, target %.3f ms (simulated GPU, C %g), "
                    "%lu frames\n\n",
-                   opt.solver_name, opt.warm, sd.split_smooth, opt.target_ms, opt.gpu_c,
+                   opt.solver_name, opt.warm, sd.mixed.split_smooth, opt.target_ms, opt.gpu_c,
                    opt.frames);
         else
             printf("solver %s, warm start %d, split %d, budget %.3f ms, %lu frames\n\n",
-                   opt.solver_name, opt.warm, sd.split_smooth, opt.budget_ms, opt.frames);
+                   opt.solver_name, opt.warm, sd.mixed.split_smooth, opt.budget_ms, opt.frames);
         printf("%7s %10s %7s %9s %10s %12s %7s %9s%s\n", "frame", "select_us", "drawn", "cost_ms",
                "budget_ms", "benefit", "groups", "variables", opt.simulate_gpu ? "  frame_ms" : "");
     } else {

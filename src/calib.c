@@ -73,28 +73,79 @@ void tclod_calib_desc_default(tclod_calib_desc *d) {
     d->initial_measured = 0;
 }
 
-tclod_status tclod_calib_create(const tclod_calib_desc *d, const tclod_allocator *a,
+/* A rate: 0 (the default) or in (0, 1]. */
+static int rate_or_default(double r) {
+    return r == 0.0 || rate_valid(r);
+}
+
+/* The rule a calibration desc breaks, named from the desc, or from a
+ * scheduler's desc when nested. */
+#define FIELD(nested, rule) ((nested) ? "desc.calib." rule : "desc." rule)
+
+const char *tclod_calib_check(const tclod_calib_desc *d, int nested) {
+    if (!d)
+        return nested ? "desc.calib is NULL" : "desc is NULL";
+    if (!(d->initial_scale == 0.0 || finite_positive(d->initial_scale)))
+        return FIELD(nested, "initial_scale must be finite and > 0, or 0 (default)");
+    if (!rate_or_default(d->rise_rate))
+        return FIELD(nested, "rise_rate must be in (0, 1], or 0 (default)");
+    if (!rate_or_default(d->fall_rate))
+        return FIELD(nested, "fall_rate must be in (0, 1], or 0 (default)");
+    if (!(d->dead_band == 0.0 || d->dead_band == (double)TCLOD_OFF ||
+          (d->dead_band > 0.0 && d->dead_band < 1.0)))
+        return FIELD(nested, "dead_band must be in (0, 1), 0 (default) or TCLOD_OFF");
+    if (!rate_or_default(d->logic_rate))
+        return FIELD(nested, "logic_rate must be in (0, 1], or 0 (default)");
+    if (!finite_nonnegative(d->initial_logic))
+        return FIELD(nested, "initial_logic must be finite and >= 0");
+    if (!(d->machine_c == 0.0 || finite_positive(d->machine_c)))
+        return FIELD(nested, "machine_c must be finite and > 0, or 0 (default)");
+    if (d->initial_measured != 0 && d->initial_measured != 1)
+        return FIELD(nested, "initial_measured must be 0 or 1");
+    return NULL;
+}
+
+const char *tclod_calib_desc_check(const tclod_calib_desc *d) {
+    return tclod_calib_check(d, 0);
+}
+
+/* A valid desc with its defaults filled in. */
+static tclod_calib_desc resolved(const tclod_calib_desc *d) {
+    tclod_calib_desc r = *d, def;
+    tclod_calib_desc_default(&def);
+    if (r.initial_scale == 0.0)
+        r.initial_scale = def.initial_scale;
+    if (r.rise_rate == 0.0)
+        r.rise_rate = def.rise_rate;
+    if (r.fall_rate == 0.0)
+        r.fall_rate = def.fall_rate;
+    r.dead_band = r.dead_band == 0.0 ? def.dead_band : (r.dead_band < 0.0 ? 0.0 : r.dead_band);
+    if (r.logic_rate == 0.0)
+        r.logic_rate = def.logic_rate;
+    if (r.machine_c == 0.0)
+        r.machine_c = def.machine_c;
+    return r;
+}
+
+tclod_status tclod_calib_create(const tclod_calib_desc *desc, const tclod_allocator *a,
                                 tclod_calib **out) {
     tclod_allocator alloc;
     tclod_calib *c;
-    if (!d || !out || !tclod_allocator_init(&alloc, a))
+    tclod_calib_desc d;
+    if (!desc || !out || !tclod_allocator_init(&alloc, a) || tclod_calib_desc_check(desc))
         return TCLOD_ERR_ARG;
-    if (!finite_positive(d->initial_scale) || !rate_valid(d->rise_rate) ||
-        !rate_valid(d->fall_rate) || !(d->dead_band >= 0.0 && d->dead_band < 1.0) ||
-        !rate_valid(d->logic_rate) || !finite_nonnegative(d->initial_logic) ||
-        !finite_positive(d->machine_c))
-        return TCLOD_ERR_ARG;
+    d = resolved(desc);
     c = (tclod_calib *)tclod_mem_alloc(&alloc, sizeof *c);
     if (!c)
         return TCLOD_ERR_NOMEM;
     memset(c, 0, sizeof *c);
     c->alloc = alloc;
-    c->desc = *d;
+    c->desc = d;
     /* A positive finite initial_scale below DBL_MIN (a subnormal) would let
      * the scale leave the range report keeps it in. */
-    c->scale = d->initial_scale < DBL_MIN ? DBL_MIN : d->initial_scale;
-    c->logic = d->initial_logic;
-    c->scale_measured = c->logic_measured = d->initial_measured != 0;
+    c->scale = d.initial_scale < DBL_MIN ? DBL_MIN : d.initial_scale;
+    c->logic = d.initial_logic;
+    c->scale_measured = c->logic_measured = d.initial_measured != 0;
     *out = c;
     return TCLOD_OK;
 }
@@ -119,8 +170,9 @@ static double approach(double from, double to, double rate) {
 
 tclod_status tclod_calib_report(tclod_calib *c, double predicted_cost, double render_time,
                                 double logic_time) {
+    int logic = logic_time != (double)TCLOD_OFF; /* TCLOD_OFF: not measured */
     if (!c || !finite_nonnegative(predicted_cost) || !finite_nonnegative(render_time) ||
-        !finite_nonnegative(logic_time))
+        (logic && !finite_nonnegative(logic_time)))
         return TCLOD_ERR_ARG;
     /* A frame that drew nothing says nothing about the cost model. */
     if (predicted_cost > 0.0) {
@@ -139,8 +191,11 @@ tclod_status tclod_calib_report(tclod_calib *c, double predicted_cost, double re
             c->scale = approach(s, ratio, ratio > s ? c->desc.rise_rate : c->desc.fall_rate);
         c->scale_measured = 1;
     }
-    c->logic = c->logic_measured ? approach(c->logic, logic_time, c->desc.logic_rate) : logic_time;
-    c->logic_measured = 1;
+    if (logic) {
+        c->logic =
+            c->logic_measured ? approach(c->logic, logic_time, c->desc.logic_rate) : logic_time;
+        c->logic_measured = 1;
+    }
     return TCLOD_OK;
 }
 

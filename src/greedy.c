@@ -253,7 +253,7 @@ static int look_pass(tclod_selector *sel, tclod_id n, double weight, double lamb
     const tclod_scene *s = sel->scene;
     tclod_node_state *node = sel->node;
     look_frame st[LOOK_FRAMES];
-    uint32_t top = 0, limit = sel->desc.lookahead;
+    uint32_t top = 0, limit = sel->desc.greedy.lookahead;
     int deeper = 0;
     st[0].id = n;
     st[0].next = s->child_first[n];
@@ -437,7 +437,8 @@ static NOINLINE int queue_looking(tclod_selector *sel, tclod_id n, int append) {
  * the caller; otherwise pushed). The by-cost heap exists only once the fill
  * has begun (see increment_may_fit). */
 static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
-    return sel->desc.lookahead > 0 ? queue_looking(sel, n, append) : queue_as(sel, n, append, 0);
+    return sel->desc.greedy.lookahead > 0 ? queue_looking(sel, n, append)
+                                          : queue_as(sel, n, append, 0);
 }
 
 /* requeue_increment with or without a lookahead, as queue_as. */
@@ -466,7 +467,8 @@ static NOINLINE int requeue_looking(tclod_selector *sel, tclod_id n, tclod_id *h
 static int requeue_increment(tclod_selector *sel, tclod_id n, tclod_id *held) {
     if (*held == TCLOD_NONE)
         return queue_increment(sel, n, 0);
-    return sel->desc.lookahead > 0 ? requeue_looking(sel, n, held) : requeue_as(sel, n, held, 0);
+    return sel->desc.greedy.lookahead > 0 ? requeue_looking(sel, n, held)
+                                          : requeue_as(sel, n, held, 0);
 }
 
 static void unqueue_increment(tclod_selector *sel, tclod_id n) {
@@ -570,7 +572,7 @@ static int increment_fits(const tclod_selector *sel, tclod_id n) {
 static int increment_may_fit(tclod_selector *sel) {
     if (!sel->cheap_live) {
         uint32_t i;
-        if (sel->desc.lookahead > 0) {
+        if (sel->desc.greedy.lookahead > 0) {
             for (i = 0; i < sel->inc.count; ++i) {
                 tclod_id n = sel->inc.items[i].id;
                 tclod_heap_append(&sel->cheap, n, cheap_key(sel, n, 1));
@@ -1497,7 +1499,7 @@ enum {
  * starts from the roots. Always completes. */
 static int greedy_start(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
-    R->warm = sel->desc.warm_start && sel->has_cut;
+    R->warm = !sel->desc.cold_start && sel->has_cut;
     R->skipped = 0;
     if (R->warm && sel->node_version != sel->scene->node_version) {
         /* the edits since the cut was made, from the log while it holds them */
@@ -1521,7 +1523,8 @@ static int greedy_start(tclod_selector *sel) {
     R->alt_benefit = 0.0;
     R->alt_roots_b = sel->benefit_sum;
     R->alt_roots_c = sel->cost_sum;
-    R->use_alt = sel->stats.dropped_roots == 0 && !sel->stats.over_budget && sel->desc.restarts > 0;
+    R->use_alt =
+        sel->stats.dropped_roots == 0 && !sel->stats.over_budget && sel->desc.greedy.restarts > 0;
     R->misfit = TCLOD_NONE;
     R->lp_bound = 0.0;
     R->picks = R->best_picks = R->left_out = R->tries = 0;
@@ -1535,8 +1538,9 @@ static int greedy_start(tclod_selector *sel) {
 static int worth_searching(const tclod_selector *sel, double bound) {
     const tclod_resume *R = &sel->resume;
     const tclod_frame *f = sel->frame;
-    return sel->desc.restarts > 1 && R->tries < sel->desc.restarts && f->max_iterations == 0 &&
-           f->solve_seconds == 0.0 && bound > R->best_benefit * (1.0 + RESTART_GAP);
+    return sel->desc.greedy.restarts > 1 && R->tries < (uint32_t)sel->desc.greedy.restarts &&
+           f->max_iterations == 0 && f->solve_seconds == 0.0 &&
+           bound > R->best_benefit * (1.0 + RESTART_GAP);
 }
 
 /* The search's next decisions after a pass (depth first): below a pass whose
@@ -1598,7 +1602,7 @@ static int after_pass(tclod_selector *sel) {
         if (R->root_misfit != TCLOD_NONE && worth_searching(sel, R->root_bound) &&
             next_decisions(sel, 1))
             return GREEDY_PASS;
-    } else if (R->searching && R->tries < sel->desc.restarts &&
+    } else if (R->searching && R->tries < (uint32_t)sel->desc.greedy.restarts &&
                next_decisions(sel, !R->infeasible && R->misfit != TCLOD_NONE &&
                                        worth_searching(sel, R->lp_bound))) {
         return GREEDY_PASS;
@@ -1694,7 +1698,8 @@ void tclod_greedy_track(tclod_selector *sel) {
     R->alt_benefit = 0.0;
     R->alt_roots_b = sel->benefit_sum;
     R->alt_roots_c = sel->cost_sum;
-    R->use_alt = sel->stats.dropped_roots == 0 && !sel->stats.over_budget && sel->desc.restarts > 0;
+    R->use_alt =
+        sel->stats.dropped_roots == 0 && !sel->stats.over_budget && sel->desc.greedy.restarts > 0;
 }
 
 tclod_id tclod_greedy_alternative(tclod_selector *sel, double *benefit) {

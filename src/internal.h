@@ -53,6 +53,10 @@ void tclod_arrays_free(const tclod_allocator *a, const tclod_array *arrays, size
 /* Monotonic clock in seconds. */
 double tclod_now(void);
 
+/* The rule a calibration desc breaks (NULL: none), its fields named as in a
+ * scheduler's desc (desc.calib.*) when nested. */
+const char *tclod_calib_check(const tclod_calib_desc *d, int nested);
+
 /* ---- scene.c --------------------------------------------------------------- */
 
 /* A node of the quadtree over the smooth objects' ground positions (x, z). Its

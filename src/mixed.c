@@ -905,7 +905,7 @@ static void block_moving(tclod_selector *sel, uint32_t n) {
 /* The papers' loop (eq. 8.8-8.14) with the gradient direction. */
 static int improve_gradient(tclod_selector *sel) {
     const tclod_selector_desc *d = &sel->desc;
-    double keep = 1.0 - d->smooth_tolerance;
+    double keep = 1.0 - d->mixed.smooth_tolerance;
     tclod_resume *R = &sel->resume;
     for (;;) {
         double slope_d = 0.0, slope_c = 0.0, target;
@@ -923,8 +923,8 @@ static int improve_gradient(tclod_selector *sel) {
             continue;
         }
         if (!R->smooth_done && top_ratio(sel) > 0.0) {
-            n = gradient_direction(sel, d->smooth_epsilon, &slope_c);
-            if (n == 0 && d->smooth_epsilon > 0.0)
+            n = gradient_direction(sel, d->mixed.smooth_epsilon, &slope_c);
+            if (n == 0 && d->mixed.smooth_epsilon > 0.0)
                 n = gradient_direction(sel, 0.0, &slope_c);
         }
         if (cand == TCLOD_NONE && n == 0)
@@ -1267,7 +1267,7 @@ static int mixed_start(tclod_selector *sel) {
 
 tclod_status tclod_mixed_solve(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
-    int modelled = sel->desc.smooth_precondition, rc = 0;
+    int modelled = !sel->desc.mixed.plain_gradient, rc = 0;
     if (R->as_greedy)
         return tclod_greedy_solve(sel);
     while (rc == 0 && !sel->paused) {

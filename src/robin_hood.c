@@ -84,7 +84,7 @@ double tclod_value_of(tclod_value f, double area, double depth, double distance,
  * view, or, without bounds or view, the defaults a = 1, z = d = 1. */
 static inline double value_at(const tclod_selector *sel, double area, double depth, double distance,
                               double importance) {
-    return value_scale(sel->desc.value, area, depth, distance) * importance;
+    return value_scale(sel->desc.robin_hood.value, area, depth, distance) * importance;
 }
 
 /* The value of an instance whose bounds are the sphere of radius r (< 0:
@@ -97,7 +97,7 @@ static inline double value_at(const tclod_selector *sel, double area, double dep
  * is computed. */
 static inline double instance_value(const tclod_selector *sel, const double b[3], double r,
                                     double importance) {
-    tclod_value f = sel->desc.value;
+    tclod_value f = sel->desc.robin_hood.value;
     double area = 1.0, depth = 1.0, distance = 1.0;
     if (f == TCLOD_VALUE_BENEFIT)
         return importance;
@@ -145,7 +145,7 @@ static inline double importance_of(tclod_selector *sel, const tclod_query *q, do
  * importance callback: the common case, for which evaluate_head has a copy
  * of its own that tests none of them. */
 static int plain_heads(const tclod_selector *sel) {
-    return sel->has_view && sel->desc.value == TCLOD_VALUE_AREA_SQRT_DEPTH &&
+    return sel->has_view && sel->desc.robin_hood.value == TCLOD_VALUE_AREA_SQRT_DEPTH &&
            sel->desc.callbacks.importance != NULL;
 }
 
@@ -193,7 +193,7 @@ TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int insid
         distance = d > r ? d - r : 0.0;
     }
     /* v / I before the callbacks, so that nothing but it lives across them */
-    scale = value_scale(plain ? TCLOD_VALUE_AREA_SQRT_DEPTH : sel->desc.value,
+    scale = value_scale(plain ? TCLOD_VALUE_AREA_SQRT_DEPTH : sel->desc.robin_hood.value,
                         3.14159265358979323846 * r * r, z < c->near_z ? c->near_z : z,
                         d < c->near_z ? c->near_z : d);
     *value = 0.0;
@@ -275,7 +275,7 @@ static double node_complexity(tclod_selector *sel, tclod_id head, tclod_id end) 
     tclod_bounds qb;
     q.count = 1;
     q.view = NULL;
-    q.screen_area = (float)sel->desc.reference_area;
+    q.screen_area = (float)sel->desc.robin_hood.reference_area;
     q.distance = -1.0f;
     q.members = NULL;
     q.id = tclod_scene_owner(sel->scene, cb->complexity ? head : end);
@@ -294,7 +294,7 @@ static double smooth_complexity(tclod_selector *sel, uint32_t pos) {
     q.id = s->smooth_order[pos];
     q.count = 1;
     q.view = NULL;
-    q.screen_area = (float)sel->desc.reference_area;
+    q.screen_area = (float)sel->desc.robin_hood.reference_area;
     q.distance = -1.0f;
     q.members = s->smooth_order + pos;
     tclod_sphere_bounds(&s->smooth_bounds[4u * q.id], &qb);
@@ -1011,7 +1011,7 @@ static int place_smooth(tclod_selector *sel, uint32_t pos, double time, double p
     r = smooth_resolution(sel, pos, area, distance, time, &cost);
     if (r < 0.0)
         return -1;
-    if (r == 0.0 && V->r[pos] == 0.0 && sel->desc.misfit == TCLOD_MISFIT_COARSEST) {
+    if (r == 0.0 && V->r[pos] == 0.0 && sel->desc.robin_hood.misfit == TCLOD_MISFIT_COARSEST) {
         tclod_smooth_call(sel, pos, 1, NULL, area, distance, TCLOD_SLOPE_FLOOR, NULL, NULL, &cost,
                           &r);
         r = cost <= pool ? TCLOD_SLOPE_FLOOR : 0.0;
@@ -1199,7 +1199,7 @@ static int share_out(tclod_selector *sel) {
                 used -= held;
             } else {
                 set_last_level(sel, id, 0u); /* drawn, if at all, at its first level */
-                if ((sel->desc.misfit == TCLOD_MISFIT_COARSEST || stopped) &&
+                if ((sel->desc.robin_hood.misfit == TCLOD_MISFIT_COARSEST || stopped) &&
                     sel->node[id].cost <= R->pool) {
                     cut_add(sel, id, 0);
                     used = sel->node[id].cost;

@@ -105,12 +105,14 @@ static void quadtree_arrays_free(const tclod_allocator *a, quadtree_arrays *x) {
     tclod_mem_free(a, x->qt, sizeof(tclod_smooth_node) * 2u * (size_t)x->smooth_cap);
 }
 
-void tclod_scene_destroy(tclod_scene *s) {
+tclod_status tclod_scene_destroy(tclod_scene *s) {
     tclod_array arrays[TCLOD_MAX_ARRAYS];
     tclod_allocator alloc;
     quadtree_arrays x;
     if (!s)
-        return;
+        return TCLOD_OK;
+    if (s->user_count > 0)
+        return TCLOD_ERR_STATE; /* a selector or scheduler still reads it */
     alloc = s->alloc;
     tclod_arrays_free(&alloc, arrays, node_arrays(s, arrays), s->node_cap);
     tclod_arrays_free(&alloc, arrays, smooth_arrays(s, arrays), s->smooth_cap);
@@ -123,6 +125,7 @@ void tclod_scene_destroy(tclod_scene *s) {
     quadtree_arrays_free(&alloc, &x);
     tclod_mem_free(&alloc, s->users, sizeof(tclod_scene_user *) * s->user_cap);
     tclod_mem_free(&alloc, s, sizeof *s);
+    return TCLOD_OK;
 }
 
 /* ---- users ------------------------------------------------------------------------ */

@@ -215,7 +215,7 @@ void tclod_scheduler_desc_default(tclod_scheduler_desc *d) {
     d->confidence = 1.0;
     d->max_speed = 0.0;
     d->max_turn_rate = 0.0;
-    d->morph = 1;
+    d->two_stage = 0;
     tclod_calib_desc_default(&d->calib);
 }
 
@@ -229,10 +229,33 @@ static int tau_valid(double tau) {
     return isnormal(tau) && tau > 0.0 && !isinf(4.0 * tau);
 }
 
-static int desc_valid(const tclod_scheduler_desc *d) {
-    return tau_valid(d->tau) && d->samples >= 1u && d->samples <= TCLOD_MAX_SAMPLES &&
-           finite_nonnegative(d->confidence) && finite_nonnegative(d->max_speed) &&
-           finite_nonnegative(d->max_turn_rate) && (d->morph == 0 || d->morph == 1);
+const char *tclod_scheduler_desc_check(const tclod_scheduler_desc *d) {
+    if (!d)
+        return "desc is NULL";
+    if (!(d->tau == 0.0 || tau_valid(d->tau)))
+        return "desc.tau must be a normal number > 0 with 4 tau finite, or 0 (default)";
+    if (d->samples > TCLOD_MAX_SAMPLES)
+        return "desc.samples must be at most TCLOD_MAX_SAMPLES (8)";
+    if (!(d->confidence == (double)TCLOD_OFF || finite_nonnegative(d->confidence)))
+        return "desc.confidence must be finite and > 0, 0 (default) or TCLOD_OFF";
+    if (!finite_nonnegative(d->max_speed))
+        return "desc.max_speed must be finite and >= 0";
+    if (!finite_nonnegative(d->max_turn_rate))
+        return "desc.max_turn_rate must be finite and >= 0";
+    if (d->two_stage != 0 && d->two_stage != 1)
+        return "desc.two_stage must be 0 or 1";
+    return tclod_calib_check(&d->calib, 1);
+}
+
+/* A valid desc with its defaults filled in. */
+static tclod_scheduler_desc resolved(const tclod_scheduler_desc *d) {
+    tclod_scheduler_desc r = *d;
+    if (r.tau == 0.0)
+        r.tau = 0.5;
+    if (r.samples == 0)
+        r.samples = 3;
+    r.confidence = r.confidence == 0.0 ? 1.0 : (r.confidence < 0.0 ? 0.0 : r.confidence);
+    return r;
 }
 
 /* ---- vectors ------------------------------------------------------------------- */
@@ -693,14 +716,15 @@ tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_d
     tclod_scheduler *sch;
     tclod_selector_desc inner;
     tclod_status st;
-    if (!s || !sd || !d || !out || !tclod_allocator_init(&alloc, a) || !desc_valid(d))
+    if (!s || !sd || !d || !out || !tclod_allocator_init(&alloc, a) ||
+        tclod_scheduler_desc_check(d))
         return TCLOD_ERR_ARG;
     sch = (tclod_scheduler *)tclod_mem_alloc(&alloc, sizeof *sch);
     if (!sch)
         return TCLOD_ERR_NOMEM;
     memset(sch, 0, sizeof *sch);
     sch->alloc = alloc;
-    sch->desc = *d;
+    sch->desc = resolved(d);
     sch->host = sd->callbacks;
     sch->scene = (tclod_scene *)(uintptr_t)s;
     sch->p.prev = sch->p.cur = sch->p.next = 0;
@@ -714,7 +738,7 @@ tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_d
     inner.callbacks.smooth_cost = sd->callbacks.smooth_cost ? wrap_smooth_cost : NULL;
     inner.callbacks.complexity = sd->callbacks.complexity ? wrap_complexity : NULL;
     inner.callbacks.importance = sd->callbacks.importance ? wrap_importance : NULL;
-    st = tclod_calib_create(&d->calib, &alloc, &sch->calib);
+    st = tclod_calib_create(&sch->desc.calib, &alloc, &sch->calib);
     if (st == TCLOD_OK)
         st = tclod_selector_create(s, &inner, &alloc, &sch->sel);
     if (st == TCLOD_OK) {
@@ -798,7 +822,7 @@ static void update_depths(tclod_scheduler *sch) {
  * interval, and the conservative camera as the frame's view. */
 static void set_views(tclod_scheduler *sch, const tclod_view *view) {
     const tclod_scheduler_desc *d = &sch->desc;
-    double lag = d->morph ? 2.0 : 1.0, start = sch->p.boundary + lag * d->tau;
+    double lag = d->two_stage ? 1.0 : 2.0, start = sch->p.boundary + lag * d->tau;
     uint32_t k;
     if (!sch->views_saved) { /* those of the selection pending before the update */
         sch->saved_views = sch->sv;
@@ -1236,7 +1260,7 @@ static void make_plan(tclod_scheduler *sch) {
     for (g = 0; g < 3; ++g)
         for (i = 0; i < by_priority[g]->count; ++i)
             memo_set(sch, by_priority[g]->ids[i], by_priority[g]->cost[i]);
-    if (sch->desc.morph) {
+    if (!sch->desc.two_stage) {
         sizes[0] = meet(sch, P->ids, P->count, C->ids, C->count, sch->list_x);
         sizes[1] = meet(sch, C->ids, C->count, N->ids, N->count, sch->list_y);
         lists[0] = sch->list_x;
@@ -1393,7 +1417,7 @@ static tclod_status land(tclod_scheduler *sch) {
     sch->p.stats.invalid_values += sch->p.landed_invalid;
     sch->p.stats.selection_benefit = sch->p.landed_benefit;
     sch->p.stats.selection_cost = sch->p.landed_cost;
-    if (sch->desc.morph) {
+    if (!sch->desc.two_stage) {
         /* S_{j-1}, S_j, S_{j+1} <- S_j, S_{j+1}, the new one */
         sch->p.prev = sch->p.cur;
         sch->p.cur = sch->p.next;
@@ -1640,7 +1664,7 @@ double tclod_scheduler_resolution(const tclod_scheduler *sch, tclod_id smooth) {
         smooth >= sch->smooth_cap)
         return 0.0;
     c = sch->gen[sch->shown.cur].res[smooth];
-    if (!sch->desc.morph)
+    if (sch->desc.two_stage)
         return c;
     p = sch->gen[sch->shown.prev].res[smooth];
     n = sch->gen[sch->shown.next].res[smooth];
@@ -1651,7 +1675,8 @@ double tclod_scheduler_resolution(const tclod_scheduler *sch, tclod_id smooth) {
 
 tclod_status tclod_scheduler_report_frame(tclod_scheduler *sch, double render_time,
                                           double logic_time) {
-    if (!sch || !finite_nonnegative(render_time) || !finite_nonnegative(logic_time))
+    if (!sch || !finite_nonnegative(render_time) ||
+        !(logic_time == (double)TCLOD_OFF || finite_nonnegative(logic_time)))
         return TCLOD_ERR_ARG;
     if (!sch->shown.started)
         return TCLOD_ERR_STATE;
@@ -1660,12 +1685,6 @@ tclod_status tclod_scheduler_report_frame(tclod_scheduler *sch, double render_ti
     return tclod_calib_report(sch->calib,
                               isinf(sch->shown.stats.draw_cost) ? 0.0 : sch->shown.stats.draw_cost,
                               render_time, logic_time);
-}
-
-tclod_status tclod_scheduler_report(tclod_scheduler *sch, double render_time) {
-    /* no logic time: the estimate stays as it is */
-    return tclod_scheduler_report_frame(sch, render_time,
-                                        tclod_calib_logic(sch ? sch->calib : NULL));
 }
 
 const tclod_calib *tclod_scheduler_calib(const tclod_scheduler *sch) {

@@ -43,28 +43,94 @@ const char *tclod_version_string(void) {
         TCLOD_VERSION_PATCH);
 }
 
-int tclod_solver_available(tclod_solver solver) {
-    return solver == TCLOD_SOLVER_GREEDY || solver == TCLOD_SOLVER_MIXED ||
-           solver == TCLOD_SOLVER_ROBIN_HOOD;
-}
-
 void tclod_selector_desc_default(tclod_selector_desc *d) {
     if (!d)
         return;
     memset(d, 0, sizeof *d);
     d->solver = TCLOD_SOLVER_GREEDY;
-    d->warm_start = 1;
-    d->split_smooth = 0;
-    d->split_threshold = 0.1;
-    d->strict = 0;
-    d->smooth_epsilon = 1e-3;
-    d->smooth_precondition = 1;
-    d->smooth_tolerance = 0.05;
     d->smooth_cull_area = 1.0;
-    d->value = TCLOD_VALUE_AREA_SQRT_DEPTH;
-    d->misfit = TCLOD_MISFIT_DROP;
-    d->reference_area = 10000.0;
-    d->restarts = 32;
+    d->greedy.restarts = 32;
+    d->mixed.split_threshold = 0.1;
+    d->mixed.smooth_epsilon = 1e-3;
+    d->mixed.smooth_tolerance = 0.05;
+    d->robin_hood.value = TCLOD_VALUE_AREA_SQRT_DEPTH;
+    d->robin_hood.misfit = TCLOD_MISFIT_DROP;
+    d->robin_hood.reference_area = 10000.0;
+}
+
+/* An on/off field of a description: exactly 0 or 1. */
+static int flag(int v) {
+    return v == 0 || v == 1;
+}
+
+/* A real field whose 0 means the default: 0, TCLOD_OFF, or finite in (lo, hi). */
+static int defaulted(double v, double lo, double hi) {
+    return v == 0.0 || v == (double)TCLOD_OFF || (v > lo && v < hi);
+}
+
+/* A defaulted field's value: def for 0, 0 for TCLOD_OFF. */
+static double resolve(double v, double def) {
+    return v == 0.0 ? def : (v < 0.0 ? 0.0 : v);
+}
+
+const char *tclod_selector_desc_check(const tclod_scene *s, const tclod_selector_desc *d) {
+    if (!d)
+        return "desc is NULL";
+    if ((unsigned)d->solver > (unsigned)TCLOD_SOLVER_ROBIN_HOOD)
+        return "desc.solver is not a tclod_solver";
+    if (!d->callbacks.benefit)
+        return "desc.callbacks.benefit is NULL";
+    if (!d->callbacks.cost)
+        return "desc.callbacks.cost is NULL";
+    if (d->solver == TCLOD_SOLVER_MIXED && s && s->smooth_live > 0 &&
+        (!d->callbacks.smooth_benefit || !d->callbacks.smooth_cost))
+        return "desc.callbacks.smooth_benefit and smooth_cost are NULL: the mixed solver "
+               "needs both on a scene with smooth objects";
+    if (!flag(d->cold_start))
+        return "desc.cold_start must be 0 or 1";
+    if (!flag(d->strict))
+        return "desc.strict must be 0 or 1";
+    if ((unsigned)d->overflow > (unsigned)TCLOD_OVERFLOW_DRAW_ROOTS)
+        return "desc.overflow is not a tclod_overflow";
+    if (!defaulted(d->smooth_cull_area, 0.0, HUGE_VAL))
+        return "desc.smooth_cull_area must be finite and > 0, 0 (default) or TCLOD_OFF";
+    if (d->greedy.lookahead > TCLOD_MAX_LOOKAHEAD)
+        return "desc.greedy.lookahead must be at most TCLOD_MAX_LOOKAHEAD (63)";
+    if (d->greedy.restarts != TCLOD_OFF &&
+        (d->greedy.restarts < 0 || d->greedy.restarts > TCLOD_MAX_RESTARTS))
+        return "desc.greedy.restarts must be 0 (default), TCLOD_OFF or 1 .. "
+               "TCLOD_MAX_RESTARTS (256)";
+    if (!flag(d->mixed.split_smooth))
+        return "desc.mixed.split_smooth must be 0 or 1";
+    if (!defaulted(d->mixed.split_threshold, 0.0, HUGE_VAL))
+        return "desc.mixed.split_threshold must be finite and > 0, 0 (default) or TCLOD_OFF";
+    if (!flag(d->mixed.plain_gradient))
+        return "desc.mixed.plain_gradient must be 0 or 1";
+    if (!defaulted(d->mixed.smooth_epsilon, 0.0, 1.0))
+        return "desc.mixed.smooth_epsilon must be in (0, 1), 0 (default) or TCLOD_OFF";
+    if (!defaulted(d->mixed.smooth_tolerance, 0.0, 1.0))
+        return "desc.mixed.smooth_tolerance must be in (0, 1), 0 (default) or TCLOD_OFF";
+    if ((unsigned)d->robin_hood.value > (unsigned)TCLOD_VALUE_BENEFIT)
+        return "desc.robin_hood.value is not a tclod_value";
+    if ((unsigned)d->robin_hood.misfit > (unsigned)TCLOD_MISFIT_COARSEST)
+        return "desc.robin_hood.misfit is not a tclod_misfit";
+    if (!(d->robin_hood.reference_area == 0.0 ||
+          (d->robin_hood.reference_area > 0.0 && d->robin_hood.reference_area < HUGE_VAL)))
+        return "desc.robin_hood.reference_area must be finite and > 0, or 0 (default)";
+    return NULL;
+}
+
+/* A valid desc with its defaults filled in: what the solvers read. */
+static tclod_selector_desc resolved(const tclod_selector_desc *d) {
+    tclod_selector_desc r = *d;
+    r.smooth_cull_area = resolve(d->smooth_cull_area, 1.0);
+    r.greedy.restarts =
+        d->greedy.restarts == 0 ? 32 : (d->greedy.restarts < 0 ? 0 : d->greedy.restarts);
+    r.mixed.split_threshold = resolve(d->mixed.split_threshold, 0.1);
+    r.mixed.smooth_epsilon = resolve(d->mixed.smooth_epsilon, 1e-3);
+    r.mixed.smooth_tolerance = resolve(d->mixed.smooth_tolerance, 0.05);
+    r.robin_hood.reference_area = resolve(d->robin_hood.reference_area, 10000.0);
+    return r;
 }
 
 /* Every per-node buffer of a selector, for growing and freeing them together.
@@ -160,40 +226,13 @@ static void bind_heaps(tclod_selector *sel) {
     sel->dec.pos = sel->dec_slot;
 }
 
-/* An on/off field of a description: exactly 0 or 1. */
-static int flag(int v) {
-    return v == 0 || v == 1;
-}
-
 tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_desc *d,
                                    const tclod_allocator *a, tclod_selector **out) {
     tclod_allocator alloc;
     tclod_selector *sel;
     if (!s || !d || !out || !tclod_allocator_init(&alloc, a))
         return TCLOD_ERR_ARG;
-    if (!tclod_solver_available(d->solver) || !d->callbacks.benefit || !d->callbacks.cost)
-        return TCLOD_ERR_ARG;
-    if (d->solver == TCLOD_SOLVER_MIXED && s->smooth_live > 0 &&
-        (!d->callbacks.smooth_benefit || !d->callbacks.smooth_cost))
-        return TCLOD_ERR_ARG;
-    if (!flag(d->warm_start) || !flag(d->split_smooth) || !flag(d->strict) ||
-        !flag(d->smooth_precondition))
-        return TCLOD_ERR_ARG;
-    if (!(d->split_threshold >= 0.0) || isinf(d->split_threshold))
-        return TCLOD_ERR_ARG;
-    if (d->lookahead > TCLOD_MAX_LOOKAHEAD || d->restarts > TCLOD_MAX_RESTARTS)
-        return TCLOD_ERR_ARG;
-    if (!(d->smooth_epsilon >= 0.0 && d->smooth_epsilon < 1.0))
-        return TCLOD_ERR_ARG;
-    if (!(d->smooth_tolerance >= 0.0 && d->smooth_tolerance < 1.0))
-        return TCLOD_ERR_ARG;
-    if (!(d->smooth_cull_area >= 0.0) || isinf(d->smooth_cull_area))
-        return TCLOD_ERR_ARG;
-    if ((unsigned)d->value > (unsigned)TCLOD_VALUE_BENEFIT ||
-        (unsigned)d->misfit > (unsigned)TCLOD_MISFIT_COARSEST ||
-        (unsigned)d->overflow > (unsigned)TCLOD_OVERFLOW_DRAW_ROOTS)
-        return TCLOD_ERR_ARG;
-    if (!(d->reference_area > 0.0) || isinf(d->reference_area))
+    if (tclod_selector_desc_check(s, d))
         return TCLOD_ERR_ARG;
     sel = (tclod_selector *)tclod_mem_alloc(&alloc, sizeof *sel);
     if (!sel)
@@ -203,7 +242,7 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
      * users */
     sel->scene = (tclod_scene *)(uintptr_t)s;
     sel->alloc = alloc;
-    sel->desc = *d;
+    sel->desc = resolved(d);
     sel->holds = 1;
     if (tclod_scene_attach(sel->scene, &sel->user, d->solver == TCLOD_SOLVER_ROBIN_HOOD) !=
         TCLOD_OK) {

@@ -282,7 +282,7 @@ static int split_tree(tclod_selector *sel) {
         x = n * budget / cost;
     sel->split_node[top] = 0;
     sel->split_x[top] = x;
-    sel->split_theta[top] = sel->desc.split_threshold * sel->split_c[0] * sqrt(x / n);
+    sel->split_theta[top] = sel->desc.mixed.split_threshold * sel->split_c[0] * sqrt(x / n);
     top++;
     while (top > 0) {
         --top;
@@ -295,7 +295,7 @@ int tclod_split_variables(tclod_selector *sel) {
     sel->vars.count = 0;
     if (sel->scene->smooth_live == 0)
         return 0;
-    if (!sel->desc.split_smooth) {
+    if (!sel->desc.mixed.split_smooth) {
         split_flat(sel);
         return 0;
     }

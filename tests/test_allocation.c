@@ -639,7 +639,7 @@ static void rig_open(rig *r, tclod_solver solver, int split, uint64_t seed, uint
     assert_int_equal(tclod_scene_create(NULL, &r->s), TCLOD_OK);
     build_scene(&r->m, r->s, seed, chains, random_nodes, smooth);
     selector_desc(&d, solver, &r->m);
-    d.split_smooth = split;
+    d.mixed.split_smooth = split;
     assert_int_equal(tclod_selector_create(r->s, &d, &r->hooks, &r->sel), TCLOD_OK);
     assert_int_equal(tclod_selector_create(r->s, &d, NULL, &r->ref), TCLOD_OK);
     outcome_init(&r->before, 1000, 200);
@@ -864,7 +864,7 @@ static void robin_hood_selects_after_the_first_allocate_nothing(void **state) {
     f.max_iterations = 0;
     for (p = 0; p < 2; ++p) {
         selector_desc(&d, TCLOD_SOLVER_ROBIN_HOOD, &m);
-        d.misfit = p ? TCLOD_MISFIT_COARSEST : TCLOD_MISFIT_DROP;
+        d.robin_hood.misfit = p ? TCLOD_MISFIT_COARSEST : TCLOD_MISFIT_DROP;
         assert_int_equal(tclod_selector_create(s, &d, &hooks, &sel[p]), TCLOD_OK);
         assert_int_equal(tclod_select(sel[p], &f, NULL), TCLOD_OK);
     }

@@ -211,16 +211,17 @@ static void set_field(tclod_calib_desc *d, int i, double v) {
 
 static void calib_create_rejects_every_out_of_range_field_without_allocating(void **state) {
     /* Per field, values outside the header's ranges: initial_scale > 0,
-     * rates in (0, 1], dead_band in [0, 1), initial_logic >= 0,
-     * machine_c > 0; none NaN or infinite. */
+     * rates in (0, 1], dead_band in (0, 1), initial_logic >= 0,
+     * machine_c > 0; none NaN or infinite. 0 is every field's default, and
+     * TCLOD_OFF (-1) valid in dead_band only. */
     static const double bad[7][6] = {
-        {0.0, -1.0, NAN, INFINITY, -INFINITY, -0.0},     /* initial_scale */
-        {0.0, -0.5, 1.0000001, 2.0, NAN, INFINITY},      /* rise_rate */
-        {0.0, -0.5, 1.0000001, 2.0, NAN, INFINITY},      /* fall_rate */
+        {-1e-300, -1.0, NAN, INFINITY, -INFINITY, -2.0}, /* initial_scale */
+        {-1.0, -0.5, 1.0000001, 2.0, NAN, INFINITY},     /* rise_rate */
+        {-1.0, -0.5, 1.0000001, 2.0, NAN, INFINITY},     /* fall_rate */
         {-0.01, 1.0, 1.5, NAN, INFINITY, -INFINITY},     /* dead_band */
-        {0.0, -0.5, 1.0000001, 2.0, NAN, INFINITY},      /* logic_rate */
+        {-1.0, -0.5, 1.0000001, 2.0, NAN, INFINITY},     /* logic_rate */
         {-1.0, -1e-300, NAN, INFINITY, -INFINITY, -5.0}, /* initial_logic */
-        {0.0, -1.0, NAN, INFINITY, -INFINITY, -0.0},     /* machine_c */
+        {-1e-300, -1.0, NAN, INFINITY, -INFINITY, -2.0}, /* machine_c */
     };
     test_alloc counter;
     tclod_allocator hooks;
@@ -258,7 +259,7 @@ static void calib_create_accepts_the_ends_of_the_ranges(void **state) {
     d.rise_rate = 1.0;
     d.fall_rate = 1.0;
     d.logic_rate = 1.0;
-    d.dead_band = 0.0;
+    d.dead_band = TCLOD_OFF;
     d.initial_logic = 0.0;
     c = make_calib(&d);
     /* With rates 1 and no dead band the scale is the last ratio: 3, then 0.5. */
@@ -436,7 +437,7 @@ static void scale_without_a_dead_band_is_an_exponentially_weighted_average(void 
     (void)state;
     tclod_calib_desc_default(&d);
     d.initial_measured = 1; /* the rates from a known start */
-    d.dead_band = 0.0;
+    d.dead_band = TCLOD_OFF;
     d.rise_rate = 0.25;
     d.fall_rate = 0.125;
     c = make_calib(&d);
@@ -633,7 +634,7 @@ static void budget_rejects_bad_arguments_and_leaves_the_output_unwritten(void **
 /* ---- calibration: error contract and extremes ------------------------------ */
 
 static void report_rejects_bad_values_and_changes_nothing(void **state) {
-    const double bad[] = {-1.0, -1e-300, NAN, INFINITY, -INFINITY};
+    const double bad[] = {-2.0, -1e-300, NAN, INFINITY, -INFINITY}; /* -1: TCLOD_OFF */
     tclod_calib_desc d;
     tclod_calib *c;
     double b0, b;
@@ -673,7 +674,7 @@ static void scale_stays_positive_and_finite_under_extreme_reports(void **state) 
     d.rise_rate = 1.0;
     d.fall_rate = 1.0;
     d.logic_rate = 1.0;
-    d.dead_band = 0.0;
+    d.dead_band = TCLOD_OFF;
     c = make_calib(&d);
     assert_int_equal(tclod_calib_report(c, 1.0, 0.0, 0.0), TCLOD_OK);
     assert_exact(tclod_calib_scale(c), DBL_MIN);

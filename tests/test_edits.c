@@ -251,9 +251,9 @@ static void a_moved_smooth_object_changes_quadtree_cell(void **state) {
     assert_int_equal(pos0 > pos3 ? pos0 - pos3 : pos3 - pos0, 1);
     tclod_selector_desc_default(&d);
     d.solver = TCLOD_SOLVER_MIXED;
-    d.split_smooth = 1;
-    d.split_threshold = 1.0;
-    d.smooth_cull_area = 0.0;
+    d.mixed.split_smooth = 1;
+    d.mixed.split_threshold = 1.0;
+    d.smooth_cull_area = TCLOD_OFF;
     table_mixed_callbacks(&f->model, &d.callbacks);
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &a), TCLOD_OK);
     table_mixed_callbacks(&g->model, &d.callbacks);
@@ -472,7 +472,7 @@ static void warm_starts_survive_edits_with_work_in_proportion(void **state) {
     budget = table_roots_cost(&f->model) * 6.0;
     warm = helper_selector(f->scene, &f->model, 1);
     tclod_selector_desc_default(&d);
-    d.warm_start = 0;
+    d.cold_start = 1;
     table_callbacks(&f->model, &d.callbacks);
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &cold), TCLOD_OK);
     select_at(warm, budget);

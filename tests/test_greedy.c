@@ -48,9 +48,9 @@ static tclod_selector *tuned_selector(const tclod_scene *s, table_model *m, int 
     tclod_selector *sel = NULL;
     tclod_selector_desc_default(&d);
     table_callbacks(m, &d.callbacks);
-    d.warm_start = warm_start;
-    d.lookahead = lookahead;
-    d.restarts = restarts;
+    d.cold_start = !(warm_start);
+    d.greedy.lookahead = lookahead;
+    d.greedy.restarts = restarts > 0 ? (int32_t)restarts : TCLOD_OFF;
     assert_int_equal(tclod_selector_create(s, &d, NULL, &sel), TCLOD_OK);
     return sel;
 }

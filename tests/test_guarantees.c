@@ -404,7 +404,7 @@ static void strict_mode_fails_the_call_and_keeps_the_previous_result(void **stat
         tclod_selector_desc_default(&d);
         table_callbacks(&f->model, &d.callbacks);
         d.strict = 1;
-        d.warm_start = warm;
+        d.cold_start = !(warm);
         assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
         select_ok(sel, INFINITY, &st);
         helper_assert_cut(sel, listed, 2);
@@ -505,17 +505,17 @@ static void selector_create_rejects_bad_descriptions(void **state) {
     d.callbacks.cost = NULL;
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
     d = good;
-    d.split_threshold = NAN;
+    d.mixed.split_threshold = NAN;
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
     d = good;
-    d.split_threshold = -0.5;
+    d.mixed.split_threshold = -0.5;
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
     d = good;
-    d.lookahead = TCLOD_MAX_LOOKAHEAD + 1u;
+    d.greedy.lookahead = TCLOD_MAX_LOOKAHEAD + 1u;
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
     assert_ptr_equal(out, sentinel);
     d = good;
-    d.restarts = TCLOD_MAX_RESTARTS + 1u;
+    d.greedy.restarts = TCLOD_MAX_RESTARTS + 1u;
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
     assert_ptr_equal(out, sentinel);
     {
@@ -524,23 +524,23 @@ static void selector_create_rejects_bad_descriptions(void **state) {
         size_t i;
         for (i = 0; i < 2u; ++i) {
             d = good;
-            d.warm_start = bad_flags[i];
+            d.cold_start = bad_flags[i];
             assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
             d = good;
-            d.split_smooth = bad_flags[i];
+            d.mixed.split_smooth = bad_flags[i];
             assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
             d = good;
             d.strict = bad_flags[i];
             assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
             d = good;
-            d.smooth_precondition = bad_flags[i];
+            d.mixed.plain_gradient = bad_flags[i];
             assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_ERR_ARG);
         }
         assert_ptr_equal(out, sentinel);
     }
     d = good;
-    d.lookahead = TCLOD_MAX_LOOKAHEAD;
-    d.restarts = TCLOD_MAX_RESTARTS;
+    d.greedy.lookahead = TCLOD_MAX_LOOKAHEAD;
+    d.greedy.restarts = TCLOD_MAX_RESTARTS;
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_OK);
     tclod_selector_destroy(out);
 }
@@ -553,17 +553,13 @@ static double linear_smooth(void *user, const tclod_query *q, double r, double *
     return r;
 }
 
-static void only_available_solvers_can_be_created(void **state) {
+static void only_the_three_solvers_can_be_created(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
     const tclod_solver solvers[] = {TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_MIXED,
                                     TCLOD_SOLVER_ROBIN_HOOD, (tclod_solver)3, (tclod_solver)42};
     tclod_selector_desc d;
     size_t i;
     helper_add(f, TCLOD_NONE, 1.0, 1.0);
-    assert_int_equal(tclod_solver_available(TCLOD_SOLVER_GREEDY), 1);
-    assert_int_equal(tclod_solver_available(TCLOD_SOLVER_MIXED), 1);
-    assert_int_equal(tclod_solver_available((tclod_solver)3), 0);
-    assert_int_equal(tclod_solver_available((tclod_solver)42), 0);
     for (i = 0; i < sizeof solvers / sizeof solvers[0]; ++i) {
         tclod_selector *const sentinel = (tclod_selector *)(void *)f;
         tclod_selector *out = sentinel;
@@ -573,7 +569,7 @@ static void only_available_solvers_can_be_created(void **state) {
         d.callbacks.smooth_benefit = d.callbacks.smooth_cost = linear_smooth;
         d.solver = solvers[i];
         st = tclod_selector_create(f->scene, &d, NULL, &out);
-        if (tclod_solver_available(solvers[i])) {
+        if (i < 3) {
             assert_int_equal(st, TCLOD_OK);
             tclod_selector_destroy(out);
         } else {
@@ -649,12 +645,12 @@ static void desc_default_fills_the_documented_values(void **state) {
     assert_null(d.callbacks.smooth_benefit);
     assert_null(d.callbacks.smooth_cost);
     assert_null(d.callbacks.user);
-    assert_int_equal(d.warm_start, 1);
-    assert_int_equal(d.split_smooth, 0);
-    assert_true(d.split_threshold == 0.1);
+    assert_int_equal(d.cold_start, 0);
+    assert_int_equal(d.mixed.split_smooth, 0);
+    assert_true(d.mixed.split_threshold == 0.1);
     assert_int_equal(d.strict, 0);
-    assert_int_equal(d.lookahead, 0);
-    assert_int_equal(d.restarts, 32);
+    assert_int_equal(d.greedy.lookahead, 0);
+    assert_int_equal(d.greedy.restarts, 32);
 }
 
 /* ---- determinism --------------------------------------------------------- */
@@ -697,7 +693,7 @@ static tclod_selector *view_selector(const tclod_scene *s, table_model *m, int w
     tclod_selector_desc_default(&d);
     table_callbacks(m, &d.callbacks);
     d.callbacks.benefit = view_benefit;
-    d.warm_start = warm;
+    d.cold_start = !(warm);
     assert_int_equal(tclod_selector_create(s, &d, a, &sel), TCLOD_OK);
     return sel;
 }
@@ -1163,8 +1159,8 @@ static void mixed_desc(tclod_selector_desc *d, table_model *m, int precondition,
     tclod_selector_desc_default(d);
     d->solver = TCLOD_SOLVER_MIXED;
     table_mixed_callbacks(m, &d->callbacks);
-    d->smooth_precondition = precondition;
-    d->split_smooth = split;
+    d->mixed.plain_gradient = !(precondition);
+    d->mixed.split_smooth = split;
 }
 
 /* Sum of every node's cost and every smooth object's cost at full
@@ -1220,11 +1216,11 @@ static void mixed_budget_holds_on_ten_thousand_random_mixed_instances(void **sta
             random_smooth(&m, s, &rng, extent, place);
         full = full_cost(&m);
         mixed_desc(&d, &m, (int)table_rng_below(&rng, 2), (int)table_rng_below(&rng, 2));
-        d.split_threshold = thresholds[table_rng_below(&rng, 4)];
+        d.mixed.split_threshold = thresholds[table_rng_below(&rng, 4)];
         d.smooth_cull_area = cull_areas[table_rng_below(&rng, 4)];
         if (table_rng_below(&rng, 4) == 0) {
-            d.smooth_epsilon = table_rng_uniform(&rng, 0.0, 0.5);
-            d.smooth_tolerance = table_rng_uniform(&rng, 0.0, 0.9);
+            d.mixed.smooth_epsilon = table_rng_uniform(&rng, 0.0, 0.5);
+            d.mixed.smooth_tolerance = table_rng_uniform(&rng, 0.0, 0.9);
         }
         assert_int_equal(tclod_selector_create(s, &d, NULL, &sel), TCLOD_OK);
         for (frame = 0; frame < 2; ++frame) {
@@ -1258,7 +1254,7 @@ static void mixed_budget_holds_on_ten_thousand_random_mixed_instances(void **sta
                 shared += groups[g].count > 1;
                 kinked_drawn += m.smooth.kink[order[groups[g].first]] > 0.0;
             }
-            culled += has_view && !d.split_smooth && st.variables < smooth;
+            culled += has_view && !d.mixed.split_smooth && st.variables < smooth;
         }
         tclod_selector_destroy(sel);
         tclod_scene_destroy(s);
@@ -1563,8 +1559,9 @@ static void scenes_without_nodes_or_smooth_objects_select_within_the_budget(void
 
 static void mixed_selectors_reject_bad_descriptions_and_arguments(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
-    static const double bad_fractions[] = {-1e-300, -0.1, 1.0, 1.5, NAN, INFINITY, -INFINITY};
-    static const double bad_areas[] = {-1e-300, -1.0, NAN, INFINITY, -INFINITY};
+    static const double bad_fractions[] = {-1e-300, -0.1, -2.0, 1.0, 1.5, NAN, INFINITY, -INFINITY};
+    /* -1 is TCLOD_OFF, 0 the default */
+    static const double bad_areas[] = {-1e-300, -2.0, -0.5, NAN, INFINITY, -INFINITY};
     tclod_selector *const sentinel = (tclod_selector *)(void *)f;
     tclod_selector *out = sentinel, *sel = NULL;
     tclod_selector_desc good, d;
@@ -1594,11 +1591,11 @@ static void mixed_selectors_reject_bad_descriptions_and_arguments(void **state) 
         good.solver = solver ? TCLOD_SOLVER_MIXED : TCLOD_SOLVER_GREEDY;
         for (i = 0; i < sizeof bad_fractions / sizeof bad_fractions[0]; ++i) {
             d = good;
-            d.smooth_epsilon = bad_fractions[i];
+            d.mixed.smooth_epsilon = bad_fractions[i];
             if (tclod_selector_create(f->scene, &d, NULL, &out) != TCLOD_ERR_ARG)
                 fail_msg("solver %d: smooth_epsilon %g accepted", solver, bad_fractions[i]);
             d = good;
-            d.smooth_tolerance = bad_fractions[i];
+            d.mixed.smooth_tolerance = bad_fractions[i];
             if (tclod_selector_create(f->scene, &d, NULL, &out) != TCLOD_ERR_ARG)
                 fail_msg("solver %d: smooth_tolerance %g accepted", solver, bad_fractions[i]);
         }
@@ -1611,15 +1608,15 @@ static void mixed_selectors_reject_bad_descriptions_and_arguments(void **state) 
         assert_ptr_equal(out, sentinel);
         /* The ends of the ranges are accepted. */
         d = good;
-        d.smooth_epsilon = 0.0;
-        d.smooth_tolerance = nextafter(1.0, 0.0);
-        d.smooth_cull_area = 0.0;
+        d.mixed.smooth_epsilon = TCLOD_OFF;
+        d.mixed.smooth_tolerance = nextafter(1.0, 0.0);
+        d.smooth_cull_area = TCLOD_OFF;
         assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_OK);
         tclod_selector_destroy(out);
         out = sentinel;
         d = good;
-        d.smooth_epsilon = nextafter(1.0, 0.0);
-        d.smooth_tolerance = 0.0;
+        d.mixed.smooth_epsilon = nextafter(1.0, 0.0);
+        d.mixed.smooth_tolerance = TCLOD_OFF;
         d.smooth_cull_area = DBL_MAX;
         assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &out), TCLOD_OK);
         tclod_selector_destroy(out);
@@ -2124,7 +2121,7 @@ int main(void) {
         FIXTURE_TEST(strict_mode_fails_the_call_and_keeps_the_previous_result),
         FIXTURE_TEST(select_rejects_bad_arguments_and_keeps_the_previous_result),
         FIXTURE_TEST(selector_create_rejects_bad_descriptions),
-        FIXTURE_TEST(only_available_solvers_can_be_created),
+        FIXTURE_TEST(only_the_three_solvers_can_be_created),
         FIXTURE_TEST(allocators_need_both_hooks_or_none),
         FIXTURE_TEST(cut_rejects_null_arguments_and_is_empty_before_the_first_select),
         cmocka_unit_test(desc_default_fills_the_documented_values),

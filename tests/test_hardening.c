@@ -85,7 +85,7 @@ static void strict_mode_fails_when_a_warm_swap_meets_a_bad_value(void **state) {
     d.callbacks.cost = swap_cost;
     d.callbacks.user = &h;
     d.strict = 1;
-    d.warm_start = 1;
+    d.cold_start = 0;
     assert_int_equal(tclod_selector_create(s, &d, NULL, &sel), TCLOD_OK);
     assert_int_equal(tclod_select(sel, &f, &st), TCLOD_OK);
     assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);

@@ -54,10 +54,10 @@ static tclod_selector *lookahead_selector(helper_fixture *f, int precondition, d
     tclod_selector_desc_default(&d);
     d.solver = TCLOD_SOLVER_MIXED;
     table_mixed_callbacks(&f->model, &d.callbacks);
-    d.smooth_precondition = precondition;
-    d.smooth_epsilon = epsilon;
-    d.smooth_tolerance = 0.0;
-    d.lookahead = lookahead;
+    d.mixed.plain_gradient = !(precondition);
+    d.mixed.smooth_epsilon = epsilon > 0.0 ? epsilon : TCLOD_OFF; /* 0 alone is the default */
+    d.mixed.smooth_tolerance = TCLOD_OFF;
+    d.greedy.lookahead = lookahead;
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
     return sel;
 }

@@ -88,15 +88,15 @@ static tclod_selector *make_selector(world *w, mode m) {
     table_mixed_callbacks(&w->model, &d.callbacks);
     if (m == MIXED_MODELLED || m == MIXED_PAPERS) {
         d.solver = TCLOD_SOLVER_MIXED;
-        d.smooth_precondition = m == MIXED_MODELLED;
+        d.mixed.plain_gradient = !(m == MIXED_MODELLED);
     } else if (m == ROBIN_HOOD) {
         d.solver = TCLOD_SOLVER_ROBIN_HOOD;
     } else if (m == GREEDY_ONE_PASS) {
-        d.restarts = 1;
+        d.greedy.restarts = 1;
     } else if (m == GREEDY_TUNED) {
-        d.warm_start = 0;
-        d.lookahead = 3;
-        d.restarts = TCLOD_MAX_RESTARTS;
+        d.cold_start = 1;
+        d.greedy.lookahead = 3;
+        d.greedy.restarts = TCLOD_MAX_RESTARTS;
     }
     assert_int_equal(tclod_selector_create(w->scene, &d, NULL, &sel), TCLOD_OK);
     return sel;

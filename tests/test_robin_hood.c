@@ -52,8 +52,8 @@ static tclod_selector *rh_create(helper_fixture *f, const tclod_selector_desc *d
 static tclod_selector *rh_selector(helper_fixture *f, tclod_value value, tclod_misfit misfit) {
     tclod_selector_desc d;
     rh_desc(f, &d);
-    d.value = value;
-    d.misfit = misfit;
+    d.robin_hood.value = value;
+    d.robin_hood.misfit = misfit;
     return rh_create(f, &d);
 }
 
@@ -142,7 +142,7 @@ static tclod_selector *reversed_selector(helper_fixture *f) {
     tclod_selector_desc d;
     rh_desc(f, &d);
     d.callbacks.complexity = reversed_complexity;
-    d.value = TCLOD_VALUE_BENEFIT;
+    d.robin_hood.value = TCLOD_VALUE_BENEFIT;
     return rh_create(f, &d);
 }
 
@@ -361,16 +361,16 @@ static void the_coarsest_policy_draws_a_misfit_the_time_left_covers(void **state
     tclod_stats st;
     rh_desc(f, &d);
     d.callbacks.complexity = reversed_complexity; /* id 0 (x) first */
-    d.value = TCLOD_VALUE_BENEFIT;
+    d.robin_hood.value = TCLOD_VALUE_BENEFIT;
 
-    d.misfit = TCLOD_MISFIT_DROP;
+    d.robin_hood.misfit = TCLOD_MISFIT_DROP;
     sel = rh_create(f, &d);
     select_rh(sel, NULL, 4.0, &st);
     assert_false(listed(sel, x));
     assert_true(listed(sel, y));
     tclod_selector_destroy(sel);
 
-    d.misfit = TCLOD_MISFIT_COARSEST;
+    d.robin_hood.misfit = TCLOD_MISFIT_COARSEST;
     sel = rh_create(f, &d);
     select_rh(sel, NULL, 4.0, &st);
     assert_true(listed(sel, x));
@@ -658,7 +658,7 @@ static tclod_selector *importance_selector(helper_fixture *f, tclod_value value,
     tclod_selector *sel;
     rh_desc(f, &d);
     d.callbacks.importance = test_importance;
-    d.value = value;
+    d.robin_hood.value = value;
     d.strict = strict;
     sel = rh_create(f, &d);
     importance_calls = 0;
@@ -886,8 +886,8 @@ static void budget_holds_on_random_scenes(void **state) {
                              TCLOD_OK);
         }
         rh_desc(f, &d);
-        d.value = (tclod_value)table_rng_below(&rng, 5);
-        d.misfit = (tclod_misfit)table_rng_below(&rng, 2);
+        d.robin_hood.value = (tclod_value)table_rng_below(&rng, 5);
+        d.robin_hood.misfit = (tclod_misfit)table_rng_below(&rng, 2);
         sel = rh_create(f, &d);
         budget = table_rng_uniform(&rng, 0.0, 40.0);
         helper_view(&view);

@@ -98,17 +98,17 @@ static tclod_scheduler *wish_scheduler(tclod_scene *s, wish_host *h, int morph, 
     sd.callbacks.smooth_benefit = wish_smooth_benefit;
     sd.callbacks.smooth_cost = wish_smooth_cost;
     sd.callbacks.user = h;
-    sd.warm_start = 0;
+    sd.cold_start = 1;
     sd.strict = h->strict;
     if (mixed) {
         sd.solver = TCLOD_SOLVER_MIXED;
-        sd.smooth_cull_area = 0.0;
+        sd.smooth_cull_area = TCLOD_OFF;
     }
     tclod_scheduler_desc_default(&d);
     d.tau = 1.0;
     d.samples = 1;
-    d.confidence = 0.0;
-    d.morph = morph;
+    d.confidence = TCLOD_OFF;
+    d.two_stage = !(morph);
     assert_int_equal(tclod_scheduler_create(s, &sd, &d, NULL, &sch), TCLOD_OK);
     return sch;
 }
@@ -390,7 +390,7 @@ static void a_selection_is_asked_for_its_target_interval_and_the_conservative_ca
             d.confidence = 0.5;
             d.max_speed = 2.0;
             d.max_turn_rate = 5.0 * PI / 180.0;
-            d.morph = morph;
+            d.two_stage = !(morph);
             assert_int_equal(tclod_scheduler_create(s, &sd, &d, NULL, &sch), TCLOD_OK);
             helper_view(&v);
             v.fov_y = (float)(PI / 3.0);
@@ -1070,7 +1070,7 @@ static void draw_lists_stay_within_the_budget_over_random_paths(void **state) {
         tclod_selector_desc_default(&sd);
         sd.callbacks = world_callbacks(w);
         sd.solver = trial % 3u == 2u ? TCLOD_SOLVER_ROBIN_HOOD : TCLOD_SOLVER_GREEDY;
-        sd.warm_start = (int)(trial % 2u);
+        sd.cold_start = !((int)(trial % 2u));
         if (mixed) {
             sd.solver = TCLOD_SOLVER_MIXED;
             sd.callbacks.benefit = tree_benefit;
@@ -1085,7 +1085,7 @@ static void draw_lists_stay_within_the_budget_over_random_paths(void **state) {
         d.confidence = table_rng_uniform(&rng, 0.0, 2.0);
         d.max_speed = speed;
         d.max_turn_rate = 1.0;
-        d.morph = trial % 4u != 3u;
+        d.two_stage = !(trial % 4u != 3u);
         assert_int_equal(tclod_scheduler_create(w->scene, &sd, &d, NULL, &sch), TCLOD_OK);
         world_camera_at(&w->path, 0.0, &v);
         v.eye[0] = (float)table_rng_uniform(&rng, 0.0, w->side);
@@ -1197,15 +1197,15 @@ static void bad_arguments_are_refused_and_change_nothing(void **state) {
     tclod_scheduler_desc_default(&d);
     assert_float_equal(d.tau, 0.5, 0.0);
     assert_int_equal(d.samples, 3);
-    assert_int_equal(d.morph, 1);
+    assert_int_equal(d.two_stage, 0);
     {
-        /* tau: a normal positive number whose 4 tau is finite. 1e-310 is
-         * subnormal; DBL_MAX / 2 doubles to infinity (the pipeline restarts
-         * after a gap of 4 tau); DBL_MAX / 4 and DBL_MIN are the ends
-         * accepted */
-        static const double bad_tau[] = {0.0,           -0.5,    1e-310,   -DBL_MIN,
-                                         DBL_MAX / 2.0, DBL_MAX, INFINITY, NAN};
-        static const double good[] = {DBL_MIN, 1e-300, DBL_MAX / 4.0};
+        /* tau: a normal positive number whose 4 tau is finite, or 0 for
+         * the default. 1e-310 is subnormal; DBL_MAX / 2 doubles to infinity
+         * (the pipeline restarts after a gap of 4 tau); DBL_MAX / 4 and
+         * DBL_MIN are the ends accepted */
+        static const double bad_tau[] = {-0.5,    1e-310,   -DBL_MIN, DBL_MAX / 2.0,
+                                         DBL_MAX, INFINITY, NAN};
+        static const double good[] = {0.0, DBL_MIN, 1e-300, DBL_MAX / 4.0};
         size_t i;
         for (i = 0; i < sizeof bad_tau / sizeof bad_tau[0]; ++i) {
             d.tau = bad_tau[i];
@@ -1241,7 +1241,7 @@ static void bad_arguments_are_refused_and_change_nothing(void **state) {
     assert_int_equal(tclod_scheduler_create(s, &sd, &d, NULL, &sch), TCLOD_OK);
     assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
     assert_int_equal(n, 0);
-    assert_int_equal(tclod_scheduler_report(sch, 1.0), TCLOD_ERR_STATE);
+    assert_int_equal(tclod_scheduler_report_frame(sch, 1.0, TCLOD_OFF), TCLOD_ERR_STATE);
     helper_view(&v);
     bad = v;
     bad.fov_y = 0.0f;
@@ -1258,9 +1258,9 @@ static void bad_arguments_are_refused_and_change_nothing(void **state) {
     assert_int_equal(tclod_scheduler_update(NULL, 2.0, &v, 10.0, 0.0), TCLOD_ERR_ARG);
     assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
     assert_int_equal(n, 1);
-    assert_int_equal(tclod_scheduler_report(sch, -1.0), TCLOD_ERR_ARG);
-    assert_int_equal(tclod_scheduler_report(sch, NAN), TCLOD_ERR_ARG);
-    assert_int_equal(tclod_scheduler_report(NULL, 1.0), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_report_frame(sch, -1.0, TCLOD_OFF), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_report_frame(sch, NAN, TCLOD_OFF), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_report_frame(NULL, 1.0, TCLOD_OFF), TCLOD_ERR_ARG);
     assert_int_equal(tclod_scheduler_draws(NULL, &items, &n), TCLOD_ERR_ARG);
     assert_int_equal(tclod_scheduler_get_stats(sch, NULL), TCLOD_ERR_ARG);
     assert_float_equal(tclod_scheduler_resolution(sch, 0), 0.0, 0.0);
@@ -1543,11 +1543,11 @@ static void a_failed_update_begins_the_lost_selection_again_with_its_views(void 
     sd.callbacks.cost = path_cost;
     sd.callbacks.user = &h;
     sd.strict = 1;
-    sd.warm_start = 0;
+    sd.cold_start = 1;
     tclod_scheduler_desc_default(&d);
     d.tau = 1.0;
     d.samples = 1;
-    d.confidence = 0.0;
+    d.confidence = TCLOD_OFF;
     d.max_speed = 2.0;
     assert_int_equal(tclod_scheduler_create(s, &sd, &d, NULL, &sch), TCLOD_OK);
     helper_view(&v);
@@ -1669,7 +1669,8 @@ static void a_slower_machine_lowers_the_budget_through_the_calibration(void **st
         assert_int_equal(tclod_scheduler_update(sch, f / 10.0, &v, 3.0, 0.0), TCLOD_OK);
         assert_int_equal(tclod_scheduler_get_stats(sch, &st), TCLOD_OK);
         assert_true(st.draw_cost <= st.budget);
-        assert_int_equal(tclod_scheduler_report(sch, 2.0 * st.draw_cost), TCLOD_OK);
+        assert_int_equal(tclod_scheduler_report_frame(sch, 2.0 * st.draw_cost, TCLOD_OFF),
+                         TCLOD_OK);
     }
     assert_float_equal(st.budget, 1.5, 0.02);
     assert_float_equal(st.draw_cost, 1.0, 0.0);
@@ -1708,11 +1709,11 @@ static void render_and_logic_times_go_to_the_schedulers_calibration(void **state
     assert_int_equal(tclod_scheduler_report_frame(sch, 4.0, 0.0), TCLOD_OK);
     assert_float_equal(tclod_calib_scale(c), 3.0, 1e-12);
     assert_float_equal(tclod_calib_logic(c), 8.0, 1e-12);
-    assert_int_equal(tclod_scheduler_report(sch, 2.0), TCLOD_OK);
+    assert_int_equal(tclod_scheduler_report_frame(sch, 2.0, TCLOD_OFF), TCLOD_OK);
     assert_float_equal(tclod_calib_scale(c), 2.9, 1e-12);
     assert_float_equal(tclod_calib_logic(c), 8.0, 1e-12);
     /* bad times change nothing */
-    assert_int_equal(tclod_scheduler_report_frame(sch, 2.0, -1.0), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_report_frame(sch, 2.0, -2.0), TCLOD_ERR_ARG);
     assert_int_equal(tclod_scheduler_report_frame(sch, 2.0, NAN), TCLOD_ERR_ARG);
     assert_int_equal(tclod_scheduler_report_frame(sch, INFINITY, 1.0), TCLOD_ERR_ARG);
     assert_int_equal(tclod_scheduler_report_frame(NULL, 2.0, 1.0), TCLOD_ERR_ARG);
@@ -1760,7 +1761,7 @@ static void roots_drawn_past_the_largest_cost_leave_reports_valid(void **state) 
     assert_int_equal(n, 2);
     assert_true(isinf(st.draw_cost));
     assert_int_equal(tclod_scheduler_report_frame(sch, 2.0, 10.0), TCLOD_OK);
-    assert_int_equal(tclod_scheduler_report(sch, 2.0), TCLOD_OK);
+    assert_int_equal(tclod_scheduler_report_frame(sch, 2.0, TCLOD_OFF), TCLOD_OK);
     assert_float_equal(tclod_calib_scale(c), 1.0, 0.0);
     assert_float_equal(tclod_calib_logic(c), 10.0, 1e-12);
     tclod_scheduler_destroy(sch);

@@ -51,8 +51,8 @@ static tclod_selector *split_selector(helper_fixture *f, int split, double theta
     tclod_selector_desc_default(&d);
     d.solver = TCLOD_SOLVER_MIXED;
     table_mixed_callbacks(&f->model, &d.callbacks);
-    d.split_smooth = split;
-    d.split_threshold = theta;
+    d.mixed.split_smooth = split;
+    d.mixed.split_threshold = theta;
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
     return sel;
 }
@@ -160,7 +160,7 @@ static void objects_below_the_small_detail_area_get_no_variable(void **state) {
     tclod_selector_desc_default(&d);
     d.solver = TCLOD_SOLVER_MIXED;
     table_mixed_callbacks(&f->model, &d.callbacks);
-    d.smooth_cull_area = 0.0;
+    d.smooth_cull_area = TCLOD_OFF;
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
     select_view(sel, &view, 1.0, &st);
     assert_int_equal(st.variables, 2);

@@ -1776,8 +1776,6 @@ static void queries_carry_the_node_volume_and_its_measures(void **state) {
         volume_capture c;
         tclod_scene *s = NULL;
         tclod_selector *sel;
-        if (!tclod_solver_available((tclod_solver)solver))
-            continue;
         assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
         for (i = 0; i < 5; ++i) {
             tclod_node_desc d;
@@ -1841,8 +1839,6 @@ static void outside_the_frustum_the_query_area_is_zero_but_the_helper_area_is_no
         volume_capture c;
         tclod_scene *s = NULL;
         tclod_selector *sel;
-        if (!tclod_solver_available((tclod_solver)solver))
-            continue;
         assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
         for (i = 0; i < 2; ++i) {
             tclod_node_desc d;
@@ -2016,8 +2012,6 @@ static void earth_scale_queries_keep_millimetres_and_areas(void **state) {
         volume_capture c;
         tclod_scene *s = NULL;
         tclod_selector *sel;
-        if (!tclod_solver_available((tclod_solver)solver))
-            continue;
         assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
         for (i = 0; i < EARTH_TARGETS; ++i) {
             tclod_node_desc d;

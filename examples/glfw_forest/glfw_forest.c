@@ -980,7 +980,7 @@ static void selector_desc(app *a, tclod_solver s, tclod_selector_desc *d) {
     tclod_selector_desc_default(d);
     d->solver = s;
     d->callbacks = thesis_callbacks(&a->scene);
-    d->split_smooth = 1; /* the thesis's grouping of nearby tree sets (SplitVar) */
+    d->mixed.split_smooth = 1; /* the thesis's grouping of nearby tree sets (SplitVar) */
 }
 
 /* Replaces the scheduler by one selecting with a->solver, whose calibration

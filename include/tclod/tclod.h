@@ -272,8 +272,10 @@ typedef struct tclod_scene tclod_scene;
 /* Creates an empty scene. a may be NULL (malloc/free); it is copied. */
 TCLOD_API tclod_status tclod_scene_create(const tclod_allocator *a, tclod_scene **out);
 
-/* Frees the scene. Destroy its selectors and schedulers first. NULL is allowed. */
-TCLOD_API void tclod_scene_destroy(tclod_scene *s);
+/* Frees the scene. NULL is allowed (TCLOD_OK). Errors: TCLOD_ERR_STATE while a
+ * selector or scheduler created over it is alive (the scene is then not freed;
+ * destroy them first). */
+TCLOD_API tclod_status tclod_scene_destroy(tclod_scene *s);
 
 /* How a node's children refine it (docs/scenes.md, refinement). */
 typedef enum tclod_refine {
@@ -388,10 +390,6 @@ typedef enum tclod_solver {
                                   few bounded passes over what they leave */
 } tclod_solver;
 
-/* Whether a solver is provided by this build of the library (1) or not (0);
- * tclod_selector_create rejects the others with TCLOD_ERR_ARG. */
-TCLOD_API int tclod_solver_available(tclod_solver solver);
-
 /* Value functions of the Robin Hood solver ([RH eq. 8-11]): how an
  * instance's share of the render time follows its size and place. a is the
  * instance's un-projected area (pi r² of its bounds), z its depth along the
@@ -428,113 +426,89 @@ typedef enum tclod_overflow {
                                       the only way a selection may exceed its budget */
 } tclod_overflow;
 
+/* Options of the discrete increments: the greedy solver's, and the mixed
+ * solver's increments on nodes (docs/greedy.md, lookahead and restarts). */
+typedef struct tclod_greedy_desc {
+    uint32_t lookahead; /* levels below a node's children one increment may reach,
+                           0 .. TCLOD_MAX_LOOKAHEAD. 0 (default): one level, the
+                           papers' increment; 2 finds refinements whose first
+                           step gains little, at about the branching factor
+                           more work per level */
+    int32_t restarts;   /* cold solves: passes after the plain greedy pass that
+                           look for a better selection (the half-optimum
+                           guarantee, then a bounded search), 1 ..
+                           TCLOD_MAX_RESTARTS. 0: default 32; TCLOD_OFF: none */
+} tclod_greedy_desc;
+
+/* Options of the mixed solver's smooth variables (docs/mixed.md). */
+typedef struct tclod_mixed_desc {
+    int split_smooth;        /* 1: nearby smooth objects share a variable while the
+                                predicted loss allows (quadtree splitting);
+                                0 (default): a variable per visible object */
+    double split_threshold;  /* theta, with split_smooth: the benefit loss allowed,
+                                as a fraction of the smooth objects' benefit, > 0.
+                                0: default 0.1; TCLOD_OFF: only groups of alike
+                                objects */
+    int plain_gradient;      /* 1: the papers' line search on the plain gradient;
+                                0 (default): with a per-variable model of slope
+                                and cost (a diagonal preconditioner) */
+    double smooth_epsilon;   /* plain_gradient: barrier of the search direction
+                                ([Thesis8 eq. 8.13]), in (0, 1). 0: default 1e-3;
+                                TCLOD_OFF: none */
+    double smooth_tolerance; /* plain_gradient: how far below slope_d a line search
+                                may take the slope ([Thesis8 eq. 8.14]), in (0, 1).
+                                0: default 0.05; TCLOD_OFF: exactly eq. 8.14 */
+} tclod_mixed_desc;
+
+/* Options of the Robin Hood solver (docs/robin_hood.md). */
+typedef struct tclod_robin_hood_desc {
+    tclod_value value;     /* how shares follow size and place. Default
+                              TCLOD_VALUE_AREA_SQRT_DEPTH */
+    tclod_misfit misfit;   /* instances whose coarsest representation exceeds their
+                              share. Default TCLOD_MISFIT_DROP */
+    double reference_area; /* px²: where an instance's complexity is measured when
+                              callbacks.complexity is NULL, > 0. 0: default 10000 */
+} tclod_robin_hood_desc;
+
+/* How a selector solves. A zeroed desc with the benefit and cost callbacks set
+ * is a working greedy selector: every field left 0 takes its default.
+ * TCLOD_OFF asks for 0 (none, off) where the default is not 0. */
 typedef struct tclod_selector_desc {
-    tclod_solver solver;       /* default TCLOD_SOLVER_GREEDY */
-    tclod_callbacks callbacks; /* benefit and cost required; default all NULL */
-    int warm_start;            /* 1: start from the previous frame's selection (faster,
-                                  coherent); 0: from the roots. Default 1. The greedy
-                                  solver only: the mixed solver starts from the
-                                  roots and resolution 0 every frame */
-    int split_smooth;          /* quadtree variable splitting (mixed solver): 1 = groups
-                                  of nearby smooth objects share one variable while
-                                  the predicted loss allows it; 0 = one variable per
-                                  visible smooth object. Default 0 */
-    double split_threshold;    /* theta: the benefit loss that sharing variables may
-                                  cause by the splitting estimate (docs/mixed.md), as
-                                  a fraction of the smooth objects' predicted benefit,
-                                  >= 0; 0 keeps only groups of alike objects. On the
-                                  thesis scene 0.1 loses 0.06 % against a variable
-                                  per object, 1 loses 0.2 % (docs/benchmarks.md).
-                                  Default 0.1 */
-    int strict;                /* 1: a bad callback value fails the call with
-                                  TCLOD_ERR_CALLBACK (previous result kept);
-                                  0: it is sanitised and counted. Default 0 */
-    tclod_overflow overflow;   /* what happens when even the visible roots do not
-                                  fit. Default TCLOD_OVERFLOW_DROP_ROOTS (the
-                                  budget guarantee) */
-    uint32_t lookahead;        /* greedy and mixed solvers: how many levels below
-                                  a node's children its increment may reach. The
-                                  increment then replaces the node by the cut of
-                                  its subtree, down to that depth, with the best
-                                  Δbenefit/Δcost (on a chain of single children:
-                                  the best level), so that a refinement whose first
-                                  step gains little but whose next ones gain much
-                                  is found (benefits without diminishing returns,
-                                  docs/greedy.md); one that does not fit gives way
-                                  to the best such cut that does. Keying an
-                                  increment evaluates the node's subtree to that
-                                  depth and walks it a few times: on wide
-                                  hierarchies each level multiplies the work by
-                                  their branching. With diminishing returns the
-                                  selection is the same as with 0. 2 meets the
-                                  quality target on every instance family of
-                                  docs/benchmarks.md. 0 = the papers' increment
-                                  (one level). At most TCLOD_MAX_LOOKAHEAD.
-                                  Default 0 */
-    uint32_t restarts;         /* greedy solver, cold solves (and the mixed solver on
-                                  a frame without smooth objects): the most passes
-                                  a solve makes after its plain greedy pass. The
-                                  first starts from the increment that did not fit
-                                  whose selection alone (it with the increments
-                                  above it) is worth most, when that beats the plain
-                                  result: what keeps the greedy within half of the
-                                  optimum (docs/greedy.md). The mixed solver makes
-                                  that pass too, with its smooth variables, when
-                                  restarts > 0 (docs/mixed.md). With restarts > 1 the
-                                  others search depth first, each pass forcing or
-                                  leaving out the first increment that did not fit
-                                  in the pass above it, while the linear
-                                  relaxation's bound there (valid with diminishing
-                                  returns) leaves room for more than 1 %; the best
-                                  pass is kept. No search when the frame has an
-                                  iteration or time limit. A pass costs about one
-                                  more solve, without callbacks for the nodes
-                                  evaluated already. On scenes where one increment
-                                  is small against the whole no pass is made; on
-                                  small ones the search lifts the worst results from
-                                  about 0.8 to above 0.9 of the optimum
-                                  (docs/benchmarks.md). A host whose cold solves
-                                  must stay short (one that adds nodes every frame
-                                  solves cold every frame) sets 1 or solve_seconds.
-                                  At most TCLOD_MAX_RESTARTS; 0 = none. Default 32 */
-    /* The mixed solver's smooth part (docs/mixed.md). */
-    int smooth_precondition; /* 1: every smooth variable carries a model of its own
-                                benefit slope and cost (a diagonal preconditioner,
-                                docs/mixed.md): increments are taken while their
-                                slope beats the smooth variables' slope at the
-                                budget, and line searches aim every variable at
-                                its model's resolution. 0: the papers' loop with
-                                the plain benefit gradient. Default 1 */
-    double smooth_epsilon;   /* papers' loop: barrier of the search direction
-                                ([Thesis8 eq. 8.13]), relative to each variable's
-                                slope, a_i = db/dx_i * max(0, 1 - eps / (1 - x_i)).
-                                In [0, 1). Default 1e-3 */
-    double smooth_tolerance; /* papers' loop: a line search may go on until the
-                                slope falls this fraction below slope_d (eq. 8.14
-                                matches it exactly: 0), so that the increments
-                                that follow come in a batch. In [0, 1).
-                                Default 0.05 */
-    double smooth_cull_area; /* small-detail culling: smooth groups whose bounds
-                                project to fewer px² get no variable (not
-                                drawn). >= 0; 0 = off. Default 1. The Robin Hood
-                                solver culls smooth objects the same way */
-    /* The Robin Hood solver (docs/robin_hood.md). */
-    tclod_value value;     /* value function. Default TCLOD_VALUE_AREA_SQRT_DEPTH */
-    tclod_misfit misfit;   /* instances whose simplest representation exceeds
-                              their share. Default TCLOD_MISFIT_DROP */
-    double reference_area; /* px²: the projected area at which an instance's
-                              complexity (the cost of its finest representation)
-                              is measured when callbacks.complexity is NULL.
-                              > 0. Default 10000 */
+    tclod_solver solver;              /* default TCLOD_SOLVER_GREEDY */
+    tclod_callbacks callbacks;        /* benefit and cost required */
+    int cold_start;                   /* 1: every solve starts from the roots. 0 (default):
+                                         the greedy solver starts from the previous
+                                         selection (warm start, docs/api.md) */
+    int strict;                       /* 1: a bad callback value fails the call with
+                                         TCLOD_ERR_CALLBACK. 0 (default): it is sanitised
+                                         and counted (tclod_stats.invalid_values) */
+    tclod_overflow overflow;          /* when even the visible roots do not fit. Default
+                                         TCLOD_OVERFLOW_DROP_ROOTS */
+    double smooth_cull_area;          /* mixed and Robin Hood solvers: smooth objects and
+                                         groups projecting to fewer px² are not drawn.
+                                         0: default 1; TCLOD_OFF: no culling */
+    tclod_greedy_desc greedy;         /* greedy and mixed solvers */
+    tclod_mixed_desc mixed;           /* mixed solver */
+    tclod_robin_hood_desc robin_hood; /* Robin Hood solver */
 } tclod_selector_desc;
 
-/* The largest tclod_selector_desc.lookahead. */
+/* Asks for 0 in a desc field whose 0 means "the default" (restarts,
+ * split_threshold, smooth_epsilon, smooth_tolerance, smooth_cull_area,
+ * confidence, dead_band). */
+#define TCLOD_OFF (-1)
+/* The largest tclod_greedy_desc.lookahead. */
 #define TCLOD_MAX_LOOKAHEAD 63u
-/* The largest tclod_selector_desc.restarts. */
-#define TCLOD_MAX_RESTARTS 256u
+/* The largest tclod_greedy_desc.restarts. */
+#define TCLOD_MAX_RESTARTS 256
 
-/* Fills d with the defaults above. */
+/* Fills d with the explicit defaults: the same selector as a zeroed desc. */
 TCLOD_API void tclod_selector_desc_default(tclod_selector_desc *d);
+
+/* NULL when d is valid for a selector or scheduler over s, else the rule it
+ * breaks ("desc.callbacks.cost is NULL"): why tclod_selector_create or
+ * tclod_scheduler_create returned TCLOD_ERR_ARG. s may be NULL: the rule that
+ * needs the scene (smooth callbacks of the mixed solver) is then not checked. */
+TCLOD_API const char *tclod_selector_desc_check(const tclod_scene *s, const tclod_selector_desc *d);
 
 /* One frame's request. */
 typedef struct tclod_frame {
@@ -763,31 +737,29 @@ TCLOD_API tclod_status tclod_render_budget(double frame_time, double logic_time,
  * changes within a dead band, like the frame-rate controllers of engines. */
 typedef struct tclod_calib tclod_calib;
 
+/* How a calibration follows measurements (docs/calibration.md). Every field
+ * left 0 takes its default; TCLOD_OFF asks for 0 in dead_band. */
 typedef struct tclod_calib_desc {
-    double initial_scale; /* measured render time per unit of predicted cost to start
-                             from, > 0. Default 1. Unless initial_measured, it holds
-                             only until the first report with a predicted cost > 0,
-                             whose ratio replaces it */
-    double rise_rate;     /* weight of a new measurement when the ratio rises, (0, 1].
-                             Default 0.5 */
-    double fall_rate;     /* weight when it falls, (0, 1]. Default 0.1 */
-    double dead_band;     /* relative change of the ratio that is ignored, in [0, 1).
-                             Default 0.01 */
-    double logic_rate;    /* weight of a new logic-time measurement, (0, 1]. Default 0.2 */
-    double initial_logic; /* logic time to start from, >= 0, host unit. Default 0.
-                             Unless initial_measured, it holds only until the first
-                             report, whose logic time replaces it */
-    double machine_c;     /* eq. 7's machine constant C, > 0. Default 1 */
-    int initial_measured; /* 1: initial_scale and initial_logic are measurements (of
-                             an earlier run, say), from which the first reports blend
-                             at the rates like every later one. 0: they are guesses,
-                             which the first measurements replace, so that a wrong
-                             guess costs one frame instead of the frames the rates
-                             take to converge from it. Default 0 */
+    double initial_scale; /* render time per unit of predicted cost to start from, > 0.
+                             0: default 1 */
+    double rise_rate;     /* weight of a new ratio when it rises, (0, 1]. 0: default 0.5 */
+    double fall_rate;     /* weight of a new ratio when it falls, (0, 1]. 0: default 0.1 */
+    double dead_band;     /* relative change of the ratio that is ignored, (0, 1).
+                             0: default 0.01; TCLOD_OFF: none */
+    double logic_rate;    /* weight of a new logic time, (0, 1]. 0: default 0.2 */
+    double initial_logic; /* logic time to start from, >= 0, host unit. Default 0 */
+    double machine_c;     /* [RH eq. 7]'s machine constant C, > 0. 0: default 1 */
+    int initial_measured; /* 1: the initial values are measurements, blended at the
+                             rates. 0 (default): guesses, replaced by the first
+                             measurements */
 } tclod_calib_desc;
 
-/* Fills d with the defaults above. */
+/* Fills d with the explicit defaults: the same calibration as a zeroed desc. */
 TCLOD_API void tclod_calib_desc_default(tclod_calib_desc *d);
+
+/* NULL when d is valid, else the rule it breaks ("desc.rise_rate must be in
+ * (0, 1], or 0 (default)"): why tclod_calib_create returned TCLOD_ERR_ARG. */
+TCLOD_API const char *tclod_calib_desc_check(const tclod_calib_desc *d);
 
 /* Creates a calibration state. d is copied; a may be NULL (malloc/free).
  * Errors: TCLOD_ERR_ARG (NULL d or out, a field out of range or NaN),
@@ -798,10 +770,10 @@ TCLOD_API tclod_status tclod_calib_create(const tclod_calib_desc *d, const tclod
 /* Frees c. NULL is allowed. */
 TCLOD_API void tclod_calib_destroy(tclod_calib *c);
 
-/* Reports one frame: the predicted cost of what was drawn (>= 0; a frame that
- * drew nothing, cost 0, leaves the ratio as it is), the measured render time
- * and the measured logic time (>= 0, host unit). Errors: TCLOD_ERR_ARG (NULL
- * c, a negative, NaN or infinite value), and nothing changes. */
+/* Reports one frame: the predicted cost of what was drawn (>= 0; cost 0 leaves
+ * the ratio as it is), the measured render time and logic time (>= 0, host
+ * unit; logic_time TCLOD_OFF: not measured, the estimate stays). Errors:
+ * TCLOD_ERR_ARG (NULL c, a value NaN, inf or < 0); nothing changes. */
 TCLOD_API tclod_status tclod_calib_report(tclod_calib *c, double predicted_cost, double render_time,
                                           double logic_time);
 
@@ -852,35 +824,33 @@ typedef struct tclod_scheduler tclod_scheduler;
 /* Most predicted views per selection. */
 #define TCLOD_MAX_SAMPLES 8u
 
+/* How a scheduler predicts and morphs (docs/scheduler.md). Every field left 0
+ * takes its default; TCLOD_OFF asks for 0 in confidence. */
 typedef struct tclod_scheduler_desc {
-    double tau;             /* seconds: the interval, horizon unit and morph
-                               duration. A normal positive number (not 0, not
-                               subnormal) with 4 tau finite (the longest gap
-                               between updates before the pipeline restarts).
-                               Updates further apart than 4 tau restart it, so a
-                               tau shorter than the time between updates selects
-                               at once in every update (counted in emergencies).
-                               Default 0.5 ([GEO §4.5]: 10 frames at 20 Hz) */
-    uint32_t samples;       /* predicted views per selection, 1 .. TCLOD_MAX_SAMPLES,
-                               at the middles of equal parts of the target
-                               interval. Default 3 */
-    double confidence;      /* lambda >= 0: weight of the conservative camera's
-                               benefit (0: it only culls). Default 1 */
-    double max_speed;       /* theta >= 0, world units per second: the camera's
-                               speed bound; predictions are clamped to it and the
-                               conservative camera steps back for it. 0 = the
-                               camera does not move. Default 0 */
-    double max_turn_rate;   /* omega >= 0, radians per second: the bound on turning;
-                               predictions turn no faster and the conservative
-                               camera widens by it. Default 0 */
-    int morph;              /* 1: three stages with geomorphs; 0: two stages,
-                               selections switch at boundaries. Default 1 */
-    tclod_calib_desc calib; /* the cost feedback of tclod_scheduler_report.
-                              Default: tclod_calib_desc_default */
+    double tau;             /* seconds: the interval, the horizon unit and the morph
+                               duration; normal, > 0, 4 tau finite. 0: default 0.5
+                               ([GEO §4.5]: 10 frames at 20 Hz) */
+    uint32_t samples;       /* predicted views per selection, 1 .. TCLOD_MAX_SAMPLES.
+                               0: default 3 */
+    double confidence;      /* lambda > 0: weight of the conservative camera's
+                               benefit. 0: default 1; TCLOD_OFF: it only culls */
+    double max_speed;       /* theta >= 0, world units per second: the camera's speed
+                               bound. Default 0 (the camera does not move) */
+    double max_turn_rate;   /* omega >= 0, radians per second: its turn bound.
+                               Default 0 */
+    int two_stage;          /* 1: two stages, selections switch at boundaries.
+                               0 (default): three stages with geomorphs */
+    tclod_calib_desc calib; /* the feedback of tclod_scheduler_report_frame */
 } tclod_scheduler_desc;
 
-/* Fills d with the defaults above. */
+/* Fills d with the explicit defaults: the same scheduler as a zeroed desc. */
 TCLOD_API void tclod_scheduler_desc_default(tclod_scheduler_desc *d);
+
+/* NULL when d is valid, else the rule it breaks ("desc.samples must be at
+ * most TCLOD_MAX_SAMPLES (8)", "desc.calib.rise_rate ..."): with
+ * tclod_selector_desc_check, why tclod_scheduler_create returned
+ * TCLOD_ERR_ARG. */
+TCLOD_API const char *tclod_scheduler_desc_check(const tclod_scheduler_desc *d);
 
 /* One item of a frame's draw list: node `fine` geomorphed towards its parent
  * `coarse` with `weight` in [0, 1] (1 = exactly fine, 0 = looks like coarse).
@@ -980,18 +950,14 @@ TCLOD_API tclod_status tclod_scheduler_draws(const tclod_scheduler *sch, const t
  * that ignores smooth objects). O(1). */
 TCLOD_API double tclod_scheduler_resolution(const tclod_scheduler *sch, tclod_id smooth);
 
-/* Reports the measured render and logic times of the frame drawn from the last
- * update's draw list (>= 0, the budget's unit) to the scheduler's calibration
- * (tclod_scheduler_calib): it compares the render time with the list's
- * predicted cost and rescales the budget of the frames that follow, and
- * follows the logic time. Errors: TCLOD_ERR_ARG (NULL sch, a time NaN, inf or
- * < 0), TCLOD_ERR_STATE (before the first update); nothing changes. */
+/* Reports the measured render and logic times (>= 0, the budget's unit) of the
+ * frame drawn from the last update's draw list to the scheduler's
+ * calibration, which rescales the budget of the frames that follow
+ * (docs/calibration.md). logic_time TCLOD_OFF: not measured. Errors:
+ * TCLOD_ERR_ARG (NULL sch, a time NaN, inf or < 0), TCLOD_ERR_STATE (before
+ * the first update); nothing changes. */
 TCLOD_API tclod_status tclod_scheduler_report_frame(tclod_scheduler *sch, double render_time,
                                                     double logic_time);
-
-/* tclod_scheduler_report_frame without a logic time: the logic estimate stays
- * as it is. */
-TCLOD_API tclod_status tclod_scheduler_report(tclod_scheduler *sch, double render_time);
 
 /* The scheduler's calibration, for tclod_calib_scale and tclod_calib_logic:
  * a host that budgets a frame time gives tclod_scheduler_update the render

@@ -117,8 +117,8 @@ static double no_smooth(void *user, const tclod_query *q, double r, double *d_dr
 static const tclod_scene *describe(const config *c, tclod_selector_desc *d) {
     tclod_selector_desc_default(d);
     d->solver = c->solver;
-    d->warm_start = c->warm_start;
-    d->split_smooth = c->split_smooth;
+    d->cold_start = !(c->warm_start);
+    d->mixed.split_smooth = c->split_smooth;
     if (c->scene == FLYOVER) {
         d->callbacks = world_callbacks(&shared.flyover);
         d->callbacks.smooth_benefit = no_smooth;

@@ -21,6 +21,7 @@
  */
 #include <tclod/tclod.h>
 
+#include "fuzz_host.h"
 #include "fuzz_input.h"
 
 /* |a - b| within rel of the larger magnitude (or both tiny). */
@@ -56,18 +57,6 @@ static double field(fuzz_reader *in, double def) {
     if (b < 128)
         return b == 0 ? def : (double)b / 128.0;
     return fuzz_double(in);
-}
-
-/* Whether the header requires TCLOD_ERR_ARG (1) or success (0); -1 when it
- * leaves an infinite value open ("> 0" and ">= 0" ranges). */
-static int desc_invalid(const tclod_calib_desc *d) {
-    if (!(d->initial_scale > 0.0) || !(d->rise_rate > 0.0 && d->rise_rate <= 1.0) ||
-        !(d->fall_rate > 0.0 && d->fall_rate <= 1.0) ||
-        !(d->dead_band >= 0.0 && d->dead_band < 1.0) ||
-        !(d->logic_rate > 0.0 && d->logic_rate <= 1.0) || !(d->initial_logic >= 0.0) ||
-        !(d->machine_c > 0.0))
-        return 1;
-    return isinf(d->initial_scale) || isinf(d->initial_logic) || isinf(d->machine_c) ? -1 : 0;
 }
 
 static void check_render_budget(double ft, double lt, double c) {
@@ -190,9 +179,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     d.machine_c = field(&in, d.machine_c);
     d.initial_measured = fuzz_u8(&in) & 1;
     m.scale = m.logic = d.initial_measured;
-    invalid = desc_invalid(&d);
+    invalid = calib_desc_invalid(&d);
     st = tclod_calib_create(&d, NULL, &c);
-    if (invalid == 1 || (invalid == -1 && st == TCLOD_ERR_ARG)) {
+    if (invalid) {
         FUZZ_CHECK(st == TCLOD_ERR_ARG && c == sentinel, "calib_create accepted a bad desc (%d)",
                    (int)st);
         check_render_budget(fuzz_double(&in), fuzz_double(&in), fuzz_double(&in));

@@ -469,21 +469,44 @@ int smooth_callbacks_missing(const tclod_selector_desc *d, uint32_t smooth) {
            (!d->callbacks.smooth_benefit || !d->callbacks.smooth_cost);
 }
 
+/* A real desc field whose 0 means the default: 0, TCLOD_OFF or in (lo, hi). */
+static int defaulted_ok(double v, double lo, double hi) {
+    return v == 0.0 || v == -1.0 || (v > lo && v < hi);
+}
+
 int desc_invalid(const tclod_selector_desc *d, uint32_t smooth) {
-    int open = 0;
-    if (!tclod_solver_available(d->solver) || !d->callbacks.benefit || !d->callbacks.cost ||
-        d->lookahead > TCLOD_MAX_LOOKAHEAD || d->restarts > TCLOD_MAX_RESTARTS ||
+    if ((unsigned)d->solver > 2u || !d->callbacks.benefit || !d->callbacks.cost ||
+        d->greedy.lookahead > TCLOD_MAX_LOOKAHEAD ||
+        (d->greedy.restarts != TCLOD_OFF &&
+         (d->greedy.restarts < 0 || d->greedy.restarts > TCLOD_MAX_RESTARTS)) ||
         (unsigned)d->overflow > (unsigned)TCLOD_OVERFLOW_DRAW_ROOTS)
         return 1;
     if (smooth_callbacks_missing(d, smooth))
         return 1;
-    if (!(d->split_threshold >= 0.0) || !(d->smooth_epsilon >= 0.0 && d->smooth_epsilon < 1.0) ||
-        !(d->smooth_tolerance >= 0.0 && d->smooth_tolerance < 1.0) ||
-        !(d->smooth_cull_area >= 0.0) || (unsigned)d->value > (unsigned)TCLOD_VALUE_BENEFIT ||
-        (unsigned)d->misfit > (unsigned)TCLOD_MISFIT_COARSEST || !(d->reference_area > 0.0))
+    if (!defaulted_ok(d->mixed.split_threshold, 0.0, HUGE_VAL) ||
+        !defaulted_ok(d->mixed.smooth_epsilon, 0.0, 1.0) ||
+        !defaulted_ok(d->mixed.smooth_tolerance, 0.0, 1.0) ||
+        !defaulted_ok(d->smooth_cull_area, 0.0, HUGE_VAL) ||
+        (unsigned)d->robin_hood.value > (unsigned)TCLOD_VALUE_BENEFIT ||
+        (unsigned)d->robin_hood.misfit > (unsigned)TCLOD_MISFIT_COARSEST ||
+        !(d->robin_hood.reference_area == 0.0 ||
+          (d->robin_hood.reference_area > 0.0 && d->robin_hood.reference_area < HUGE_VAL)))
         return 1;
-    open = isinf(d->split_threshold) || isinf(d->smooth_cull_area) || isinf(d->reference_area);
-    return open ? -1 : 0;
+    return 0;
+}
+
+/* A rate field: 0 (the default) or in (0, 1]. */
+static int rate_ok(double r) {
+    return r == 0.0 || (r > 0.0 && r <= 1.0);
+}
+
+int calib_desc_invalid(const tclod_calib_desc *c) {
+    return !(c->initial_scale == 0.0 || (c->initial_scale > 0.0 && !isinf(c->initial_scale))) ||
+           !rate_ok(c->rise_rate) || !rate_ok(c->fall_rate) ||
+           !defaulted_ok(c->dead_band, 0.0, 1.0) || !rate_ok(c->logic_rate) ||
+           !(c->initial_logic >= 0.0 && !isinf(c->initial_logic)) ||
+           !(c->machine_c == 0.0 || (c->machine_c > 0.0 && !isinf(c->machine_c))) ||
+           (c->initial_measured != 0 && c->initial_measured != 1);
 }
 
 void read_desc(fuzz_reader *in, tclod_selector_desc *d, host_model *m) {
@@ -493,12 +516,14 @@ void read_desc(fuzz_reader *in, tclod_selector_desc *d, host_model *m) {
                               : (tclod_solver)(solver % 3u);
     if (solver < 250) { /* 0 .. 7, the most, or one more */
         uint32_t r = (uint32_t)(solver / 3u) % 10u;
-        d->restarts = r < 8u ? r : TCLOD_MAX_RESTARTS + r - 8u;
+        /* none, 1 .. 7, the most, or one more */
+        d->greedy.restarts =
+            r == 0 ? TCLOD_OFF : (r < 8u ? (int32_t)r : TCLOD_MAX_RESTARTS + (int32_t)r - 8);
     }
-    d->warm_start = flags & 1;
-    d->split_smooth = (flags >> 1) & 1;
+    d->cold_start = !(flags & 1);
+    d->mixed.split_smooth = (flags >> 1) & 1;
     d->strict = (flags >> 2) & 1;
-    d->smooth_precondition = !((flags >> 3) & 1);
+    d->mixed.plain_gradient = (flags >> 3) & 1;
     d->callbacks.benefit = host_benefit;
     d->callbacks.cost = host_cost;
     if (!((flags >> 4) & 1)) {
@@ -511,16 +536,16 @@ void read_desc(fuzz_reader *in, tclod_selector_desc *d, host_model *m) {
     }
     m->view_dependent = (flags >> 6) & 1;
     if (flags >> 7) /* 1 .. 3 levels, or one more than allowed */
-        d->lookahead = enums >> 6 == 3 ? TCLOD_MAX_LOOKAHEAD + 1u : 1u + (enums >> 6);
+        d->greedy.lookahead = enums >> 6 == 3 ? TCLOD_MAX_LOOKAHEAD + 1u : 1u + (enums >> 6);
     if (flags == 0xff) /* the required callbacks missing */
         d->callbacks.cost = NULL;
-    d->value = (tclod_value)(enums % 6u);          /* 5: unknown */
-    d->misfit = (tclod_misfit)((enums >> 3) % 3u); /* 2: unknown */
-    d->split_threshold = option_value(in, d->split_threshold);
-    d->smooth_epsilon = option_value(in, d->smooth_epsilon);
-    d->smooth_tolerance = option_value(in, d->smooth_tolerance);
+    d->robin_hood.value = (tclod_value)(enums % 6u);          /* 5: unknown */
+    d->robin_hood.misfit = (tclod_misfit)((enums >> 3) % 3u); /* 2: unknown */
+    d->mixed.split_threshold = option_value(in, d->mixed.split_threshold);
+    d->mixed.smooth_epsilon = option_value(in, d->mixed.smooth_epsilon);
+    d->mixed.smooth_tolerance = option_value(in, d->mixed.smooth_tolerance);
     d->smooth_cull_area = option_value(in, d->smooth_cull_area);
-    d->reference_area = option_value(in, d->reference_area);
+    d->robin_hood.reference_area = option_value(in, d->robin_hood.reference_area);
     overflow = fuzz_u8(in); /* 0xff: unknown */
     d->overflow = overflow == 0xff ? (tclod_overflow)2 : (tclod_overflow)(overflow & 1u);
 }

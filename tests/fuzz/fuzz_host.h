@@ -185,6 +185,8 @@ double option_value(fuzz_reader *in, double def);
  * (an infinite threshold, cull area or reference area: "NaN or out of
  * range" with ranges written as ">= 0" and "> 0"). */
 int desc_invalid(const tclod_selector_desc *d, uint32_t smooth);
+/* Whether tclod_calib_create must refuse d (1) or accept it (0). */
+int calib_desc_invalid(const tclod_calib_desc *c);
 
 /* Whether a selector of this (valid) description refuses to solve a scene of
  * `smooth` live smooth objects: the mixed solver without smooth callbacks. */

@@ -51,23 +51,18 @@
 #define MAX_UPDATES 24u
 
 /* Whether the header requires TCLOD_ERR_ARG (1) or success (0) for a
- * scheduling description; -1 when an infinite value is left open. */
+ * scheduling description (0 fields take their defaults; TCLOD_OFF asks for 0
+ * in confidence and dead_band). */
 static int schedule_desc_invalid(const tclod_scheduler_desc *d) {
     const tclod_calib_desc *c = &d->calib;
-    if (!isnormal(d->tau) || !(d->tau > 0.0) || isinf(4.0 * d->tau) || d->samples < 1 ||
-        d->samples > TCLOD_MAX_SAMPLES || !(d->confidence >= 0.0) || !(d->max_speed >= 0.0) ||
-        !(d->max_turn_rate >= 0.0))
+    if (!(d->tau == 0.0 || (isnormal(d->tau) && d->tau > 0.0 && !isinf(4.0 * d->tau))) ||
+        d->samples > TCLOD_MAX_SAMPLES ||
+        !(d->confidence == -1.0 || (d->confidence >= 0.0 && !isinf(d->confidence))) ||
+        !(d->max_speed >= 0.0 && !isinf(d->max_speed)) ||
+        !(d->max_turn_rate >= 0.0 && !isinf(d->max_turn_rate)) ||
+        (d->two_stage != 0 && d->two_stage != 1))
         return 1;
-    if (!(c->initial_scale > 0.0) || !(c->rise_rate > 0.0 && c->rise_rate <= 1.0) ||
-        !(c->fall_rate > 0.0 && c->fall_rate <= 1.0) ||
-        !(c->dead_band >= 0.0 && c->dead_band < 1.0) ||
-        !(c->logic_rate > 0.0 && c->logic_rate <= 1.0) || !(c->initial_logic >= 0.0) ||
-        !(c->machine_c > 0.0))
-        return 1;
-    return isinf(d->confidence) || isinf(d->max_speed) || isinf(d->max_turn_rate) ||
-                   isinf(c->initial_scale) || isinf(c->initial_logic) || isinf(c->machine_c)
-               ? -1
-               : 0;
+    return calib_desc_invalid(c);
 }
 
 static void read_schedule_desc(fuzz_reader *in, tclod_scheduler_desc *d) {
@@ -75,11 +70,11 @@ static void read_schedule_desc(fuzz_reader *in, tclod_scheduler_desc *d) {
     tclod_scheduler_desc_default(d);
     d->tau = option_value(in, d->tau);
     b = fuzz_u8(in);
-    d->samples = b == 0 ? d->samples : (uint32_t)(b % 10u); /* 0 and 9: out of range */
+    d->samples = b == 0 ? d->samples : (uint32_t)(b % 10u); /* 0: the default; 9: too many */
     d->confidence = option_value(in, d->confidence);
     d->max_speed = option_value(in, 20.0);
     d->max_turn_rate = option_value(in, 1.0);
-    d->morph = !(fuzz_u8(in) & 1);
+    d->two_stage = fuzz_u8(in) & 1;
     d->calib.initial_scale = option_value(in, d->calib.initial_scale);
 }
 
@@ -264,10 +259,8 @@ static void run(fuzz_reader *in) {
     verify_scene(m);
 
     invalid = desc_invalid(&sd, m->live_smooth);
-    if (invalid == 0 || invalid == -1) {
-        int other = schedule_desc_invalid(&d);
-        invalid = other == 1 ? 1 : (invalid == -1 || other == -1 ? -1 : 0);
-    }
+    if (invalid == 0)
+        invalid = schedule_desc_invalid(&d);
     for (i = 0; i < 2; ++i) {
         tclod_scheduler *const sentinel = (tclod_scheduler *)(void *)&state;
         sch[i] = sentinel;
@@ -275,7 +268,7 @@ static void run(fuzz_reader *in) {
         state.probes[i].any_view = 1;
         sd.callbacks.user = &state.probes[i];
         st = tclod_scheduler_create(s, &sd, &d, NULL, &sch[i]);
-        if (invalid == 1 || (invalid == -1 && st == TCLOD_ERR_ARG)) {
+        if (invalid) {
             FUZZ_CHECK(st == TCLOD_ERR_ARG && sch[i] == sentinel,
                        "scheduler_create accepted a bad description (%d)", (int)st);
             if (i == 1)
@@ -290,7 +283,7 @@ static void run(fuzz_reader *in) {
         double x = 0.0;
         FUZZ_CHECK(tclod_scheduler_predict(sch[0], 0.0, &v) == TCLOD_ERR_STATE,
                    "predict before the first update");
-        FUZZ_CHECK(tclod_scheduler_report(sch[0], 1.0) == TCLOD_ERR_STATE &&
+        FUZZ_CHECK(tclod_scheduler_report_frame(sch[0], 1.0, TCLOD_OFF) == TCLOD_ERR_STATE &&
                        tclod_scheduler_resolution(sch[0], 0) == x,
                    "report before the first update");
     }
@@ -390,7 +383,7 @@ static void run(fuzz_reader *in) {
         if (b & 1) {
             double render = fuzz_double(in);
             for (i = 0; i < 2; ++i) {
-                tclod_status r = tclod_scheduler_report(sch[i], render);
+                tclod_status r = tclod_scheduler_report_frame(sch[i], render, TCLOD_OFF);
                 int bad_time = !(render >= 0.0) || isinf(render);
                 tclod_scheduler_stats shown;
                 FUZZ_CHECK(tclod_scheduler_get_stats(sch[i], &shown) == TCLOD_OK, "get_stats");

@@ -444,9 +444,9 @@ static void run(fuzz_reader *in) {
     if (tracing < 0)
         tracing = getenv("FUZZ_TRACE") != NULL;
     if (tracing) {
-        fprintf(stderr, "solver %d warm %d strict %d overflow %d lookahead %u restarts %u\n",
-                (int)d.solver, d.warm_start, d.strict, (int)d.overflow, (unsigned)d.lookahead,
-                (unsigned)d.restarts);
+        fprintf(stderr, "solver %d cold %d strict %d overflow %d lookahead %u restarts %d\n",
+                (int)d.solver, d.cold_start, d.strict, (int)d.overflow,
+                (unsigned)d.greedy.lookahead, (int)d.greedy.restarts);
         trace_model(m);
     }
     invalid = desc_invalid(&d, m->live_smooth);
@@ -456,7 +456,7 @@ static void run(fuzz_reader *in) {
         state.probes[i].m = m;
         d.callbacks.user = &state.probes[i];
         st = tclod_selector_create(s, &d, NULL, &sel[i]);
-        if (invalid == 1 || (invalid == -1 && st == TCLOD_ERR_ARG)) {
+        if (invalid) {
             FUZZ_CHECK(st == TCLOD_ERR_ARG && sel[i] == sentinel,
                        "selector_create accepted a bad description (%d)", (int)st);
             tclod_scene_destroy(s);

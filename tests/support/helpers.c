@@ -67,7 +67,7 @@ tclod_selector *helper_selector(const tclod_scene *s, table_model *m, int warm_s
     tclod_selector *sel = NULL;
     tclod_selector_desc_default(&d);
     table_callbacks(m, &d.callbacks);
-    d.warm_start = warm_start;
+    d.cold_start = !(warm_start);
     assert_int_equal(tclod_selector_create(s, &d, NULL, &sel), TCLOD_OK);
     assert_non_null(sel);
     return sel;
