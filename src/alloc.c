@@ -124,3 +124,27 @@ double tclod_now(void) {
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 #endif
 }
+
+/* Appends src to dst (holding n characters of cap), truncating. */
+static size_t append(char *dst, size_t n, size_t cap, const char *src) {
+    while (*src && n + 1 < cap)
+        dst[n++] = *src++;
+    dst[n] = '\0';
+    return n;
+}
+
+tclod_status tclod_fail_in(char *error, tclod_status st, const char *function, const char *where,
+                           const char *what) {
+    size_t n = append(error, 0, TCLOD_ERROR_SIZE, function);
+    if (where || what)
+        n = append(error, n, TCLOD_ERROR_SIZE, ": ");
+    if (where)
+        n = append(error, n, TCLOD_ERROR_SIZE, where);
+    if (what)
+        append(error, n, TCLOD_ERROR_SIZE, what);
+    return st;
+}
+
+tclod_status tclod_fail(char *error, tclod_status st, const char *function, const char *what) {
+    return tclod_fail_in(error, st, function, NULL, what);
+}

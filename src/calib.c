@@ -25,6 +25,7 @@
 
 struct tclod_calib {
     tclod_allocator alloc;
+    char error[TCLOD_ERROR_SIZE]; /* tclod_calib_last_error */
     tclod_calib_desc desc;
     double scale;                       /* measured render time per unit of predicted cost, in
                                            [DBL_MIN, DBL_MAX] */
@@ -170,10 +171,17 @@ static double approach(double from, double to, double rate) {
 
 tclod_status tclod_calib_report(tclod_calib *c, double predicted_cost, double render_time,
                                 double logic_time) {
+    static const char fn[] = "tclod_calib_report";
     int logic = logic_time != (double)TCLOD_OFF; /* TCLOD_OFF: not measured */
-    if (!c || !finite_nonnegative(predicted_cost) || !finite_nonnegative(render_time) ||
-        (logic && !finite_nonnegative(logic_time)))
+    if (!c)
         return TCLOD_ERR_ARG;
+    if (!finite_nonnegative(predicted_cost))
+        return tclod_fail(c->error, TCLOD_ERR_ARG, fn, "predicted_cost must be finite and >= 0");
+    if (!finite_nonnegative(render_time))
+        return tclod_fail(c->error, TCLOD_ERR_ARG, fn, "render_time must be finite and >= 0");
+    if (logic && !finite_nonnegative(logic_time))
+        return tclod_fail(c->error, TCLOD_ERR_ARG, fn,
+                          "logic_time must be finite and >= 0, or TCLOD_OFF");
     /* A frame that drew nothing says nothing about the cost model. */
     if (predicted_cost > 0.0) {
         double s = c->scale;
@@ -217,4 +225,8 @@ tclod_status tclod_calib_budget(const tclod_calib *c, double frame_time, double 
         return st;
     *budget = render / c->scale;
     return TCLOD_OK;
+}
+
+const char *tclod_calib_last_error(const tclod_calib *c) {
+    return c ? c->error : "";
 }

@@ -53,6 +53,21 @@ void tclod_arrays_free(const tclod_allocator *a, const tclod_array *arrays, size
 /* Monotonic clock in seconds. */
 double tclod_now(void);
 
+/* Every object keeps why its last failed call failed: "function: what". */
+#define TCLOD_ERROR_SIZE 192
+/* Writes "function: what" (what may be NULL: "function") into error,
+ * truncated to TCLOD_ERROR_SIZE, and returns st. */
+tclod_status tclod_fail(char *error, tclod_status st, const char *function, const char *what);
+/* The same with "function: where" followed by what (either may be NULL). */
+tclod_status tclod_fail_in(char *error, tclod_status st, const char *function, const char *where,
+                           const char *what);
+/* Messages more than one module gives. */
+#define TCLOD_MSG_BUSY "called from a callback during a solve"
+#define TCLOD_MSG_NOMEM "no memory for the scene's size"
+#define TCLOD_MSG_SMOOTH \
+    "the scene has smooth objects and the mixed solver has no smooth_benefit or smooth_cost"
+#define TCLOD_MSG_STRICT "strict mode: a callback returned NaN, inf or a negative value"
+
 /* The rule a calibration desc breaks (NULL: none), its fields named as in a
  * scheduler's desc (desc.calib.*) when nested. */
 const char *tclod_calib_check(const tclod_calib_desc *d, int nested);
@@ -141,6 +156,7 @@ typedef struct tclod_retired {
 
 struct tclod_scene {
     tclod_allocator alloc;
+    char error[TCLOD_ERROR_SIZE]; /* tclod_scene_last_error */
 
     /* nodes, structure of arrays, indexed by id (< node_count) */
     uint32_t node_count, node_cap, live_nodes;
@@ -279,9 +295,9 @@ typedef struct tclod_view_cache {
 void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v);
 
 /* Checks public bounds b and converts them to the solvers' form: *nb and,
- * for a box, *box (nb->box is left for the caller to set). Returns TCLOD_OK or
- * TCLOD_ERR_ARG. */
-tclod_status tclod_bounds_convert(const tclod_bounds *b, tclod_node_bounds *nb, tclod_box *box);
+ * for a box, *box (nb->box is left for the caller to set). Returns NULL, or
+ * the rule b breaks (tclod_bounds_check). */
+const char *tclod_bounds_convert(const tclod_bounds *b, tclod_node_bounds *nb, tclod_box *box);
 
 /* The sphere of radius r centred at p (relative to the eye) meets the frustum
  * (view.c explains the planes). */
@@ -622,6 +638,7 @@ typedef struct tclod_resume {
 struct tclod_selector {
     tclod_scene *scene; /* read-only except for its lazy child index */
     tclod_allocator alloc;
+    char error[TCLOD_ERROR_SIZE]; /* tclod_selector_last_error */
     tclod_selector_desc desc;
     int busy;              /* a solve is running: re-entry is refused */
     tclod_scene_user user; /* what the scene knows of this selector */

@@ -112,7 +112,8 @@ tclod_status tclod_scene_destroy(tclod_scene *s) {
     if (!s)
         return TCLOD_OK;
     if (s->user_count > 0)
-        return TCLOD_ERR_STATE; /* a selector or scheduler still reads it */
+        return tclod_fail(s->error, TCLOD_ERR_STATE, "tclod_scene_destroy",
+                          "a selector or scheduler still uses the scene; destroy them first");
     alloc = s->alloc;
     tclod_arrays_free(&alloc, arrays, node_arrays(s, arrays), s->node_cap);
     tclod_arrays_free(&alloc, arrays, smooth_arrays(s, arrays), s->smooth_cap);
@@ -171,6 +172,12 @@ static int held(const tclod_scene *s) {
             return 1;
     return 0;
 }
+
+/* Why an edit is refused while a solve holds the scene. */
+#define HELD "a solve holds the scene (pending, or called from a callback)"
+/* A smooth object's sphere rule (sphere_valid). */
+#define SPHERE_RULE \
+    "bounds must be finite with radius >= 0, each at most TCLOD_SMOOTH_LIMIT (1e30) in magnitude"
 
 /* The oldest epoch a user's results may still come from: ids removed at it
  * or later may still be named by a result a host can read. */
@@ -628,7 +635,9 @@ static void unlink_child(tclod_scene *s, tclod_id n) {
     }
 }
 
-tclod_status tclod_scene_add_node_desc(tclod_scene *s, const tclod_node_desc *d, tclod_id *out_id) {
+/* tclod_scene_add_node_desc, its errors named after fn. */
+static tclod_status add_node(tclod_scene *s, const tclod_node_desc *d, tclod_id *out_id,
+                             const char *fn) {
     tclod_node_bounds nb;
     tclod_box box;
     uint32_t slot = TCLOD_NONE;
@@ -636,14 +645,25 @@ tclod_status tclod_scene_add_node_desc(tclod_scene *s, const tclod_node_desc *d,
     tclod_id id, self = TCLOD_NONE, ip;
     tclod_status st;
     room r;
-    if (!s || !d || !out_id || tclod_bounds_convert(&d->bounds, &nb, &box) != TCLOD_OK)
+    const char *why;
+    if (!s)
         return TCLOD_ERR_ARG;
-    if ((unsigned)d->refine > (unsigned)TCLOD_REFINE_ADD || (d->empty != 0 && d->empty != 1))
-        return TCLOD_ERR_ARG;
+    if (!d)
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "d is NULL");
+    if (!out_id)
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "out_id is NULL");
+    why = tclod_bounds_convert(&d->bounds, &nb, &box);
+    if (why)
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn, why);
+    if ((unsigned)d->refine > (unsigned)TCLOD_REFINE_ADD)
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "refine is not a tclod_refine");
+    if (d->empty != 0 && d->empty != 1)
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "empty must be 0 or 1");
     if (d->parent != TCLOD_NONE && !node_live(s, d->parent))
-        return TCLOD_ERR_HIERARCHY;
+        return tclod_fail(s->error, TCLOD_ERR_HIERARCHY, fn,
+                          "parent is neither TCLOD_NONE nor a live node");
     if (held(s))
-        return TCLOD_ERR_STATE;
+        return tclod_fail(s->error, TCLOD_ERR_STATE, fn, HELD);
     additive = d->refine == TCLOD_REFINE_ADD && !d->empty;
     /* where it goes in the index: below its parent, or where an empty one's
      * children go */
@@ -653,7 +673,7 @@ tclod_status tclod_scene_add_node_desc(tclod_scene *s, const tclod_node_desc *d,
     st = room_alloc(s, &r, additive ? 2u : 1u, nb.kind > TCLOD_BOUNDS_SPHERE,
                     d->empty ? 0u : attach_room(s, ip));
     if (st != TCLOD_OK)
-        return st;
+        return tclod_fail(s->error, st, fn, "no memory (or no id left) for the node");
     room_commit(s, &r);
     if (nb.kind > TCLOD_BOUNDS_SPHERE)
         slot = take_box(s, &box);
@@ -697,7 +717,11 @@ tclod_status tclod_scene_add_node(tclod_scene *s, tclod_id parent, const float b
     if (bounds)
         d.bounds = tclod_bounds_sphere((double)bounds[0], (double)bounds[1], (double)bounds[2],
                                        (double)bounds[3]);
-    return tclod_scene_add_node_desc(s, &d, out_id);
+    return add_node(s, &d, out_id, "tclod_scene_add_node");
+}
+
+tclod_status tclod_scene_add_node_desc(tclod_scene *s, const tclod_node_desc *d, tclod_id *out_id) {
+    return add_node(s, d, out_id, "tclod_scene_add_node_desc");
 }
 
 /* Takes node n out of the scene (its id retired, its box and its block of
@@ -727,10 +751,13 @@ static void drop_node(tclod_scene *s, tclod_id n) {
 
 tclod_status tclod_scene_remove_node(tclod_scene *s, tclod_id node) {
     tclod_id n;
-    if (!s || !node_live(s, node))
+    if (!s)
         return TCLOD_ERR_ARG;
+    if (!node_live(s, node))
+        return tclod_fail(s->error, TCLOD_ERR_ARG, "tclod_scene_remove_node",
+                          "node is not a live node");
     if (held(s))
-        return TCLOD_ERR_STATE;
+        return tclod_fail(s->error, TCLOD_ERR_STATE, "tclod_scene_remove_node", HELD);
     /* the subtree is walked three times along the sibling lists (no stack):
      * marked, taken out of the index where it hangs from a node that stays,
      * and dropped */
@@ -760,21 +787,29 @@ tclod_status tclod_scene_set_node_bounds(tclod_scene *s, tclod_id node,
     tclod_box box;
     uint32_t slot;
     tclod_bounds none;
+    const char *why;
     if (!bounds) {
         memset(&none, 0, sizeof none);
         bounds = &none;
     }
-    if (!s || !node_live(s, node) || tclod_bounds_convert(bounds, &nb, &box) != TCLOD_OK)
+    if (!s)
         return TCLOD_ERR_ARG;
+    if (!node_live(s, node))
+        return tclod_fail(s->error, TCLOD_ERR_ARG, "tclod_scene_set_node_bounds",
+                          "node is not a live node");
+    why = tclod_bounds_convert(bounds, &nb, &box);
+    if (why)
+        return tclod_fail(s->error, TCLOD_ERR_ARG, "tclod_scene_set_node_bounds", why);
     if (held(s))
-        return TCLOD_ERR_STATE;
+        return tclod_fail(s->error, TCLOD_ERR_STATE, "tclod_scene_set_node_bounds", HELD);
     slot = s->bounds[node].box;
     if (nb.kind > TCLOD_BOUNDS_SPHERE) {
         if (slot == TCLOD_NONE) {
             room r;
             tclod_status st = room_alloc(s, &r, 0u, 1, 0u);
             if (st != TCLOD_OK)
-                return st;
+                return tclod_fail(s->error, st, "tclod_scene_set_node_bounds",
+                                  "no memory for the box");
             room_commit(s, &r);
             slot = take_box(s, &box);
         } else {
@@ -844,24 +879,31 @@ static void smooth_changed(tclod_scene *s) {
 }
 
 tclod_status tclod_scene_add_smooth(tclod_scene *s, const float bounds[4], tclod_id *out_id) {
+    static const char fn[] = "tclod_scene_add_smooth";
     tclod_id id;
-    if (!s || !out_id || !bounds || !sphere_valid(bounds))
+    if (!s)
         return TCLOD_ERR_ARG;
+    if (!out_id)
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "out_id is NULL");
+    if (!bounds)
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "bounds is NULL");
+    if (!sphere_valid(bounds))
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn, SPHERE_RULE);
     if (held(s))
-        return TCLOD_ERR_STATE;
+        return tclod_fail(s->error, TCLOD_ERR_STATE, fn, HELD);
     release(s, &s->smooth_retired, s->smooth_cap, s->smooth_free, &s->smooth_free_count);
     if (s->smooth_free_count > 0) {
         id = s->smooth_free[--s->smooth_free_count];
     } else {
         if (s->smooth_count == UINT32_MAX - 1u)
-            return TCLOD_ERR_NOMEM;
+            return tclod_fail(s->error, TCLOD_ERR_NOMEM, fn, "smooth ids exhausted");
         if (s->smooth_count == s->smooth_cap) {
             tclod_array arrays[TCLOD_MAX_ARRAYS];
             uint32_t cap = grown_capacity(s->smooth_cap);
             tclod_status st =
                 tclod_arrays_grow(&s->alloc, arrays, smooth_arrays(s, arrays), s->smooth_cap, cap);
             if (st != TCLOD_OK)
-                return st;
+                return tclod_fail(s->error, st, fn, "no memory for the smooth object");
             unwrap(&s->smooth_retired, s->smooth_cap);
             s->smooth_cap = cap;
         }
@@ -876,10 +918,13 @@ tclod_status tclod_scene_add_smooth(tclod_scene *s, const float bounds[4], tclod
 }
 
 tclod_status tclod_scene_remove_smooth(tclod_scene *s, tclod_id smooth) {
-    if (!s || !smooth_live(s, smooth))
+    if (!s)
         return TCLOD_ERR_ARG;
+    if (!smooth_live(s, smooth))
+        return tclod_fail(s->error, TCLOD_ERR_ARG, "tclod_scene_remove_smooth",
+                          "smooth is not a live smooth object");
     if (held(s))
-        return TCLOD_ERR_STATE;
+        return tclod_fail(s->error, TCLOD_ERR_STATE, "tclod_scene_remove_smooth", HELD);
     s->epoch++;
     s->smooth_flags[smooth] = 0;
     retire(&s->smooth_retired, s->smooth_cap, smooth, s->epoch);
@@ -889,10 +934,17 @@ tclod_status tclod_scene_remove_smooth(tclod_scene *s, tclod_id smooth) {
 }
 
 tclod_status tclod_scene_set_smooth_bounds(tclod_scene *s, tclod_id smooth, const float bounds[4]) {
-    if (!s || !bounds || !smooth_live(s, smooth) || !sphere_valid(bounds))
+    static const char fn[] = "tclod_scene_set_smooth_bounds";
+    if (!s)
         return TCLOD_ERR_ARG;
+    if (!smooth_live(s, smooth))
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "smooth is not a live smooth object");
+    if (!bounds)
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "bounds is NULL");
+    if (!sphere_valid(bounds))
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn, SPHERE_RULE);
     if (held(s))
-        return TCLOD_ERR_STATE;
+        return tclod_fail(s->error, TCLOD_ERR_STATE, fn, HELD);
     memcpy(&s->smooth_bounds[4u * smooth], bounds, 4 * sizeof(float));
     smooth_changed(s);
     return TCLOD_OK;
@@ -1100,22 +1152,27 @@ tclod_status tclod_scene_prepare(tclod_scene *s) {
         cells_size = sizeof(qt_cell) * 2u * (size_t)s->smooth_live;
         cells = (qt_cell *)tclod_mem_alloc(&s->alloc, cells_size);
         if (!cells)
-            return TCLOD_ERR_NOMEM;
+            return tclod_fail(s->error, TCLOD_ERR_NOMEM, "tclod_scene_prepare",
+                              "no memory for the smooth objects' quadtree");
     }
     st = quadtree_reserve(s);
     if (st == TCLOD_OK)
         build_smooth_quadtree(s, cells);
     tclod_mem_free(&s->alloc, cells, cells_size);
     if (st != TCLOD_OK)
-        return st;
+        return tclod_fail(s->error, st, "tclod_scene_prepare",
+                          "no memory for the smooth objects' quadtree");
     s->qt_version = s->smooth_version;
     return TCLOD_OK;
 }
 
 tclod_status tclod_scene_smooth_order(tclod_scene *s, const tclod_id **order, uint32_t *count) {
     tclod_status st;
-    if (!s || !order || !count)
+    if (!s)
         return TCLOD_ERR_ARG;
+    if (!order || !count)
+        return tclod_fail(s->error, TCLOD_ERR_ARG, "tclod_scene_smooth_order",
+                          !order ? "order is NULL" : "count is NULL");
     st = tclod_scene_prepare(s);
     if (st != TCLOD_OK)
         return st;
@@ -1142,4 +1199,8 @@ int tclod_scene_smooth_live(const tclod_scene *s, tclod_id smooth) {
 
 tclod_id tclod_scene_parent(const tclod_scene *s, tclod_id node) {
     return (s && node_live(s, node)) ? s->up[node] : TCLOD_NONE;
+}
+
+const char *tclod_scene_last_error(const tclod_scene *s) {
+    return s ? s->error : "";
 }

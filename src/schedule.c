@@ -137,6 +137,7 @@ typedef struct pipeline {
 
 struct tclod_scheduler {
     tclod_allocator alloc;
+    char error[TCLOD_ERROR_SIZE]; /* tclod_scheduler_last_error */
     tclod_scheduler_desc desc;
     tclod_callbacks host; /* the host's callbacks */
     tclod_scene *scene;
@@ -1435,13 +1436,25 @@ static tclod_status land(tclod_scheduler *sch) {
     return TCLOD_OK;
 }
 
-static int arguments_valid(const tclod_scheduler *sch, double now, const tclod_view *view,
-                           double budget, double slice) {
-    if (!view || tclod_view_validate(view) != TCLOD_OK)
-        return 0;
-    if (isnan(now) || isinf(now) || (sch->shown.started && now < sch->p.now))
-        return 0;
-    return budget >= 0.0 && slice >= 0.0 && !isinf(slice);
+/* Why an update's arguments are refused (NULL: they are not), written after
+ * the "view->" of a view's rule. */
+static const char *arguments_why(const tclod_scheduler *sch, double now, const tclod_view *view,
+                                 double budget, double slice) {
+    if (!view)
+        return "view is NULL";
+    if (tclod_view_check(view))
+        return tclod_view_check(view);
+    if (isnan(now) || isinf(now))
+        return "now must be finite";
+    if (sch->shown.started && now < sch->p.now)
+        return "now must not be earlier than the last successful update's";
+    if (!(budget >= 0.0))
+        return "budget must be >= 0 (not NaN)";
+    if (!(slice >= 0.0) || isinf(slice))
+        return "slice_seconds must be finite and >= 0";
+    if (!tclod_selector_scene_ok(sch->sel))
+        return TCLOD_MSG_SMOOTH;
+    return NULL;
 }
 
 /* Generation slot g is one the pipeline or the outputs use. */
@@ -1591,20 +1604,24 @@ static void put_back(tclod_scheduler *sch) {
 
 tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclod_view *view,
                                     double budget, double slice_seconds) {
+    static const char fn[] = "tclod_scheduler_update";
     tclod_status st;
     uint32_t epoch;
-    if (!sch || !arguments_valid(sch, now, view, budget, slice_seconds) ||
-        !tclod_selector_scene_ok(sch->sel))
+    const char *why;
+    if (!sch)
         return TCLOD_ERR_ARG;
+    why = arguments_why(sch, now, view, budget, slice_seconds);
+    if (why)
+        return tclod_fail(sch->error, TCLOD_ERR_ARG, fn, why);
     if (sch->busy)
-        return TCLOD_ERR_STATE;
+        return tclod_fail(sch->error, TCLOD_ERR_STATE, fn, TCLOD_MSG_BUSY);
     sch->busy = sch->user.busy = 1;
     st = tclod_scene_prepare(sch->scene);
     if (st == TCLOD_OK)
         st = reserve(sch);
     if (st != TCLOD_OK) {
         sch->busy = sch->user.busy = 0;
-        return st;
+        return tclod_fail(sch->error, st, fn, TCLOD_MSG_NOMEM);
     }
     /* a selection under way on a scene that changed since it began is begun
      * again (it saw part of the old scene) */
@@ -1642,6 +1659,10 @@ tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclo
             clear_removed_smooth(sch);
         sch->user.synced = epoch; /* its selections name no node removed before that */
     } else {
+        if (st == TCLOD_ERR_CALLBACK)
+            tclod_fail(sch->error, st, fn, TCLOD_MSG_STRICT);
+        else /* the selector's own error */
+            tclod_fail(sch->error, st, fn, sch->sel->error);
         put_back(sch);
     }
     tclod_selector_keep(sch->sel, NULL);
@@ -1675,11 +1696,16 @@ double tclod_scheduler_resolution(const tclod_scheduler *sch, tclod_id smooth) {
 
 tclod_status tclod_scheduler_report_frame(tclod_scheduler *sch, double render_time,
                                           double logic_time) {
-    if (!sch || !finite_nonnegative(render_time) ||
-        !(logic_time == (double)TCLOD_OFF || finite_nonnegative(logic_time)))
+    static const char fn[] = "tclod_scheduler_report_frame";
+    if (!sch)
         return TCLOD_ERR_ARG;
+    if (!finite_nonnegative(render_time))
+        return tclod_fail(sch->error, TCLOD_ERR_ARG, fn, "render_time must be finite and >= 0");
+    if (!(logic_time == (double)TCLOD_OFF || finite_nonnegative(logic_time)))
+        return tclod_fail(sch->error, TCLOD_ERR_ARG, fn,
+                          "logic_time must be finite and >= 0, or TCLOD_OFF");
     if (!sch->shown.started)
-        return TCLOD_ERR_STATE;
+        return tclod_fail(sch->error, TCLOD_ERR_STATE, fn, "no update has succeeded yet");
     /* a draw list whose predicted cost overflowed (its roots over the budget)
      * tells nothing about the ratio: only the logic time is followed */
     return tclod_calib_report(sch->calib,
@@ -1696,4 +1722,8 @@ tclod_status tclod_scheduler_get_stats(const tclod_scheduler *sch, tclod_schedul
         return TCLOD_ERR_ARG;
     *st = sch->shown.stats;
     return TCLOD_OK;
+}
+
+const char *tclod_scheduler_last_error(const tclod_scheduler *sch) {
+    return sch ? sch->error : "";
 }

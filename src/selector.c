@@ -377,13 +377,17 @@ static void keep_committed(tclod_selector *sel) {
     k->valid = 1;
 }
 
-static tclod_status check_frame(const tclod_frame *f) {
+/* Checks a frame; on error records why under fn. */
+static tclod_status check_frame(tclod_selector *sel, const tclod_frame *f, const char *fn) {
+    const char *why;
     if (!(f->budget >= 0.0))
-        return TCLOD_ERR_ARG;
+        return tclod_fail(sel->error, TCLOD_ERR_ARG, fn, "frame->budget must be >= 0 (not NaN)");
     if (!(f->solve_seconds >= 0.0))
-        return TCLOD_ERR_ARG;
-    if (f->view && tclod_view_validate(f->view) != TCLOD_OK)
-        return TCLOD_ERR_ARG;
+        return tclod_fail(sel->error, TCLOD_ERR_ARG, fn,
+                          "frame->solve_seconds must be >= 0 (not NaN)");
+    why = f->view ? tclod_view_check(f->view) : NULL;
+    if (why)
+        return tclod_fail_in(sel->error, TCLOD_ERR_ARG, fn, "frame->", why);
     return TCLOD_OK;
 }
 
@@ -500,24 +504,30 @@ static void set_pending(tclod_selector *sel, int pending) {
     sel->user.holding = pending && sel->holds;
 }
 
-tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f) {
+/* tclod_select_begin, its errors named after fn. */
+static tclod_status begin(tclod_selector *sel, const tclod_frame *f, const char *fn) {
     tclod_status status;
-    if (!sel || !f)
+    if (!sel)
         return TCLOD_ERR_ARG;
-    if (sel->busy || sel->pending)
-        return TCLOD_ERR_STATE;
-    status = check_frame(f);
+    if (!f)
+        return tclod_fail(sel->error, TCLOD_ERR_ARG, fn, "frame is NULL");
+    if (sel->busy)
+        return tclod_fail(sel->error, TCLOD_ERR_STATE, fn, TCLOD_MSG_BUSY);
+    if (sel->pending)
+        return tclod_fail(sel->error, TCLOD_ERR_STATE, fn,
+                          "a solve is pending: step, finish or cancel it first");
+    status = check_frame(sel, f, fn);
     if (status != TCLOD_OK)
         return status;
     if (!tclod_selector_scene_ok(sel))
-        return TCLOD_ERR_ARG;
+        return tclod_fail(sel->error, TCLOD_ERR_ARG, fn, TCLOD_MSG_SMOOTH);
     set_busy(sel, 1);
     status = tclod_scene_prepare(sel->scene);
     if (status == TCLOD_OK)
         status = reserve(sel, sel->scene->node_count, sel->scene->smooth_count);
     set_busy(sel, 0);
     if (status != TCLOD_OK)
-        return status;
+        return tclod_fail(sel->error, status, fn, TCLOD_MSG_NOMEM);
     if (++sel->solve_id == UINT32_MAX) { /* the fill value of new records */
         uint32_t i;
         for (i = 0; i < sel->cap; ++i)
@@ -546,6 +556,10 @@ tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f) {
     return TCLOD_OK;
 }
 
+tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f) {
+    return begin(sel, f, "tclod_select_begin");
+}
+
 /* Ends the solve in progress without a result: the working cut goes back to
  * the committed one. */
 static void abandon(tclod_selector *sel) {
@@ -554,16 +568,38 @@ static void abandon(tclod_selector *sel) {
     set_pending(sel, 0);
 }
 
+/* What a solve that succeeded tells the host besides its result
+ * (tclod_stats.notes). */
+static void note(tclod_selector *sel) {
+    const tclod_scene *s = sel->scene;
+    const tclod_callbacks *cb = &sel->desc.callbacks;
+    uint32_t notes = 0;
+    if (sel->stats.invalid_values > 0)
+        notes |= TCLOD_NOTE_INVALID_VALUES;
+    if (!sel->has_view)
+        notes |= TCLOD_NOTE_NO_VIEW;
+    if (s->smooth_live > 0 &&
+        (sel->desc.solver == TCLOD_SOLVER_GREEDY || !cb->smooth_benefit || !cb->smooth_cost))
+        notes |= TCLOD_NOTE_SMOOTH_IGNORED;
+    if (sel->result_count == 0 && sel->group_count == 0 &&
+        (s->live_nodes > 0 || s->smooth_live > 0))
+        notes |= TCLOD_NOTE_NOTHING_DRAWN;
+    sel->stats.notes = notes;
+}
+
 /* Runs the begun solve until it finishes or the slice (slice_end on the
  * clock, slice_iterations more iterations; 0 = none) runs out. */
 static tclod_status run(tclod_selector *sel, double slice_seconds, uint32_t slice_iterations,
-                        int *done, tclod_stats *st) {
+                        int *done, tclod_stats *st, const char *fn) {
     tclod_status status;
-    if (!sel->pending || sel->busy)
-        return TCLOD_ERR_STATE;
+    if (sel->busy)
+        return tclod_fail(sel->error, TCLOD_ERR_STATE, fn, TCLOD_MSG_BUSY);
+    if (!sel->pending)
+        return tclod_fail(sel->error, TCLOD_ERR_STATE, fn, "no solve is pending");
     if (sel->pending_version != sel->scene->version) {
         abandon(sel); /* the scene changed under the solve */
-        return TCLOD_ERR_STATE;
+        return tclod_fail(sel->error, TCLOD_ERR_STATE, fn,
+                          "the scene changed since the solve began; it was cancelled");
     }
     set_busy(sel, 1);
     sel->start_time = tclod_now();
@@ -593,7 +629,12 @@ static tclod_status run(tclod_selector *sel, double slice_seconds, uint32_t slic
     }
     sel->elapsed += tclod_now() - sel->start_time;
     if (status == TCLOD_OK && sel->pending_version != sel->scene->version)
-        status = TCLOD_ERR_STATE; /* a callback changed the scene: the solve saw part of it */
+        status = tclod_fail(sel->error, TCLOD_ERR_STATE, fn, /* it saw part of the scene */
+                            "a callback changed the scene; the solve was cancelled");
+    else if (status == TCLOD_ERR_CALLBACK)
+        tclod_fail(sel->error, status, fn, TCLOD_MSG_STRICT);
+    else if (status != TCLOD_OK)
+        tclod_fail(sel->error, status, fn, tclod_status_string(status));
     if (status != TCLOD_OK) {
         abandon(sel);
     } else if (sel->paused) {
@@ -604,7 +645,10 @@ static tclod_status run(tclod_selector *sel, double slice_seconds, uint32_t slic
         else if (sel->stats.dropped_roots && (sel->stats.stop_reason == TCLOD_STOP_BUDGET ||
                                               sel->stats.stop_reason == TCLOD_STOP_FINEST))
             sel->stats.stop_reason = TCLOD_STOP_ROOTS_DROPPED;
+        if (sel->stats.stop_reason == TCLOD_STOP_FINEST && sel->frame_data.budget == 0.0)
+            sel->stats.stop_reason = TCLOD_STOP_BUDGET; /* nothing of any cost could fit */
         commit(sel);
+        note(sel);
         sel->stats.solve_seconds = sel->elapsed;
         set_pending(sel, 0);
         *done = 1;
@@ -618,29 +662,37 @@ static tclod_status run(tclod_selector *sel, double slice_seconds, uint32_t slic
 
 tclod_status tclod_select_step(tclod_selector *sel, double slice_seconds, uint32_t slice_iterations,
                                int *done, tclod_stats *st) {
-    if (!sel || !done || !(slice_seconds >= 0.0))
+    static const char fn[] = "tclod_select_step";
+    if (!sel)
         return TCLOD_ERR_ARG;
-    return run(sel, slice_seconds, slice_iterations, done, st);
+    if (!done)
+        return tclod_fail(sel->error, TCLOD_ERR_ARG, fn, "done is NULL");
+    if (!(slice_seconds >= 0.0))
+        return tclod_fail(sel->error, TCLOD_ERR_ARG, fn, "slice_seconds must be >= 0 (not NaN)");
+    return run(sel, slice_seconds, slice_iterations, done, st, fn);
 }
 
 tclod_status tclod_select_finish(tclod_selector *sel, tclod_stats *st) {
+    static const char fn[] = "tclod_select_finish";
     int done = 0;
     if (!sel)
         return TCLOD_ERR_ARG;
-    if (!sel->pending || sel->busy)
-        return TCLOD_ERR_STATE;
+    if (sel->busy)
+        return tclod_fail(sel->error, TCLOD_ERR_STATE, fn, TCLOD_MSG_BUSY);
+    if (!sel->pending)
+        return tclod_fail(sel->error, TCLOD_ERR_STATE, fn, "no solve is pending");
     if (!sel->stopped) {
         sel->stopped = 1;
         sel->stats.stop_reason = TCLOD_STOP_FINISHED;
     }
-    return run(sel, 0.0, 0, &done, st);
+    return run(sel, 0.0, 0, &done, st, fn);
 }
 
 tclod_status tclod_select_cancel(tclod_selector *sel) {
     if (!sel)
         return TCLOD_ERR_ARG;
     if (sel->busy)
-        return TCLOD_ERR_STATE;
+        return tclod_fail(sel->error, TCLOD_ERR_STATE, "tclod_select_cancel", TCLOD_MSG_BUSY);
     if (sel->pending)
         abandon(sel);
     return TCLOD_OK;
@@ -652,10 +704,10 @@ int tclod_select_pending(const tclod_selector *sel) {
 
 tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats *st) {
     int done = 0;
-    tclod_status status = tclod_select_begin(sel, f);
+    tclod_status status = begin(sel, f, "tclod_select");
     if (status != TCLOD_OK)
         return status;
-    return run(sel, 0.0, 0, &done, st);
+    return run(sel, 0.0, 0, &done, st, "tclod_select");
 }
 
 tclod_status tclod_selector_cut(const tclod_selector *sel, const tclod_id **ids, size_t *n) {
@@ -703,4 +755,8 @@ double tclod_selector_resolution(const tclod_selector *sel, tclod_id smooth) {
     if (sel->groups[lo].first > pos || pos - sel->groups[lo].first >= sel->groups[lo].count)
         return 0.0;
     return sel->groups[lo].resolution;
+}
+
+const char *tclod_selector_last_error(const tclod_selector *sel) {
+    return sel ? sel->error : "";
 }

@@ -63,29 +63,45 @@ static void copy3(const double in[3], double out[3]) {
     out[2] = in[2];
 }
 
-tclod_status tclod_view_validate(const tclod_view *v) {
+const char *tclod_view_check(const tclod_view *v) {
     double f[3], u[3], side[3];
     double pi = 3.14159265358979323846;
     int i;
     if (!v)
-        return TCLOD_ERR_ARG;
+        return "view is NULL";
     for (i = 0; i < 3; ++i)
-        if (!isfinite(v->eye[i]) || !isfinite(v->forward[i]) || !isfinite(v->up[i]))
-            return TCLOD_ERR_ARG;
-    if (!isfinite(v->fov_y) || !isfinite(v->aspect) || !isfinite(v->near_z) ||
-        !isfinite(v->far_z) || !isfinite(v->viewport_height))
-        return TCLOD_ERR_ARG;
-    if (!(v->fov_y > 0.0f) || !((double)v->fov_y < pi) || !(v->aspect > 0.0f) ||
-        !(v->near_z > 0.0f) || !(v->far_z > v->near_z) || !(v->viewport_height > 0.0f))
-        return TCLOD_ERR_ARG;
+        if (!isfinite(v->eye[i]))
+            return "view->eye must be finite";
+    for (i = 0; i < 3; ++i)
+        if (!isfinite(v->forward[i]))
+            return "view->forward must be finite";
+    for (i = 0; i < 3; ++i)
+        if (!isfinite(v->up[i]))
+            return "view->up must be finite";
+    if (!(v->fov_y > 0.0f) || !((double)v->fov_y < pi))
+        return "view->fov_y must be in (0, pi)";
+    if (!(v->aspect > 0.0f) || !isfinite(v->aspect))
+        return "view->aspect must be finite and > 0";
+    if (!(v->near_z > 0.0f) || !isfinite(v->near_z))
+        return "view->near_z must be finite and > 0";
+    if (!(v->far_z > v->near_z) || !isfinite(v->far_z))
+        return "view->far_z must be finite and > near_z";
+    if (!(v->viewport_height > 0.0f) || !isfinite(v->viewport_height))
+        return "view->viewport_height must be finite and > 0";
     load3(v->forward, f);
     load3(v->up, u);
-    if (normalize3(f) <= 0.0 || normalize3(u) <= 0.0)
-        return TCLOD_ERR_ARG;
+    if (normalize3(f) <= 0.0)
+        return "view->forward must not be zero";
+    if (normalize3(u) <= 0.0)
+        return "view->up must not be zero";
     cross3(f, u, side);
     if (sqrt(dot3(side, side)) < 1e-6)
-        return TCLOD_ERR_ARG; /* forward parallel to up */
-    return TCLOD_OK;
+        return "view->up must not be parallel to forward";
+    return NULL;
+}
+
+tclod_status tclod_view_validate(const tclod_view *v) {
+    return tclod_view_check(v) ? TCLOD_ERR_ARG : TCLOD_OK;
 }
 
 void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v) {
@@ -195,30 +211,32 @@ static void complete_frame(double u[3][3], const double h[3]) {
     }
 }
 
-tclod_status tclod_bounds_convert(const tclod_bounds *b, tclod_node_bounds *nb, tclod_box *box) {
+const char *tclod_bounds_convert(const tclod_bounds *b, tclod_node_bounds *nb, tclod_box *box) {
     int i, j;
     if (!b)
-        return TCLOD_ERR_ARG;
+        return "bounds is NULL";
     memset(nb, 0, sizeof *nb);
     nb->box = TCLOD_NONE;
     nb->kind = TCLOD_BOUNDS_NONE;
     nb->r = -1.0;
     switch (b->kind) {
     case TCLOD_BOUNDS_NONE:
-        return TCLOD_OK;
+        return NULL;
     case TCLOD_BOUNDS_SPHERE:
-        if (!finite3(b->center) || !isfinite(b->radius) || !(b->radius >= 0.0))
-            return TCLOD_ERR_ARG;
+        if (!finite3(b->center))
+            return "bounds.center must be finite";
+        if (!isfinite(b->radius) || !(b->radius >= 0.0))
+            return "bounds.radius must be finite and >= 0";
         copy3(b->center, nb->c);
         nb->r = b->radius;
         nb->kind = TCLOD_BOUNDS_SPHERE;
-        return TCLOD_OK;
+        return NULL;
     case TCLOD_BOUNDS_AABB:
-        if (!finite3(b->center) || !finite3(b->half_extents))
-            return TCLOD_ERR_ARG;
+        if (!finite3(b->center))
+            return "bounds.center must be finite";
         for (i = 0; i < 3; ++i)
-            if (!(b->half_extents[i] >= 0.0))
-                return TCLOD_ERR_ARG;
+            if (!(b->half_extents[i] >= 0.0) || !isfinite(b->half_extents[i]))
+                return "bounds.half_extents must be finite and >= 0";
         memset(box, 0, sizeof *box);
         for (i = 0; i < 3; ++i) {
             box->axes[i][i] = b->half_extents[i];
@@ -228,40 +246,44 @@ tclod_status tclod_bounds_convert(const tclod_bounds *b, tclod_node_bounds *nb, 
         break;
     case TCLOD_BOUNDS_OBB:
         if (!finite3(b->center))
-            return TCLOD_ERR_ARG;
+            return "bounds.center must be finite";
         for (i = 0; i < 3; ++i) {
             if (!finite3(b->half_axes[i]))
-                return TCLOD_ERR_ARG;
+                return "bounds.half_axes must be finite";
             copy3(b->half_axes[i], box->axes[i]);
             copy3(b->half_axes[i], box->u[i]);
             box->h[i] = normalize3(box->u[i]);
             if (!isfinite(box->h[i]))
-                return TCLOD_ERR_ARG; /* the length overflowed */
+                return "bounds.half_axes are too long (their length overflows)";
         }
         for (i = 0; i < 3; ++i)
             for (j = i + 1; j < 3; ++j)
                 if (box->h[i] > 0.0 && box->h[j] > 0.0 &&
                     !(fabs(dot3(box->u[i], box->u[j])) <= ORTHOGONAL_TOLERANCE))
-                    return TCLOD_ERR_ARG; /* skewed: not a box */
+                    return "bounds.half_axes must be orthogonal";
         complete_frame(box->u, box->h);
         break;
     default:
-        return TCLOD_ERR_ARG;
+        return "bounds.kind is not a tclod_bounds_kind";
     }
     copy3(b->center, nb->c);
     /* the corners' distance from the centre, rounded up */
     nb->r = sqrt(box->h[0] * box->h[0] + box->h[1] * box->h[1] + box->h[2] * box->h[2]);
     nb->r += nb->r * 1e-12;
     if (!isfinite(nb->r))
-        return TCLOD_ERR_ARG;
+        return "bounds are too large (the corners' distance overflows)";
     nb->kind = (uint32_t)b->kind;
-    return TCLOD_OK;
+    return NULL;
 }
 
-tclod_status tclod_bounds_validate(const tclod_bounds *b) {
+const char *tclod_bounds_check(const tclod_bounds *b) {
     tclod_node_bounds nb;
     tclod_box box;
     return tclod_bounds_convert(b, &nb, &box);
+}
+
+tclod_status tclod_bounds_validate(const tclod_bounds *b) {
+    return tclod_bounds_check(b) ? TCLOD_ERR_ARG : TCLOD_OK;
 }
 
 /* ---- boxes ------------------------------------------------------------------ */
@@ -448,7 +470,7 @@ void tclod_view_cache_measure_any(const tclod_view_cache *c, const tclod_bounds 
     tclod_box box;
     double d;
     *area = *distance = -1.0f;
-    if (tclod_bounds_convert(b, &nb, &box) != TCLOD_OK || nb.r < 0.0)
+    if (tclod_bounds_convert(b, &nb, &box) || nb.r < 0.0)
         return;
     nb.box = nb.kind > TCLOD_BOUNDS_SPHERE ? 0u : TCLOD_NONE;
     tclod_view_measure_bounds(c, &nb, &box, area, &d);
@@ -461,7 +483,7 @@ void tclod_view_cache_measure_any(const tclod_view_cache *c, const tclod_bounds 
  * Returns 0 when b has no bounds (or an argument is NULL or invalid). */
 static int prepare_bounds(const tclod_view *view, const tclod_bounds *b, tclod_view_cache *c,
                           tclod_node_bounds *nb, tclod_box *box, double p[3]) {
-    if (!view || !b || tclod_bounds_convert(b, nb, box) != TCLOD_OK || nb->r < 0.0)
+    if (!view || !b || tclod_bounds_convert(b, nb, box) || nb->r < 0.0)
         return 0;
     tclod_view_cache_init(c, view);
     p[0] = nb->c[0] - c->eye[0];

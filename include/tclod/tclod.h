@@ -76,6 +76,15 @@ typedef enum tclod_status {
  * Never NULL; an unknown value gives "unknown status". The string is static. */
 TCLOD_API const char *tclod_status_string(tclod_status s);
 
+/* Why a call failed (docs/api.md, errors). Every object keeps the message of
+ * its last call that failed, "function: what was wrong" (the argument or
+ * field and the rule it broke), until another call on it fails; "" before
+ * any failure and for NULL. Calls that fail on a NULL object, and calls that
+ * take a const object, record nothing. A desc, view or bounds refused by a
+ * create or an add is named by tclod_*_check. Functions:
+ * tclod_scene_last_error, tclod_selector_last_error, tclod_scheduler_last_error
+ * and tclod_calib_last_error. */
+
 /* Version of the built library, as TCLOD_VERSION_NUMBER. Compare it with the
  * header's macro to detect a header/library mismatch. */
 TCLOD_API unsigned tclod_version(void);
@@ -113,6 +122,10 @@ typedef struct tclod_view {
  * Returns TCLOD_OK or TCLOD_ERR_ARG (also for view == NULL). */
 TCLOD_API tclod_status tclod_view_validate(const tclod_view *view);
 
+/* NULL when the view is valid, else the rule it breaks ("view->fov_y must be
+ * in (0, pi)"). */
+TCLOD_API const char *tclod_view_check(const tclod_view *view);
+
 /* Bounding volumes of nodes (docs/scenes.md, bounds). Every kind has a
  * world-space centre in double. */
 typedef enum tclod_bounds_kind {
@@ -144,6 +157,10 @@ TCLOD_API tclod_bounds tclod_bounds_obb(const double center[3], const double hal
  * extents >= 0, orthogonal half axes. Returns TCLOD_OK or TCLOD_ERR_ARG (also
  * for NULL). Kind NONE is valid. */
 TCLOD_API tclod_status tclod_bounds_validate(const tclod_bounds *b);
+
+/* NULL when the volume is valid, else the rule it breaks ("bounds.radius must
+ * be finite and >= 0"). */
+TCLOD_API const char *tclod_bounds_check(const tclod_bounds *b);
 
 /* 1 if bounds b intersects the view frustum (the six planes), 0 if it lies
  * wholly outside. Conservative near frustum corners. NONE is visible.
@@ -276,6 +293,9 @@ TCLOD_API tclod_status tclod_scene_create(const tclod_allocator *a, tclod_scene 
  * selector or scheduler created over it is alive (the scene is then not freed;
  * destroy them first). */
 TCLOD_API tclod_status tclod_scene_destroy(tclod_scene *s);
+
+/* Why the last failed call on s failed (see tclod_status_string). */
+TCLOD_API const char *tclod_scene_last_error(const tclod_scene *s);
 
 /* How a node's children refine it (docs/scenes.md, refinement). */
 typedef enum tclod_refine {
@@ -526,7 +546,8 @@ typedef struct tclod_frame {
 typedef enum tclod_stop_reason {
     TCLOD_STOP_BUDGET = 0,        /* no further increment fits the budget */
     TCLOD_STOP_FINEST = 1,        /* no increment is left: every visible selected node is
-                                     at its finest level or refining it gains nothing */
+                                     at its finest level or refining it gains nothing
+                                     (never with budget 0: TCLOD_STOP_BUDGET) */
     TCLOD_STOP_ITERATIONS = 2,    /* tclod_frame.max_iterations reached */
     TCLOD_STOP_TIME = 3,          /* tclod_frame.solve_seconds reached */
     TCLOD_STOP_FINISHED = 4,      /* ended early by tclod_select_finish */
@@ -556,25 +577,36 @@ typedef struct tclod_stats {
                                       callback calls */
     double solve_seconds;          /* wall-clock time of the solve */
     tclod_stop_reason stop_reason; /* why the solve stopped */
+    uint32_t notes;                /* TCLOD_NOTE_* bits: what the host may not have meant */
 } tclod_stats;
+
+/* tclod_stats.notes: conditions a select does not fail on (strict mode fails on
+ * bad values; docs/api.md, errors). */
+#define TCLOD_NOTE_INVALID_VALUES 0x1u /* callbacks returned bad values (invalid_values) */
+#define TCLOD_NOTE_NO_VIEW 0x2u        /* frame.view was NULL: nothing was projected */
+#define TCLOD_NOTE_SMOOTH_IGNORED                            \
+    0x4u /* the scene has smooth objects the solver does not \
+            draw: the greedy solver, or no smooth callbacks */
+#define TCLOD_NOTE_NOTHING_DRAWN                           \
+    0x8u /* the scene is not empty and the selection draws \
+            nothing */
 
 /* Per-view solver state and the current result. */
 typedef struct tclod_selector tclod_selector;
 
-/* Creates a selector over scene s, which must outlive it. d is copied; a may be
- * NULL (malloc/free). Errors: TCLOD_ERR_ARG (NULL s, d or out; a solver this
- * build does not provide; benefit or cost callback NULL; the mixed solver
- * without smooth_benefit or smooth_cost over a scene with smooth objects;
- * warm_start, split_smooth, strict or smooth_precondition other than 0 or 1;
- * lookahead or restarts above their maximum; split_threshold,
- * smooth_epsilon, smooth_tolerance, smooth_cull_area, value, misfit or
- * reference_area NaN or out of range), TCLOD_ERR_NOMEM. */
+/* Creates a selector over scene s, which must outlive it (tclod_scene_destroy
+ * refuses while it lives). d is copied; a may be NULL (malloc/free). Errors:
+ * TCLOD_ERR_ARG (NULL s, d or out; a desc tclod_selector_desc_check refuses,
+ * naming the field), TCLOD_ERR_NOMEM. */
 TCLOD_API tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_desc *d,
                                              const tclod_allocator *a, tclod_selector **out);
 
 /* Frees the selector. NULL is allowed. Must not be called from its callbacks
  * (it is then ignored). */
 TCLOD_API void tclod_selector_destroy(tclod_selector *sel);
+
+/* Why the last failed call on sel failed (see tclod_status_string). */
+TCLOD_API const char *tclod_selector_last_error(const tclod_selector *sel);
 
 /* Selects representations for one frame; the result replaces the previous one.
  * Guarantee: the costs the callbacks returned for the visible selected nodes,
@@ -770,6 +802,9 @@ TCLOD_API tclod_status tclod_calib_create(const tclod_calib_desc *d, const tclod
 /* Frees c. NULL is allowed. */
 TCLOD_API void tclod_calib_destroy(tclod_calib *c);
 
+/* Why the last failed call on c failed (see tclod_status_string). */
+TCLOD_API const char *tclod_calib_last_error(const tclod_calib *c);
+
 /* Reports one frame: the predicted cost of what was drawn (>= 0; cost 0 leaves
  * the ratio as it is), the measured render time and logic time (>= 0, host
  * unit; logic_time TCLOD_OFF: not measured, the estimate stays). Errors:
@@ -909,6 +944,9 @@ TCLOD_API tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_
 
 /* Frees the scheduler. NULL is allowed. */
 TCLOD_API void tclod_scheduler_destroy(tclod_scheduler *sch);
+
+/* Why the last failed call on sch failed (see tclod_status_string). */
+TCLOD_API const char *tclod_scheduler_last_error(const tclod_scheduler *sch);
 
 /* Once per frame, before drawing: records the camera at time `now` (seconds,
  * any origin, never decreasing), lands and begins selections at interval
