@@ -209,69 +209,35 @@ typedef struct tclod_query {
                                    bounds */
 } tclod_query;
 
-/* The host's model of quality and render time. Callbacks may read anything but
- * must not call into the same selector (that returns TCLOD_ERR_STATE) nor
- * modify the scene being solved.
- *
- * benefit: visual quality of drawing node q->id, >= 0. 0 = invisible: the node
- *          is culled with its whole subtree (kept in the cut, not drawn, no
- *          cost). Should show diminishing returns down a hierarchy (a finer
- *          level adds less benefit per unit of cost than its parent did).
- * cost:    predicted render time of node q->id, >= 0, in budget units. Only
- *          asked for nodes whose benefit is > 0.
- * NaN, inf and negative values are counted in tclod_stats.invalid_values: a
- * bad benefit makes the node invisible, a bad cost makes it unaffordable (it
- * is never selected); with tclod_selector_desc.strict they fail the call with
- * TCLOD_ERR_CALLBACK instead. Each callback is called at most once per node
- * per tclod_select.
- *
- * smooth_benefit / smooth_cost: value at resolution r in [0, 1] of a smooth
- *          object, or of a group of them that all share the resolution r (the
- *          whole group's benefit or cost; q->count members listed in
- *          q->members, q->id the first), and its derivative d/dr in *d_dr
- *          (d_dr is never NULL and must be written). Both should be >= 0 and
- *          nondecreasing in r; benefit concave (diminishing returns) and cost
- *          0 at r = 0. Cost may be piecewise linear with kinks (a setup cost
- *          per object that makes the first units dearer, [Thesis8 eq. 8.18]).
- *          At r = 0 a smooth object is not drawn: it counts no benefit and no
- *          cost whatever the callbacks say. Derivatives are asked at r >= 1e-9
- *          (at 0 a square-root benefit has an infinite slope). NaN, inf or
- *          negative values and derivatives are counted like the other
- *          callbacks' (one count per call, whether the value, the slope or
- *          both are bad) and make the group invisible (bad benefit) or the
- *          resolution unaffordable (bad cost). Required by the mixed solver
- *          over a scene with smooth objects (without them it solves like the
- *          greedy and may go without); may be NULL for the greedy solver,
- *          which ignores smooth objects. */
+/* The host's model of quality and render time (docs/api.md, callbacks). Each
+ * is called at most once per node per select. Callbacks may read anything but
+ * must not call into the selector that calls them nor edit the scene
+ * (TCLOD_ERR_STATE). NaN, inf and negative values are counted in
+ * tclod_stats.invalid_values and sanitised (a bad benefit: invisible; a bad
+ * cost: never selected), or fail the call in strict mode. */
 typedef struct tclod_callbacks {
+    /* Visual quality of drawing node q->id, >= 0; 0 = invisible: culled with
+     * its subtree. Required. */
     double (*benefit)(void *user, const tclod_query *q);
+    /* Predicted render time of node q->id in budget units, >= 0; asked only
+     * when its benefit is > 0. Required. */
     double (*cost)(void *user, const tclod_query *q);
+    /* Benefit and cost of a smooth object, or of a group of q->count objects
+     * sharing resolution r in [0, 1], with d/dr in *d_dr (never NULL; r >=
+     * 1e-9 when a slope is asked). Benefit concave, cost nondecreasing and 0
+     * at r = 0. Required by the mixed solver over smooth objects; NULL: they
+     * are not drawn (TCLOD_NOTE_SMOOTH_IGNORED). */
     double (*smooth_benefit)(void *user, const tclod_query *q, double r, double *d_dr);
     double (*smooth_cost)(void *user, const tclod_query *q, double r, double *d_dr);
-    void *user; /* passed through unchanged */
-    /* complexity: Robin Hood solver, optional (NULL = the cost of the
-     *          instance's finest representation at tclod_selector_desc.
-     *          reference_area). How costly instance q->id (a node that starts
-     *          an instance, or a smooth object) is to draw well; instances are
-     *          visited from the least complex. Asked once per instance after
-     *          the scene changed, with no view. */
+    void *user; /* passed to every callback unchanged */
+    /* Robin Hood solver, optional: how costly instance q->id is to draw well,
+     * asked once per instance after the scene changed, with no view. NULL:
+     * the cost of its finest representation at robin_hood.reference_area. */
     double (*complexity)(void *user, const tclod_query *q);
-    /* importance: Robin Hood solver, optional (NULL = the benefit: the
-     *          benefit of the instance's first node, a smooth object's
-     *          smooth_benefit at r = 1). The importance I that the value
-     *          functions multiply (tclod_value, [RH eq. 8-11]): what an
-     *          instance is worth apart from its size and place, such as a
-     *          weight per kind of object, >= 0. The value functions measure
-     *          size and place themselves, so a benefit that grows with screen
-     *          area would count the area twice (eq. 8 with a benefit of screen
-     *          area x w goes as r^4 / z^2.5 instead of r^2 / z^0.5): such a
-     *          host gives w here. Asked once per visible instance per
-     *          tclod_select, after its benefit (which still decides whether it
-     *          is visible), with the same query: instance q->id's first node,
-     *          or smooth object q->id (q->count 1). NaN, inf and negative
-     *          values are counted like the other callbacks' and give the
-     *          instance the value 0 (no share); with tclod_selector_desc.strict
-     *          they fail the call. */
+    /* Robin Hood solver, optional: the importance I the value functions
+     * multiply ([RH eq. 8-11]), >= 0, asked once per visible instance per
+     * select. NULL: its benefit. A benefit that grows with screen area counts
+     * the area twice: give the per-object weight here (docs/robin_hood.md). */
     double (*importance)(void *user, const tclod_query *q);
 } tclod_callbacks;
 
@@ -608,60 +574,38 @@ TCLOD_API void tclod_selector_destroy(tclod_selector *sel);
 /* Why the last failed call on sel failed (see tclod_status_string). */
 TCLOD_API const char *tclod_selector_last_error(const tclod_selector *sel);
 
-/* Selects representations for one frame; the result replaces the previous one.
- * Guarantee: the costs the callbacks returned for the visible selected nodes,
- * summed in double in the order tclod_selector_cut lists them, followed by
- * those of the smooth groups in the order tclod_selector_smooth_groups lists
- * them, are <= budget.
- * Roots are selected first; if even the visible roots do not fit, the lowest
- * value (benefit / cost) roots are left out and counted in st->dropped_roots
- * (unless tclod_selector_desc.overflow says otherwise). The cut lists every node
- * drawn: with additive refinement a node and its descendants.
- * Allocates only while its buffers grow to the scene's size (the first call,
- * and after the scene grew). A warm start survives changes to the scene: the
- * previous cut loses the removed nodes and gains the added ones where it
- * refined their parents.
- * st may be NULL.
- * Errors: TCLOD_ERR_ARG (NULL sel or f; budget NaN or < 0; solve_seconds NaN
- * or < 0; an invalid view; the mixed solver created without smooth callbacks
- * over a scene that has smooth objects now), TCLOD_ERR_CALLBACK (strict
- * mode), TCLOD_ERR_NOMEM, TCLOD_ERR_STATE (re-entered from a callback). On
- * error the previous result and its stats stay as they were. */
+/* Selects for one frame; the result replaces the previous one. Guarantee: the
+ * callbacks' costs of the drawn nodes summed in double in tclod_selector_cut's
+ * order, then the smooth groups' costs, are <= budget (docs/api.md, budget
+ * guarantee); roots that do not fit are dropped (tclod_stats.dropped_roots)
+ * unless desc.overflow says otherwise. Allocates only when the scene grew.
+ * st may be NULL. Errors: TCLOD_ERR_ARG (a bad frame or view),
+ * TCLOD_ERR_CALLBACK (strict mode), TCLOD_ERR_NOMEM, TCLOD_ERR_STATE (a solve
+ * pending, or from a callback); the previous result stays. */
 TCLOD_API tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats *st);
 
-/* Resumable selection: the same solve as tclod_select, spread over several
- * calls (over several frames, say) while the previous result stays readable.
- *
- * tclod_select_begin starts a solve for frame f (copied, with its view): it
- * checks f, grows the buffers to the scene's size (its only allocation) and
- * returns. tclod_select_step then runs the solve until it finishes or its
- * slice runs out: slice_seconds of wall-clock time (checked every few
- * iterations) or slice_iterations more iterations; 0 means no limit. *done is
- * set to 1 when the solve finished and its result replaced the previous one
- * (st, if not NULL, then receives its stats), else to 0. The state between
- * steps is always feasible: tclod_select_finish ends the search where it
- * stands and commits it (stop_reason TCLOD_STOP_FINISHED) within the budget.
- * The frame's own limits (solve_seconds over the summed steps,
- * max_iterations) still apply. tclod_select_cancel drops the solve; the
- * previous result stays. Steps never allocate. A step always completes the
- * solver's starting work (the greedy re-evaluates the previous cut, the mixed
- * solver splits its variables, the Robin Hood solver values every instance);
- * the iterations that follow pause at the slice.
- * A step resumes exactly where the last one stopped: with iteration slices
- * the result equals tclod_select's for the same frame.
- * Errors: begin: as tclod_select, and TCLOD_ERR_STATE when a solve is already
- * pending; step: TCLOD_ERR_ARG (NULL sel or done, slice_seconds NaN or < 0),
- * TCLOD_ERR_STATE (no solve pending, re-entered from a callback),
- * TCLOD_ERR_CALLBACK
- * (strict mode: the solve is cancelled). tclod_select while a solve is
- * pending returns TCLOD_ERR_STATE. */
+/* Begins a solve of frame f (copied, with its view) to be run in slices over
+ * several calls while the previous result stays readable (docs/api.md,
+ * spreading a solve). Does the solve's only allocation. Errors as
+ * tclod_select. */
 TCLOD_API tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f);
+
+/* Runs the pending solve for at most slice_seconds or slice_iterations more
+ * iterations (0 = no limit; the solver's starting work always completes).
+ * *done = 1 when it finished and its result replaced the previous one (*st
+ * then holds its stats), else 0. Iteration slices give tclod_select's result.
+ * Errors: TCLOD_ERR_ARG (NULL done, slice_seconds NaN or < 0), TCLOD_ERR_STATE
+ * (no solve pending, from a callback), TCLOD_ERR_CALLBACK (strict mode: the
+ * solve is cancelled). */
 TCLOD_API tclod_status tclod_select_step(tclod_selector *sel, double slice_seconds,
                                          uint32_t slice_iterations, int *done, tclod_stats *st);
-/* Ends the pending solve now and commits its state. Errors as step's. */
+
+/* Ends the pending solve where it stands and commits it, within the budget
+ * (stop reason TCLOD_STOP_FINISHED). Errors as tclod_select_step. */
 TCLOD_API tclod_status tclod_select_finish(tclod_selector *sel, tclod_stats *st);
-/* Drops the pending solve, if any. TCLOD_ERR_ARG for NULL, TCLOD_ERR_STATE
- * from a callback. */
+
+/* Drops the pending solve, if any; the previous result stays. Errors:
+ * TCLOD_ERR_ARG (NULL), TCLOD_ERR_STATE (from a callback). */
 TCLOD_API tclod_status tclod_select_cancel(tclod_selector *sel);
 /* 1 while a begun solve has neither finished nor been cancelled, else 0. */
 TCLOD_API int tclod_select_pending(const tclod_selector *sel);
@@ -827,33 +771,13 @@ TCLOD_API tclod_status tclod_calib_budget(const tclod_calib *c, double frame_tim
 /* Predictive geomorph scheduler                                             */
 /* ------------------------------------------------------------------------- */
 
-/* Selection for a future interval, amortised over the frames before it, with
- * geomorphs between the selections ([GEO §3.3-3.4, §4.2-4.5];
- * docs/scheduler.md). Time is cut into intervals of tau seconds. During an
- * interval the frames draw the selections that have landed while the next
- * selection runs in per-frame slices; it lands at the next boundary (ended
- * early, with a feasible result, if its slices were too short) and is drawn
- * from the interval after that:
- *  - with morphing (3 stages), the selection begun at t is for [t+2τ, t+3τ):
- *    a representation coarser than the one drawn before morphs down during
- *    [t+τ, t+2τ), so that the coarse level is there when its interval begins;
- *    a finer one morphs up during [t+2τ, t+3τ), so that it is reached at its
- *    end; an up-morph overridden by the next selection's down-morph collapses
- *    into one transition from the level at the start of the interval to the
- *    level required at its end; a jump of d levels is d adjacent morphs in
- *    turn; a node split into its children morphs each child from the parent;
- *    smooth resolutions move linearly with the same asymmetry;
- *  - without (2 stages), the selection begun at t is for [t+τ, t+2τ) and
- *    replaces the previous one at its start.
- * Benefit for the target interval is the sum over `samples` views predicted
- * by linear extrapolation of the recorded camera path, plus `confidence` times
- * the benefit under a conservative camera that sees everything the camera can
- * reach (tclod_conservative_view); cost is the maximum over the predicted
- * views. Invariant: at every frame the predicted cost of the draw list (a
- * morph costs its finer side, smooth objects their selection's cost) is <= the
- * budget in force; when it is not (the budget fell, or the calibration
- * raised the cost of what is drawn), the scheduler selects again at once for
- * the current view and draws that without morphs. */
+/* Predictive selection with geomorphs ([GEO §3.3-3.4, §4.2-4.5];
+ * docs/scheduler.md). Time is cut into intervals of tau seconds; a selection
+ * for a future interval runs in per-frame slices, for views predicted from
+ * the camera's path and a conservative camera, lands at a boundary, and is
+ * morphed to (three stages) or switched to (two). Invariant: every frame's
+ * draw list costs at most the budget in force; when it would not, the
+ * scheduler selects again at once for the current view. */
 typedef struct tclod_scheduler tclod_scheduler;
 
 /* Most predicted views per selection. */
@@ -913,7 +837,7 @@ typedef struct tclod_scheduler_stats {
                                  too short */
     uint32_t emergencies;     /* immediate selections because the draw list would
                                  have exceeded the budget (and restarts after a
-                                 gap of more than 3 tau between updates) */
+                                 gap of more than 4 tau) */
     uint64_t changes;         /* level changes of drawn objects: a drawn node
                                  replaced by drawn descendants, or the reverse */
     uint64_t morphs;          /* of those, the ones drawn as geomorphs */
@@ -948,31 +872,15 @@ TCLOD_API void tclod_scheduler_destroy(tclod_scheduler *sch);
 /* Why the last failed call on sch failed (see tclod_status_string). */
 TCLOD_API const char *tclod_scheduler_last_error(const tclod_scheduler *sch);
 
-/* Once per frame, before drawing: records the camera at time `now` (seconds,
- * any origin, never decreasing), lands and begins selections at interval
- * boundaries, runs the pending selection for at most slice_seconds (0 = to
- * its end), and makes this frame's draw list. budget is in the unit of
- * tclod_scheduler_report's render times (the callbacks' cost unit as long as
- * nothing is reported). The first update selects at once for its view; so
- * does an update after a gap of more than 3 tau. The scene may change between
- * updates (its selection under way is then begun again): removed nodes and
- * smooth objects leave the draw list at the next update, mid-morph too, and
- * added ones join with the next selection that lands. The
- * scheduler also calls the host's callbacks itself, for the nodes a morph
- * passes through. Allocates only when the scene grew (and on the first
- * update); all of it before anything else, so that running out of memory
- * changes nothing. Errors: TCLOD_ERR_ARG (NULL sch or view, an invalid view,
- * now NaN, inf or earlier than the last successful update's, budget NaN or
- * < 0, slice_seconds NaN, inf or < 0, the mixed solver without smooth
- * callbacks over a scene that now has smooth objects), TCLOD_ERR_CALLBACK
- * (strict mode: a callback returned a bad value), TCLOD_ERR_NOMEM,
- * TCLOD_ERR_STATE (called from a callback). An update is all or nothing: on
- * error the scheduler is as the last successful update left it (draw list,
- * resolutions, stats, the recorded path, the interval boundary, the landed
- * selections and the memory held), so that the next update goes on as if the
- * failed one had not been made. The one thing a failed update cannot keep is
- * the progress of a selection under way; the next update begins it again and
- * runs it to its end when it lands. */
+/* Once per frame, before drawing: records the camera at `now` (seconds, never
+ * decreasing), lands and begins selections at boundaries, runs the pending one
+ * for at most slice_seconds (0 = to its end) and makes this frame's draw list
+ * (docs/scheduler.md, updates). budget is in the unit of the reported render
+ * times. The first update, and one more than 4 tau after the current
+ * interval began, select at once. The scene may change between updates. All
+ * or nothing: on error the outputs are the last successful update's. Errors:
+ * TCLOD_ERR_ARG (a bad argument or view), TCLOD_ERR_CALLBACK (strict mode),
+ * TCLOD_ERR_NOMEM, TCLOD_ERR_STATE (from a callback). */
 TCLOD_API tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now,
                                               const tclod_view *view, double budget,
                                               double slice_seconds);
@@ -1017,18 +925,11 @@ TCLOD_API tclod_status tclod_scheduler_get_stats(const tclod_scheduler *sch,
 TCLOD_API tclod_status tclod_scheduler_predict(const tclod_scheduler *sch, double t,
                                                tclod_view *out);
 
-/* The conservative camera of [GEO §3.3]: a view that contains every view
- * the camera can reach within `horizon` seconds when it moves at most
- * max_speed (theta) and turns at most max_turn_rate (omega). Its fields of
- * view widen by 2 * horizon * omega (vertical, and horizontal through the
- * aspect) and its eye steps back along forward by
- * horizon * theta / sin(fov / 2 + horizon * omega), fov the smaller of the
- * two fields of view, so that the cone holds every reachable eye; far_z
- * grows by that step and by horizon * theta. With morphing the scheduler
- * uses horizon = 3 tau (fov + 6 tau omega), without it 2 tau. Fields of view
- * stop at 179 degrees (the cone then holds less than promised). Errors:
- * TCLOD_ERR_ARG (NULL argument, invalid view, horizon, max_speed or
- * max_turn_rate NaN, inf or < 0), and *out is not written. */
+/* The conservative camera of [GEO §3.3]: a view containing every view the
+ * camera can reach within `horizon` seconds, moving at most max_speed and
+ * turning at most max_turn_rate (docs/scheduler.md, conservative camera).
+ * Errors: TCLOD_ERR_ARG (NULL argument, invalid view, horizon, max_speed or
+ * max_turn_rate NaN, inf or < 0); *out is then not written. */
 TCLOD_API tclod_status tclod_conservative_view(const tclod_view *view, double horizon,
                                                double max_speed, double max_turn_rate,
                                                tclod_view *out);
