@@ -33,7 +33,7 @@ struct tclod_calib {
                                            ones blend in; else they replace */
 };
 
-static int finite_nonnegative(double x) {
+static int calib_finite_nonnegative(double x) {
     return x >= 0.0 && !isinf(x); /* false for NaN */
 }
 
@@ -48,7 +48,7 @@ static int rate_valid(double r) {
 tclod_status tclod_render_budget(double frame_time, double logic_time, double machine_c,
                                  double *render_time) {
     double l, rho;
-    if (!render_time || !finite_positive(frame_time) || !finite_nonnegative(logic_time) ||
+    if (!render_time || !finite_positive(frame_time) || !calib_finite_nonnegative(logic_time) ||
         !finite_positive(machine_c))
         return TCLOD_ERR_ARG;
     /* eq. 5, capped at 1: the frame cannot be shorter than its logic, so a
@@ -81,7 +81,7 @@ tclod_status tclod_calib_create(const tclod_calib_desc *d, const tclod_allocator
         return TCLOD_ERR_ARG;
     if (!finite_positive(d->initial_scale) || !rate_valid(d->rise_rate) ||
         !rate_valid(d->fall_rate) || !(d->dead_band >= 0.0 && d->dead_band < 1.0) ||
-        !rate_valid(d->logic_rate) || !finite_nonnegative(d->initial_logic) ||
+        !rate_valid(d->logic_rate) || !calib_finite_nonnegative(d->initial_logic) ||
         !finite_positive(d->machine_c))
         return TCLOD_ERR_ARG;
     c = (tclod_calib *)tclod_mem_alloc(&alloc, sizeof *c);
@@ -119,8 +119,8 @@ static double approach(double from, double to, double rate) {
 
 tclod_status tclod_calib_report(tclod_calib *c, double predicted_cost, double render_time,
                                 double logic_time) {
-    if (!c || !finite_nonnegative(predicted_cost) || !finite_nonnegative(render_time) ||
-        !finite_nonnegative(logic_time))
+    if (!c || !calib_finite_nonnegative(predicted_cost) || !calib_finite_nonnegative(render_time) ||
+        !calib_finite_nonnegative(logic_time))
         return TCLOD_ERR_ARG;
     /* A frame that drew nothing says nothing about the cost model. */
     if (predicted_cost > 0.0) {
