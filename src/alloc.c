@@ -7,6 +7,12 @@
  * middle of a growth leaves every array as it was, which is what lets each API
  * call promise "TCLOD_ERR_NOMEM, nothing changed".
  */
+/* clock_gettime and CLOCK_MONOTONIC are POSIX, not C99: asked for here, before
+ * any header, so that the file compiles as plain C99 without a -D flag. */
+#if !defined(_WIN32) && !defined(_POSIX_C_SOURCE)
+#define _POSIX_C_SOURCE 200809L
+#endif
+
 #include "internal.h"
 
 #include <stdlib.h>

@@ -34,7 +34,7 @@ struct tclod_calib {
                                            ones blend in; else they replace */
 };
 
-static int finite_nonnegative(double x) {
+static int calib_finite_nonnegative(double x) {
     return x >= 0.0 && !isinf(x); /* false for NaN */
 }
 
@@ -49,7 +49,7 @@ static int rate_valid(double r) {
 tclod_status tclod_render_budget(double frame_time, double logic_time, double machine_c,
                                  double *render_time) {
     double l, rho;
-    if (!render_time || !finite_positive(frame_time) || !finite_nonnegative(logic_time) ||
+    if (!render_time || !finite_positive(frame_time) || !calib_finite_nonnegative(logic_time) ||
         !finite_positive(machine_c))
         return TCLOD_ERR_ARG;
     /* eq. 5, capped at 1: the frame cannot be shorter than its logic, so a
@@ -97,7 +97,7 @@ const char *tclod_calib_check(const tclod_calib_desc *d, int nested) {
         return FIELD(nested, "dead_band must be in (0, 1), 0 (default) or TCLOD_OFF");
     if (!rate_or_default(d->logic_rate))
         return FIELD(nested, "logic_rate must be in (0, 1], or 0 (default)");
-    if (!finite_nonnegative(d->initial_logic))
+    if (!calib_finite_nonnegative(d->initial_logic))
         return FIELD(nested, "initial_logic must be finite and >= 0");
     if (!(d->machine_c == 0.0 || finite_positive(d->machine_c)))
         return FIELD(nested, "machine_c must be finite and > 0, or 0 (default)");
@@ -111,7 +111,7 @@ const char *tclod_calib_desc_check(const tclod_calib_desc *d) {
 }
 
 /* A valid desc with its defaults filled in. */
-static tclod_calib_desc resolved(const tclod_calib_desc *d) {
+static tclod_calib_desc calib_resolved(const tclod_calib_desc *d) {
     tclod_calib_desc r = *d, def;
     tclod_calib_desc_default(&def);
     if (r.initial_scale == 0.0)
@@ -135,7 +135,7 @@ tclod_status tclod_calib_create(const tclod_calib_desc *desc, const tclod_alloca
     tclod_calib_desc d;
     if (!desc || !out || !tclod_allocator_init(&alloc, a) || tclod_calib_desc_check(desc))
         return TCLOD_ERR_ARG;
-    d = resolved(desc);
+    d = calib_resolved(desc);
     c = (tclod_calib *)tclod_mem_alloc(&alloc, sizeof *c);
     if (!c)
         return TCLOD_ERR_NOMEM;
@@ -175,11 +175,11 @@ tclod_status tclod_calib_report(tclod_calib *c, double predicted_cost, double re
     int logic = logic_time != (double)TCLOD_OFF; /* TCLOD_OFF: not measured */
     if (!c)
         return TCLOD_ERR_ARG;
-    if (!finite_nonnegative(predicted_cost))
+    if (!calib_finite_nonnegative(predicted_cost))
         return tclod_fail(c->error, TCLOD_ERR_ARG, fn, "predicted_cost must be finite and >= 0");
-    if (!finite_nonnegative(render_time))
+    if (!calib_finite_nonnegative(render_time))
         return tclod_fail(c->error, TCLOD_ERR_ARG, fn, "render_time must be finite and >= 0");
-    if (logic && !finite_nonnegative(logic_time))
+    if (logic && !calib_finite_nonnegative(logic_time))
         return tclod_fail(c->error, TCLOD_ERR_ARG, fn,
                           "logic_time must be finite and >= 0, or TCLOD_OFF");
     /* A frame that drew nothing says nothing about the cost model. */

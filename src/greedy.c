@@ -38,7 +38,7 @@
 /* Screen area and distance of node n's bounds in this solve. The levels of
  * one object usually share its bounds: a parent evaluated in this solve
  * already (the parent of a chain's level always is) lends its figures. */
-static void measure(const tclod_selector *sel, tclod_id n, float *area, double *distance) {
+static void greedy_measure(const tclod_selector *sel, tclod_id n, float *area, double *distance) {
     const tclod_scene *s = sel->scene;
     const tclod_node_bounds *bounds = &s->bounds[n];
     tclod_id p = s->parent[n];
@@ -56,7 +56,7 @@ static int evaluate_fresh(tclod_selector *sel, tclod_id n) {
     float area = -1.0f;
     double distance = -1.0;
     if (sel->has_view && sel->scene->bounds[n].r >= 0.0)
-        measure(sel, n, &area, &distance);
+        greedy_measure(sel, n, &area, &distance);
     return tclod_evaluate_measured(sel, n, area, distance);
 }
 
@@ -139,14 +139,14 @@ static void account(tclod_selector *sel, tclod_id n, double sign) {
     }
 }
 
-static void cut_add(tclod_selector *sel, tclod_id n) {
+static void greedy_cut_add(tclod_selector *sel, tclod_id n) {
     assert(sel->node[n].cut_pos == TCLOD_NONE);
     sel->node[n].cut_pos = sel->cut_count;
     sel->cut[sel->cut_count++] = n;
     account(sel, n, 1.0);
 }
 
-static void cut_remove(tclod_selector *sel, tclod_id n) {
+static void greedy_cut_remove(tclod_selector *sel, tclod_id n) {
     uint32_t slot = sel->node[n].cut_pos;
     tclod_id last = sel->cut[--sel->cut_count];
     account(sel, n, -1.0);
@@ -681,7 +681,7 @@ static NOINLINE int apply_jump(tclod_selector *sel, tclod_id n, int track_dec, t
                 st[top].end = st[top].next + s->child_count[m];
                 continue;
             }
-            cut_add(sel, m);
+            greedy_cut_add(sel, m);
             sel->path[2u * m] = path_b;
             sel->path[2u * m + 1u] = path_c;
             if (requeue_increment(sel, m, held) != 0)
@@ -707,13 +707,13 @@ static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
     tclod_id held = tclod_heap_contains(&sel->inc, n) ? n : TCLOD_NONE;
     double path_b = sel->path[2u * n] + sel->delta[n].delta_b;
     double path_c = sel->path[2u * n + 1u] + sel->delta[n].delta_c;
-    cut_remove(sel, n);
+    greedy_cut_remove(sel, n);
     if (sel->flags[n] & (TCLOD_FLAG_JUMP | TCLOD_FLAG_REFIT)) {
         if (apply_jump(sel, n, track_dec, &held, path_b, path_c) != 0)
             return -1;
     } else {
         for (i = 0; i < count; ++i) {
-            cut_add(sel, ch[i]);
+            greedy_cut_add(sel, ch[i]);
             sel->path[2u * ch[i]] = path_b;
             sel->path[2u * ch[i] + 1u] = path_c;
             if (requeue_increment(sel, ch[i], &held) != 0)
@@ -739,9 +739,9 @@ static int apply_decrement(tclod_selector *sel, tclod_id p) {
         unqueue_increment(sel, ch[i]);
         if (tclod_heap_contains(&sel->dec, ch[i]))
             tclod_heap_remove(&sel->dec, ch[i]);
-        cut_remove(sel, ch[i]);
+        greedy_cut_remove(sel, ch[i]);
     }
-    cut_add(sel, p);
+    greedy_cut_add(sel, p);
     sel->stats.decrements++;
     if (queue_increment(sel, p, 0) != 0)
         return -1;
@@ -862,7 +862,7 @@ static int start_cold(tclod_selector *sel) {
         if (evaluate(sel, r) != 0)
             return -1;
         sel->path[2u * r] = sel->path[2u * r + 1u] = 0.0;
-        cut_add(sel, r);
+        greedy_cut_add(sel, r);
     }
     if (!feasible(sel))
         drop_roots(sel);

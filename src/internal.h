@@ -5,6 +5,12 @@
 #ifndef TCLOD_INTERNAL_H
 #define TCLOD_INTERNAL_H
 
+/* Every file that includes this one is part of the library: TCLOD_API then
+ * exports its definitions from a Windows DLL rather than importing them. */
+#ifndef TCLOD_BUILDING
+#define TCLOD_BUILDING
+#endif
+
 #include "tclod/tclod.h"
 
 #include <assert.h>

@@ -68,7 +68,7 @@ static double smooth_limit(double budget) {
 #define BETA_MAX 0.95
 
 /* NaN, negative or infinite: one comparison each way. */
-static int value_bad(double v) {
+static int mixed_value_bad(double v) {
     return !(v >= 0.0 && v <= DBL_MAX);
 }
 
@@ -93,11 +93,11 @@ int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, const
     if (b) {
         *db = 0.0;
         *b = cb->smooth_benefit(cb->user, &q, xs, db);
-        if (value_bad(*b)) {
+        if (mixed_value_bad(*b)) {
             tclod_bad_value(sel);
             *b = *db = 0.0;
             bad = 1;
-        } else if (value_bad(*db)) {
+        } else if (mixed_value_bad(*db)) {
             tclod_bad_value(sel);
             *db = 0.0;
         }
@@ -105,10 +105,10 @@ int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, const
     if (c) {
         *dc = 0.0;
         *c = cb->smooth_cost(cb->user, &q, xs, dc);
-        if (value_bad(*c)) {
+        if (mixed_value_bad(*c)) {
             tclod_bad_value(sel);
             *c = *dc = HUGE_VAL;
-        } else if (value_bad(*dc)) {
+        } else if (mixed_value_bad(*dc)) {
             tclod_bad_value(sel);
             *dc = HUGE_VAL;
         }
@@ -1140,7 +1140,7 @@ static int polish(tclod_selector *sel) {
 /* The exact total in result order (cut, then the drawn variables). Should the
  * running sums' drift ever carry it over the budget, the smooth variables are
  * dropped and the cut is repaired as the greedy repairs its own. */
-static int finish(tclod_selector *sel) {
+static int mixed_finish(tclod_selector *sel) {
     const tclod_vars *V = &sel->vars;
     double sum = 0.0;
     uint32_t i;
@@ -1301,7 +1301,7 @@ tclod_status tclod_mixed_solve(tclod_selector *sel) {
             rc = safeguard(sel, &next);
             break;
         default:
-            rc = finish(sel);
+            rc = mixed_finish(sel);
             tclod_greedy_end(sel);
             return rc == 0 ? TCLOD_OK : TCLOD_ERR_CALLBACK;
         }

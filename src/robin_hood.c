@@ -121,7 +121,7 @@ static inline double instance_value(const tclod_selector *sel, const double b[3]
 
 /* ---- evaluation ------------------------------------------------------------------- */
 
-static int value_bad(double v) {
+static int robin_hood_value_bad(double v) {
     return !(v >= 0.0) || isinf(v);
 }
 
@@ -135,7 +135,7 @@ static inline double importance_of(tclod_selector *sel, const tclod_query *q, do
     if (!plain && !cb->importance)
         return benefit;
     i = cb->importance(cb->user, q);
-    if (tclod_bits(i) <= TCLOD_BITS_MAX || !value_bad(i)) /* >= 0 and finite; then -0 */
+    if (tclod_bits(i) <= TCLOD_BITS_MAX || !robin_hood_value_bad(i)) /* >= 0 and finite; then -0 */
         return i;
     tclod_bad_value(sel);
     return sel->failed ? -1.0 : 0.0;
@@ -259,10 +259,10 @@ static int is_head(const tclod_selector *sel, tclod_id n) {
  * cost, with such a slope) counts as the most complex (visited last) and is
  * counted like any bad callback value. */
 static double complexity_value(tclod_selector *sel, double c, double slope) {
-    if (!value_bad(c) && !value_bad(slope))
+    if (!robin_hood_value_bad(c) && !robin_hood_value_bad(slope))
         return c;
     tclod_bad_value(sel);
-    return value_bad(c) ? HUGE_VAL : c;
+    return robin_hood_value_bad(c) ? HUGE_VAL : c;
 }
 
 /* The complexity of the instance starting at node head (chain end `end`) or

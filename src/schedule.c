@@ -249,7 +249,7 @@ const char *tclod_scheduler_desc_check(const tclod_scheduler_desc *d) {
 }
 
 /* A valid desc with its defaults filled in. */
-static tclod_scheduler_desc resolved(const tclod_scheduler_desc *d) {
+static tclod_scheduler_desc schedule_resolved(const tclod_scheduler_desc *d) {
     tclod_scheduler_desc r = *d;
     if (r.tau == 0.0)
         r.tau = 0.5;
@@ -261,15 +261,15 @@ static tclod_scheduler_desc resolved(const tclod_scheduler_desc *d) {
 
 /* ---- vectors ------------------------------------------------------------------- */
 
-static double dot3(const double a[3], const double b[3]) {
+static double schedule_dot3(const double a[3], const double b[3]) {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
 static double length3(const double a[3]) {
-    return sqrt(dot3(a, a));
+    return sqrt(schedule_dot3(a, a));
 }
 
-static void load3(const float in[3], double out[3]) {
+static void schedule_load3(const float in[3], double out[3]) {
     out[0] = (double)in[0];
     out[1] = (double)in[1];
     out[2] = (double)in[2];
@@ -303,7 +303,7 @@ tclod_status tclod_conservative_view(const tclod_view *view, double horizon, dou
     /* every eye within `reach` of the current one lies inside the cone of
      * half-angle `half` whose apex is `back` behind it */
     back = reach > 0.0 ? reach / sin(half) : 0.0;
-    load3(view->forward, f);
+    schedule_load3(view->forward, f);
     {
         double len = length3(f);
         v.eye[0] = view->eye[0] - back * f[0] / len;
@@ -324,7 +324,7 @@ tclod_status tclod_conservative_view(const tclod_view *view, double horizon, dou
 /* Rotates unit vector a towards unit vector b by at most angle (radians),
  * in their common plane; out unit length. */
 static void turn_towards(const double a[3], const double b[3], double angle, double out[3]) {
-    double c = dot3(a, b), s, w[3], len;
+    double c = schedule_dot3(a, b), s, w[3], len;
     int k;
     if (c > 1.0)
         c = 1.0;
@@ -422,7 +422,7 @@ static void predict(const tclod_scheduler *sch, double t, tclod_view *out) {
         la = length3(a);
         lb = length3(b);
         if (!(la > 0.0) || !(lb > 0.0)) { /* degenerate: keep the last view's */
-            load3(field == 1 ? last->forward : last->up, p[field]);
+            schedule_load3(field == 1 ? last->forward : last->up, p[field]);
             continue;
         }
         for (c = 0; c < 3; ++c) {
@@ -613,7 +613,7 @@ static double wrap_importance(void *user, const tclod_query *q) {
 
 /* ---- buffers ---------------------------------------------------------------------------- */
 
-static size_t node_arrays(tclod_scheduler *sch, tclod_array out[TCLOD_MAX_ARRAYS]) {
+static size_t schedule_node_arrays(tclod_scheduler *sch, tclod_array out[TCLOD_MAX_ARRAYS]) {
     size_t n = 0;
     uint32_t g;
     out[n++] = (tclod_array){(void **)&sch->depth, sizeof(uint32_t), 0};
@@ -648,7 +648,7 @@ static size_t node_arrays(tclod_scheduler *sch, tclod_array out[TCLOD_MAX_ARRAYS
     return n;
 }
 
-static size_t smooth_arrays(tclod_scheduler *sch, tclod_array out[TCLOD_MAX_ARRAYS]) {
+static size_t schedule_smooth_arrays(tclod_scheduler *sch, tclod_array out[TCLOD_MAX_ARRAYS]) {
     size_t n = 0;
     uint32_t g;
     out[n++] = (tclod_array){(void **)&sch->kept.groups, sizeof(tclod_smooth_group), -1};
@@ -660,7 +660,7 @@ static size_t smooth_arrays(tclod_scheduler *sch, tclod_array out[TCLOD_MAX_ARRA
     return n;
 }
 
-static uint32_t grown(uint32_t cap, uint32_t need) {
+static uint32_t schedule_grown(uint32_t cap, uint32_t need) {
     while (cap < need)
         cap = cap < 64u ? 64u : (cap > UINT32_MAX / 4u ? need : cap * 2u);
     return cap;
@@ -671,13 +671,14 @@ static uint32_t grown(uint32_t cap, uint32_t need) {
  * allocated first and replace the old ones only once the selector's have
  * grown too, so that a failure leaves every buffer as it was. Afterwards
  * nothing in the update allocates. */
-static tclod_status reserve(tclod_scheduler *sch) {
+static tclod_status schedule_reserve(tclod_scheduler *sch) {
     tclod_array nodes[TCLOD_MAX_ARRAYS], smooth[TCLOD_MAX_ARRAYS];
     void *fresh_n[TCLOD_MAX_ARRAYS], *fresh_s[TCLOD_MAX_ARRAYS];
-    size_t nn = node_arrays(sch, nodes), ns = smooth_arrays(sch, smooth);
+    size_t nn = schedule_node_arrays(sch, nodes), ns = schedule_smooth_arrays(sch, smooth);
     uint32_t need_n = sch->scene->node_count, need_s = sch->scene->smooth_count;
-    uint32_t cap_n = need_n > sch->node_cap ? grown(sch->node_cap, need_n) : sch->node_cap;
-    uint32_t cap_s = need_s > sch->smooth_cap ? grown(sch->smooth_cap, need_s) : sch->smooth_cap;
+    uint32_t cap_n = need_n > sch->node_cap ? schedule_grown(sch->node_cap, need_n) : sch->node_cap;
+    uint32_t cap_s =
+        need_s > sch->smooth_cap ? schedule_grown(sch->smooth_cap, need_s) : sch->smooth_cap;
     int grow_n = cap_n != sch->node_cap, grow_s = cap_s != sch->smooth_cap;
     tclod_status st;
     if (need_n > UINT32_MAX / 3u)
@@ -725,7 +726,7 @@ tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_d
         return TCLOD_ERR_NOMEM;
     memset(sch, 0, sizeof *sch);
     sch->alloc = alloc;
-    sch->desc = resolved(d);
+    sch->desc = schedule_resolved(d);
     sch->host = sd->callbacks;
     sch->scene = (tclod_scene *)(uintptr_t)s;
     sch->p.prev = sch->p.cur = sch->p.next = 0;
@@ -766,8 +767,8 @@ void tclod_scheduler_destroy(tclod_scheduler *sch) {
     tclod_scene_detach(sch->scene, &sch->user, 1);
     tclod_selector_destroy(sch->sel);
     tclod_calib_destroy(sch->calib);
-    tclod_arrays_free(&alloc, arrays, node_arrays(sch, arrays), sch->node_cap);
-    tclod_arrays_free(&alloc, arrays, smooth_arrays(sch, arrays), sch->smooth_cap);
+    tclod_arrays_free(&alloc, arrays, schedule_node_arrays(sch, arrays), sch->node_cap);
+    tclod_arrays_free(&alloc, arrays, schedule_smooth_arrays(sch, arrays), sch->smooth_cap);
     tclod_mem_free(&alloc, sch, sizeof *sch);
 }
 
@@ -952,8 +953,8 @@ static uint32_t region_at(const tclod_scheduler *sch, uint32_t e, tclod_id v) {
  * at a node of that meet, and buckets the nodes of the three lists by region
  * (region_list() gives them back). Marks the members of list 0 with mark_b and
  * those of list 1 with mark_c, epoch returned. */
-static uint32_t partition(tclod_scheduler *sch, const tclod_id *const lists[3],
-                          const uint32_t sizes[3]) {
+static uint32_t schedule_partition(tclod_scheduler *sch, const tclod_id *const lists[3],
+                                   const uint32_t sizes[3]) {
     uint32_t roots = meet(sch, lists[0], sizes[0], lists[1], sizes[1], sch->list_r);
     uint32_t e = next_epoch(sch), r, l, i, total = 0;
     writable_plan(sch);
@@ -996,7 +997,7 @@ static uint32_t partition(tclod_scheduler *sch, const tclod_id *const lists[3],
     return e;
 }
 
-/* The nodes of list l in region r after partition(): PLAN(sch)->nodes[*first ..
+/* The nodes of list l in region r after schedule_partition(): PLAN(sch)->nodes[*first ..
  * *first + *count). */
 static void region_list(const tclod_scheduler *sch, uint32_t r, uint32_t l, uint32_t *first,
                         uint32_t *count) {
@@ -1040,7 +1041,7 @@ static void count_switches(tclod_scheduler *sch, const tclod_id *a, uint32_t na,
     lists[1] = lists[2] = b;
     sizes[0] = na;
     sizes[1] = sizes[2] = nb;
-    e = partition(sch, lists, sizes);
+    e = schedule_partition(sch, lists, sizes);
     for (r = 0; r < PLAN(sch)->region_count; ++r) {
         tclod_id q = PLAN(sch)->regions[r].root;
         uint32_t f, n0, n1;
@@ -1272,7 +1273,7 @@ static void make_plan(tclod_scheduler *sch) {
     }
     lists[2] = C->ids;
     sizes[2] = C->count;
-    e = partition(sch, lists, sizes);
+    e = schedule_partition(sch, lists, sizes);
     for (r = 0; r < PLAN(sch)->region_count; ++r)
         plan_region(sch, r, e);
 }
@@ -1618,7 +1619,7 @@ tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now, const tclo
     sch->busy = sch->user.busy = 1;
     st = tclod_scene_prepare(sch->scene);
     if (st == TCLOD_OK)
-        st = reserve(sch);
+        st = schedule_reserve(sch);
     if (st != TCLOD_OK) {
         sch->busy = sch->user.busy = 0;
         return tclod_fail(sch->error, st, fn, TCLOD_MSG_NOMEM);

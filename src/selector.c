@@ -121,7 +121,7 @@ const char *tclod_selector_desc_check(const tclod_scene *s, const tclod_selector
 }
 
 /* A valid desc with its defaults filled in: what the solvers read. */
-static tclod_selector_desc resolved(const tclod_selector_desc *d) {
+static tclod_selector_desc selector_resolved(const tclod_selector_desc *d) {
     tclod_selector_desc r = *d;
     r.smooth_cull_area = resolve(d->smooth_cull_area, 1.0);
     r.greedy.restarts =
@@ -242,7 +242,7 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
      * users */
     sel->scene = (tclod_scene *)(uintptr_t)s;
     sel->alloc = alloc;
-    sel->desc = resolved(d);
+    sel->desc = selector_resolved(d);
     sel->holds = 1;
     if (tclod_scene_attach(sel->scene, &sel->user, d->solver == TCLOD_SOLVER_ROBIN_HOOD) !=
         TCLOD_OK) {
@@ -505,7 +505,7 @@ static void set_pending(tclod_selector *sel, int pending) {
 }
 
 /* tclod_select_begin, its errors named after fn. */
-static tclod_status begin(tclod_selector *sel, const tclod_frame *f, const char *fn) {
+static tclod_status selector_begin(tclod_selector *sel, const tclod_frame *f, const char *fn) {
     tclod_status status;
     if (!sel)
         return TCLOD_ERR_ARG;
@@ -557,7 +557,7 @@ static tclod_status begin(tclod_selector *sel, const tclod_frame *f, const char 
 }
 
 tclod_status tclod_select_begin(tclod_selector *sel, const tclod_frame *f) {
-    return begin(sel, f, "tclod_select_begin");
+    return selector_begin(sel, f, "tclod_select_begin");
 }
 
 /* Ends the solve in progress without a result: the working cut goes back to
@@ -704,7 +704,7 @@ int tclod_select_pending(const tclod_selector *sel) {
 
 tclod_status tclod_select(tclod_selector *sel, const tclod_frame *f, tclod_stats *st) {
     int done = 0;
-    tclod_status status = begin(sel, f, "tclod_select");
+    tclod_status status = selector_begin(sel, f, "tclod_select");
     if (status != TCLOD_OK)
         return status;
     return run(sel, 0.0, 0, &done, st, "tclod_select");
