@@ -109,9 +109,11 @@ static void check_report(tclod_calib *c, const tclod_calib_desc *d, measured *m,
                          double render, double logic) {
     double s = tclod_calib_scale(c), l = tclod_calib_logic(c), s2, l2, ratio;
     tclod_status st = tclod_calib_report(c, pred, render, logic);
+    int logic_measured = logic != -1.0; /* TCLOD_OFF: not measured */
     s2 = tclod_calib_scale(c);
     l2 = tclod_calib_logic(c);
-    if (!finite_nonnegative(pred) || !finite_nonnegative(render) || !finite_nonnegative(logic)) {
+    if (!finite_nonnegative(pred) || !finite_nonnegative(render) ||
+        (logic_measured && !finite_nonnegative(logic))) {
         FUZZ_CHECK(st == TCLOD_ERR_ARG && s2 == s && l2 == l,
                    "report(%g, %g, %g) gave %d, ratio %g -> %g, logic %g -> %g", pred, render,
                    logic, (int)st, s, s2, l, l2);
@@ -122,15 +124,20 @@ static void check_report(tclod_calib *c, const tclod_calib_desc *d, measured *m,
     FUZZ_CHECK(finite_nonnegative(l2), "logic %g after report(%g, %g, %g)", l2, pred, render,
                logic);
     /* logic: weighted average, between the old estimate and the measurement */
-    FUZZ_CHECK((l2 >= l && l2 <= logic) || (l2 <= l && l2 >= logic),
-               "logic %.17g -> %.17g does not move towards %.17g", l, l2, logic);
-    if (m->logic)
-        FUZZ_CHECK(weighted(l2, l, logic, d->logic_rate),
-                   "logic %.17g -> %.17g, the weighted average with rate %g is %.17g", l, l2,
-                   d->logic_rate, l + d->logic_rate * (logic - l));
-    else
-        FUZZ_CHECK(l2 == logic, "the first logic time %.17g gave an estimate of %.17g", logic, l2);
-    m->logic = 1;
+    if (!logic_measured) {
+        FUZZ_CHECK(l2 == l, "a report without a logic time moved it %.17g -> %.17g", l, l2);
+    } else {
+        FUZZ_CHECK((l2 >= l && l2 <= logic) || (l2 <= l && l2 >= logic),
+                   "logic %.17g -> %.17g does not move towards %.17g", l, l2, logic);
+        if (m->logic)
+            FUZZ_CHECK(weighted(l2, l, logic, d->logic_rate),
+                       "logic %.17g -> %.17g, the weighted average with rate %g is %.17g", l, l2,
+                       d->logic_rate, l + d->logic_rate * (logic - l));
+        else
+            FUZZ_CHECK(l2 == logic, "the first logic time %.17g gave an estimate of %.17g", logic,
+                       l2);
+        m->logic = 1;
+    }
     if (pred == 0.0) {
         FUZZ_CHECK(s2 == s, "a frame that drew nothing moved the ratio %g -> %g", s, s2);
         return;
@@ -155,6 +162,19 @@ static void check_report(tclod_calib *c, const tclod_calib_desc *d, measured *m,
                    "ratio %.17g -> %.17g for a measured %.17g, rate %g gives %.17g", s, s2, ratio,
                    rate, s + rate * (ratio - s));
     }
+}
+
+/* A valid desc with the defaults the header gives its 0 fields (and 0 for
+ * a dead_band of TCLOD_OFF). */
+static void resolve_defaults(tclod_calib_desc *d) {
+    tclod_calib_desc def;
+    tclod_calib_desc_default(&def);
+    d->initial_scale = d->initial_scale == 0.0 ? def.initial_scale : d->initial_scale;
+    d->rise_rate = d->rise_rate == 0.0 ? def.rise_rate : d->rise_rate;
+    d->fall_rate = d->fall_rate == 0.0 ? def.fall_rate : d->fall_rate;
+    d->dead_band = d->dead_band == 0.0 ? def.dead_band : (d->dead_band < 0.0 ? 0.0 : d->dead_band);
+    d->logic_rate = d->logic_rate == 0.0 ? def.logic_rate : d->logic_rate;
+    d->machine_c = d->machine_c == 0.0 ? def.machine_c : d->machine_c;
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -188,6 +208,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         return 0;
     }
     FUZZ_CHECK(st == TCLOD_OK && c != sentinel, "calib_create gave %d", (int)st);
+    resolve_defaults(&d); /* what the calibration follows: 0 fields take their defaults */
     FUZZ_CHECK(finite_positive(tclod_calib_scale(c)), "initial ratio %g", tclod_calib_scale(c));
     if (d.initial_scale >= DBL_MIN)
         FUZZ_CHECK(tclod_calib_scale(c) == d.initial_scale, "initial ratio %g, desc %g",
