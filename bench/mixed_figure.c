@@ -233,9 +233,29 @@ static int run(figure *f) {
     return failed;
 }
 
-int main(void) {
+static const char usage[] =
+    "usage: tclod_mixed_figure [--help]\n"
+    "\n"
+    "Solves a scene of one discrete increment and two smooth objects with the mixed\n"
+    "solver's plain loop, and writes the data of docs/figures/slope_matching.svg as CSV\n"
+    "on stdout: '#' lines with the scene's figures and t_opt derived by hand against\n"
+    "the t reached, then rows kind,iterations,t,r1,r2,cost,benefit:\n"
+    "  curve    the selection along the first line search's ray\n"
+    "  step     the selection after 1, 2, ... iterations (tclod_frame.max_iterations)\n"
+    "  tangent  two points of the line of slope slope_d through Q\n"
+    "Exit status 1 when the reached slope differs from slope_d by more than 1e-3, or\n"
+    "the first step leaves the ray; 2 for a bad command line.\n";
+
+int main(int argc, char **argv) {
     figure f;
     int rc;
+    if (argc > 1) {
+        int help = strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0;
+        if (!help)
+            fprintf(stderr, "tclod_mixed_figure: unknown argument '%s'\n", argv[1]);
+        fputs(usage, help ? stdout : stderr);
+        return help ? 0 : 2;
+    }
     memset(&f, 0, sizeof f);
     rc = build(&f);
     if (rc == 0)

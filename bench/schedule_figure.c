@@ -106,7 +106,20 @@ static history describe(uint32_t o) {
     return h;
 }
 
-int main(void) {
+static const char usage[] =
+    "usage: tclod_schedule_figure [--help]\n"
+    "\n"
+    "Flies the flyover world for 8 s through the predictive geomorph scheduler (60 Hz,\n"
+    "tau 0.5 s, morphing on) and writes the data of docs/figures/schedule_timeline.svg\n"
+    "as CSV on stdout: '#' lines with tau, the frame rate and the three objects picked,\n"
+    "then rows kind,time_s,object,position:\n"
+    "  boundary  an interval boundary (object and position empty)\n"
+    "  level     an object's level position at a frame: its level k, or k - 1 + w\n"
+    "            while it morphs up with weight w (empty when not drawn)\n"
+    "Exit status 1 when a level change of a picked object does not start and end on\n"
+    "interval boundaries; 2 for a bad command line.\n";
+
+int main(int argc, char **argv) {
     world_flyover_desc wd;
     world_scene w;
     tclod_selector_desc sd;
@@ -114,6 +127,13 @@ int main(void) {
     tclod_scheduler *sch = NULL;
     uint32_t *object_of = NULL, picked[PICKED], npicked = 0, f, o, k;
     int rc = 1;
+    if (argc > 1) {
+        int help = strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0;
+        if (!help)
+            fprintf(stderr, "tclod_schedule_figure: unknown argument '%s'\n", argv[1]);
+        fputs(usage, help ? stdout : stderr);
+        return help ? 0 : 2;
+    }
     world_flyover_desc_default(&wd);
     if (world_build_flyover(&wd, &w) != TCLOD_OK) {
         fprintf(stderr, "tclod_schedule_figure: building the world failed\n");

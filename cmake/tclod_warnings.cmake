@@ -2,11 +2,15 @@
 
 # tclod_set_warnings(<target> [STRICT])
 #   Warnings for a target; STRICT adds the conversion warnings the library keeps.
+#   The prototype warnings, which only C has, go to C sources alone, so that a C++
+#   target (examples/minimal.cpp) takes the same call.
 function(tclod_set_warnings target)
   cmake_parse_arguments(ARG "STRICT" "" "" ${ARGN})
   if(CMAKE_C_COMPILER_ID MATCHES "GNU|Clang")
     target_compile_options(${target} PRIVATE
-      -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes -Wmissing-prototypes
+      -Wall -Wextra -Wpedantic -Wshadow
+      $<$<COMPILE_LANGUAGE:C>:-Wstrict-prototypes>
+      $<$<COMPILE_LANGUAGE:C>:-Wmissing-prototypes>
       -Wpointer-arith -Wcast-qual -Wformat=2 -Wundef -Wvla -Wwrite-strings)
     if(ARG_STRICT)
       target_compile_options(${target} PRIVATE -Wconversion -Wsign-conversion

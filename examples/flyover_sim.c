@@ -9,16 +9,17 @@
  *    groups whose resolution is continuous (examples/scenes/thesis_scene.h), budget
  *    40 ms, solved by the mixed solver with quadtree variable splitting (--split 0
  *    gives every visible tree group its own variable).
- * Every frame the selector picks the representations that fit the budget; the
- * program times tclod_select, checks the budget guarantee itself by summing the
- * costs of the returned nodes (and, in the thesis scene, of the drawn smooth groups,
- * recomputed with the callbacks' formulas), prints a short table and ends with one
- * summary line:
+ * Every frame the selector picks the representations that fit the budget (or, with
+ * --scheduler, the predictive geomorph scheduler hands over a draw list); the
+ * program times the call, checks the budget guarantee itself by summing the costs
+ * of what is drawn with the scene's own formulas, prints a short table and ends with
+ * one summary line of key=value pairs:
  *
- *   summary: frames=N solver=S mean_select_us=X p99_select_us=Y mean_cost_ratio=Z violations=V
+ *   summary: frames=N solver=S mean_select_us=X p99_select_us=Y mean_cost_ratio=Z violations=V ...
  *
- * followed, in the thesis scene, by the means per frame of the smooth variables, line
- * searches and drawn smooth groups (variables=, line_searches=, smooth_groups=).
+ * --help lists the options, the table's and the CSV's columns and every summary
+ * key. Other programs read the CSV columns and the summary keys: they are only ever
+ * added to, at the end.
  *
  * With --simulate-gpu the program also plays the part of the machine that would draw
  * the selection, to test frame-time adherence the way [RH §7.1 (Table 2)] does:
@@ -26,14 +27,15 @@
  * the calibration (tclod_calib_budget), a hidden "true" render time and logic time are
  * made up for what was selected, the frame time follows from them by the paper's
  * machine model (eq. 5-7), and the measurements go back to the calibration
- * (tclod_calib_report). The summary line then goes on with
+ * (tclod_calib_report); docs/calibration.md explains the hidden model.
  *
- *   target_ms=T mean_ms=M stddev_ms=S avg_err=E p99_overshoot=P
- *
- * before the thesis scene's extras; docs/calibration.md explains the hidden model.
+ * --svg FILE plots the flight (examples/frame_plot.h): the predicted cost against the
+ * budget, and the selection time, per frame.
  *
  * Nothing is drawn: the point is what a host's frame loop around libtclod looks like
- * and how long the selection takes.
+ * and how long the selection takes. main reads as the program's outline: parse the
+ * options, build the scene, start the flight (a selector, or the scheduler), fly it
+ * frame by frame, print the summary, write the plot.
  */
 #include <errno.h>
 #include <math.h>
@@ -45,6 +47,7 @@
 
 #include <tclod/tclod.h>
 
+#include "frame_plot.h"
 #include "thesis_scene.h"
 #include "world_scene.h"
 
@@ -95,6 +98,7 @@ typedef struct options {
     const char *solver_name;
     int solver_given;
     const char *csv_path;
+    const char *svg_path;
     int warm;
     scene_kind scene;
     int split; /* -1: the scene's default */
@@ -112,50 +116,117 @@ typedef struct options {
     int slice_given;
 } options;
 
+static const char usage_options[] =
+    "usage: flyover_sim [--scene flyover|thesis] [--frames N] [--budget-ms X]\n"
+    "                   [--solver greedy|mixed|robin_hood] [--split 0|1] [--warm 0|1]\n"
+    "                   [--csv FILE] [--svg FILE]\n"
+    "                   [--simulate-gpu [--target-ms T] [--gpu-c C]]\n"
+    "                   [--scheduler [--tau T] [--morph 0|1] [--slice-us X]] [--help]\n"
+    "\n"
+    "Flies a camera over a terrain with 5000 buildings and trees (or, with --scene\n"
+    "thesis, over the thesis's 120 km terrain with 1.4 million trees) and selects\n"
+    "levels of detail every frame so that the predicted render time fits the budget.\n"
+    "\n"
+    "Options:\n"
+    "  --scene S       flyover: terrain quadtree and 5000 objects of 6 levels (default);\n"
+    "                  thesis: terrain quadtree and 1.4 million trees in smooth groups\n"
+    "                  of continuous resolution ([Thesis8 §8.4])\n"
+    "  --frames N      frames to simulate, N >= 1 (default 600)\n"
+    "  --budget-ms X   render-time budget per frame in ms, X > 0 (default 10; thesis 40)\n"
+    "  --solver S      selection algorithm (default greedy; thesis mixed: greedy\n"
+    "                  ignores smooth objects and draws none of its trees)\n"
+    "  --split 0|1     mixed solver: 1 = nearby smooth objects share a variable while\n"
+    "                  the predicted loss allows it (quadtree splitting), 0 = one\n"
+    "                  variable per visible smooth object (default: thesis 1, flyover\n"
+    "                  the library's default)\n"
+    "  --warm 0|1      1: start each frame from the previous selection (default 1)\n"
+    "  --csv FILE      also write one CSV row per frame to FILE (columns below)\n"
+    "  --svg FILE      also plot the flight to FILE, a self-contained SVG picture: the\n"
+    "                  predicted cost against the budget, and the selection time\n"
+    "                  (--scheduler: the update time), per frame\n"
+    "  --simulate-gpu  aim at a frame time instead of a fixed budget: the budget\n"
+    "                  comes from libtclod's calibration, and a simulated machine\n"
+    "                  with a hidden, drifting render-time factor reports render and\n"
+    "                  logic times back (docs/calibration.md)\n"
+    "  --target-ms T   --simulate-gpu: target frame time in ms, T > 0 (default 25)\n"
+    "  --gpu-c C       --simulate-gpu: the simulated machine's constant C of [RH]\n"
+    "                  eq. 7, C > 0 (default 1, what the calibration assumes)\n"
+    "  --scheduler     select through the predictive geomorph scheduler\n"
+    "                  (docs/scheduler.md): each selection is for an interval ahead,\n"
+    "                  spread over the frames before it, and levels change by\n"
+    "                  geomorphs; the frames run at 60 Hz\n"
+    "  --tau T         --scheduler: interval and morph time in s, T > 0 (default 0.5)\n"
+    "  --morph 0|1     --scheduler: 1 = three stages with geomorphs (default), 0 = two\n"
+    "                  stages, selections switch at interval boundaries\n"
+    "  --slice-us X    --scheduler: selection time per frame in us, X > 0 (default 500)\n"
+    "  --help          print this text and exit\n";
+
+static const char usage_output[] =
+    "\n"
+    "Output: a line on the scene, one on the settings, then a table with a row for\n"
+    "every 20th frame and the last:\n"
+    "  frame           the frame, from 0\n"
+    "  select_us       wall-clock time of tclod_select, us (--scheduler: update_us,\n"
+    "                  of tclod_scheduler_update)\n"
+    "  drawn           nodes drawn (--scheduler: items of the draw list)\n"
+    "  morphing        --scheduler: items of the draw list that morph\n"
+    "  cost_ms         predicted cost of what is drawn, ms\n"
+    "  budget_ms       the frame's budget, ms\n"
+    "  benefit         the selection's benefit (not with --scheduler)\n"
+    "  groups          --scene thesis: smooth groups drawn\n"
+    "  variables       --scene thesis: smooth variables of the solve\n"
+    "  frame_ms        --simulate-gpu: the simulated frame time, ms\n"
+    "  selections      --scheduler: selections landed so far\n"
+    "\n"
+    "CSV (--csv), a header and a row per frame:\n"
+    "  frame,select_us,drawn,cost_ms,budget_ms,benefit as in the table;\n"
+    "  iterations,increments,decrements,variables,line_searches the solve's\n"
+    "  tclod_stats; smooth_groups the smooth groups drawn. --simulate-gpu adds\n"
+    "  frame_ms,target_ms,scale,unconstrained_ms,factor: the frame time, the target,\n"
+    "  the calibration's scale (measured ms per predicted ms), the frame time with\n"
+    "  every visible object at its finest, and the hidden render-time factor.\n"
+    "  --scheduler writes instead frame,time_s,select_us,drawn,morphing,cost_ms,\n"
+    "  budget_ms,selections,unfinished,emergencies,changes,morphs,pops: time_s the\n"
+    "  scheduler's clock, the last six its running totals (tclod_scheduler_stats).\n";
+
+static const char usage_summary[] =
+    "\n"
+    "The last line is the summary: \"summary:\" and key=value pairs in this order:\n"
+    "  frames              frames flown\n"
+    "  solver              the solver's name\n"
+    "  mean_select_us      mean time of tclod_select (--scheduler: of an update), us\n"
+    "  p99_select_us       its 99th percentile (nearest rank), us\n"
+    "  mean_cost_ratio     mean over the frames of predicted cost / budget\n"
+    "  violations          frames whose predicted cost exceeded the budget, by the\n"
+    "                      library's figure or by the program's own sum (must be 0)\n"
+    "  changes_per_frame   level changes per frame (a drawn node replaced by drawn\n"
+    "                      descendants, or the reverse, counts once)\n"
+    "  pops_per_frame      of those, the ones switched at once: all of them\n"
+    "--simulate-gpu adds:\n"
+    "  target_ms           the target frame time, ms\n"
+    "  mean_ms stddev_ms   mean and population standard deviation of the frame times\n"
+    "  avg_err             mean of |frame time - target| / target\n"
+    "  p99_overshoot       99th percentile of max(0, frame time / target - 1)\n"
+    "--scene thesis then adds, as means per frame:\n"
+    "  variables line_searches smooth_groups\n"
+    "--scheduler has, after violations:\n"
+    "  draw_violations     frames whose draw list exceeded the budget (= violations)\n"
+    "  morph_coverage      share of the level changes drawn as geomorphs\n"
+    "  pops_per_frame      level changes switched at once, per frame\n"
+    "  select_us_per_frame mean update time, us\n"
+    "  tau morph           the interval (s), and 1 when levels morph\n"
+    "  changes_per_frame   level changes per frame\n"
+    "  selections unfinished emergencies\n"
+    "                      selections landed, of those the ones ended early, and\n"
+    "                      the selections made at once (tclod_scheduler_stats)\n"
+    "\n"
+    "Exit status: 0; 1 when a libtclod call or the machine failed (the message says\n"
+    "which); 2 for a bad command line.\n";
+
 static void usage(FILE *out) {
-    fprintf(out,
-            "usage: flyover_sim [--scene flyover|thesis] [--frames N] [--budget-ms X]\n"
-            "                   [--solver greedy|mixed|robin_hood] [--split 0|1] [--csv FILE]\n"
-            "                   [--warm 0|1] [--simulate-gpu [--target-ms T] [--gpu-c C]]\n"
-            "                   [--scheduler [--tau T] [--morph 0|1] [--slice-us X]] [--help]\n"
-            "\n"
-            "Flies a camera over a terrain with 5000 buildings and trees (or, with --scene\n"
-            "thesis, over the thesis's 120 km terrain with 1.4 million trees) and selects\n"
-            "levels of detail every frame so that the predicted render time fits the budget.\n"
-            "\n"
-            "  --scene S       flyover: terrain quadtree and 5000 objects of 6 levels (default);\n"
-            "                  thesis: terrain quadtree and 1.4 million trees in smooth groups\n"
-            "                  of continuous resolution ([Thesis8 §8.4])\n"
-            "  --frames N      frames to simulate, N >= 1 (default 600)\n"
-            "  --budget-ms X   render-time budget per frame in ms, X > 0 (default 10; thesis 40)\n"
-            "  --solver S      selection algorithm (default greedy; thesis mixed: greedy\n"
-            "                  ignores smooth objects and draws none of its trees)\n"
-            "  --split 0|1     mixed solver: 1 = nearby smooth objects share a variable while\n"
-            "                  the predicted loss allows it (quadtree splitting), 0 = one\n"
-            "                  variable per visible smooth object (default: thesis 1, flyover\n"
-            "                  the library's default)\n"
-            "  --csv FILE      also write one CSV row per frame to FILE\n"
-            "  --warm 0|1      1: start each frame from the previous selection (default 1)\n"
-            "  --simulate-gpu  aim at a frame time instead of a fixed budget: the budget\n"
-            "                  comes from libtclod's calibration, and a simulated machine\n"
-            "                  with a hidden, drifting render-time factor reports render and\n"
-            "                  logic times back (docs/calibration.md); adds frame_ms to the\n"
-            "                  table, frame_ms,target_ms,scale,unconstrained_ms,factor to the\n"
-            "                  CSV and the frame-time figures to the summary line\n"
-            "  --target-ms T   --simulate-gpu: target frame time in ms, T > 0 (default 25)\n"
-            "  --gpu-c C       --simulate-gpu: the simulated machine's constant C of [RH]\n"
-            "                  eq. 7, C > 0 (default 1, what the calibration assumes)\n"
-            "  --scheduler     select through the predictive geomorph\n"
-            "                  scheduler (docs/scheduler.md): each selection is for an\n"
-            "                  interval ahead, spread over the frames before it, and levels\n"
-            "                  change by geomorphs; the frames run at 60 Hz; adds\n"
-            "                  draw_violations, morph_coverage, pops_per_frame and\n"
-            "                  select_us_per_frame to the summary\n"
-            "  --tau T         --scheduler: interval and morph time in s, T > 0 (default 0.5)\n"
-            "  --morph 0|1     --scheduler: 1 = three stages with geomorphs (default), 0 = two\n"
-            "                  stages, selections switch at interval boundaries\n"
-            "  --slice-us X    --scheduler: selection time per frame in us, X > 0 (default 500)\n"
-            "  --help          print this text and exit\n");
+    fputs(usage_options, out);
+    fputs(usage_output, out);
+    fputs(usage_summary, out);
 }
 
 static int parse_ulong(const char *s, unsigned long *out) {
@@ -210,7 +281,10 @@ static int parse_flag(const char *s, int *out) {
     return 1;
 }
 
-/* 0 = run, 1 = --help given, 2 = bad command line (message already printed). */
+/* What parse_options found: options to run with, --help, or a bad command line
+ * (the message printed already). */
+enum { OPTIONS_RUN = 0, OPTIONS_HELP = 1, OPTIONS_BAD = 2 };
+
 static int parse_options(int argc, char **argv, options *o) {
     int i;
     o->frames = 600;
@@ -220,6 +294,7 @@ static int parse_options(int argc, char **argv, options *o) {
     o->solver_name = "greedy";
     o->solver_given = 0;
     o->csv_path = NULL;
+    o->svg_path = NULL;
     o->warm = 1;
     o->scene = SCENE_FLYOVER;
     o->split = -1;
@@ -239,7 +314,7 @@ static int parse_options(int argc, char **argv, options *o) {
         const char *opt = argv[i];
         const char *val = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0) {
-            return 1;
+            return OPTIONS_HELP;
         } else if (strcmp(opt, "--simulate-gpu") == 0) {
             o->simulate_gpu = 1;
         } else if (strcmp(opt, "--scheduler") == 0) {
@@ -248,63 +323,63 @@ static int parse_options(int argc, char **argv, options *o) {
                    strcmp(opt, "--slice-us") == 0) {
             if (!val) {
                 fprintf(stderr, "flyover_sim: option %s needs a value\n", opt);
-                return 2;
+                return OPTIONS_BAD;
             }
             ++i;
             if (strcmp(opt, "--tau") == 0) {
                 if (!parse_double(val, &o->tau) || !(o->tau > 0.0)) {
                     fprintf(stderr, "flyover_sim: --tau expects a number > 0, got '%s'\n", val);
-                    return 2;
+                    return OPTIONS_BAD;
                 }
                 o->tau_given = 1;
             } else if (strcmp(opt, "--morph") == 0) {
                 if (!parse_flag(val, &o->morph)) {
                     fprintf(stderr, "flyover_sim: --morph expects 0 or 1, got '%s'\n", val);
-                    return 2;
+                    return OPTIONS_BAD;
                 }
                 o->morph_given = 1;
             } else {
                 if (!parse_double(val, &o->slice_us) || !(o->slice_us > 0.0)) {
                     fprintf(stderr, "flyover_sim: --slice-us expects a number > 0, got '%s'\n",
                             val);
-                    return 2;
+                    return OPTIONS_BAD;
                 }
                 o->slice_given = 1;
             }
         } else if (strcmp(opt, "--frames") == 0 || strcmp(opt, "--budget-ms") == 0 ||
                    strcmp(opt, "--solver") == 0 || strcmp(opt, "--csv") == 0 ||
-                   strcmp(opt, "--warm") == 0 || strcmp(opt, "--scene") == 0 ||
-                   strcmp(opt, "--split") == 0 || strcmp(opt, "--target-ms") == 0 ||
-                   strcmp(opt, "--gpu-c") == 0) {
+                   strcmp(opt, "--svg") == 0 || strcmp(opt, "--warm") == 0 ||
+                   strcmp(opt, "--scene") == 0 || strcmp(opt, "--split") == 0 ||
+                   strcmp(opt, "--target-ms") == 0 || strcmp(opt, "--gpu-c") == 0) {
             if (!val) {
                 fprintf(stderr, "flyover_sim: option %s needs a value\n", opt);
-                return 2;
+                return OPTIONS_BAD;
             }
             ++i;
             if (strcmp(opt, "--frames") == 0) {
                 if (!parse_ulong(val, &o->frames) || o->frames < 1 || o->frames > 100000000ul) {
                     fprintf(stderr, "flyover_sim: --frames expects an integer >= 1, got '%s'\n",
                             val);
-                    return 2;
+                    return OPTIONS_BAD;
                 }
             } else if (strcmp(opt, "--budget-ms") == 0) {
                 if (!parse_double(val, &o->budget_ms) || !(o->budget_ms > 0.0)) {
                     fprintf(stderr, "flyover_sim: --budget-ms expects a number > 0, got '%s'\n",
                             val);
-                    return 2;
+                    return OPTIONS_BAD;
                 }
                 o->budget_given = 1;
             } else if (strcmp(opt, "--target-ms") == 0) {
                 if (!parse_double(val, &o->target_ms) || !(o->target_ms > 0.0)) {
                     fprintf(stderr, "flyover_sim: --target-ms expects a number > 0, got '%s'\n",
                             val);
-                    return 2;
+                    return OPTIONS_BAD;
                 }
                 o->target_given = 1;
             } else if (strcmp(opt, "--gpu-c") == 0) {
                 if (!parse_double(val, &o->gpu_c) || !(o->gpu_c > 0.0)) {
                     fprintf(stderr, "flyover_sim: --gpu-c expects a number > 0, got '%s'\n", val);
-                    return 2;
+                    return OPTIONS_BAD;
                 }
                 o->gpu_c_given = 1;
             } else if (strcmp(opt, "--solver") == 0) {
@@ -313,16 +388,22 @@ static int parse_options(int argc, char **argv, options *o) {
                             "flyover_sim: unknown solver '%s' (solvers: greedy, mixed, "
                             "robin_hood)\n",
                             val);
-                    return 2;
+                    return OPTIONS_BAD;
                 }
                 o->solver_name = val;
                 o->solver_given = 1;
             } else if (strcmp(opt, "--csv") == 0) {
                 if (*val == '\0') {
                     fprintf(stderr, "flyover_sim: --csv expects a file name\n");
-                    return 2;
+                    return OPTIONS_BAD;
                 }
                 o->csv_path = val;
+            } else if (strcmp(opt, "--svg") == 0) {
+                if (*val == '\0') {
+                    fprintf(stderr, "flyover_sim: --svg expects a file name\n");
+                    return OPTIONS_BAD;
+                }
+                o->svg_path = val;
             } else if (strcmp(opt, "--scene") == 0) {
                 if (strcmp(val, "flyover") == 0) {
                     o->scene = SCENE_FLYOVER;
@@ -331,38 +412,38 @@ static int parse_options(int argc, char **argv, options *o) {
                 } else {
                     fprintf(stderr, "flyover_sim: unknown scene '%s' (scenes: flyover, thesis)\n",
                             val);
-                    return 2;
+                    return OPTIONS_BAD;
                 }
             } else if (strcmp(opt, "--split") == 0) {
                 if (!parse_flag(val, &o->split)) {
                     fprintf(stderr, "flyover_sim: --split expects 0 or 1, got '%s'\n", val);
-                    return 2;
+                    return OPTIONS_BAD;
                 }
             } else if (!parse_flag(val, &o->warm)) {
                 fprintf(stderr, "flyover_sim: --warm expects 0 or 1, got '%s'\n", val);
-                return 2;
+                return OPTIONS_BAD;
             }
         } else {
             fprintf(stderr, "flyover_sim: unknown option '%s' (try --help)\n", opt);
-            return 2;
+            return OPTIONS_BAD;
         }
     }
     if (!o->simulate_gpu && (o->target_given || o->gpu_c_given)) {
         fprintf(stderr, "flyover_sim: --target-ms and --gpu-c need --simulate-gpu\n");
-        return 2;
+        return OPTIONS_BAD;
     }
     if (!o->scheduler && (o->tau_given || o->morph_given || o->slice_given)) {
         fprintf(stderr, "flyover_sim: --tau, --morph and --slice-us need --scheduler\n");
-        return 2;
+        return OPTIONS_BAD;
     }
     if (o->scheduler && o->simulate_gpu) {
         fprintf(stderr, "flyover_sim: --scheduler runs with a fixed budget (no --simulate-gpu)\n");
-        return 2;
+        return OPTIONS_BAD;
     }
     if (o->simulate_gpu && o->budget_given) {
         fprintf(stderr, "flyover_sim: --simulate-gpu takes its budget from the calibration; "
                         "give a frame time with --target-ms instead of --budget-ms\n");
-        return 2;
+        return OPTIONS_BAD;
     }
     if (o->scene == SCENE_THESIS) {
         /* the thesis's budget and solver, unless the command line chose others */
@@ -375,7 +456,7 @@ static int parse_options(int argc, char **argv, options *o) {
         if (o->split < 0)
             o->split = 1;
     }
-    return 0;
+    return OPTIONS_RUN;
 }
 
 static double now_us(void) {
@@ -481,17 +562,26 @@ typedef struct sim_scene {
     world_scene world;
     thesis_desc thesis_desc;
     thesis_scene thesis;
+    double build_ms; /* how long building it took */
 } sim_scene;
 
-static tclod_status build_scene(sim_scene *s, scene_kind kind) {
+/* Builds the scene of the given kind, timed; 0 after saying what failed. */
+static int build_scene(sim_scene *s, scene_kind kind) {
+    tclod_status st;
     memset(s, 0, sizeof(*s));
     s->kind = kind;
+    s->build_ms = now_us();
     if (kind == SCENE_THESIS) {
         thesis_desc_default(&s->thesis_desc);
-        return thesis_build(&s->thesis_desc, &s->thesis);
+        st = thesis_build(&s->thesis_desc, &s->thesis);
+    } else {
+        world_flyover_desc_default(&s->world_desc);
+        st = world_build_flyover(&s->world_desc, &s->world);
     }
-    world_flyover_desc_default(&s->world_desc);
-    return world_build_flyover(&s->world_desc, &s->world);
+    s->build_ms = (now_us() - s->build_ms) / 1000.0;
+    if (st != TCLOD_OK)
+        fprintf(stderr, "flyover_sim: building the scene failed: %s\n", tclod_status_string(st));
+    return st == TCLOD_OK;
 }
 
 static void free_scene(sim_scene *s) {
@@ -659,120 +749,7 @@ static double draw_cost(const sim_scene *sim, draw_check *c, const tclod_schedul
     return thesis_sum_cost(&sim->thesis, c->fine, n, c->groups, groups);
 }
 
-/* --scheduler: the frame loop of a host that draws through the scheduler. */
-static int run_scheduler(const options *opt, sim_scene *sim, const tclod_selector_desc *sd) {
-    const tclod_scene *scene = sim->kind == SCENE_THESIS ? sim->thesis.scene : sim->world.scene;
-    tclod_scheduler_desc d;
-    tclod_scheduler *sch = NULL;
-    tclod_scheduler_stats st;
-    tclod_status status;
-    draw_check check;
-    FILE *csv = NULL;
-    double *update_us = NULL, sum_us = 0.0, sum_ratio = 0.0, speed, turn;
-    unsigned long frame, violations = 0;
-    int rc = 1;
-
-    memset(&check, 0, sizeof(check));
-    camera_bounds(sim, &speed, &turn);
-    tclod_scheduler_desc_default(&d);
-    d.tau = opt->tau;
-    d.two_stage = !(opt->morph);
-    d.max_speed = SCHEDULER_MARGIN * speed;
-    d.max_turn_rate = SCHEDULER_MARGIN * turn;
-    status = tclod_scheduler_create(scene, sd, &d, NULL, &sch);
-    if (status != TCLOD_OK) {
-        fprintf(stderr, "flyover_sim: creating the scheduler over the %s solver failed: %s\n",
-                opt->solver_name, tclod_status_string(status));
-        return 1;
-    }
-    update_us = (double *)malloc(opt->frames * sizeof(*update_us));
-    if (!update_us || !draw_check_init(&check, scene)) {
-        fprintf(stderr, "flyover_sim: out of memory\n");
-        goto done;
-    }
-    if (opt->csv_path) {
-        csv = fopen(opt->csv_path, "w");
-        if (!csv) {
-            fprintf(stderr, "flyover_sim: cannot write %s: %s\n", opt->csv_path, strerror(errno));
-            goto done;
-        }
-        fprintf(csv, "frame,time_s,select_us,drawn,morphing,cost_ms,budget_ms,selections,"
-                     "unfinished,emergencies,changes,morphs,pops\n");
-    }
-    if (sim->kind == SCENE_THESIS)
-        printf("thesis: %u terrain patches (depth %u), %u trees in %u smooth groups\n",
-               sim->thesis.node_count, sim->thesis.terrain_depth, sim->thesis.tree_count,
-               sim->thesis.smooth_count);
-    else
-        printf("flyover: %u terrain patches (depth %u), %u objects x %u levels, %u nodes, "
-               "%u roots\n",
-               sim->world.terrain_count, sim->world_desc.terrain_depth, sim->world.object_count,
-               sim->world.levels, sim->world.node_count, sim->world.root_count);
-    printf("scheduler over solver %s, warm start %d, tau %.3f s, morph %d, slice %.0f us, "
-           "%.0f Hz, max speed %.1f m/s, max turn %.3f rad/s, budget %.3f ms, %lu frames\n\n",
-           opt->solver_name, !sd->cold_start, d.tau, !d.two_stage, opt->slice_us, SCHEDULER_HZ,
-           d.max_speed, d.max_turn_rate, opt->budget_ms, opt->frames);
-    printf("%7s %10s %7s %9s %9s %10s %10s\n", "frame", "update_us", "drawn", "morphing", "cost_ms",
-           "budget_ms", "selections");
-
-    for (frame = 0; frame < opt->frames; ++frame) {
-        tclod_view view;
-        const tclod_draw *items;
-        size_t n;
-        double t0, t1, own_cost, now = (double)frame / SCHEDULER_HZ;
-        camera_at(sim, frame, &view);
-        t0 = now_us();
-        status = tclod_scheduler_update(sch, now, &view, opt->budget_ms, opt->slice_us * 1e-6);
-        t1 = now_us();
-        if (status == TCLOD_OK)
-            status = tclod_scheduler_draws(sch, &items, &n);
-        if (status == TCLOD_OK)
-            status = tclod_scheduler_get_stats(sch, &st);
-        if (status != TCLOD_OK) {
-            fprintf(stderr, "flyover_sim: the scheduler failed at frame %lu: %s\n", frame,
-                    tclod_status_string(status));
-            goto done;
-        }
-        /* the invariant, checked from outside */
-        own_cost = draw_cost(sim, &check, sch, items, n);
-        if (own_cost > opt->budget_ms || st.draw_cost > st.budget)
-            ++violations;
-        update_us[frame] = t1 - t0;
-        sum_us += t1 - t0;
-        sum_ratio += st.draw_cost / opt->budget_ms;
-        if (frame % PRINT_EVERY == 0 || frame + 1 == opt->frames)
-            printf("%7lu %10.1f %7lu %9lu %9.4f %10.4f %10lu\n", frame, t1 - t0, (unsigned long)n,
-                   (unsigned long)st.morphing, st.draw_cost, opt->budget_ms,
-                   (unsigned long)st.selections);
-        if (csv)
-            fprintf(csv, "%lu,%.6f,%.3f,%lu,%lu,%.9g,%.9g,%lu,%lu,%lu,%llu,%llu,%llu\n", frame, now,
-                    t1 - t0, (unsigned long)n, (unsigned long)st.morphing, st.draw_cost,
-                    opt->budget_ms, (unsigned long)st.selections, (unsigned long)st.unfinished,
-                    (unsigned long)st.emergencies, (unsigned long long)st.changes,
-                    (unsigned long long)st.morphs, (unsigned long long)st.pops);
-    }
-    qsort(update_us, opt->frames, sizeof(*update_us), compare_double);
-    printf("\nsummary: frames=%lu solver=%s mean_select_us=%.1f p99_select_us=%.1f "
-           "mean_cost_ratio=%.4f violations=%lu draw_violations=%lu morph_coverage=%.4f "
-           "pops_per_frame=%.4f select_us_per_frame=%.1f tau=%.3f morph=%d changes_per_frame=%.4f "
-           "selections=%lu unfinished=%lu emergencies=%lu\n",
-           opt->frames, opt->solver_name, sum_us / (double)opt->frames,
-           percentile(update_us, opt->frames, 99.0), sum_ratio / (double)opt->frames, violations,
-           violations, st.changes ? (double)st.morphs / (double)st.changes : 1.0,
-           (double)st.pops / (double)opt->frames, sum_us / (double)opt->frames, d.tau, !d.two_stage,
-           (double)st.changes / (double)opt->frames, (unsigned long)st.selections,
-           (unsigned long)st.unfinished, (unsigned long)st.emergencies);
-    rc = 0;
-done:
-    if (csv && fclose(csv) != 0 && rc == 0) {
-        fprintf(stderr, "flyover_sim: writing %s failed\n", opt->csv_path);
-        rc = 1;
-    }
-    free(update_us);
-    draw_check_free(&check);
-    tclod_scheduler_destroy(sch);
-    return rc;
-}
+/* ---- the flight ---------------------------------------------------------------- */
 
 /* Frame-time figures of --simulate-gpu over all frames ([RH §7.1] measures
  * every frame too, the first ones included). */
@@ -781,304 +758,495 @@ typedef struct frame_figures {
     double *overshoot;           /* per frame: max(0, t_f / T - 1) */
 } frame_figures;
 
-int main(int argc, char **argv) {
-    options opt;
-    sim_scene sim;
+/* A flight: the host's handles (a selector that selects every frame, or the
+ * scheduler), what the summary is made of, and the outputs. */
+typedef struct flight {
+    const options *opt;
+    sim_scene *sim;
+    const tclod_scene *scene;
     tclod_selector_desc sd;
-    tclod_selector *sel = NULL, *finest = NULL;
-    tclod_calib *calib = NULL;
+    /* selecting every frame */
+    tclod_selector *sel;
+    tclod_selector *finest; /* --simulate-gpu: the unconstrained frame */
+    tclod_calib *calib;     /* --simulate-gpu */
     gpu_sim gpu;
     frame_figures ff;
-    tclod_status st;
-    FILE *csv = NULL;
-    const tclod_scene *scene;
-    double *select_us = NULL, sum_us = 0.0, sum_ratio = 0.0, build_ms;
-    double sum_variables = 0.0, sum_line_searches = 0.0, sum_groups = 0.0;
-    unsigned long frame, violations = 0, mismatches = 0, changes = 0;
     change_counter cc;
-    int rc;
+    unsigned long changes, mismatches;
+    double sum_variables, sum_line_searches, sum_groups;
+    /* --scheduler */
+    tclod_scheduler *sch;
+    tclod_scheduler_desc d;
+    tclod_scheduler_stats st; /* after the last update */
+    draw_check check;
+    /* both */
+    double *frame_us; /* per frame: the time of the select or update call */
+    double sum_us, sum_ratio;
+    unsigned long violations;
+    FILE *csv;
+    frame_plot plot; /* --svg */
+} flight;
 
-    memset(&ff, 0, sizeof(ff));
-    memset(&cc, 0, sizeof(cc));
-    rc = parse_options(argc, argv, &opt);
-    if (rc == 1) {
-        usage(stdout);
+static int out_of_memory(void) {
+    fprintf(stderr, "flyover_sim: out of memory\n");
+    return 0;
+}
+
+/* A selector over the scene and, with --simulate-gpu, the calibration, the
+ * selector of the unconstrained frame and the simulated machine. */
+static int start_selector(flight *f) {
+    const options *opt = f->opt;
+    tclod_status st = tclod_selector_create(f->scene, &f->sd, NULL, &f->sel);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "flyover_sim: creating the %s selector failed: %s\n", opt->solver_name,
+                tclod_status_string(st));
         return 0;
     }
-    if (rc != 0)
-        return rc;
-
-    build_ms = now_us();
-    st = build_scene(&sim, opt.scene);
-    build_ms = (now_us() - build_ms) / 1000.0;
-    if (st != TCLOD_OK) {
-        fprintf(stderr, "flyover_sim: building the scene failed: %s\n", tclod_status_string(st));
-        return 1;
-    }
-    scene = opt.scene == SCENE_THESIS ? sim.thesis.scene : sim.world.scene;
-    tclod_selector_desc_default(&sd);
-    sd.solver = opt.solver;
-    sd.callbacks =
-        opt.scene == SCENE_THESIS ? thesis_callbacks(&sim.thesis) : world_callbacks(&sim.world);
-    sd.cold_start = !(opt.warm);
-    if (opt.split >= 0)
-        sd.mixed.split_smooth = opt.split;
-    if (opt.scheduler) {
-        rc = run_scheduler(&opt, &sim, &sd);
-        free_scene(&sim);
-        return rc;
-    }
-    st = tclod_selector_create(scene, &sd, NULL, &sel);
-    if (st != TCLOD_OK) {
-        fprintf(stderr, "flyover_sim: creating the %s selector failed: %s\n", opt.solver_name,
-                tclod_status_string(st));
-        free_scene(&sim);
-        return 1;
-    }
-    if (opt.simulate_gpu) {
+    if (opt->simulate_gpu) {
         tclod_calib_desc cd;
-        tclod_selector_desc fd = sd;
+        tclod_selector_desc fd = f->sd;
         /* The calibration starts from the library's defaults: a scale of 1 (the
          * hidden factor is unknown) and machine_c 1; the simulated machine's C is
-         * opt.gpu_c, 1 unless --gpu-c says otherwise. */
+         * opt->gpu_c, 1 unless --gpu-c says otherwise. */
         tclod_calib_desc_default(&cd);
-        st = tclod_calib_create(&cd, NULL, &calib);
+        st = tclod_calib_create(&cd, NULL, &f->calib);
         /* The unconstrained frame ([RH Fig. 3]'s bold line): every visible
          * object at its finest, whatever the budget; a second selector with an
          * unlimited budget finds it. Any solver's unlimited selection is the same,
          * so the greedy's does for the flyover scene. */
         if (st == TCLOD_OK) {
-            if (opt.scene == SCENE_FLYOVER)
+            if (opt->scene == SCENE_FLYOVER)
                 fd.solver = TCLOD_SOLVER_GREEDY;
-            st = tclod_selector_create(scene, &fd, NULL, &finest);
+            st = tclod_selector_create(f->scene, &fd, NULL, &f->finest);
         }
         if (st != TCLOD_OK) {
             fprintf(stderr, "flyover_sim: setting up the simulated GPU failed: %s\n",
                     tclod_status_string(st));
-            rc = 1;
-            goto done;
+            return 0;
         }
-        memset(&gpu, 0, sizeof(gpu));
-        gpu.rng = GPU_SEED;
-        gpu.true_c = opt.gpu_c;
-        ff.overshoot = (double *)malloc(opt.frames * sizeof(*ff.overshoot));
-        if (!ff.overshoot) {
-            fprintf(stderr, "flyover_sim: out of memory\n");
-            rc = 1;
-            goto done;
-        }
+        f->gpu.rng = GPU_SEED;
+        f->gpu.true_c = opt->gpu_c;
+        f->ff.overshoot = (double *)malloc(opt->frames * sizeof(*f->ff.overshoot));
+        if (!f->ff.overshoot)
+            return out_of_memory();
     }
-    select_us = (double *)malloc(opt.frames * sizeof(*select_us));
-    if (!select_us || !change_counter_init(&cc, tclod_scene_node_count(scene))) {
-        fprintf(stderr, "flyover_sim: out of memory\n");
-        rc = 1;
-        goto done;
+    if (!change_counter_init(&f->cc, tclod_scene_node_count(f->scene)))
+        return out_of_memory();
+    return 1;
+}
+
+/* The scheduler over the scene, with the camera's bounds, and what checking
+ * its draw lists needs. */
+static int start_scheduler(flight *f) {
+    const options *opt = f->opt;
+    double speed, turn;
+    tclod_status st;
+    camera_bounds(f->sim, &speed, &turn);
+    tclod_scheduler_desc_default(&f->d);
+    f->d.tau = opt->tau;
+    f->d.two_stage = !opt->morph;
+    f->d.max_speed = SCHEDULER_MARGIN * speed;
+    f->d.max_turn_rate = SCHEDULER_MARGIN * turn;
+    st = tclod_scheduler_create(f->scene, &f->sd, &f->d, NULL, &f->sch);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "flyover_sim: creating the scheduler over the %s solver failed: %s\n",
+                opt->solver_name, tclod_status_string(st));
+        return 0;
     }
-    if (opt.csv_path) {
-        csv = fopen(opt.csv_path, "w");
-        if (!csv) {
-            fprintf(stderr, "flyover_sim: cannot write %s: %s\n", opt.csv_path, strerror(errno));
-            rc = 1;
-            goto done;
-        }
-        fprintf(csv,
+    if (!draw_check_init(&f->check, f->scene))
+        return out_of_memory();
+    return 1;
+}
+
+/* The CSV file and its header. */
+static int open_csv(flight *f) {
+    const options *opt = f->opt;
+    f->csv = fopen(opt->csv_path, "w");
+    if (!f->csv) {
+        fprintf(stderr, "flyover_sim: cannot write %s: %s\n", opt->csv_path, strerror(errno));
+        return 0;
+    }
+    if (opt->scheduler)
+        fprintf(f->csv, "frame,time_s,select_us,drawn,morphing,cost_ms,budget_ms,selections,"
+                        "unfinished,emergencies,changes,morphs,pops\n");
+    else
+        fprintf(f->csv,
                 "frame,select_us,drawn,cost_ms,budget_ms,benefit,iterations,increments,"
                 "decrements,variables,line_searches,smooth_groups%s\n",
-                opt.simulate_gpu ? ",frame_ms,target_ms,scale,unconstrained_ms,factor" : "");
-    }
+                opt->simulate_gpu ? ",frame_ms,target_ms,scale,unconstrained_ms,factor" : "");
+    return 1;
+}
 
-    if (opt.scene == SCENE_THESIS) {
-        const thesis_scene *t = &sim.thesis;
+/* Everything before the first frame; 0 after saying what failed (end_flight
+ * frees what was made). */
+static int start_flight(flight *f, const options *opt, sim_scene *sim) {
+    memset(f, 0, sizeof(*f));
+    f->opt = opt;
+    f->sim = sim;
+    f->scene = sim->kind == SCENE_THESIS ? sim->thesis.scene : sim->world.scene;
+    tclod_selector_desc_default(&f->sd);
+    f->sd.solver = opt->solver;
+    f->sd.callbacks =
+        sim->kind == SCENE_THESIS ? thesis_callbacks(&sim->thesis) : world_callbacks(&sim->world);
+    f->sd.cold_start = !opt->warm;
+    if (opt->split >= 0)
+        f->sd.mixed.split_smooth = opt->split;
+    if (!(opt->scheduler ? start_scheduler(f) : start_selector(f)))
+        return 0;
+    f->frame_us = (double *)malloc(opt->frames * sizeof(*f->frame_us));
+    if (!f->frame_us || (opt->svg_path && !frame_plot_init(&f->plot, opt->frames)))
+        return out_of_memory();
+    return !opt->csv_path || open_csv(f);
+}
+
+static void print_flyover_scene(const sim_scene *sim) {
+    const world_scene *w = &sim->world;
+    printf("flyover: %u terrain patches (depth %u), %u objects x %u levels, %u nodes, "
+           "%u roots\n",
+           w->terrain_count, sim->world_desc.terrain_depth, w->object_count, w->levels,
+           w->node_count, w->root_count);
+}
+
+/* The scene, the settings and the table's column names. */
+static void print_header(const flight *f) {
+    const options *opt = f->opt;
+    const sim_scene *sim = f->sim;
+    if (opt->scheduler) {
+        if (sim->kind == SCENE_THESIS)
+            printf("thesis: %u terrain patches (depth %u), %u trees in %u smooth groups\n",
+                   sim->thesis.node_count, sim->thesis.terrain_depth, sim->thesis.tree_count,
+                   sim->thesis.smooth_count);
+        else
+            print_flyover_scene(sim);
+        printf("scheduler over solver %s, warm start %d, tau %.3f s, morph %d, slice %.0f us, "
+               "%.0f Hz, max speed %.1f m/s, max turn %.3f rad/s, budget %.3f ms, %lu frames\n\n",
+               opt->solver_name, !f->sd.cold_start, f->d.tau, !f->d.two_stage, opt->slice_us,
+               SCHEDULER_HZ, f->d.max_speed, f->d.max_turn_rate, opt->budget_ms, opt->frames);
+        printf("%7s %10s %7s %9s %9s %10s %10s\n", "frame", "update_us", "drawn", "morphing",
+               "cost_ms", "budget_ms", "selections");
+    } else if (sim->kind == SCENE_THESIS) {
+        const thesis_scene *t = &sim->thesis;
         printf("thesis: %u terrain patches (depth %u), %u trees in %u smooth groups of <= %u, "
                "built in %.0f ms\n",
                t->node_count, t->terrain_depth, t->tree_count, t->smooth_count,
-               THESIS_MAX_GROUP_TREES, build_ms);
-        if (opt.simulate_gpu)
+               THESIS_MAX_GROUP_TREES, sim->build_ms);
+        if (opt->simulate_gpu)
             printf("solver %s, warm start %d, split %d, target %.3f ms (simulated GPU, C %g), "
                    "%lu frames\n\n",
-                   opt.solver_name, opt.warm, sd.mixed.split_smooth, opt.target_ms, opt.gpu_c,
-                   opt.frames);
+                   opt->solver_name, opt->warm, f->sd.mixed.split_smooth, opt->target_ms, opt->gpu_c,
+                   opt->frames);
         else
             printf("solver %s, warm start %d, split %d, budget %.3f ms, %lu frames\n\n",
-                   opt.solver_name, opt.warm, sd.mixed.split_smooth, opt.budget_ms, opt.frames);
+                   opt->solver_name, opt->warm, f->sd.mixed.split_smooth, opt->budget_ms, opt->frames);
         printf("%7s %10s %7s %9s %10s %12s %7s %9s%s\n", "frame", "select_us", "drawn", "cost_ms",
-               "budget_ms", "benefit", "groups", "variables", opt.simulate_gpu ? "  frame_ms" : "");
+               "budget_ms", "benefit", "groups", "variables",
+               opt->simulate_gpu ? "  frame_ms" : "");
     } else {
-        const world_scene *w = &sim.world;
-        printf("flyover: %u terrain patches (depth %u), %u objects x %u levels, %u nodes, "
-               "%u roots\n",
-               w->terrain_count, sim.world_desc.terrain_depth, w->object_count, w->levels,
-               w->node_count, w->root_count);
-        if (opt.simulate_gpu)
+        print_flyover_scene(sim);
+        if (opt->simulate_gpu)
             printf("solver %s, warm start %d, target %.3f ms (simulated GPU, C %g), %lu "
                    "frames\n\n",
-                   opt.solver_name, opt.warm, opt.target_ms, opt.gpu_c, opt.frames);
+                   opt->solver_name, opt->warm, opt->target_ms, opt->gpu_c, opt->frames);
         else
-            printf("solver %s, warm start %d, budget %.3f ms, %lu frames\n\n", opt.solver_name,
-                   opt.warm, opt.budget_ms, opt.frames);
+            printf("solver %s, warm start %d, budget %.3f ms, %lu frames\n\n", opt->solver_name,
+                   opt->warm, opt->budget_ms, opt->frames);
         printf("%7s %10s %7s %9s %10s %12s%s\n", "frame", "select_us", "drawn", "cost_ms",
-               "budget_ms", "benefit", opt.simulate_gpu ? "  frame_ms" : "");
+               "budget_ms", "benefit", opt->simulate_gpu ? "  frame_ms" : "");
     }
+}
 
-    for (frame = 0; frame < opt.frames; ++frame) {
-        tclod_view view;
-        tclod_frame fr;
-        tclod_stats stats;
-        const tclod_id *ids;
-        const tclod_smooth_group *groups = NULL;
-        size_t drawn, group_count = 0;
-        double t0, t1, own_cost, budget = opt.budget_ms, scale = 0.0;
-        double frame_ms = 0.0, unconstrained_ms = 0.0, factor = 0.0;
+/* --simulate-gpu, after frame `frame` selected with the frame request fr: the
+ * machine draws the selection, and the host measures render and logic time
+ * (never the hidden factor) and reports them. */
+static int simulate_gpu_frame(flight *f, unsigned long frame, const tclod_frame *fr,
+                              const tclod_stats *stats, double *frame_ms, double *unconstrained_ms,
+                              double *factor) {
+    const options *opt = f->opt;
+    tclod_frame unlimited = *fr;
+    tclod_stats finest_stats;
+    tclod_status st;
+    double noise, logic_ms, render_ms, t;
+    gpu_frame(&f->gpu, frame, opt->target_ms, factor, &noise, &logic_ms);
+    render_ms = stats->cost * *factor * noise;
+    *frame_ms = frame_time_ms(logic_ms, render_ms, f->gpu.true_c);
+    unlimited.budget = INFINITY;
+    st = tclod_select(f->finest, &unlimited, &finest_stats);
+    if (st == TCLOD_OK)
+        st = tclod_calib_report(f->calib, stats->cost, render_ms, logic_ms);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "flyover_sim: simulating frame %lu failed: %s\n", frame,
+                tclod_status_string(st));
+        return 0;
+    }
+    *unconstrained_ms = frame_time_ms(logic_ms, finest_stats.cost * *factor * noise, f->gpu.true_c);
+    t = *frame_ms / opt->target_ms - 1.0;
+    f->ff.sum += *frame_ms;
+    f->ff.sum_sq += *frame_ms * *frame_ms;
+    f->ff.sum_err += fabs(t);
+    f->ff.overshoot[frame] = t > 0.0 ? t : 0.0;
+    return 1;
+}
 
-        camera_at(&sim, frame, &view);
-        if (opt.simulate_gpu) {
-            scale = tclod_calib_scale(calib);
-            st = tclod_calib_budget(calib, opt.target_ms, &budget);
-            if (st != TCLOD_OK) {
-                fprintf(stderr, "flyover_sim: tclod_calib_budget failed at frame %lu: %s\n", frame,
-                        tclod_status_string(st));
-                rc = 1;
-                goto done;
-            }
-        }
-        memset(&fr, 0, sizeof(fr));
-        fr.view = &view;
-        fr.budget = budget;
+/* One frame selected with the selector: the budget (from the calibration with
+ * --simulate-gpu), the selection, its check from outside, and the outputs. */
+static int selected_frame(flight *f, unsigned long frame) {
+    const options *opt = f->opt;
+    tclod_view view;
+    tclod_frame fr;
+    tclod_stats stats;
+    tclod_status st;
+    const tclod_id *ids;
+    const tclod_smooth_group *groups = NULL;
+    size_t drawn, group_count = 0;
+    double t0, t1, own_cost, budget = opt->budget_ms, scale = 0.0;
+    double frame_ms = 0.0, unconstrained_ms = 0.0, factor = 0.0;
 
-        t0 = now_us();
-        st = tclod_select(sel, &fr, &stats);
-        t1 = now_us();
+    camera_at(f->sim, frame, &view);
+    if (opt->simulate_gpu) {
+        scale = tclod_calib_scale(f->calib);
+        st = tclod_calib_budget(f->calib, opt->target_ms, &budget);
         if (st != TCLOD_OK) {
-            fprintf(stderr, "flyover_sim: tclod_select failed at frame %lu: %s\n", frame,
+            fprintf(stderr, "flyover_sim: tclod_calib_budget failed at frame %lu: %s\n", frame,
                     tclod_status_string(st));
-            rc = 1;
-            goto done;
+            return 0;
         }
-        st = tclod_selector_cut(sel, &ids, &drawn);
-        if (st == TCLOD_OK && opt.scene == SCENE_THESIS)
-            st = tclod_selector_smooth_groups(sel, &groups, &group_count);
-        if (st != TCLOD_OK) {
-            fprintf(stderr, "flyover_sim: reading the selection failed: %s\n",
-                    tclod_status_string(st));
-            rc = 1;
-            goto done;
-        }
-        select_us[frame] = t1 - t0;
-        sum_us += t1 - t0;
-        if (budget > 0.0)
-            sum_ratio += stats.cost / budget;
-        sum_variables += (double)stats.variables;
-        sum_line_searches += (double)stats.line_searches;
-        sum_groups += (double)group_count;
+    }
+    memset(&fr, 0, sizeof(fr));
+    fr.view = &view;
+    fr.budget = budget;
 
-        /* The guarantee, checked from outside: what our cost callbacks return for
-         * the listed nodes (and drawn smooth groups), summed in result order, must
-         * not exceed the budget. */
-        own_cost = opt.scene == SCENE_THESIS
-                       ? thesis_sum_cost(&sim.thesis, ids, drawn, groups, group_count)
-                       : world_sum_cost(&sim.world, ids, drawn);
-        if (stats.cost > budget || own_cost > budget)
-            ++violations;
-        if (own_cost != stats.cost)
-            ++mismatches;
-        /* every level change of a per-frame selection is a switch (a pop) */
-        if (frame > 0)
-            changes += count_changes(&cc, scene, ids, drawn);
+    t0 = now_us();
+    st = tclod_select(f->sel, &fr, &stats);
+    t1 = now_us();
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "flyover_sim: tclod_select failed at frame %lu: %s\n", frame,
+                tclod_status_string(st));
+        return 0;
+    }
+    st = tclod_selector_cut(f->sel, &ids, &drawn);
+    if (st == TCLOD_OK && opt->scene == SCENE_THESIS)
+        st = tclod_selector_smooth_groups(f->sel, &groups, &group_count);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "flyover_sim: reading the selection failed: %s\n", tclod_status_string(st));
+        return 0;
+    }
+    f->frame_us[frame] = t1 - t0;
+    f->sum_us += t1 - t0;
+    if (budget > 0.0)
+        f->sum_ratio += stats.cost / budget;
+    f->sum_variables += (double)stats.variables;
+    f->sum_line_searches += (double)stats.line_searches;
+    f->sum_groups += (double)group_count;
+
+    /* The guarantee, checked from outside: what our cost callbacks return for
+     * the listed nodes (and drawn smooth groups), summed in result order, must
+     * not exceed the budget. */
+    own_cost = opt->scene == SCENE_THESIS
+                   ? thesis_sum_cost(&f->sim->thesis, ids, drawn, groups, group_count)
+                   : world_sum_cost(&f->sim->world, ids, drawn);
+    if (stats.cost > budget || own_cost > budget)
+        ++f->violations;
+    if (own_cost != stats.cost)
+        ++f->mismatches;
+    /* every level change of a per-frame selection is a switch (a pop) */
+    if (frame > 0)
+        f->changes += count_changes(&f->cc, f->scene, ids, drawn);
+    else
+        count_changes(&f->cc, f->scene, ids, drawn);
+
+    if (opt->simulate_gpu &&
+        !simulate_gpu_frame(f, frame, &fr, &stats, &frame_ms, &unconstrained_ms, &factor))
+        return 0;
+
+    if (frame % PRINT_EVERY == 0 || frame + 1 == opt->frames) {
+        if (opt->scene == SCENE_THESIS)
+            printf("%7lu %10.1f %7lu %9.4f %10.4f %12.1f %7lu %9lu", frame, t1 - t0,
+                   (unsigned long)drawn, stats.cost, budget, stats.benefit,
+                   (unsigned long)group_count, (unsigned long)stats.variables);
         else
-            count_changes(&cc, scene, ids, drawn);
-
-        if (opt.simulate_gpu) {
-            /* The machine draws what was selected; the host measures render and
-             * logic time (never the hidden factor) and reports them. */
-            tclod_frame unlimited = fr;
-            tclod_stats finest_stats;
-            double noise, logic_ms, render_ms, t;
-            gpu_frame(&gpu, frame, opt.target_ms, &factor, &noise, &logic_ms);
-            render_ms = stats.cost * factor * noise;
-            frame_ms = frame_time_ms(logic_ms, render_ms, gpu.true_c);
-            unlimited.budget = INFINITY;
-            st = tclod_select(finest, &unlimited, &finest_stats);
-            if (st == TCLOD_OK)
-                st = tclod_calib_report(calib, stats.cost, render_ms, logic_ms);
-            if (st != TCLOD_OK) {
-                fprintf(stderr, "flyover_sim: simulating frame %lu failed: %s\n", frame,
-                        tclod_status_string(st));
-                rc = 1;
-                goto done;
-            }
-            unconstrained_ms =
-                frame_time_ms(logic_ms, finest_stats.cost * factor * noise, gpu.true_c);
-            t = frame_ms / opt.target_ms - 1.0;
-            ff.sum += frame_ms;
-            ff.sum_sq += frame_ms * frame_ms;
-            ff.sum_err += fabs(t);
-            ff.overshoot[frame] = t > 0.0 ? t : 0.0;
-        }
-
-        if (frame % PRINT_EVERY == 0 || frame + 1 == opt.frames) {
-            if (opt.scene == SCENE_THESIS)
-                printf("%7lu %10.1f %7lu %9.4f %10.4f %12.1f %7lu %9lu", frame, t1 - t0,
-                       (unsigned long)drawn, stats.cost, budget, stats.benefit,
-                       (unsigned long)group_count, (unsigned long)stats.variables);
-            else
-                printf("%7lu %10.1f %7lu %9.4f %10.4f %12.1f", frame, t1 - t0, (unsigned long)drawn,
-                       stats.cost, budget, stats.benefit);
-            if (opt.simulate_gpu)
-                printf(" %9.4f", frame_ms);
-            printf("\n");
-        }
-        if (csv) {
-            fprintf(csv, "%lu,%.3f,%lu,%.9g,%.9g,%.9g,%lu,%lu,%lu,%lu,%lu,%lu", frame, t1 - t0,
-                    (unsigned long)drawn, stats.cost, budget, stats.benefit,
-                    (unsigned long)stats.iterations, (unsigned long)stats.increments,
-                    (unsigned long)stats.decrements, (unsigned long)stats.variables,
-                    (unsigned long)stats.line_searches, (unsigned long)group_count);
-            if (opt.simulate_gpu)
-                fprintf(csv, ",%.9g,%.9g,%.9g,%.9g,%.9g", frame_ms, opt.target_ms, scale,
-                        unconstrained_ms, factor);
-            fprintf(csv, "\n");
-        }
+            printf("%7lu %10.1f %7lu %9.4f %10.4f %12.1f", frame, t1 - t0, (unsigned long)drawn,
+                   stats.cost, budget, stats.benefit);
+        if (opt->simulate_gpu)
+            printf(" %9.4f", frame_ms);
+        printf("\n");
     }
+    if (f->csv) {
+        fprintf(f->csv, "%lu,%.3f,%lu,%.9g,%.9g,%.9g,%lu,%lu,%lu,%lu,%lu,%lu", frame, t1 - t0,
+                (unsigned long)drawn, stats.cost, budget, stats.benefit,
+                (unsigned long)stats.iterations, (unsigned long)stats.increments,
+                (unsigned long)stats.decrements, (unsigned long)stats.variables,
+                (unsigned long)stats.line_searches, (unsigned long)group_count);
+        if (opt->simulate_gpu)
+            fprintf(f->csv, ",%.9g,%.9g,%.9g,%.9g,%.9g", frame_ms, opt->target_ms, scale,
+                    unconstrained_ms, factor);
+        fprintf(f->csv, "\n");
+    }
+    if (opt->svg_path)
+        frame_plot_add(&f->plot, frame, stats.cost, budget, t1 - t0);
+    return 1;
+}
 
-    if (mismatches)
+/* One frame drawn through the scheduler: the update, the draw list, its check
+ * from outside, and the outputs. */
+static int scheduled_frame(flight *f, unsigned long frame) {
+    const options *opt = f->opt;
+    tclod_view view;
+    const tclod_draw *items;
+    size_t n;
+    tclod_status status;
+    double t0, t1, own_cost, now = (double)frame / SCHEDULER_HZ;
+
+    camera_at(f->sim, frame, &view);
+    t0 = now_us();
+    status = tclod_scheduler_update(f->sch, now, &view, opt->budget_ms, opt->slice_us * 1e-6);
+    t1 = now_us();
+    if (status == TCLOD_OK)
+        status = tclod_scheduler_draws(f->sch, &items, &n);
+    if (status == TCLOD_OK)
+        status = tclod_scheduler_get_stats(f->sch, &f->st);
+    if (status != TCLOD_OK) {
+        fprintf(stderr, "flyover_sim: the scheduler failed at frame %lu: %s\n", frame,
+                tclod_status_string(status));
+        return 0;
+    }
+    /* the invariant, checked from outside */
+    own_cost = draw_cost(f->sim, &f->check, f->sch, items, n);
+    if (own_cost > opt->budget_ms || f->st.draw_cost > f->st.budget)
+        ++f->violations;
+    f->frame_us[frame] = t1 - t0;
+    f->sum_us += t1 - t0;
+    f->sum_ratio += f->st.draw_cost / opt->budget_ms;
+    if (frame % PRINT_EVERY == 0 || frame + 1 == opt->frames)
+        printf("%7lu %10.1f %7lu %9lu %9.4f %10.4f %10lu\n", frame, t1 - t0, (unsigned long)n,
+               (unsigned long)f->st.morphing, f->st.draw_cost, opt->budget_ms,
+               (unsigned long)f->st.selections);
+    if (f->csv)
+        fprintf(f->csv, "%lu,%.6f,%.3f,%lu,%lu,%.9g,%.9g,%lu,%lu,%lu,%llu,%llu,%llu\n", frame, now,
+                t1 - t0, (unsigned long)n, (unsigned long)f->st.morphing, f->st.draw_cost,
+                opt->budget_ms, (unsigned long)f->st.selections, (unsigned long)f->st.unfinished,
+                (unsigned long)f->st.emergencies, (unsigned long long)f->st.changes,
+                (unsigned long long)f->st.morphs, (unsigned long long)f->st.pops);
+    if (opt->svg_path)
+        frame_plot_add(&f->plot, frame, f->st.draw_cost, opt->budget_ms, t1 - t0);
+    return 1;
+}
+
+/* The header, then every frame; 0 after saying what failed. */
+static int fly(flight *f) {
+    unsigned long frame;
+    print_header(f);
+    for (frame = 0; frame < f->opt->frames; ++frame)
+        if (!(f->opt->scheduler ? scheduled_frame(f, frame) : selected_frame(f, frame)))
+            return 0;
+    return 1;
+}
+
+/* The summary line (--help lists its keys). Sorts the frame times. */
+static void print_summary(flight *f) {
+    const options *opt = f->opt;
+    double frames = (double)opt->frames;
+    qsort(f->frame_us, opt->frames, sizeof(*f->frame_us), compare_double);
+    if (opt->scheduler) {
+        const tclod_scheduler_stats *st = &f->st;
+        printf("\nsummary: frames=%lu solver=%s mean_select_us=%.1f p99_select_us=%.1f "
+               "mean_cost_ratio=%.4f violations=%lu draw_violations=%lu morph_coverage=%.4f "
+               "pops_per_frame=%.4f select_us_per_frame=%.1f tau=%.3f morph=%d "
+               "changes_per_frame=%.4f selections=%lu unfinished=%lu emergencies=%lu\n",
+               opt->frames, opt->solver_name, f->sum_us / frames,
+               percentile(f->frame_us, opt->frames, 99.0), f->sum_ratio / frames, f->violations,
+               f->violations, st->changes ? (double)st->morphs / (double)st->changes : 1.0,
+               (double)st->pops / frames, f->sum_us / frames, f->d.tau, !f->d.two_stage,
+               (double)st->changes / frames, (unsigned long)st->selections,
+               (unsigned long)st->unfinished, (unsigned long)st->emergencies);
+        return;
+    }
+    if (f->mismatches)
         fprintf(stderr,
                 "flyover_sim: in %lu frames the library's cost differs from the sum of the "
                 "returned nodes' costs\n",
-                mismatches);
-    qsort(select_us, opt.frames, sizeof(*select_us), compare_double);
+                f->mismatches);
     printf("\nsummary: frames=%lu solver=%s mean_select_us=%.1f p99_select_us=%.1f "
            "mean_cost_ratio=%.4f violations=%lu",
-           opt.frames, opt.solver_name, sum_us / (double)opt.frames,
-           percentile(select_us, opt.frames, 99.0), sum_ratio / (double)opt.frames, violations);
-    printf(" changes_per_frame=%.4f pops_per_frame=%.4f", (double)changes / (double)opt.frames,
-           (double)changes / (double)opt.frames);
-    if (opt.simulate_gpu) {
-        double n = (double)opt.frames, mean = ff.sum / n;
-        double var = ff.sum_sq / n - mean * mean;
-        qsort(ff.overshoot, opt.frames, sizeof(*ff.overshoot), compare_double);
+           opt->frames, opt->solver_name, f->sum_us / frames,
+           percentile(f->frame_us, opt->frames, 99.0), f->sum_ratio / frames, f->violations);
+    printf(" changes_per_frame=%.4f pops_per_frame=%.4f", (double)f->changes / frames,
+           (double)f->changes / frames);
+    if (opt->simulate_gpu) {
+        double mean = f->ff.sum / frames;
+        double var = f->ff.sum_sq / frames - mean * mean;
+        qsort(f->ff.overshoot, opt->frames, sizeof(*f->ff.overshoot), compare_double);
         /* population standard deviation over all frames */
         printf(" target_ms=%.3f mean_ms=%.4f stddev_ms=%.4f avg_err=%.5f p99_overshoot=%.5f",
-               opt.target_ms, mean, sqrt(var > 0.0 ? var : 0.0), ff.sum_err / n,
-               percentile(ff.overshoot, opt.frames, 99.0));
+               opt->target_ms, mean, sqrt(var > 0.0 ? var : 0.0), f->ff.sum_err / frames,
+               percentile(f->ff.overshoot, opt->frames, 99.0));
     }
-    if (opt.scene == SCENE_THESIS)
-        printf(" variables=%.1f line_searches=%.1f smooth_groups=%.1f",
-               sum_variables / (double)opt.frames, sum_line_searches / (double)opt.frames,
-               sum_groups / (double)opt.frames);
+    if (opt->scene == SCENE_THESIS)
+        printf(" variables=%.1f line_searches=%.1f smooth_groups=%.1f", f->sum_variables / frames,
+               f->sum_line_searches / frames, f->sum_groups / frames);
     printf("\n");
-    rc = 0;
+}
 
-done:
-    if (csv && fclose(csv) != 0 && rc == 0) {
-        fprintf(stderr, "flyover_sim: writing %s failed\n", opt.csv_path);
-        rc = 1;
+/* --svg: the plot of the flight. */
+static int write_svg(const flight *f) {
+    const options *opt = f->opt;
+    char title[256], budget[64];
+    if (opt->simulate_gpu)
+        snprintf(budget, sizeof budget, "target %g ms on a simulated GPU", opt->target_ms);
+    else
+        snprintf(budget, sizeof budget, "budget %g ms", opt->budget_ms);
+    snprintf(title, sizeof title, "flyover_sim: %s scene, %s%s solver, %s, %lu frames",
+             opt->scene == SCENE_THESIS ? "thesis" : "flyover",
+             opt->scheduler ? "scheduler over the " : "", opt->solver_name, budget, opt->frames);
+    if (!frame_plot_write(&f->plot, opt->svg_path, title,
+                          opt->scheduler ? "update time" : "selection time")) {
+        fprintf(stderr, "flyover_sim: cannot write %s: %s\n", opt->svg_path, strerror(errno));
+        return 0;
     }
-    free(select_us);
-    change_counter_free(&cc);
-    free(ff.overshoot);
-    tclod_calib_destroy(calib);
-    tclod_selector_destroy(finest);
-    tclod_selector_destroy(sel);
+    return 1;
+}
+
+/* Closes the CSV file and frees the flight; ok after the flight went well, and
+ * then 0 if the file could not be written. */
+static int end_flight(flight *f, int ok) {
+    if (f->csv && fclose(f->csv) != 0 && ok) {
+        fprintf(stderr, "flyover_sim: writing %s failed\n", f->opt->csv_path);
+        ok = 0;
+    }
+    frame_plot_free(&f->plot);
+    free(f->frame_us);
+    draw_check_free(&f->check);
+    tclod_scheduler_destroy(f->sch);
+    change_counter_free(&f->cc);
+    free(f->ff.overshoot);
+    tclod_calib_destroy(f->calib);
+    tclod_selector_destroy(f->finest);
+    tclod_selector_destroy(f->sel);
+    return ok;
+}
+
+int main(int argc, char **argv) {
+    options opt;
+    sim_scene sim;
+    flight fl;
+    int ok;
+
+    switch (parse_options(argc, argv, &opt)) {
+    case OPTIONS_HELP:
+        usage(stdout);
+        return 0;
+    case OPTIONS_BAD:
+        return 2;
+    default:
+        break;
+    }
+    if (!build_scene(&sim, opt.scene))
+        return 1;
+    ok = start_flight(&fl, &opt, &sim) && fly(&fl);
+    if (ok) {
+        print_summary(&fl);
+        ok = !opt.svg_path || write_svg(&fl);
+    }
+    ok = end_flight(&fl, ok);
     free_scene(&sim);
-    return rc;
+    return ok ? 0 : 1;
 }
