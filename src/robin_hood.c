@@ -1036,6 +1036,7 @@ static int finish(tclod_selector *sel) {
     for (i = 0; i < sel->cut_count; ++i)
         sum += costs[i];
     sel->cost_sum = sum;
+    sel->cost_err = 0.0; /* the repair below counts from this sum */
     for (i = 0; i < sel->vars.count; ++i)
         sum += sel->vars.c[i];
     if (!isinf(sum) && sum <= sel->frame->budget)
