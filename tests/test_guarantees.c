@@ -417,9 +417,9 @@ static void bad_benefit_makes_the_node_invisible_and_is_counted(void **state) {
  * value) and a cost of 0; the smallest subnormal benefit makes root 0 visible
  * and DBL_MAX is a finite cost, so both are drawn; a NaN with its sign bit set
  * and -DBL_MIN are bad (root 0 invisible; root 1 unaffordable, so dropped).
- * The Robin Hood solver also asks each instance's complexity, the cost of its
- * finest level (here the root itself) at the reference area, once per scene
- * change: a bad cost is counted twice in the first frame. */
+ * The Robin Hood solver takes each instance's complexity from the cost of
+ * its finest level (here the root itself), which its frame asks once: a bad
+ * cost is counted once, as by the greedy. */
 static void edge_values_are_told_apart_from_bad_ones(void **state) {
     static const struct {
         double b0, c1;
@@ -432,7 +432,7 @@ static void edge_values_are_told_apart_from_bad_ones(void **state) {
         {1.0, -0.0, 7u, {0, 0}, 3.0, 2.0},
         {1.0, DBL_MAX, 7u, {0, 0}, 3.0, DBL_MAX},
         {-NAN, 1.0, 6u, {1, 1}, 2.0, 2.0},
-        {1.0, -DBL_MIN, 5u, {1, 2}, 2.0, 2.0},
+        {1.0, -DBL_MIN, 5u, {1, 1}, 2.0, 2.0},
     };
     static const tclod_solver solvers[] = {TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_ROBIN_HOOD};
     helper_fixture *f = (helper_fixture *)*state;

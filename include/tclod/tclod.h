@@ -232,12 +232,18 @@ typedef struct tclod_callbacks {
     double (*smooth_benefit)(void *user, const tclod_query *q, double r, double *d_dr);
     double (*smooth_cost)(void *user, const tclod_query *q, double r, double *d_dr);
     void *user; /* passed through unchanged */
-    /* complexity: Robin Hood solver, optional (NULL = the cost of the
-     *          instance's finest representation at tclod_selector_desc.
-     *          reference_area). How costly instance q->id (a node that starts
-     *          an instance, or a smooth object) is to draw well; instances are
-     *          visited from the least complex. Asked once per instance after
-     *          the scene changed, with no view. */
+    /* complexity: Robin Hood solver, optional. How costly instance q->id (a
+     *          node that starts an instance, or a smooth object) is to draw
+     *          well; instances are visited from the least complex. Asked once
+     *          per instance after the scene changed, with no view. NULL = the
+     *          cost of the instance's finest representation: for a node, the
+     *          cost the select after the change asks for its frame (that node
+     *          is evaluated then), or, when that frame does not see it (benefit
+     *          0, or below a branch of benefit 0, which it does not look into),
+     *          the cost asked with no view at tclod_selector_desc.
+     *          reference_area, so that no node's cost is asked twice in a
+     *          select; for a smooth object, smooth_cost at r = 1 at the
+     *          reference area with no view. */
     double (*complexity)(void *user, const tclod_query *q);
     /* importance: Robin Hood solver, optional (NULL = the benefit: the
      *          benefit of the instance's first node, a smooth object's
@@ -524,8 +530,10 @@ typedef struct tclod_selector_desc {
                               their share. Default TCLOD_MISFIT_DROP */
     double reference_area; /* px²: the projected area at which an instance's
                               complexity (the cost of its finest representation)
-                              is measured when callbacks.complexity is NULL.
-                              > 0. Default 10000 */
+                              is asked when callbacks.complexity is NULL: a
+                              smooth object's, and a node's the frame does not
+                              see (tclod_callbacks.complexity). > 0. Default
+                              10000 */
 } tclod_selector_desc;
 
 /* The largest tclod_selector_desc.lookahead. */
