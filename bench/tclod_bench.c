@@ -32,8 +32,18 @@
  *            another, dense as built, scatter as the edits go on (all objects are
  *            replaced in about 1000 frames), and with them the per-node records a
  *            solve reads; warm_edited times that without edits.
+ *   absorb   one root of cost 2^53 and 4·10^4 roots of cost 1 (--objects N), each with
+ *            a child of cost 2 worth twice its parent, budget 2^53: a running sum that
+ *            starts from 2^53 absorbs every cost of 1, so increments of Δc 1 seem to
+ *            fit while none does. Every solver (cold) in three modes: limited
+ *            (tclod_select with solve_seconds 0.05), step (tclod_select_step slices of
+ *            0.01 s; the time is the longest step of a solve) and scheduler (a
+ *            tclod_scheduler updated at 60 Hz with slices of 2 ms; the time is the
+ *            longest update of each interval, one of which lands a selection). 5 timed
+ *            frames (2 with --quick) after one that warms up; the times show whether a
+ *            time limit holds.
  * random and flyover have no smooth objects. They run the greedy in two modes: cold
- * (warm_start 0: every frame starts from the roots) and warm (warm_start 1: from the
+ * (cold_start 1: every frame starts from the roots) and warm (cold_start 0: from the
  * previous frame's cut, with the camera a little further along the loop); robin_hood
  * and mixed, which keep nothing from frame to frame, in one (cold); and, on the same
  * frames and budget, the baselines of bench/baselines.h (mode cold: they recompute every
@@ -674,7 +684,7 @@ static void print_row(const char *scene, const char *solver, const char *mode,
 /* The random and flyover rows: the library's solvers for discrete hierarchies, cold and
  * warm (greedy first, then robin_hood, the rows this program has always printed), then
  * the mixed solver and the baselines on the same frames and budget. The mixed and Robin
- * Hood solvers keep nothing from frame to frame (warm_start is the greedy's option) and
+ * Hood solvers keep nothing from frame to frame (the warm start is the greedy's) and
  * the baselines recompute every frame: one row each. flat needs objects that are chains
  * (objects may be NULL: no flat row). */
 static int bench_scene(const char *scene, world_scene *w, double budget, unsigned long visible,
@@ -1142,6 +1152,223 @@ static int bench_thesis(int quick, unsigned long frames, double theta) {
     return rc;
 }
 
+/* ---- absorb: costs a running sum absorbs ------------------------------------------- */
+
+/* The absorb scene's objects (--objects N overrides), frames per row (--quick: fewer) and
+ * its rows' limits: the frame's solve_seconds, the step's slice and the scheduler's. */
+#define ABSORB_OBJECTS 40000u
+#define ABSORB_FRAMES 5ul
+#define ABSORB_QUICK_FRAMES 2ul
+#define ABSORB_SOLVE_SECONDS 0.05
+#define ABSORB_STEP_SECONDS 0.01
+#define ABSORB_SLICE_SECONDS 0.002
+/* Scheduler updates per timed frame of a scheduler row: one interval of 0.5 s at 60 Hz,
+ * so that every timed frame lands a selection. */
+#define ABSORB_UPDATES 30ul
+
+/* One root of cost 2^53 (id 0) and N roots of cost 1 (benefit 1), each with a child of
+ * cost 2 (benefit 2): with the budget 2^53 the small roots' costs are absorbed, and each
+ * increment (Δc 1) seems to fit a running sum that stays at 2^53. */
+typedef struct absorb_scene {
+    tclod_scene *scene;
+    double *benefit, *cost;
+    uint32_t nodes;
+} absorb_scene;
+
+static double absorb_benefit(void *user, const tclod_query *q) {
+    return ((const absorb_scene *)user)->benefit[q->id];
+}
+
+static double absorb_cost(void *user, const tclod_query *q) {
+    return ((const absorb_scene *)user)->cost[q->id];
+}
+
+static void absorb_free(absorb_scene *a) {
+    tclod_scene_destroy(a->scene);
+    free(a->benefit);
+    free(a->cost);
+}
+
+static tclod_status absorb_build(absorb_scene *a, uint32_t objects) {
+    tclod_status st;
+    uint32_t i;
+    memset(a, 0, sizeof(*a));
+    a->nodes = 2u * objects + 1u;
+    a->benefit = (double *)malloc(a->nodes * sizeof(double));
+    a->cost = (double *)malloc(a->nodes * sizeof(double));
+    if (!a->benefit || !a->cost)
+        return TCLOD_ERR_NOMEM;
+    st = tclod_scene_create(NULL, &a->scene);
+    for (i = 0; i < a->nodes && st == TCLOD_OK; ++i) {
+        /* ids 1, 3, 5 ... are the small roots, 2, 4, 6 ... their children */
+        tclod_id parent = i == 0 || i % 2u == 1u ? TCLOD_NONE : i - 1u, id;
+        st = tclod_scene_add_node(a->scene, parent, NULL, &id);
+        a->benefit[i] = i == 0 || i % 2u == 1u ? 1.0 : 2.0;
+        a->cost[i] = i == 0 ? ldexp(1.0, 53) : (i % 2u == 1u ? 1.0 : 2.0);
+    }
+    return st;
+}
+
+/* The longest call of one timed frame of an absorb row: mode 0 one tclod_select with
+ * solve_seconds, 1 tclod_select_step slices, 2 the scheduler's updates of one interval
+ * (*now advances). Checks the budget; returns 1 on an error (reported). */
+static int absorb_frame(absorb_scene *a, int mode, tclod_selector *sel, tclod_scheduler *sch,
+                        double *now, double *longest, tclod_stats *stats, size_t *cut) {
+    const double budget = ldexp(1.0, 53);
+    tclod_status st = TCLOD_OK;
+    const tclod_id *ids = NULL;
+    double t0, cost = 0.0;
+    size_t i, n = 0;
+    *longest = 0.0;
+    memset(stats, 0, sizeof(*stats));
+    if (mode == 2) {
+        tclod_view view;
+        tclod_scheduler_stats ss;
+        const tclod_draw *draws;
+        unsigned long u;
+        memset(&view, 0, sizeof(view));
+        view.forward[2] = -1.0f;
+        view.up[1] = 1.0f;
+        view.fov_y = 1.0f;
+        view.aspect = 1.0f;
+        view.near_z = 0.1f;
+        view.far_z = 1000.0f;
+        view.viewport_height = 1000.0f;
+        for (u = 0; u < ABSORB_UPDATES && st == TCLOD_OK; ++u) {
+            t0 = bench_now_us();
+            st = tclod_scheduler_update(sch, *now, &view, budget, ABSORB_SLICE_SECONDS);
+            t0 = bench_now_us() - t0;
+            *longest = t0 > *longest ? t0 : *longest;
+            *now += 1.0 / 60.0;
+        }
+        if (st == TCLOD_OK)
+            st = tclod_scheduler_draws(sch, &draws, &n);
+        if (st == TCLOD_OK)
+            st = tclod_scheduler_get_stats(sch, &ss);
+        if (st != TCLOD_OK) {
+            fprintf(stderr, "tclod_bench: absorb: a scheduler update failed: %s\n",
+                    tclod_status_string(st));
+            return 1;
+        }
+        for (i = 0; i < n; ++i)
+            cost += a->cost[draws[i].fine];
+        stats->cost = ss.draw_cost;
+        stats->benefit = ss.selection_benefit;
+        *cut = n;
+    } else {
+        tclod_frame fr;
+        memset(&fr, 0, sizeof(fr));
+        fr.budget = budget;
+        fr.solve_seconds = mode == 0 ? ABSORB_SOLVE_SECONDS : 0.0;
+        if (mode == 0) {
+            t0 = bench_now_us();
+            st = tclod_select(sel, &fr, stats);
+            *longest = bench_now_us() - t0;
+        } else {
+            int done = 0;
+            st = tclod_select_begin(sel, &fr);
+            while (st == TCLOD_OK && !done) {
+                t0 = bench_now_us();
+                st = tclod_select_step(sel, ABSORB_STEP_SECONDS, 0, &done, stats);
+                t0 = bench_now_us() - t0;
+                *longest = t0 > *longest ? t0 : *longest;
+            }
+        }
+        if (st == TCLOD_OK)
+            st = tclod_selector_cut(sel, &ids, &n);
+        if (st != TCLOD_OK) {
+            fprintf(stderr, "tclod_bench: absorb: tclod_select failed: %s\n",
+                    tclod_status_string(st));
+            return 1;
+        }
+        for (i = 0; i < n; ++i)
+            cost += a->cost[ids[i]];
+        *cut = n;
+    }
+    if (cost > budget || stats->cost > budget) {
+        fprintf(stderr, "tclod_bench: absorb: budget exceeded: cost %.17g > budget %.17g\n", cost,
+                budget);
+        return 1;
+    }
+    return 0;
+}
+
+/* The absorb rows: for each solver, cold selections under solve_seconds (mode
+ * limited), in tclod_select_step slices (step: the longest step of a solve) and by a
+ * scheduler in slices (scheduler: the longest update of an interval, which lands a
+ * selection). Times are of the longest call of each timed frame. */
+static int bench_absorb(uint32_t objects, unsigned long frames) {
+    static const char *const modes[3] = {"limited", "step", "scheduler"};
+    absorb_scene a;
+    tclod_status st = absorb_build(&a, objects);
+    double *times = (double *)malloc(frames * sizeof(double));
+    int k, mode, rc = 0;
+    if (st != TCLOD_OK || !times) {
+        fprintf(stderr, "tclod_bench: building the absorb scene failed: %s\n",
+                tclod_status_string(st != TCLOD_OK ? st : TCLOD_ERR_NOMEM));
+        absorb_free(&a);
+        free(times);
+        return 1;
+    }
+    fprintf(stderr,
+            "tclod_bench: absorb: %u objects, %u nodes, budget 2^53; limits %.3f s (limited), "
+            "%.3f s steps, %.3f s scheduler slices\n",
+            objects, a.nodes, ABSORB_SOLVE_SECONDS, ABSORB_STEP_SECONDS, ABSORB_SLICE_SECONDS);
+    for (k = 0; k < 3 && rc == 0; ++k)
+        for (mode = 0; mode < 3 && rc == 0; ++mode) {
+            tclod_selector_desc sd;
+            tclod_scheduler_desc dd;
+            tclod_selector *sel = NULL;
+            tclod_scheduler *sch = NULL;
+            bench_row row;
+            double sum_us = 0.0, now = 0.0;
+            unsigned long f;
+            if (!row_wanted(solver_name(method_solvers[k]), modes[mode]))
+                continue;
+            memset(&row, 0, sizeof(row));
+            tclod_selector_desc_default(&sd);
+            sd.solver = method_solvers[k];
+            sd.cold_start = 1; /* every frame the cold solve */
+            sd.callbacks.benefit = absorb_benefit;
+            sd.callbacks.cost = absorb_cost;
+            sd.callbacks.smooth_benefit = bench_no_smooth;
+            sd.callbacks.smooth_cost = bench_no_smooth;
+            sd.callbacks.user = &a;
+            tclod_scheduler_desc_default(&dd);
+            st = mode == 2 ? tclod_scheduler_create(a.scene, &sd, &dd, NULL, &sch)
+                           : tclod_selector_create(a.scene, &sd, NULL, &sel);
+            if (st != TCLOD_OK) {
+                fprintf(stderr, "tclod_bench: absorb: creating a %s failed: %s\n",
+                        mode == 2 ? "scheduler" : "selector", tclod_status_string(st));
+                rc = 1;
+                break;
+            }
+            for (f = 0; f < frames + 1u && rc == 0; ++f) {
+                tclod_stats stats;
+                size_t cut;
+                double longest;
+                /* frame 0 warms up (grows the buffers; the scheduler's first update
+                 * selects at once) */
+                rc = absorb_frame(&a, mode, sel, sch, &now, &longest, &stats, &cut);
+                if (rc != 0 || f == 0)
+                    continue;
+                times[f - 1u] = longest;
+                sum_us += longest;
+                add_stats(&row, &stats, cut);
+            }
+            tclod_selector_destroy(sel);
+            tclod_scheduler_destroy(sch);
+            if (rc != 0)
+                break;
+            finish_row(&row, times, frames, sum_us);
+            print_row("absorb", solver_name(method_solvers[k]), modes[mode], (unsigned long)objects,
+                      (unsigned long)a.nodes, ldexp(1.0, 53), (unsigned long)objects + 1u, &row);
+        }
+    absorb_free(&a);
+    free(times);
+    return rc;
+}
+
 static void usage(FILE *out) {
     fprintf(out,
             "usage: tclod_bench [--quick] [--scene NAME] [--theta X] [--objects N] [--frames N]\n"
@@ -1166,13 +1393,20 @@ static void usage(FILE *out) {
             "           ratio=A/B edit_us_median=E\n"
             "on stderr (one line).\n"
             "\n"
+            "The absorb scene (one root of cost 2^53, 4*10^4 roots of cost 1 with children\n"
+            "of cost 2, budget 2^53: costs a running sum absorbs) times every solver under\n"
+            "solve_seconds 0.05 (mode limited), in tclod_select_step slices of 0.01 s (step:\n"
+            "the longest step) and in a scheduler's 2 ms slices (scheduler: the longest\n"
+            "update).\n"
+            "\n"
             "  --quick       10^3, 10^4 and 10^5 objects only (10^5 with a quarter of the\n"
             "                frames), fewer thesis frames (under a minute), churn: at most\n"
             "                50 frames\n"
-            "  --scene NAME  one scene only: random, flyover, churn or thesis\n"
+            "  --scene NAME  one scene only: random, flyover, churn, absorb or thesis\n"
             "  --theta X     thesis rows: split_threshold X (default: the library's)\n"
             "  --objects N   one random world of N objects (and the other scenes) instead;\n"
-            "                churn: its world's objects (default 10^4)\n"
+            "                churn: its world's objects (default 10^4); absorb: its small\n"
+            "                roots (default 4*10^4)\n"
             "  --frames N    timed frames per configuration (default 200; 10^6 objects, and\n"
             "                10^5 with --quick: N/4;\n"
             "                thesis: 20 views (--quick 10), flat times each once, split\n"
@@ -1181,10 +1415,11 @@ static void usage(FILE *out) {
             "                robin_hood, threshold_tuned, threshold_fixed, pq_stop, flat\n"
             "  --mode NAME   only the rows of one mode: cold, warm, warm_floor (thesis:\n"
             "                split, flat, split_gradient; churn: warm, warm_noedit,\n"
-            "                warm_edited; the summary needs warm and warm_noedit)\n"
+            "                warm_edited; the summary needs warm and warm_noedit; absorb:\n"
+            "                limited, step, scheduler)\n"
             "  --lookahead N random, flyover and churn rows: the greedy and mixed solvers'\n"
-            "                tclod_selector_desc.lookahead (default: the library's, 0)\n"
-            "  --restarts N  random, flyover and churn rows: tclod_selector_desc.restarts\n"
+            "                tclod_selector_desc.greedy.lookahead (default: the library's, 0)\n"
+            "  --restarts N  random, flyover and churn rows: tclod_selector_desc.greedy.restarts\n"
             "                (default: the library's, 32)\n"
             "  --help        print this text and exit\n");
 }
@@ -1237,10 +1472,11 @@ int main(int argc, char **argv) {
             }
             only_scene = argv[++i];
             if (strcmp(only_scene, "random") != 0 && strcmp(only_scene, "flyover") != 0 &&
-                strcmp(only_scene, "churn") != 0 && strcmp(only_scene, "thesis") != 0) {
+                strcmp(only_scene, "churn") != 0 && strcmp(only_scene, "thesis") != 0 &&
+                strcmp(only_scene, "absorb") != 0) {
                 fprintf(stderr,
                         "tclod_bench: unknown scene '%s' (scenes: random, flyover, churn, "
-                        "thesis)\n",
+                        "absorb, thesis)\n",
                         only_scene);
                 return 2;
             }
@@ -1256,9 +1492,9 @@ int main(int argc, char **argv) {
             if (!parse_count(argc, argv, &i, 0ul, TCLOD_MAX_RESTARTS, &opt_restarts))
                 return 2;
         } else if (strcmp(argv[i], "--solver") == 0 || strcmp(argv[i], "--mode") == 0) {
-            static const char *const modes[] = {"cold",        "warm",          "warm_floor",
-                                                "warm_noedit", "warm_edited",   "split",
-                                                "flat",        "split_gradient"};
+            static const char *const modes[] = {
+                "cold", "warm",           "warm_floor", "warm_noedit", "warm_edited", "split",
+                "flat", "split_gradient", "limited",    "step",        "scheduler"};
             int is_solver = strcmp(argv[i], "--solver") == 0, known = 0, k2;
             if (i + 1 >= argc) {
                 fprintf(stderr, "tclod_bench: %s needs a value\n", argv[i]);
@@ -1374,6 +1610,11 @@ int main(int argc, char **argv) {
         if (bench_churn(objects, n_frames) != 0)
             return 1;
     }
+
+    if ((!only_scene || strcmp(only_scene, "absorb") == 0) &&
+        bench_absorb(only_objects ? only_objects : ABSORB_OBJECTS,
+                     quick ? ABSORB_QUICK_FRAMES : ABSORB_FRAMES) != 0)
+        return 1;
 
     if ((!only_scene || strcmp(only_scene, "thesis") == 0) &&
         (!only_solver || strcmp(only_solver, "mixed") == 0) &&

@@ -17,7 +17,7 @@
  * optimum_bound: the quality figures are lower bounds on the fraction of the optimum.
  *
  * Methods: the library's solvers (greedy cold, mixed, robin_hood, all with their default
- * options; greedy_lookahead: the greedy with tclod_selector_desc.lookahead = 8, more
+ * options; greedy_lookahead: the greedy with tclod_selector_desc.greedy.lookahead = 8, more
  * levels than any chain or tree of the families has, or --lookahead N; greedy_restarts:
  * the same with restarts = TCLOD_MAX_RESTARTS)
  * and the baselines of bench/baselines.h (threshold_tuned, threshold_fixed and

@@ -135,7 +135,7 @@ static void account(tclod_selector *sel, tclod_id n, double sign) {
         else
             sel->unaffordable--;
     } else {
-        sel->cost_sum += sign * st->cost;
+        tclod_add_compensated(&sel->cost_sum, &sel->cost_err, sign * st->cost);
     }
 }
 
@@ -512,7 +512,7 @@ static NOINLINE double refit_jump(tclod_selector *sel, tclod_id n) {
     look_again(sel, n, 0.0, 1.0, 0.0, 0, &b, &c); /* the cheapest cut */
     bb = b - node[n].benefit;
     bc = c - node[n].cost;
-    if (!(sel->cost_sum + bc <= cut_budget(sel)))
+    if (!tclod_within(sel, sel->cost_sum + bc, cut_budget(sel)))
         return (double)NAN;
     for (it = 0; it < LOOK_ITERATIONS && ab > bb; ++it) {
         double l = (ab - bb) / (ac - bc), db, dc, gap;
@@ -522,7 +522,7 @@ static NOINLINE double refit_jump(tclod_selector *sel, tclod_id n) {
         gap = (db - l * dc) - (bb - l * bc);
         if (!(gap > LOOK_MARGIN * (fabs(db) + fabs(bb) + l * (fabs(dc) + fabs(bc)))))
             break;
-        if (sel->cost_sum + dc <= cut_budget(sel)) { /* as increment_fits */
+        if (tclod_within(sel, sel->cost_sum + dc, cut_budget(sel))) { /* as increment_fits */
             bb = db;
             bc = dc;
             weight = 1.0;
@@ -560,9 +560,12 @@ static void skip_misfit(tclod_selector *sel, tclod_id n) {
     }
 }
 
-/* 1 when increment n fits the remaining budget. */
+/* 1 when increment n fits the remaining budget, by the running sum and by its
+ * compensated total (an increment that fits only because the running sum
+ * absorbed costs is not taken: the final summation would give it back). */
 static int increment_fits(const tclod_selector *sel, tclod_id n) {
-    return sel->unaffordable == 0 && sel->cost_sum + sel->delta[n].delta_c <= cut_budget(sel);
+    return sel->unaffordable == 0 &&
+           tclod_within(sel, sel->cost_sum + sel->delta[n].delta_c, cut_budget(sel));
 }
 
 /* 1 when some queued increment fits the remaining budget. Increments that do
@@ -587,7 +590,7 @@ static int increment_may_fit(tclod_selector *sel) {
         sel->cheap_live = 1;
     }
     return sel->cheap.count > 0 && sel->unaffordable == 0 &&
-           sel->cost_sum - sel->cheap.items[0].key <= cut_budget(sel);
+           tclod_within(sel, sel->cost_sum - sel->cheap.items[0].key, cut_budget(sel));
 }
 
 /* 1 when every child of p is in the cut. */
@@ -774,7 +777,7 @@ static void keep_roots(tclod_selector *sel, uint32_t n, uint32_t first) {
             sel->flags[r] |= TCLOD_FLAG_DROPPED;
         }
     }
-    sel->cost_sum = sel->benefit_sum = 0.0;
+    sel->cost_sum = sel->cost_err = sel->benefit_sum = 0.0;
     sel->unaffordable = 0;
     for (i = 0; i < sel->cut_count; ++i)
         account(sel, sel->cut[i], 1.0);
@@ -847,7 +850,7 @@ static void clear_cut(tclod_selector *sel) {
         sel->flags[sel->cut[i]] = 0;
     }
     sel->cut_count = 0;
-    sel->cost_sum = sel->benefit_sum = 0.0;
+    sel->cost_sum = sel->cost_err = sel->benefit_sum = 0.0;
     sel->unaffordable = 0;
     clear_heaps(sel);
 }
@@ -1064,7 +1067,7 @@ static void cull_additive(tclod_selector *sel, uint32_t count) {
     for (i = 0; i < count; ++i)
         if (sel->scratch[count + i])
             cut_append(sel, sel->scratch[i]); /* evaluated: its self leaf asked for it */
-    sel->cost_sum = sel->benefit_sum = 0.0;
+    sel->cost_sum = sel->cost_err = sel->benefit_sum = 0.0;
     sel->unaffordable = 0;
     for (i = 0; i < sel->cut_count; ++i)
         account(sel, sel->cut[i], 1.0);
@@ -1076,7 +1079,7 @@ static int start_warm(tclod_selector *sel) {
     uint32_t i, culled = 0;
     if (s->node_count >= SORT_FROM_NODES)
         sort_cut(sel);
-    sel->cost_sum = sel->benefit_sum = 0.0;
+    sel->cost_sum = sel->cost_err = sel->benefit_sum = 0.0;
     sel->unaffordable = 0;
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id n = sel->cut[i];
@@ -1136,10 +1139,13 @@ int tclod_out_of_time(tclod_selector *sel) {
     return 0;
 }
 
-/* Restores feasibility of a warm start: decrements while over budget, then
- * roots are dropped if the roots alone do not fit. Always completes. */
+/* Restores feasibility of a warm start: decrements while over budget (by the
+ * running sum, or by its compensated total while decrements are left), then
+ * roots are dropped if the roots alone do not fit (by the running sum, as
+ * start_cold has it). Always completes. */
 static int restore_budget(tclod_selector *sel) {
-    while (!feasible(sel)) {
+    while (!feasible(sel) ||
+           (sel->dec.count > 0 && !tclod_within(sel, sel->cost_sum, cut_budget(sel)))) {
         if (sel->dec.count == 0) {
             drop_roots(sel);
             if (sel->stats.over_budget)
@@ -1171,6 +1177,8 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
     tclod_id parent = sel->scene->parent[n];
     uint32_t taken = 0, i;
     int ok = 0;
+    if (sel->cost_err > 0.0) /* what the running sum absorbed needs room too */
+        need += sel->cost_err;
     *failed = 0;
     /* decrements come least loss per saved cost first, so freeing `need`
      * loses at least that ratio times need */
@@ -1226,7 +1234,9 @@ static void consider_alternative(tclod_selector *sel, tclod_id n) {
     const double *path = &sel->path[2u * n];
     double c = R->alt_roots_c + path[1] + sel->delta[n].delta_c;
     double b = R->alt_roots_b + path[0] + sel->delta[n].delta_b;
-    if (c <= sel->frame->budget && b > R->alt_benefit && !(sel->flags[n] & TCLOD_FLAG_REFIT)) {
+    /* fits as increment_fits has it, with the roots' compensation */
+    if (c <= sel->frame->budget && !(c + R->alt_roots_err > sel->frame->budget) &&
+        b > R->alt_benefit && !(sel->flags[n] & TCLOD_FLAG_REFIT)) {
         R->alt_node = n;
         R->alt_benefit = b;
     }
@@ -1273,10 +1283,12 @@ static int take_closure(tclod_selector *sel) {
     while (R->closure_tail > R->closure_head) {
         tclod_id n = sel->scratch[R->closure_head];
         double grow = sel->delta[n].delta_c > 0.0 ? sel->delta[n].delta_c : 0.0;
-        if (sel->unaffordable != 0 || !(R->closure_cost + grow <= cut_budget(sel)))
+        double total = R->closure_cost + grow;
+        if (sel->unaffordable != 0 || !(total <= cut_budget(sel)) ||
+            total + R->closure_err > cut_budget(sel))
             break;
         R->closure_head++;
-        R->closure_cost += grow;
+        tclod_add_compensated(&R->closure_cost, &R->closure_err, grow);
         sel->stats.iterations++;
         if (apply_increment(sel, n, 0) != 0)
             return -1;
@@ -1418,26 +1430,89 @@ static int start_decided(tclod_selector *sel) {
             return -1;
         R->infeasible = rc > 0;
     }
-    if (!feasible(sel))
+    if (!feasible(sel) || !tclod_within(sel, sel->cost_sum, cut_budget(sel)))
         R->infeasible = 1;
     return 0;
 }
 
-/* Exact sum in result order; repairs rounding drift with decrements or, when
- * none is left, by leaving out roots one at a time. */
+/* The cut's total as the budget guarantee sums it: the costs of its visible,
+ * kept nodes in result order (docs/api.md); +inf with an unaffordable one. */
+static double result_total(const tclod_selector *sel) {
+    const tclod_id *cut = sel->cut;
+    double sum = 0.0;
+    uint32_t i, count = sel->cut_count;
+    for (i = 0; i < count; ++i)
+        if (counts(sel, cut[i]))
+            sum += sel->node[cut[i]].cost;
+    return sum;
+}
+
+/* Whether the frame's time limit or the step's slice has run out: the repair
+ * then undoes what its estimate asks for in one round (TCLOD_STOP_TIME when it
+ * is the frame's limit). */
+static int repair_late(tclod_selector *sel) {
+    const tclod_frame *f = sel->frame;
+    double now;
+    if (sel->stats.stop_reason == TCLOD_STOP_TIME)
+        return 1;
+    if (!(f->solve_seconds > 0.0) && !(sel->slice_end > 0.0))
+        return 0;
+    now = tclod_now();
+    if (f->solve_seconds > 0.0 && sel->elapsed + (now - sel->start_time) >= f->solve_seconds) {
+        if (!sel->stats.over_budget)
+            sel->stats.stop_reason = TCLOD_STOP_TIME;
+        sel->stopped = 1;
+        return 1;
+    }
+    return sel->slice_end > 0.0 && now >= sel->slice_end;
+}
+
+/* The counted nodes of the cut in scratch[0 .. count), in the order the
+ * repair leaves them out: lowest value (benefit / cost) first, ties larger id
+ * first (stored complemented, so that the sort's ties by smaller id put them
+ * so). Returns count. */
+static uint32_t drop_order(tclod_selector *sel) {
+    uint32_t i, n = 0;
+    for (i = 0; i < sel->cut_count; ++i) {
+        tclod_id r = sel->cut[i];
+        double c;
+        if (!counts(sel, r))
+            continue;
+        c = sel->node[r].cost;
+        sel->scratch[n] = ~r;
+        sel->scratch_key[n] = -(c > 0.0 ? sel->node[r].benefit / c : HUGE_VAL);
+        n++;
+    }
+    tclod_sort_by_key(sel->scratch, sel->scratch_key, n);
+    return n;
+}
+
+/* Brings the total in result order (result_total) within the budget when
+ * rounding carried it over (the order of the final sum, or costs the running
+ * sums absorbed): decrements, the cheapest first, and once none is left the
+ * lowest-value roots left out, one at a time in that order, until the total
+ * fits. Summing again after every step would be O(n) per step; instead each
+ * round takes the steps an estimate asks for (the last total less the exact
+ * cost each step saves), at most 2^r in round r (from 0) and at least half
+ * that from round 2 on, and then sums again. A total the estimate gets right
+ * is done in the round after the one that found it over; any total in about
+ * 2 log2(k) rounds for k steps: O(n log k + k log n) for a cut of n nodes.
+ * Roots are left out only after a sum that the decrements could not bring
+ * within the budget. Once the frame's time limit (TCLOD_STOP_TIME) or the
+ * step's slice has run out, a round takes all the steps the estimate asks for.
+ * Always ends within the budget. */
 static int enforce_budget(tclod_selector *sel, int dec_built) {
     const tclod_scene *s = sel->scene;
+    double limit = cut_budget(sel), sum = result_total(sel);
+    uint32_t round = 0, drops = 0, next_drop = 0, i;
+    int dropping = 0, late = 0;
     for (;;) {
-        double sum = 0.0;
-        uint32_t i;
-        for (i = 0; i < sel->cut_count; ++i) {
-            tclod_id n = sel->cut[i];
-            if (counts(sel, n))
-                sum += sel->node[n].cost;
-        }
+        uint32_t most, least, undone = 0;
+        double est = sum;
         /* an unaffordable node makes the sum infinite: never within budget */
-        if (!isinf(sum) && sum <= cut_budget(sel)) {
+        if (!isinf(sum) && sum <= limit) {
             sel->cost_sum = sum;
+            sel->cost_err = 0.0;
             sel->stats.over_budget = 0; /* the roots' running sum had rounded up */
             return 0;
         }
@@ -1452,31 +1527,42 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
             }
             dec_built = 1;
         }
-        if (sel->dec.count > 0) {
-            if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0)
-                return -1;
-        } else {
-            /* only roots remain: leave out the lowest-value kept one */
-            tclod_id worst = TCLOD_NONE;
-            double worst_value = HUGE_VAL;
-            for (i = 0; i < sel->cut_count; ++i) {
-                tclod_id r = sel->cut[i];
-                double value;
-                if (!counts(sel, r))
-                    continue;
-                value =
-                    sel->node[r].cost > 0.0 ? sel->node[r].benefit / sel->node[r].cost : HUGE_VAL;
-                if (worst == TCLOD_NONE || value < worst_value ||
-                    (value == worst_value && r > worst)) {
-                    worst = r;
-                    worst_value = value;
+        late = late || repair_late(sel);
+        most = late || round > 30u ? UINT32_MAX : 1u << round;
+        least = round < 2u ? 1u : 1u << (round > 31u ? 30u : round - 1u);
+        while (undone < least || (undone < most && !(est <= limit))) {
+            if (sel->dec.count > 0) {
+                tclod_id p = tclod_heap_pop(&sel->dec);
+                est -= sel->delta[p].delta_c; /* the cost the collapse saves */
+                if (apply_decrement(sel, p) != 0)
+                    return -1;
+            } else {
+                tclod_id r;
+                if (!dropping) {
+                    if (undone > 0)
+                        break; /* sum again before leaving out any root */
+                    drops = drop_order(sel);
+                    dropping = 1;
                 }
+                if (next_drop == drops)
+                    break;
+                r = ~sel->scratch[next_drop++];
+                est -= sel->node[r].cost;
+                account(sel, r, -1.0);
+                sel->flags[r] |= TCLOD_FLAG_DROPPED;
+                sel->stats.dropped_roots++;
             }
-            assert(worst != TCLOD_NONE);
-            account(sel, worst, -1.0);
-            sel->flags[worst] |= TCLOD_FLAG_DROPPED;
-            sel->stats.dropped_roots++;
+            if (++undone % CLOCK_STRIDE == 0 && !late && repair_late(sel)) {
+                late = 1;
+                most = UINT32_MAX;
+            }
         }
+        /* nothing is left to undo: no node is counted, and the total is 0 */
+        assert(undone > 0);
+        if (undone == 0)
+            return 0;
+        sum = result_total(sel);
+        round++;
     }
 }
 
@@ -1519,10 +1605,12 @@ static int greedy_start(tclod_selector *sel) {
     if (start_cold(sel) != 0)
         return -1;
     R->closure_cost = sel->cost_sum;
+    R->closure_err = sel->cost_err;
     R->alt_node = TCLOD_NONE;
     R->alt_benefit = 0.0;
     R->alt_roots_b = sel->benefit_sum;
     R->alt_roots_c = sel->cost_sum;
+    R->alt_roots_err = sel->cost_err;
     R->use_alt =
         sel->stats.dropped_roots == 0 && !sel->stats.over_budget && sel->desc.greedy.restarts > 0;
     R->misfit = TCLOD_NONE;
@@ -1698,6 +1786,7 @@ void tclod_greedy_track(tclod_selector *sel) {
     R->alt_benefit = 0.0;
     R->alt_roots_b = sel->benefit_sum;
     R->alt_roots_c = sel->cost_sum;
+    R->alt_roots_err = sel->cost_err;
     R->use_alt =
         sel->stats.dropped_roots == 0 && !sel->stats.over_budget && sel->desc.greedy.restarts > 0;
 }

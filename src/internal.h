@@ -596,6 +596,7 @@ typedef struct tclod_resume {
      * the increments above it) fits and gives the most benefit */
     tclod_id alt_node;
     double alt_benefit, alt_roots_b, alt_roots_c;
+    double alt_roots_err; /* alt_roots_c's compensation (tclod_selector.cost_err) */
     int use_alt;
     /* greedy, cold start: the passes after the plain one (restarts). A pass
      * forces the increments of its decisions marked taken (with those above
@@ -620,7 +621,8 @@ typedef struct tclod_resume {
      * every positive Δc taken from the queue) fits */
     int closing;
     uint32_t closure_head, closure_tail;
-    double closure_key, closure_cost;
+    double closure_key, closure_cost, closure_err; /* closure_err: closure_cost's
+                                                      compensation, as cost_err */
     /* Robin Hood: time not shared out yet, value of the instances left */
     double pool, value_left;
     int limited; /* an instance could refine further */
@@ -743,6 +745,10 @@ struct tclod_selector {
     int has_view;
     int failed;      /* strict mode: a bad callback value was seen */
     double cost_sum; /* running: finite costs of visible, kept cut nodes */
+    double cost_err; /* running: what rounding took from cost_sum
+                        (tclod_add_compensated), so that cost_sum + cost_err is
+                        their total to within rounding of the total, absorbed
+                        costs included */
     double reserved; /* running: cost held by smooth variables (mixed) */
     double benefit_sum;
     uint32_t unaffordable; /* visible, kept cut nodes with infinite cost */
@@ -886,6 +892,29 @@ static inline int tclod_evaluate_seen(tclod_selector *sel, tclod_id n, float are
 static inline int tclod_evaluate_measured(tclod_selector *sel, tclod_id n, float area,
                                           double distance) {
     return tclod_evaluate_seen(sel, n, area, distance) < 0 ? -1 : 0;
+}
+
+/* Adds x to the running sum *s, keeping in *e what rounding took from it:
+ * (a - t) + x is exactly the rounding error of t = a + x when |a| >= |x|,
+ * which a running sum of costs meets but for its first terms (there the
+ * error found is off by an ulp of t or so). So *s + *e is the sum to within
+ * rounding of the total, also when *s has absorbed terms below half its ulp.
+ * An infinite sum makes *e NaN or infinite, which tclod_within then ignores. */
+static inline void tclod_add_compensated(double *s, double *e, double x) {
+    double a = *s, t = a + x;
+    *e += (a - t) + x;
+    *s = t;
+}
+
+/* A fit test of the cut's running cost: `total` (cost_sum and what is added
+ * to it, as the caller sums it) is within `limit`, and so is it with cost_err,
+ * the rounding the running sum lost, added. Where cost_sum is exact (cost_err
+ * 0) this is the plain test total <= limit; otherwise it refuses what fits
+ * only because the running sum absorbed costs, and never admits what the
+ * plain test refuses. (cost_err is NaN only after an infinite sum, which the
+ * plain test refuses.) */
+static inline int tclod_within(const tclod_selector *sel, double total, double limit) {
+    return total <= limit && total + sel->cost_err <= limit;
 }
 
 /* Runs TCLOD_SOLVER_GREEDY for sel->frame into the working cut, from where

@@ -1041,7 +1041,7 @@ static int improve_modelled(tclod_selector *sel) {
             /* its slope beats the smooth variables' at the budget left after it
              * exactly when, at its slope, they would spend no more than that */
             if (!spend_exceeds(&sel->vars, slope_d, left)) {
-                if (sel->cost_sum + held + dc <= budget) {
+                if (tclod_within(sel, sel->cost_sum + held + dc, budget)) {
                     if (tclod_greedy_take(sel, cand) != 0)
                         return -1;
                     R->run = 0;

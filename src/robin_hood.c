@@ -306,6 +306,44 @@ static double smooth_complexity(tclod_selector *sel, uint32_t pos) {
     return complexity_value(sel, c, d);
 }
 
+/* The chain head above node n (defined below). */
+static tclod_id chain_head(const tclod_selector *sel, tclod_id n);
+
+/* The default complexity (callbacks.complexity NULL) of the instance starting
+ * at head whose finest representation is node end, into *out: end's cost as
+ * this select evaluates it for its frame, here, so that the select asks it
+ * once; when the frame does not see end (its benefit is 0, and the frame
+ * never asks its cost), its cost at the reference area with no view
+ * (node_complexity), or for a self leaf its additive node's, found before it
+ * (an ancestor's chain comes first). `culled`: head lies below a branch the
+ * frame does not see, whose subtree this select never evaluates: end is
+ * taken as not seen without asking. A head that is its own end is evaluated
+ * as cycles 1 and 2 evaluate heads, and its value (-1: not visible) waits in
+ * path[2 head] for them (keep_values). Returns -1 on a strict error. */
+static int finest_cost(tclod_selector *sel, tclod_id head, tclod_id end, int culled, double *out) {
+    int seen = 0;
+    if (culled) {
+        /* not evaluated: nothing below a culled branch is */
+    } else if (end == head) {
+        double v;
+        seen = evaluate_head(sel, head, 0, 0, &v);
+        if (seen < 0)
+            return -1;
+        sel->path[2u * head] = seen ? v : -1.0;
+    } else {
+        if (tclod_evaluate_node(sel, end) != 0)
+            return -1;
+        seen = visible(sel, end);
+    }
+    if (seen)
+        *out = sel->node[end].cost; /* sanitised: a bad one is +inf, counted once */
+    else if (sel->scene->bounds[end].kind & TCLOD_BOUNDS_SELF)
+        *out = sel->rh_key[chain_head(sel, sel->scene->up[end])];
+    else
+        *out = node_complexity(sel, head, end);
+    return sel->failed ? -1 : 0;
+}
+
 /* Whether smooth objects are instances: the smooth callbacks are set. */
 static int with_smooth(const tclod_selector *sel) {
     return sel->desc.callbacks.smooth_benefit && sel->desc.callbacks.smooth_cost;
@@ -374,13 +412,41 @@ static void mark_nested(tclod_selector *sel) {
     }
 }
 
+/* Whether head n lies below a branch that this select found invisible, or
+ * did not evaluate because it lies below one itself: prepare evaluates every
+ * other finest node (a branch is its chain's), parents first. */
+static int culled_below(const tclod_selector *sel, tclod_id n) {
+    tclod_id p = sel->scene->parent[n];
+    return p != TCLOD_NONE && (sel->node[p].stamp != sel->solve_id || !visible(sel, p));
+}
+
+/* The values of the heads finest_cost evaluated, for cycles 1 and 2: a
+ * branch's children's in scratch_key by slot, as evaluate_children keeps
+ * them; the top-level ones stay in path[2 id] for values(). */
+static void keep_values(tclod_selector *sel) {
+    uint32_t n = sel->scene->node_count, first, k, j;
+    tclod_id id;
+    for (id = 0; id < n; ++id) {
+        first = sel->rh_first[id];
+        k = child_count(sel, id);
+        if (k < 2u)
+            continue;
+        for (j = 0; j < k; ++j) {
+            tclod_id c = sel->rh_kids[first + j];
+            if (sel->node[c].stamp == sel->solve_id)
+                sel->scratch_key[first + j] = sel->path[2u * c];
+        }
+    }
+}
+
 /* The chains (every node belongs to the chain of the nearest instance start
  * above it), each branching node's children and the top-level instances, in
  * order of complexity. Smooth objects are identified by their position in the
- * scene's smooth order, plus the node count. */
-static void prepare(tclod_selector *sel) {
+ * scene's smooth order, plus the node count. Returns -1 on a strict error. */
+static int prepare(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
     uint32_t n = s->node_count, used = 0, i, count = 0;
+    int by_cost = sel->desc.callbacks.complexity == NULL;
     double *keys;
     tclod_id id;
     /* the child index, contiguous */
@@ -422,7 +488,10 @@ static void prepare(tclod_selector *sel) {
             ch->count = child_count(sel, m);
         }
         ch->len = used - ch->at;
-        sel->rh_key[id] = node_complexity(sel, id, m);
+        if (!by_cost)
+            sel->rh_key[id] = node_complexity(sel, id, m);
+        else if (finest_cost(sel, id, m, culled_below(sel, id), &sel->rh_key[id]) != 0)
+            return -1;
     }
     assert(used == s->order_count);
     mark_nested(sel);
@@ -457,10 +526,15 @@ static void prepare(tclod_selector *sel) {
         }
     tclod_sort_by_key(sel->rh_order, keys, count);
     sel->rh_order_count = count;
+    if (by_cost)
+        keep_values(sel);
     /* no chain has taken a level yet: their searches start at the first */
     for (id = 0; id < n; ++id)
         set_last_level(sel, id, 0u);
+    if (sel->failed)
+        return -1;
     sel->rh_version = s->version;
+    return 0;
 }
 
 /* ---- the cut -------------------------------------------------------------------- */
@@ -1036,6 +1110,7 @@ static int finish(tclod_selector *sel) {
     for (i = 0; i < sel->cut_count; ++i)
         sum += costs[i];
     sel->cost_sum = sum;
+    sel->cost_err = 0.0; /* the repair below counts from this sum */
     for (i = 0; i < sel->vars.count; ++i)
         sum += sel->vars.c[i];
     if (!isinf(sum) && sum <= sel->frame->budget)
@@ -1066,8 +1141,10 @@ static inline void fetch_instance(const tclod_selector *sel, uint32_t k, int eva
 }
 
 /* Cycle 1 of §5.2: the value of every instance (0: not drawn) into rh_key,
- * and their total. */
-static int values(tclod_selector *sel, double *total) {
+ * and their total. `prepared`: prepare ran in this solve and may have
+ * evaluated top-level heads already (finest_cost); a constant where this is
+ * inlined, so that the other solves test nothing. */
+TCLOD_ALWAYS_INLINE int values_as(tclod_selector *sel, double *total, int prepared) {
     const tclod_scene *s = sel->scene;
     uint32_t k;
     *total = 0.0;
@@ -1076,7 +1153,9 @@ static int values(tclod_selector *sel, double *total) {
         double v;
         fetch_instance(sel, k + ORDER_AHEAD, 1);
         if (id < s->node_count) {
-            if (evaluate_head(sel, id, 0, 0, &v) < 0)
+            if (prepared && sel->node[id].stamp == sel->solve_id) /* by finest_cost */
+                v = sel->path[2u * id] > 0.0 ? sel->path[2u * id] : 0.0;
+            else if (evaluate_head(sel, id, 0, 0, &v) < 0)
                 return -1;
         } else {
             v = smooth_value(sel, id - s->node_count);
@@ -1087,6 +1166,24 @@ static int values(tclod_selector *sel, double *total) {
         *total += v;
     }
     return 0;
+}
+
+/* values_as for a solve that did (not) prepare, each out of line as the one
+ * loop was. */
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((noinline))
+#endif
+static int
+values_prepared(tclod_selector *sel, double *total) {
+    return values_as(sel, total, 1);
+}
+
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((noinline))
+#endif
+static int
+values(tclod_selector *sel, double *total) {
+    return values_as(sel, total, 0);
 }
 
 /* One variable per smooth object, at its position in the smooth order, all
@@ -1106,17 +1203,15 @@ static void empty_variables(tclod_selector *sel) {
 static int robin_hood_start(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     double budget = sel->frame->budget, total;
-    if (sel->rh_version != sel->scene->version) {
-        prepare(sel);
-        if (sel->failed) {
-            sel->rh_version = 0; /* strict: ask again next time */
-            return -1;
-        }
+    int prepared = sel->rh_version != sel->scene->version;
+    if (prepared && prepare(sel) != 0) {
+        sel->rh_version = 0; /* strict: ask again next time */
+        return -1;
     }
     cut_clear(sel);
     empty_variables(sel);
     sel->reserved = 0.0;
-    if (values(sel, &total) != 0)
+    if ((prepared ? values_prepared(sel, &total) : values(sel, &total)) != 0)
         return -1;
     R->plain = plain_heads(sel);
     R->pool = isinf(budget) ? budget : budget - BUDGET_MARGIN * budget;

@@ -192,6 +192,90 @@ static void a_scene_change_orders_the_instances_again(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* Without a complexity callback, an instance's complexity is the cost of its
+ * finest level, and the callbacks are still asked at most once per node per
+ * select (tclod_callbacks), also in a select after a scene change, which
+ * orders the instances again. Scene, no bounds, no view, budget 100 (every
+ * level fits), values the benefits:
+ *   chain A: 0 (b 1, c 1) -> 1 (b 2, c 2) -> 2 (b 3, c 4), finest level 2;
+ *   B: 3 (b 1, c 1), its own finest level;
+ *   branch C: 4 (b 1, c 1) with children 5 and 6 (b 1, c 1), each an instance
+ *   of one level, C its own finest level;
+ *   D: 7 (b 0, c 5), not visible;
+ *   chain E: 8 (b 1, c 1) -> 9 (b 0, c 3), its finest level not visible;
+ *   branch G: 10 (b 0, c 1), not visible, with children 11 and 12 (b 1, c 1).
+ * No node is asked its benefit or its cost twice in a select. The frame asks
+ * nothing about 7, 9 and 10 beyond their benefit (0), and nothing at all
+ * about 11 and 12, below G, which is culled with its subtree: a select that
+ * orders the instances asks their costs once each, for the complexity, at
+ * the reference area with no view (the only queries with screen_area 10 000;
+ * the frame's carry -1), and the frame's own costs of the other finest levels
+ * (2, 3, 4, 5, 6) serve as theirs. After a node is added (F, 13: b 1, c 1, a
+ * root) the next select orders the instances again and asks the same, F's
+ * cost once too; a select with no change asks no complexity. The order, from
+ * the same costs, is as before, and the cut lists A's 2, B, C's children 5
+ * and 6, and F after the change. */
+static uint32_t reference_queries;
+
+static double counting_cost(void *user, const tclod_query *q) {
+    reference_queries += q->view == NULL && q->screen_area == 10000.0f;
+    return table_cost(user, q);
+}
+
+static void costs_are_asked_once_per_select_across_scene_changes(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const double ca[3] = {1.0, 2.0, 4.0};
+    tclod_selector_desc d;
+    tclod_selector *sel;
+    tclod_stats st;
+    tclod_id c, e, g, id;
+    int frame;
+    add_chain(f, 1.0, ca, 3);
+    f->model.benefit[1] = 2.0;
+    f->model.benefit[2] = 3.0;
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    c = helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, c, 1.0, 1.0);
+    helper_add(f, c, 1.0, 1.0);
+    helper_add(f, TCLOD_NONE, 0.0, 5.0);
+    e = helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, e, 0.0, 3.0);
+    g = helper_add(f, TCLOD_NONE, 0.0, 1.0);
+    helper_add(f, g, 1.0, 1.0);
+    helper_add(f, g, 1.0, 1.0);
+    rh_desc(f, &d);
+    d.robin_hood.value = TCLOD_VALUE_BENEFIT;
+    d.callbacks.cost = counting_cost;
+    sel = rh_create(f, &d);
+    for (frame = 0; frame < 3; ++frame) {
+        static const tclod_id drawn[] = {2, 3, 5, 6, 13}, finest[] = {2, 3, 4, 5, 6, 13};
+        static const tclod_id unseen[] = {7, 9, 10, 11, 12};
+        size_t k;
+        uint32_t nodes;
+        if (frame == 1)
+            assert_int_equal(helper_add(f, TCLOD_NONE, 1.0, 1.0), 13);
+        nodes = tclod_scene_node_count(f->scene);
+        table_reset_counts(&f->model);
+        reference_queries = 0;
+        select_rh(sel, NULL, 100.0, &st);
+        for (id = 0; id < nodes; ++id)
+            if (f->model.benefit_calls[id] > 1 || f->model.cost_calls[id] > 1)
+                fail_msg("frame %d, node %u: %u benefit and %u cost calls", frame, (unsigned)id,
+                         (unsigned)f->model.benefit_calls[id], (unsigned)f->model.cost_calls[id]);
+        for (k = 0; k < (frame == 0 ? 5u : 6u); ++k) /* the visible finest levels */
+            assert_int_equal(f->model.cost_calls[finest[k]], 1);
+        for (k = 0; k < 5; ++k)
+            assert_int_equal(f->model.cost_calls[unseen[k]], frame < 2);
+        assert_int_equal(f->model.benefit_calls[11] + f->model.benefit_calls[12], 0);
+        assert_int_equal(reference_queries, frame < 2 ? 5u : 0u);
+        assert_int_equal(st.invalid_values, 0);
+        for (k = 0; k < (frame == 0 ? 4u : 5u); ++k)
+            assert_true(listed(sel, drawn[k]));
+        helper_check_result(sel, &f->model, &st, 100.0, 1);
+    }
+    tclod_selector_destroy(sel);
+}
+
 /* A branch's children are found again when the scene changes: roots R1 and
  * R2 (cost 1), each with two children of cost 1, equal values, budget 10.
  * Each root's share 5 covers its children's 2, so the cut is R1's A, B and
@@ -921,6 +1005,7 @@ int main(void) {
         FIXTURE_TEST(leftover_of_a_simple_instance_reaches_a_complex_one),
         FIXTURE_TEST(instances_are_visited_simple_to_complex),
         FIXTURE_TEST(a_scene_change_orders_the_instances_again),
+        FIXTURE_TEST(costs_are_asked_once_per_select_across_scene_changes),
         FIXTURE_TEST(a_scene_change_finds_the_branches_children_again),
         FIXTURE_TEST(the_leftover_refines_the_instances_that_can_refine),
         FIXTURE_TEST(shares_follow_the_values),

@@ -232,7 +232,9 @@ typedef struct tclod_callbacks {
     void *user; /* passed to every callback unchanged */
     /* Robin Hood solver, optional: how costly instance q->id is to draw well,
      * asked once per instance after the scene changed, with no view. NULL:
-     * the cost of its finest representation at robin_hood.reference_area. */
+     * the cost of its finest representation, as the next select asks it (at
+     * robin_hood.reference_area with no view when that select does not see
+     * it), so that no cost is asked twice (docs/robin_hood.md, the pass). */
     double (*complexity)(void *user, const tclod_query *q);
     /* Robin Hood solver, optional: the importance I the value functions
      * multiply ([RH eq. 8-11]), >= 0, asked once per visible instance per

@@ -289,8 +289,19 @@ double host_cost(void *user, const tclod_query *q) {
     v = p->m->cost[q->id];
     p->calls++;
     p->bad += (uint32_t)fuzz_bad(v);
-    if (is_complexity_query(q))
+    if (is_complexity_query(q)) {
+        /* the Robin Hood solver's default complexity: asked only about a
+         * finest level the frame found invisible or does not look at (below
+         * a culled branch; else the frame's cost serves), and it counts as
+         * the node's one cost call of the select */
+        FUZZ_CHECK(p->any_view || p->benefit_calls[q->id] == 0 ||
+                       (p->benefit_calls[q->id] == 1 &&
+                        (!(p->benefit_seen[q->id] > 0.0) || fuzz_bad(p->benefit_seen[q->id]))),
+                   "complexity of node %u asked as a cost after %u benefit calls (last %g)",
+                   (unsigned)q->id, (unsigned)p->benefit_calls[q->id], p->benefit_seen[q->id]);
+        p->cost_calls[q->id]++;
         return v;
+    }
     FUZZ_CHECK(p->any_view || (p->benefit_calls[q->id] == 1 && p->benefit_seen[q->id] > 0.0),
                "cost of node %u asked after %u benefit calls (last %g)", (unsigned)q->id,
                (unsigned)p->benefit_calls[q->id], p->benefit_seen[q->id]);

@@ -38,8 +38,10 @@
  *    stats as they were;
  *  - callbacks are asked only about live nodes that draw (never an empty,
  *    removed or hidden id), each node's benefit and cost at most once per
- *    select, cost only after a benefit > 0 (the Robin Hood solver's
- *    complexity question, cost again without a view, apart); a query carries
+ *    select, cost only after a benefit > 0 (but the Robin Hood solver's
+ *    default complexity, the cost of a finest level the frame found
+ *    invisible or does not look at, asked without a view: that node's one
+ *    cost call); a query carries
  *    the node's volume as added or last moved, and the screen area and
  *    distance the view helpers give for it;
  *  - a result is a valid selection in the tree the solvers see (empty nodes
