@@ -273,7 +273,8 @@ typedef enum tclod_refine {
                                  (point-cloud octrees, 3D Tiles ADD) */
 } tclod_refine;
 
-/* A node to add. */
+/* A node to add. Start from tclod_node_desc_default, not from zeros: parent 0
+ * is node 0, the default parent is TCLOD_NONE. */
 typedef struct tclod_node_desc {
     tclod_id parent;     /* TCLOD_NONE: the root of a new hierarchy; else a live node.
                             Default TCLOD_NONE */
