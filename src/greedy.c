@@ -22,7 +22,7 @@
  * A final exact re-summation in result order repairs any rounding drift, so the
  * budget guarantee holds to the last bit.
  */
-#include "internal.h"
+#include "selector.h"
 
 #include <float.h>
 #include <math.h>

@@ -24,7 +24,7 @@
  * line falls, and keeps the best of the local maxima on either side of them.
  * Every step keeps the selection within the budget.
  */
-#include "internal.h"
+#include "selector.h"
 
 #include <float.h>
 #include <math.h>

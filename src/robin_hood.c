@@ -25,7 +25,7 @@
  * own, each guaranteed its simplest level and sharing the rest by value, so
  * the cut never has a hole.
  */
-#include "internal.h"
+#include "selector.h"
 
 #include <float.h>
 #include <math.h>

@@ -8,7 +8,7 @@
  * committed one, so the previous result stays readable and warm starts stay
  * valid. A busy flag refuses re-entry from the host's callbacks.
  */
-#include "internal.h"
+#include "selector.h"
 
 #include <math.h>
 #include <string.h>

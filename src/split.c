@@ -21,7 +21,7 @@
  * C sqrt(X) (1 - 1/sqrt(n)), which it equals when one object holds all the
  * benefit.
  */
-#include "internal.h"
+#include "selector.h"
 
 #include <math.h>
 
