@@ -206,8 +206,8 @@ static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
     }
     db = sum_b - node[n].benefit;
     dc = sum_c - node[n].cost; /* -inf when n itself is unaffordable */
-    sel->delta[n].delta_b = db;
-    sel->delta[n].delta_c = dc;
+    sel->greedy.delta[n].delta_b = db;
+    sel->greedy.delta[n].delta_c = dc;
     if (!affordable || !isfinite(sum_c) || !(db > 0.0))
         return (double)NAN;
     return dc > 0.0 ? db / dc : HUGE_VAL;
@@ -337,7 +337,7 @@ static NOINLINE double lookahead_key(tclod_selector *sel, tclod_id n, int *faile
     int deep = 0, rc;
     sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED; /* no jump */
     if (*failed || first == end || !counts(sel, n) || key == HUGE_VAL ||
-        !isfinite(sel->delta[n].delta_c))
+        !isfinite(sel->greedy.delta[n].delta_c))
         return key;
     for (i = first; i < end; ++i) {
         tclod_id m = s->children[i];
@@ -379,8 +379,8 @@ static NOINLINE double lookahead_key(tclod_selector *sel, tclod_id n, int *faile
         look_again(sel, n, 1.0, at, 0.0, 1, &b, &c);
         q = best;
     }
-    sel->delta[n].delta_b = b - node[n].benefit;
-    sel->delta[n].delta_c = c - node[n].cost;
+    sel->greedy.delta[n].delta_b = b - node[n].benefit;
+    sel->greedy.delta[n].delta_c = c - node[n].cost;
     sel->flags[n] |= (uint8_t)TCLOD_FLAG_JUMP;
     return q;
 }
@@ -400,13 +400,13 @@ static NOINLINE double cheapest_jump(tclod_selector *sel, tclod_id n) {
 static inline double cheap_key(tclod_selector *sel, tclod_id n, int look) {
     if (look && (sel->flags[n] & TCLOD_FLAG_JUMP))
         return -cheapest_jump(sel, n);
-    return -sel->delta[n].delta_c;
+    return -sel->greedy.delta[n].delta_c;
 }
 
 /* 1 when an increment of this key waits in the plain pass's closure queue
  * rather than in the heap (see take_closure). */
 static int closes(const tclod_selector *sel, double key) {
-    return sel->resume.closing && key >= sel->resume.closure_key;
+    return sel->resume.greedy.closing && key >= sel->resume.greedy.closure_key;
 }
 
 /* queue_increment for a selector with (look) or without a lookahead: two
@@ -417,14 +417,14 @@ static inline int queue_as(tclod_selector *sel, tclod_id n, int append, int look
     if (failed)
         return -1;
     if (closes(sel, key)) {
-        sel->scratch[sel->resume.closure_tail++] = n;
+        sel->scratch[sel->resume.greedy.closure_tail++] = n;
     } else if (key == key) {
-        if (append || sel->resume.closing) /* the closure's end builds the heap */
-            tclod_heap_append(&sel->inc, n, key);
+        if (append || sel->resume.greedy.closing) /* the closure's end builds the heap */
+            tclod_heap_append(&sel->greedy.inc, n, key);
         else
-            tclod_heap_push(&sel->inc, n, key);
-        if (sel->cheap_live)
-            tclod_heap_push(&sel->cheap, n, cheap_key(sel, n, look));
+            tclod_heap_push(&sel->greedy.inc, n, key);
+        if (sel->greedy.cheap_live)
+            tclod_heap_push(&sel->greedy.cheap, n, cheap_key(sel, n, look));
     }
     return 0;
 }
@@ -445,14 +445,14 @@ static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
 static inline int requeue_as(tclod_selector *sel, tclod_id n, tclod_id *held, int look) {
     int failed;
     double key;
-    assert(!sel->resume.closing); /* the closure takes only increments it queued */
+    assert(!sel->resume.greedy.closing); /* the closure takes only increments it queued */
     key = look ? lookahead_key(sel, n, &failed) : increment_key(sel, n, &failed);
     if (failed)
         return -1;
     if (key == key) {
-        tclod_heap_replace(&sel->inc, *held, n, key);
-        if (sel->cheap_live)
-            tclod_heap_replace(&sel->cheap, *held, n, cheap_key(sel, n, look));
+        tclod_heap_replace(&sel->greedy.inc, *held, n, key);
+        if (sel->greedy.cheap_live)
+            tclod_heap_replace(&sel->greedy.cheap, *held, n, cheap_key(sel, n, look));
         *held = TCLOD_NONE;
     }
     return 0;
@@ -472,22 +472,22 @@ static int requeue_increment(tclod_selector *sel, tclod_id n, tclod_id *held) {
 }
 
 static void unqueue_increment(tclod_selector *sel, tclod_id n) {
-    if (!tclod_heap_contains(&sel->inc, n))
+    if (!tclod_heap_contains(&sel->greedy.inc, n))
         return;
-    tclod_heap_remove(&sel->inc, n);
-    if (sel->cheap_live)
-        tclod_heap_remove(&sel->cheap, n);
+    tclod_heap_remove(&sel->greedy.inc, n);
+    if (sel->greedy.cheap_live)
+        tclod_heap_remove(&sel->greedy.cheap, n);
 }
 
 static void clear_heaps(tclod_selector *sel) {
-    tclod_heap_clear(&sel->inc);
-    tclod_heap_clear(&sel->cheap);
-    tclod_heap_clear(&sel->dec);
-    sel->cheap_live = 0;
+    tclod_heap_clear(&sel->greedy.inc);
+    tclod_heap_clear(&sel->greedy.cheap);
+    tclod_heap_clear(&sel->greedy.dec);
+    sel->greedy.cheap_live = 0;
 }
 
 static tclod_id pop_increment(tclod_selector *sel) {
-    tclod_id n = sel->inc.items[0].id;
+    tclod_id n = sel->greedy.inc.items[0].id;
     unqueue_increment(sel, n);
     return n;
 }
@@ -502,8 +502,8 @@ static tclod_id pop_increment(tclod_selector *sel) {
  * cut that fits gains (n's increment unchanged then). */
 static NOINLINE double refit_jump(tclod_selector *sel, tclod_id n) {
     tclod_node_state *node = sel->node;
-    double ab = sel->delta[n].delta_b, ac = sel->delta[n].delta_c, bb, bc, b, c, weight = 0.0,
-           lambda = 1.0;
+    double ab = sel->greedy.delta[n].delta_b, ac = sel->greedy.delta[n].delta_c, bb, bc, b, c,
+           weight = 0.0, lambda = 1.0;
     double key;
     uint32_t it;
     int rc;
@@ -536,8 +536,8 @@ static NOINLINE double refit_jump(tclod_selector *sel, tclod_id n) {
     if (key != key)
         return key;
     rc = look_again(sel, n, weight, lambda, 0.0, 1, &b, &c);
-    sel->delta[n].delta_b = b - node[n].benefit;
-    sel->delta[n].delta_c = c - node[n].cost;
+    sel->greedy.delta[n].delta_b = b - node[n].benefit;
+    sel->greedy.delta[n].delta_c = c - node[n].cost;
     sel->flags[n] |= (uint8_t)TCLOD_FLAG_REFIT;
     if (rc == 0)
         sel->flags[n] &= (uint8_t)~TCLOD_FLAG_JUMP;
@@ -554,9 +554,9 @@ static void skip_misfit(tclod_selector *sel, tclod_id n) {
         return;
     key = refit_jump(sel, n);
     if (key == key) {
-        tclod_heap_push(&sel->inc, n, key);
-        if (sel->cheap_live)
-            tclod_heap_push(&sel->cheap, n, cheap_key(sel, n, 1));
+        tclod_heap_push(&sel->greedy.inc, n, key);
+        if (sel->greedy.cheap_live)
+            tclod_heap_push(&sel->greedy.cheap, n, cheap_key(sel, n, 1));
     }
 }
 
@@ -565,7 +565,7 @@ static void skip_misfit(tclod_selector *sel, tclod_id n) {
  * absorbed costs is not taken: the final summation would give it back). */
 static int increment_fits(const tclod_selector *sel, tclod_id n) {
     return sel->unaffordable == 0 &&
-           tclod_within(sel, sel->cost_sum + sel->delta[n].delta_c, cut_budget(sel));
+           tclod_within(sel, sel->cost_sum + sel->greedy.delta[n].delta_c, cut_budget(sel));
 }
 
 /* 1 when some queued increment fits the remaining budget. Increments that do
@@ -573,24 +573,24 @@ static int increment_fits(const tclod_selector *sel, tclod_id n) {
  * The increments ordered by cost are needed only from the first misfit on, so
  * they are heaped then, in O(n), and kept up to date after that. */
 static int increment_may_fit(tclod_selector *sel) {
-    if (!sel->cheap_live) {
+    if (!sel->greedy.cheap_live) {
         uint32_t i;
         if (sel->desc.greedy.lookahead > 0) {
-            for (i = 0; i < sel->inc.count; ++i) {
-                tclod_id n = sel->inc.items[i].id;
-                tclod_heap_append(&sel->cheap, n, cheap_key(sel, n, 1));
+            for (i = 0; i < sel->greedy.inc.count; ++i) {
+                tclod_id n = sel->greedy.inc.items[i].id;
+                tclod_heap_append(&sel->greedy.cheap, n, cheap_key(sel, n, 1));
             }
         } else {
-            for (i = 0; i < sel->inc.count; ++i) {
-                tclod_id n = sel->inc.items[i].id;
-                tclod_heap_append(&sel->cheap, n, -sel->delta[n].delta_c);
+            for (i = 0; i < sel->greedy.inc.count; ++i) {
+                tclod_id n = sel->greedy.inc.items[i].id;
+                tclod_heap_append(&sel->greedy.cheap, n, -sel->greedy.delta[n].delta_c);
             }
         }
-        tclod_heap_build(&sel->cheap);
-        sel->cheap_live = 1;
+        tclod_heap_build(&sel->greedy.cheap);
+        sel->greedy.cheap_live = 1;
     }
-    return sel->cheap.count > 0 && sel->unaffordable == 0 &&
-           tclod_within(sel, sel->cost_sum - sel->cheap.items[0].key, cut_budget(sel));
+    return sel->greedy.cheap.count > 0 && sel->unaffordable == 0 &&
+           tclod_within(sel, sel->cost_sum - sel->greedy.cheap.items[0].key, cut_budget(sel));
 }
 
 /* 1 when every child of p is in the cut. */
@@ -623,8 +623,8 @@ static double decrement_key(tclod_selector *sel, tclod_id p) {
     }
     loss = sum_b - sel->node[p].benefit;
     saved = sum_c - sel->node[p].cost;
-    sel->delta[p].delta_b = loss;
-    sel->delta[p].delta_c = saved;
+    sel->greedy.delta[p].delta_b = loss;
+    sel->greedy.delta[p].delta_c = saved;
     if (isinf(sel->node[p].cost) || !isfinite(sum_c))
         return -HUGE_VAL;
     if (unaffordable)
@@ -639,15 +639,15 @@ static double decrement_key(tclod_selector *sel, tclod_id p) {
 /* Queues the decrement into p when p is collapsible. */
 static int queue_decrement(tclod_selector *sel, tclod_id p, int append) {
     double key;
-    if (p == TCLOD_NONE || tclod_heap_contains(&sel->dec, p) || !collapsible(sel, p))
+    if (p == TCLOD_NONE || tclod_heap_contains(&sel->greedy.dec, p) || !collapsible(sel, p))
         return 0;
     if (evaluate(sel, p) != 0)
         return -1;
     key = decrement_key(sel, p);
     if (append)
-        tclod_heap_append(&sel->dec, p, key);
+        tclod_heap_append(&sel->greedy.dec, p, key);
     else
-        tclod_heap_push(&sel->dec, p, key);
+        tclod_heap_push(&sel->greedy.dec, p, key);
     return 0;
 }
 
@@ -707,9 +707,9 @@ static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
     uint32_t count, i;
     const tclod_id *ch = children_of(sel, n, &count);
     tclod_id parent = sel->scene->parent[n];
-    tclod_id held = tclod_heap_contains(&sel->inc, n) ? n : TCLOD_NONE;
-    double path_b = sel->path[2u * n] + sel->delta[n].delta_b;
-    double path_c = sel->path[2u * n + 1u] + sel->delta[n].delta_c;
+    tclod_id held = tclod_heap_contains(&sel->greedy.inc, n) ? n : TCLOD_NONE;
+    double path_b = sel->path[2u * n] + sel->greedy.delta[n].delta_b;
+    double path_c = sel->path[2u * n + 1u] + sel->greedy.delta[n].delta_c;
     greedy_cut_remove(sel, n);
     if (sel->flags[n] & (TCLOD_FLAG_JUMP | TCLOD_FLAG_REFIT)) {
         if (apply_jump(sel, n, track_dec, &held, path_b, path_c) != 0)
@@ -728,20 +728,20 @@ static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
     if (held != TCLOD_NONE)
         unqueue_increment(sel, held);
     sel->stats.increments++;
-    if (track_dec && parent != TCLOD_NONE && tclod_heap_contains(&sel->dec, parent))
-        tclod_heap_remove(&sel->dec, parent);
+    if (track_dec && parent != TCLOD_NONE && tclod_heap_contains(&sel->greedy.dec, parent))
+        tclod_heap_remove(&sel->greedy.dec, parent);
     return 0;
 }
 
 static int apply_decrement(tclod_selector *sel, tclod_id p) {
     uint32_t count, i;
     const tclod_id *ch = children_of(sel, p, &count);
-    if (tclod_heap_contains(&sel->dec, p))
-        tclod_heap_remove(&sel->dec, p);
+    if (tclod_heap_contains(&sel->greedy.dec, p))
+        tclod_heap_remove(&sel->greedy.dec, p);
     for (i = 0; i < count; ++i) {
         unqueue_increment(sel, ch[i]);
-        if (tclod_heap_contains(&sel->dec, ch[i]))
-            tclod_heap_remove(&sel->dec, ch[i]);
+        if (tclod_heap_contains(&sel->greedy.dec, ch[i]))
+            tclod_heap_remove(&sel->greedy.dec, ch[i]);
         greedy_cut_remove(sel, ch[i]);
     }
     greedy_cut_add(sel, p);
@@ -874,7 +874,7 @@ static int start_cold(tclod_selector *sel) {
     for (i = 0; i < sel->cut_count; ++i)
         if (queue_increment(sel, sel->cut[i], 1) != 0)
             return -1;
-    tclod_heap_build(&sel->inc);
+    tclod_heap_build(&sel->greedy.inc);
     return 0;
 }
 
@@ -1103,8 +1103,8 @@ static int start_warm(tclod_selector *sel) {
             queue_decrement(sel, p, 1) != 0)
             return -1;
     }
-    tclod_heap_build(&sel->inc);
-    tclod_heap_build(&sel->dec);
+    tclod_heap_build(&sel->greedy.inc);
+    tclod_heap_build(&sel->greedy.dec);
     return 0;
 }
 
@@ -1145,15 +1145,15 @@ int tclod_out_of_time(tclod_selector *sel) {
  * start_cold has it). Always completes. */
 static int restore_budget(tclod_selector *sel) {
     while (!feasible(sel) ||
-           (sel->dec.count > 0 && !tclod_within(sel, sel->cost_sum, cut_budget(sel)))) {
-        if (sel->dec.count == 0) {
+           (sel->greedy.dec.count > 0 && !tclod_within(sel, sel->cost_sum, cut_budget(sel)))) {
+        if (sel->greedy.dec.count == 0) {
             drop_roots(sel);
             if (sel->stats.over_budget)
                 clear_heaps(sel); /* the roots over the budget, and nothing more */
             break;
         }
         sel->stats.iterations++;
-        if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0)
+        if (apply_decrement(sel, tclod_heap_pop(&sel->greedy.dec)) != 0)
             return -1;
     }
     return 0;
@@ -1161,19 +1161,19 @@ static int restore_budget(tclod_selector *sel) {
 
 /* Loss per saved cost of the cheapest decrement that saves cost, or +inf. */
 static double min_loss_ratio(const tclod_selector *sel) {
-    if (sel->dec.count == 0)
+    if (sel->greedy.dec.count == 0)
         return HUGE_VAL;
-    tclod_id p = sel->dec.items[0].id;
-    if (!(sel->delta[p].delta_c > 0.0))
+    tclod_id p = sel->greedy.dec.items[0].id;
+    if (!(sel->greedy.delta[p].delta_c > 0.0))
         return HUGE_VAL;
-    return -sel->dec.items[0].key;
+    return -sel->greedy.dec.items[0].key;
 }
 
 /* Makes room for increment n by decrements whose summed loss stays below its
  * gain. Returns 1 when the swap was made, 0 when it would not gain. */
 static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
-    double need = sel->cost_sum + sel->delta[n].delta_c - sel->frame->budget;
-    double gain = sel->delta[n].delta_b, freed = 0.0, loss = 0.0;
+    double need = sel->cost_sum + sel->greedy.delta[n].delta_c - sel->frame->budget;
+    double gain = sel->greedy.delta[n].delta_b, freed = 0.0, loss = 0.0;
     tclod_id parent = sel->scene->parent[n];
     uint32_t taken = 0, i;
     int ok = 0;
@@ -1184,19 +1184,19 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
      * loses at least that ratio times need */
     if (gain <= min_loss_ratio(sel) * need)
         return 0;
-    while (sel->dec.count > 0) {
-        double key = sel->dec.items[0].key;
-        tclod_id p = sel->dec.items[0].id;
-        if (p != parent && !(sel->delta[p].delta_c > 0.0))
+    while (sel->greedy.dec.count > 0) {
+        double key = sel->greedy.dec.items[0].key;
+        tclod_id p = sel->greedy.dec.items[0].id;
+        if (p != parent && !(sel->greedy.delta[p].delta_c > 0.0))
             break; /* the rest saves nothing */
-        tclod_heap_pop(&sel->dec);
+        tclod_heap_pop(&sel->greedy.dec);
         sel->scratch[taken] = p;
         sel->scratch_key[taken] = key;
         taken++;
         if (p == parent)
             continue; /* would remove n itself */
-        freed += sel->delta[p].delta_c;
-        loss += sel->delta[p].delta_b;
+        freed += sel->greedy.delta[p].delta_c;
+        loss += sel->greedy.delta[p].delta_b;
         if (gain - loss <= SWAP_MARGIN * fabs(gain))
             break;
         if (freed >= need) {
@@ -1207,7 +1207,7 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
     for (i = 0; i < taken; ++i) {
         tclod_id p = sel->scratch[i];
         if (!ok || p == parent)
-            tclod_heap_push(&sel->dec, p, sel->scratch_key[i]);
+            tclod_heap_push(&sel->greedy.dec, p, sel->scratch_key[i]);
     }
     if (!ok)
         return 0;
@@ -1227,18 +1227,18 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
 }
 
 /* A cold solve records the best single skipped increment with the increments
- * above it (sel->resume.alt_*): one that a pass forcing it reproduces, so not
+ * above it (sel->resume.greedy.alt_*): one that a pass forcing it reproduces, so not
  * a refit (apply_jump keeps those below one out). */
 static void consider_alternative(tclod_selector *sel, tclod_id n) {
     tclod_resume *R = &sel->resume;
     const double *path = &sel->path[2u * n];
-    double c = R->alt_roots_c + path[1] + sel->delta[n].delta_c;
-    double b = R->alt_roots_b + path[0] + sel->delta[n].delta_b;
+    double c = R->greedy.alt_roots_c + path[1] + sel->greedy.delta[n].delta_c;
+    double b = R->greedy.alt_roots_b + path[0] + sel->greedy.delta[n].delta_b;
     /* fits as increment_fits has it, with the roots' compensation */
-    if (c <= sel->frame->budget && !(c + R->alt_roots_err > sel->frame->budget) &&
-        b > R->alt_benefit && !(sel->flags[n] & TCLOD_FLAG_REFIT)) {
-        R->alt_node = n;
-        R->alt_benefit = b;
+    if (c <= sel->frame->budget && !(c + R->greedy.alt_roots_err > sel->frame->budget) &&
+        b > R->greedy.alt_benefit && !(sel->flags[n] & TCLOD_FLAG_REFIT)) {
+        R->greedy.alt_node = n;
+        R->greedy.alt_benefit = b;
     }
 }
 
@@ -1246,18 +1246,18 @@ static void consider_alternative(tclod_selector *sel, tclod_id n) {
  * relaxation there: the benefit so far plus n's gain (docs/greedy.md). */
 static void note_misfit(tclod_selector *sel, tclod_id n) {
     tclod_resume *R = &sel->resume;
-    if (R->misfit != TCLOD_NONE)
+    if (R->greedy.misfit != TCLOD_NONE)
         return;
-    R->misfit = n;
-    R->misfit_key = sel->inc.items[0].key;
-    R->lp_bound = sel->benefit_sum + sel->delta[n].delta_b;
+    R->greedy.misfit = n;
+    R->greedy.misfit_key = sel->greedy.inc.items[0].key;
+    R->greedy.lp_bound = sel->benefit_sum + sel->greedy.delta[n].delta_b;
 }
 
 /* 1 when the current pass leaves node n's increment out. */
 static int left_out(const tclod_resume *R, tclod_id n) {
     uint32_t i;
-    for (i = 0; i < R->picks; ++i)
-        if (R->pick[i] == n && !R->take[i])
+    for (i = 0; i < R->greedy.picks; ++i)
+        if (R->greedy.pick[i] == n && !R->greedy.take[i])
             return 1;
     return 0;
 }
@@ -1280,28 +1280,28 @@ static int take_closure(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     int sliced = sel->slice_end > 0.0 || sel->slice_iterations != 0;
     uint32_t dropped;
-    while (R->closure_tail > R->closure_head) {
-        tclod_id n = sel->scratch[R->closure_head];
-        double grow = sel->delta[n].delta_c > 0.0 ? sel->delta[n].delta_c : 0.0;
-        double total = R->closure_cost + grow;
+    while (R->greedy.closure_tail > R->greedy.closure_head) {
+        tclod_id n = sel->scratch[R->greedy.closure_head];
+        double grow = sel->greedy.delta[n].delta_c > 0.0 ? sel->greedy.delta[n].delta_c : 0.0;
+        double total = R->greedy.closure_cost + grow;
         if (sel->unaffordable != 0 || !(total <= cut_budget(sel)) ||
-            total + R->closure_err > cut_budget(sel))
+            total + R->greedy.closure_err > cut_budget(sel))
             break;
-        R->closure_head++;
-        tclod_add_compensated(&R->closure_cost, &R->closure_err, grow);
+        R->greedy.closure_head++;
+        tclod_add_compensated(&R->greedy.closure_cost, &R->greedy.closure_err, grow);
         sel->stats.iterations++;
         if (apply_increment(sel, n, 0) != 0)
             return -1;
         if (sliced)
             return 0;
     }
-    if (R->closure_tail == R->closure_head) {
-        R->closing = 0;
-        tclod_heap_build(&sel->inc);
+    if (R->greedy.closure_tail == R->greedy.closure_head) {
+        R->greedy.closing = 0;
+        tclod_heap_build(&sel->greedy.inc);
         return 0;
     }
-    R->closing = 0;
-    R->closure_head = R->closure_tail = 0;
+    R->greedy.closing = 0;
+    R->greedy.closure_head = R->greedy.closure_tail = 0;
     dropped = sel->stats.dropped_roots; /* the roots are dropped again, the same way */
     if (start_cold(sel) != 0)
         return -1;
@@ -1322,21 +1322,21 @@ static int improve(tclod_selector *sel, int warm, int alt) {
         int swapped;
         if (tclod_out_of_time(sel))
             return 0;
-        if (sel->resume.closing) {
+        if (sel->resume.greedy.closing) {
             if (take_closure(sel) != 0)
                 return -1;
             continue;
         }
-        if (warm && sel->dec.count > 0 && sel->dec.items[0].key == HUGE_VAL) {
+        if (warm && sel->greedy.dec.count > 0 && sel->greedy.dec.items[0].key == HUGE_VAL) {
             sel->stats.iterations++;
-            if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0)
+            if (apply_decrement(sel, tclod_heap_pop(&sel->greedy.dec)) != 0)
                 return -1;
             continue;
         }
-        if (sel->inc.count == 0)
+        if (sel->greedy.inc.count == 0)
             break;
-        n = sel->inc.items[0].id;
-        if (sel->resume.left_out > 0 && left_out(&sel->resume, n)) {
+        n = sel->greedy.inc.items[0].id;
+        if (sel->resume.greedy.left_out > 0 && left_out(&sel->resume, n)) {
             pop_increment(sel);
             continue;
         }
@@ -1356,7 +1356,7 @@ static int improve(tclod_selector *sel, int warm, int alt) {
             continue;
         }
         *skipped = 1;
-        if (!warm || !(sel->inc.items[0].key > min_loss_ratio(sel)))
+        if (!warm || !(sel->greedy.inc.items[0].key > min_loss_ratio(sel)))
             break;
         n = pop_increment(sel);
         sel->stats.iterations++;
@@ -1367,8 +1367,8 @@ static int improve(tclod_selector *sel, int warm, int alt) {
             continue;
     }
     if (alt)
-        for (i = 0; i < sel->inc.count; ++i)
-            consider_alternative(sel, sel->inc.items[i].id);
+        for (i = 0; i < sel->greedy.inc.count; ++i)
+            consider_alternative(sel, sel->greedy.inc.items[i].id);
     sel->stats.stop_reason = *skipped ? TCLOD_STOP_BUDGET : TCLOD_STOP_FINEST;
     return 0;
 }
@@ -1382,7 +1382,7 @@ static int force_path(tclod_selector *sel, tclod_id n) {
     int below = 1; /* a is not refined yet: the cut is at a or above it */
     tclod_id a;
     for (a = n; a != TCLOD_NONE; a = s->parent[a]) {
-        if (below && sel->resume.left_out > 0 && left_out(&sel->resume, a))
+        if (below && sel->resume.greedy.left_out > 0 && left_out(&sel->resume, a))
             return 1;
         below &= sel->node[a].cut_pos == TCLOD_NONE;
         sel->scratch[depth++] = a;
@@ -1407,31 +1407,31 @@ static int force_path(tclod_selector *sel, tclod_id n) {
 
 /* Starts a pass from the roots with the current decisions: the increments
  * taken forced (with those above them), the others left out by improve.
- * Sets resume.infeasible when the forced ones do not fit. */
+ * Sets resume.greedy.infeasible when the forced ones do not fit. */
 static int start_decided(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     uint32_t i;
     if (start_cold(sel) != 0)
         return -1;
-    R->left_out = 0;
-    for (i = 0; i < R->picks; ++i)
-        R->left_out += !R->take[i];
-    R->infeasible = 0;
-    R->misfit = TCLOD_NONE;
-    R->lp_bound = 0.0;
+    R->greedy.left_out = 0;
+    for (i = 0; i < R->greedy.picks; ++i)
+        R->greedy.left_out += !R->greedy.take[i];
+    R->greedy.infeasible = 0;
+    R->greedy.misfit = TCLOD_NONE;
+    R->greedy.lp_bound = 0.0;
     R->skipped = 0;
     sel->stats.stop_reason = TCLOD_STOP_FINEST;
-    for (i = 0; i < R->picks && !R->infeasible; ++i) {
+    for (i = 0; i < R->greedy.picks && !R->greedy.infeasible; ++i) {
         int rc;
-        if (!R->take[i])
+        if (!R->greedy.take[i])
             continue;
-        rc = force_path(sel, R->pick[i]);
+        rc = force_path(sel, R->greedy.pick[i]);
         if (rc < 0)
             return -1;
-        R->infeasible = rc > 0;
+        R->greedy.infeasible = rc > 0;
     }
     if (!feasible(sel) || !tclod_within(sel, sel->cost_sum, cut_budget(sel)))
-        R->infeasible = 1;
+        R->greedy.infeasible = 1;
     return 0;
 }
 
@@ -1519,7 +1519,7 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
         if (sel->stats.over_budget)
             return 0; /* the roots alone exceed the budget, and overflow draws them */
         if (!dec_built) {
-            tclod_heap_clear(&sel->dec);
+            tclod_heap_clear(&sel->greedy.dec);
             for (i = 0; i < sel->cut_count; ++i) {
                 tclod_id p = s->parent[sel->cut[i]];
                 if (queue_decrement(sel, p, 0) != 0)
@@ -1531,9 +1531,9 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
         most = late || round > 30u ? UINT32_MAX : 1u << round;
         least = round < 2u ? 1u : 1u << (round > 31u ? 30u : round - 1u);
         while (undone < least || (undone < most && !(est <= limit))) {
-            if (sel->dec.count > 0) {
-                tclod_id p = tclod_heap_pop(&sel->dec);
-                est -= sel->delta[p].delta_c; /* the cost the collapse saves */
+            if (sel->greedy.dec.count > 0) {
+                tclod_id p = tclod_heap_pop(&sel->greedy.dec);
+                est -= sel->greedy.delta[p].delta_c; /* the cost the collapse saves */
                 if (apply_decrement(sel, p) != 0)
                     return -1;
             } else {
@@ -1570,7 +1570,7 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
 enum {
     GREEDY_START = 0,
     GREEDY_IMPROVE,
-    GREEDY_PASS, /* a pass after the plain one, with resume.pick/take */
+    GREEDY_PASS, /* a pass after the plain one, with resume.greedy.pick/take */
     GREEDY_IMPROVE_PASS,
     GREEDY_REPLAY, /* the best pass again, when another one ended last */
     GREEDY_IMPROVE_REPLAY,
@@ -1585,9 +1585,9 @@ enum {
  * starts from the roots. Always completes. */
 static int greedy_start(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
-    R->warm = !sel->desc.cold_start && sel->has_cut;
+    R->greedy.warm = !sel->desc.cold_start && sel->has_cut;
     R->skipped = 0;
-    if (R->warm && sel->node_version != sel->scene->node_version) {
+    if (R->greedy.warm && sel->node_version != sel->scene->node_version) {
         /* the edits since the cut was made, from the log while it holds them */
         const tclod_scene *s = sel->scene;
         uint64_t seen = sel->user.log_seen;
@@ -1596,27 +1596,27 @@ static int greedy_start(tclod_selector *sel) {
         else
             repair_cut(sel);
     }
-    if (R->warm)
+    if (R->greedy.warm)
         return start_warm(sel) != 0 ? -1 : restore_budget(sel);
-    R->closure_head = R->closure_tail = 0;
-    R->closing = sel->closure_hint > 0.0 && sel->frame->max_iterations == 0 &&
-                 sel->frame->solve_seconds == 0.0;
-    R->closure_key = sel->closure_hint * CLOSURE_MARGIN;
+    R->greedy.closure_head = R->greedy.closure_tail = 0;
+    R->greedy.closing = sel->greedy.closure_hint > 0.0 && sel->frame->max_iterations == 0 &&
+                        sel->frame->solve_seconds == 0.0;
+    R->greedy.closure_key = sel->greedy.closure_hint * CLOSURE_MARGIN;
     if (start_cold(sel) != 0)
         return -1;
-    R->closure_cost = sel->cost_sum;
-    R->closure_err = sel->cost_err;
-    R->alt_node = TCLOD_NONE;
-    R->alt_benefit = 0.0;
-    R->alt_roots_b = sel->benefit_sum;
-    R->alt_roots_c = sel->cost_sum;
-    R->alt_roots_err = sel->cost_err;
-    R->use_alt =
+    R->greedy.closure_cost = sel->cost_sum;
+    R->greedy.closure_err = sel->cost_err;
+    R->greedy.alt_node = TCLOD_NONE;
+    R->greedy.alt_benefit = 0.0;
+    R->greedy.alt_roots_b = sel->benefit_sum;
+    R->greedy.alt_roots_c = sel->cost_sum;
+    R->greedy.alt_roots_err = sel->cost_err;
+    R->greedy.use_alt =
         sel->stats.dropped_roots == 0 && !sel->stats.over_budget && sel->desc.greedy.restarts > 0;
-    R->misfit = TCLOD_NONE;
-    R->lp_bound = 0.0;
-    R->picks = R->best_picks = R->left_out = R->tries = 0;
-    R->searching = 0;
+    R->greedy.misfit = TCLOD_NONE;
+    R->greedy.lp_bound = 0.0;
+    R->greedy.picks = R->greedy.best_picks = R->greedy.left_out = R->greedy.tries = 0;
+    R->greedy.searching = 0;
     return 0;
 }
 
@@ -1626,9 +1626,9 @@ static int greedy_start(tclod_selector *sel) {
 static int worth_searching(const tclod_selector *sel, double bound) {
     const tclod_resume *R = &sel->resume;
     const tclod_frame *f = sel->frame;
-    return sel->desc.greedy.restarts > 1 && R->tries < (uint32_t)sel->desc.greedy.restarts &&
+    return sel->desc.greedy.restarts > 1 && R->greedy.tries < (uint32_t)sel->desc.greedy.restarts &&
            f->max_iterations == 0 && f->solve_seconds == 0.0 &&
-           bound > R->best_benefit * (1.0 + RESTART_GAP);
+           bound > R->greedy.best_benefit * (1.0 + RESTART_GAP);
 }
 
 /* The search's next decisions after a pass (depth first): below a pass whose
@@ -1637,16 +1637,16 @@ static int worth_searching(const tclod_selector *sel, double bound) {
  * the search is over. */
 static int next_decisions(tclod_selector *sel, int below) {
     tclod_resume *R = &sel->resume;
-    if (below && R->picks < TCLOD_SEARCH_DEPTH) {
-        R->pick[R->picks] = R->misfit;
-        R->take[R->picks++] = 1;
+    if (below && R->greedy.picks < TCLOD_SEARCH_DEPTH) {
+        R->greedy.pick[R->greedy.picks] = R->greedy.misfit;
+        R->greedy.take[R->greedy.picks++] = 1;
         return 1;
     }
-    while (R->picks > 0 && !R->take[R->picks - 1u])
-        R->picks--;
-    if (R->picks == 0)
+    while (R->greedy.picks > 0 && !R->greedy.take[R->greedy.picks - 1u])
+        R->greedy.picks--;
+    if (R->greedy.picks == 0)
         return 0;
-    R->take[R->picks - 1u] = 0;
+    R->greedy.take[R->greedy.picks - 1u] = 0;
     return 1;
 }
 
@@ -1659,43 +1659,44 @@ static int next_decisions(tclod_selector *sel, int below) {
  * is not the last one. A pass stopped by a limit ends the solve. */
 static int after_pass(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
-    int plain = R->tries == 0 && !R->searching && R->picks == 0;
+    int plain = R->greedy.tries == 0 && !R->greedy.searching && R->greedy.picks == 0;
     if (sel->stopped || (sel->stats.stop_reason != TCLOD_STOP_BUDGET &&
                          sel->stats.stop_reason != TCLOD_STOP_FINEST))
         return GREEDY_END;
-    R->cut_is_best = 0;
-    if (plain || (!R->infeasible && sel->benefit_sum > R->best_benefit * (1.0 + SWAP_MARGIN))) {
-        R->best_benefit = sel->benefit_sum;
-        R->best_picks = R->picks;
-        memcpy(R->best_pick, R->pick, sizeof(tclod_id) * R->picks);
-        memcpy(R->best_take, R->take, R->picks);
-        R->cut_is_best = 1;
+    R->greedy.cut_is_best = 0;
+    if (plain || (!R->greedy.infeasible &&
+                  sel->benefit_sum > R->greedy.best_benefit * (1.0 + SWAP_MARGIN))) {
+        R->greedy.best_benefit = sel->benefit_sum;
+        R->greedy.best_picks = R->greedy.picks;
+        memcpy(R->greedy.best_pick, R->greedy.pick, sizeof(tclod_id) * R->greedy.picks);
+        memcpy(R->greedy.best_take, R->greedy.take, R->greedy.picks);
+        R->greedy.cut_is_best = 1;
     }
     if (plain) {
-        R->root_misfit = R->misfit;
-        R->root_bound = R->lp_bound;
-        sel->closure_hint = R->misfit != TCLOD_NONE ? R->misfit_key : DBL_MIN;
-        if (R->use_alt && R->alt_node != TCLOD_NONE &&
-            R->alt_benefit > R->best_benefit * (1.0 + SWAP_MARGIN)) {
-            R->pick[0] = R->alt_node; /* the T(n) pass */
-            R->take[0] = 1;
-            R->picks = 1;
+        R->greedy.root_misfit = R->greedy.misfit;
+        R->greedy.root_bound = R->greedy.lp_bound;
+        sel->greedy.closure_hint = R->greedy.misfit != TCLOD_NONE ? R->greedy.misfit_key : DBL_MIN;
+        if (R->greedy.use_alt && R->greedy.alt_node != TCLOD_NONE &&
+            R->greedy.alt_benefit > R->greedy.best_benefit * (1.0 + SWAP_MARGIN)) {
+            R->greedy.pick[0] = R->greedy.alt_node; /* the T(n) pass */
+            R->greedy.take[0] = 1;
+            R->greedy.picks = 1;
             return GREEDY_PASS;
         }
     }
-    if (R->use_alt && !R->searching) { /* the search begins below the plain pass */
-        R->searching = 1;
-        R->picks = 0;
-        R->misfit = R->root_misfit;
-        if (R->root_misfit != TCLOD_NONE && worth_searching(sel, R->root_bound) &&
+    if (R->greedy.use_alt && !R->greedy.searching) { /* the search begins below the plain pass */
+        R->greedy.searching = 1;
+        R->greedy.picks = 0;
+        R->greedy.misfit = R->greedy.root_misfit;
+        if (R->greedy.root_misfit != TCLOD_NONE && worth_searching(sel, R->greedy.root_bound) &&
             next_decisions(sel, 1))
             return GREEDY_PASS;
-    } else if (R->searching && R->tries < (uint32_t)sel->desc.greedy.restarts &&
-               next_decisions(sel, !R->infeasible && R->misfit != TCLOD_NONE &&
-                                       worth_searching(sel, R->lp_bound))) {
+    } else if (R->greedy.searching && R->greedy.tries < (uint32_t)sel->desc.greedy.restarts &&
+               next_decisions(sel, !R->greedy.infeasible && R->greedy.misfit != TCLOD_NONE &&
+                                       worth_searching(sel, R->greedy.lp_bound))) {
         return GREEDY_PASS;
     }
-    return R->cut_is_best ? GREEDY_END : GREEDY_REPLAY;
+    return R->greedy.cut_is_best ? GREEDY_END : GREEDY_REPLAY;
 }
 
 tclod_status tclod_greedy_solve(tclod_selector *sel) {
@@ -1708,25 +1709,25 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
             R->phase = GREEDY_IMPROVE;
             break;
         case GREEDY_IMPROVE:
-            rc = improve(sel, R->warm, !R->warm && R->use_alt);
+            rc = improve(sel, R->greedy.warm, !R->greedy.warm && R->greedy.use_alt);
             if (!sel->paused)
-                R->phase = R->warm ? GREEDY_END : after_pass(sel);
+                R->phase = R->greedy.warm ? GREEDY_END : after_pass(sel);
             break;
         case GREEDY_PASS:
-            R->tries++;
+            R->greedy.tries++;
             rc = start_decided(sel);
             R->phase = GREEDY_IMPROVE_PASS;
             break;
         case GREEDY_IMPROVE_PASS:
-            if (!R->infeasible)
+            if (!R->greedy.infeasible)
                 rc = improve(sel, 0, 0);
             if (!sel->paused)
                 R->phase = after_pass(sel);
             break;
         case GREEDY_REPLAY:
-            R->picks = R->best_picks;
-            memcpy(R->pick, R->best_pick, sizeof(tclod_id) * R->picks);
-            memcpy(R->take, R->best_take, R->picks);
+            R->greedy.picks = R->greedy.best_picks;
+            memcpy(R->greedy.pick, R->greedy.best_pick, sizeof(tclod_id) * R->greedy.picks);
+            memcpy(R->greedy.take, R->greedy.best_take, R->greedy.picks);
             rc = start_decided(sel);
             R->phase = GREEDY_IMPROVE_REPLAY;
             break;
@@ -1736,7 +1737,7 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
                 R->phase = GREEDY_END;
             break;
         default:
-            rc = enforce_budget(sel, R->warm);
+            rc = enforce_budget(sel, R->greedy.warm);
             clear_heaps(sel);
             return rc == 0 ? TCLOD_OK : TCLOD_ERR_CALLBACK;
         }
@@ -1745,6 +1746,42 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
         return TCLOD_OK;
     clear_heaps(sel);
     return TCLOD_ERR_CALLBACK;
+}
+
+/* ---- buffers ------------------------------------------------------------------ */
+
+size_t tclod_greedy_buffers(tclod_greedy_state *g, tclod_array *out) {
+    size_t n = 0;
+    /* increments are NaN until computed; no heap slot is TCLOD_NONE */
+    out[n++] = (tclod_array){(void **)&g->delta, sizeof(tclod_delta), 0xff};
+    out[n++] = (tclod_array){(void **)&g->inc_slot, sizeof(uint32_t), 0xff};
+    out[n++] = (tclod_array){(void **)&g->cheap_slot, sizeof(uint32_t), 0xff};
+    out[n++] = (tclod_array){(void **)&g->dec_slot, sizeof(uint32_t), 0xff};
+    out[n++] = (tclod_array){(void **)&g->inc_block, sizeof(tclod_heap_entry), -1};
+    out[n++] = (tclod_array){(void **)&g->cheap_block, sizeof(tclod_heap_entry), -1};
+    out[n++] = (tclod_array){(void **)&g->dec_block, sizeof(tclod_heap_entry), -1};
+    return n;
+}
+
+/* Where a heap's entries start in its block: entry 1 on a 64-byte boundary,
+ * so that every slot's four children lie in one cache line. Up to three
+ * entries are skipped. */
+static tclod_heap_entry *heap_items(tclod_heap_entry *block) {
+    uintptr_t a = (uintptr_t)(void *)block;
+    if (a % sizeof(tclod_heap_entry) != 0)
+        return block;
+    return block + (64u + 48u - a % 64u) % 64u / sizeof(tclod_heap_entry);
+}
+
+/* The heaps find their entries in their blocks and their slots in dense
+ * arrays. */
+void tclod_greedy_bind(tclod_greedy_state *g) {
+    g->inc.items = heap_items(g->inc_block);
+    g->cheap.items = heap_items(g->cheap_block);
+    g->dec.items = heap_items(g->dec_block);
+    g->inc.pos = g->inc_slot;
+    g->cheap.pos = g->cheap_slot;
+    g->dec.pos = g->dec_slot;
 }
 
 /* ---- the steps the mixed solver interleaves with its smooth ones ------------ */
@@ -1756,18 +1793,18 @@ int tclod_greedy_start(tclod_selector *sel) {
 tclod_id tclod_greedy_candidate(tclod_selector *sel, double *ratio, int *skipped) {
     for (;;) {
         tclod_id n;
-        if (sel->inc.count == 0)
+        if (sel->greedy.inc.count == 0)
             return TCLOD_NONE;
-        n = sel->inc.items[0].id;
+        n = sel->greedy.inc.items[0].id;
         if (increment_fits(sel, n)) {
-            *ratio = sel->inc.items[0].key;
+            *ratio = sel->greedy.inc.items[0].key;
             return n;
         }
         *skipped = 1;
         if (!increment_may_fit(sel))
             return TCLOD_NONE;
         /* smooth steps only add cost too: a misfit never fits again */
-        if (sel->resume.use_alt)
+        if (sel->resume.greedy.use_alt)
             consider_alternative(sel, n);
         skip_misfit(sel, n);
     }
@@ -1776,34 +1813,34 @@ tclod_id tclod_greedy_candidate(tclod_selector *sel, double *ratio, int *skipped
 void tclod_greedy_skip(tclod_selector *sel) {
     tclod_id n = pop_increment(sel);
     sel->stats.iterations++;
-    if (sel->resume.use_alt)
+    if (sel->resume.greedy.use_alt)
         consider_alternative(sel, n);
 }
 
 void tclod_greedy_track(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
-    R->alt_node = TCLOD_NONE;
-    R->alt_benefit = 0.0;
-    R->alt_roots_b = sel->benefit_sum;
-    R->alt_roots_c = sel->cost_sum;
-    R->alt_roots_err = sel->cost_err;
-    R->use_alt =
+    R->greedy.alt_node = TCLOD_NONE;
+    R->greedy.alt_benefit = 0.0;
+    R->greedy.alt_roots_b = sel->benefit_sum;
+    R->greedy.alt_roots_c = sel->cost_sum;
+    R->greedy.alt_roots_err = sel->cost_err;
+    R->greedy.use_alt =
         sel->stats.dropped_roots == 0 && !sel->stats.over_budget && sel->desc.greedy.restarts > 0;
 }
 
 tclod_id tclod_greedy_alternative(tclod_selector *sel, double *benefit) {
     tclod_resume *R = &sel->resume;
     uint32_t i;
-    if (!R->use_alt)
+    if (!R->greedy.use_alt)
         return TCLOD_NONE;
-    for (i = 0; i < sel->inc.count; ++i)
-        consider_alternative(sel, sel->inc.items[i].id);
-    *benefit = R->alt_benefit;
-    return R->alt_node;
+    for (i = 0; i < sel->greedy.inc.count; ++i)
+        consider_alternative(sel, sel->greedy.inc.items[i].id);
+    *benefit = R->greedy.alt_benefit;
+    return R->greedy.alt_node;
 }
 
 int tclod_greedy_force(tclod_selector *sel, tclod_id n) {
-    sel->resume.picks = sel->resume.left_out = 0;
+    sel->resume.greedy.picks = sel->resume.greedy.left_out = 0;
     if (start_cold(sel) != 0)
         return -1;
     /* 1: n's lookahead jump no longer fits and no cut of it does; the path

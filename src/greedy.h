@@ -5,7 +5,7 @@
 #ifndef TCLOD_GREEDY_H
 #define TCLOD_GREEDY_H
 
-#include "internal.h"
+#include "heap.h"
 
 /* The most decisions on one path of the greedy's search (restarts). */
 #define TCLOD_SEARCH_DEPTH 32u
@@ -16,6 +16,66 @@
 typedef struct tclod_delta {
     double delta_b, delta_c;
 } tclod_delta;
+
+/* What the greedy keeps between solves (tclod_selector.greedy). The arrays
+ * are per-node buffers of the selector (tclod_greedy_buffers). */
+typedef struct tclod_greedy_state {
+    tclod_delta *delta;                         /* the nodes' increments */
+    tclod_heap inc;                             /* increments, best Δb/Δc first */
+    tclod_heap cheap;                           /* the same increments, smallest Δc first */
+    int cheap_live;                             /* cheap holds every queued increment */
+    tclod_heap dec;                             /* decrements, least loss per saved cost first */
+    uint32_t *inc_slot, *cheap_slot, *dec_slot; /* the heaps' slots, in dense arrays:
+                                                   moving heap entries touches few lines */
+    tclod_heap_entry *inc_block, *cheap_block, *dec_block; /* the heaps' entries start
+                                  inside these, where a slot's four children share
+                                  one cache line (cap >= nodes + 3) */
+    double closure_hint; /* the key of the last plain cold pass's first misfit:
+                            DBL_MIN when it had none, 0 before the first */
+} tclod_greedy_state;
+
+/* Lists the greedy's per-node buffers into out (room for TCLOD_MAX_ARRAYS);
+ * returns how many. */
+size_t tclod_greedy_buffers(tclod_greedy_state *g, tclod_array *out);
+
+/* Points the heaps at their entries and slots, after the buffers moved. */
+void tclod_greedy_bind(tclod_greedy_state *g);
+
+/* Where a greedy solve stands (tclod_resume.greedy). */
+typedef struct tclod_greedy_resume {
+    int warm; /* the solve started from the previous cut */
+    /* cold start: the skipped increment whose T(n) (the increment with the
+     * increments above it) fits and gives the most benefit */
+    tclod_id alt_node;
+    double alt_benefit, alt_roots_b, alt_roots_c;
+    double alt_roots_err; /* alt_roots_c's compensation (tclod_selector.cost_err) */
+    int use_alt;
+    /* cold start: the passes after the plain one (restarts). A pass forces
+     * the increments of its decisions marked taken (with those above them)
+     * and leaves out the others; the search below explores decisions depth
+     * first. The current pass's decisions and the best pass's */
+    tclod_id pick[TCLOD_SEARCH_DEPTH], best_pick[TCLOD_SEARCH_DEPTH];
+    uint8_t take[TCLOD_SEARCH_DEPTH], best_take[TCLOD_SEARCH_DEPTH];
+    uint32_t picks, best_picks, left_out; /* left_out: decisions not taken */
+    uint32_t tries;                       /* passes made after the plain one */
+    int searching;                        /* the passes are the search's (not the T(n) one) */
+    int cut_is_best;                      /* the working cut is the best pass's */
+    int infeasible;                       /* the current pass's decisions do not fit */
+    double best_benefit;
+    tclod_id misfit;      /* the current pass's first increment that did not fit */
+    double lp_bound;      /* its benefit there plus the misfit's gain (0: none) */
+    tclod_id root_misfit; /* the plain pass's, where the search begins */
+    double root_bound;
+    double misfit_key; /* the key of the current pass's first misfit */
+    /* the plain cold pass: increments keyed at or above closure_key wait in a
+     * queue (sel->scratch[closure_head .. closure_tail)) instead of the heap
+     * and are taken first, while closure_cost (the roots' cost plus every
+     * positive Δc taken from the queue) fits */
+    int closing;
+    uint32_t closure_head, closure_tail;
+    double closure_key, closure_cost, closure_err; /* closure_err: closure_cost's
+                                                      compensation, as cost_err */
+} tclod_greedy_resume;
 
 /* Runs TCLOD_SOLVER_GREEDY for sel->frame into the working cut, from where
  * sel->resume says it stands. Returns TCLOD_OK or TCLOD_ERR_CALLBACK (strict);

@@ -55,6 +55,35 @@ enum {
     TCLOD_VAR_BLOCKED = 2 /* could not move within the budget; out of this solve */
 };
 
+/* What the mixed solver keeps between solves (tclod_selector.mixed): the
+ * variables and split.c's work arrays, per-smooth-object buffers of the
+ * selector (tclod_mixed_buffers). */
+typedef struct tclod_mixed_state {
+    tclod_vars vars;               /* the solve's variables */
+    uint32_t *split_node;          /* split.c's stack: quadtree nodes ... */
+    double *split_x, *split_theta; /* ... their expected resolution and loss share */
+    uint32_t *split_order;         /* split.c, per quadtree node (2 per object): the inner
+                                      nodes reached, in order; and by node: */
+    double *split_c, *split_q;     /* the sums of its visible objects' benefit scales
+                                      and of their squares, */
+    uint8_t *split_whole;          /* 1 when all of its objects are visible */
+} tclod_mixed_state;
+
+/* Lists the mixed solver's per-smooth-object buffers into out (room for
+ * TCLOD_MAX_ARRAYS); returns how many. */
+size_t tclod_mixed_buffers(tclod_mixed_state *m, tclod_array *out);
+
+/* Where a mixed solve stands (tclod_resume.mixed). */
+typedef struct tclod_mixed_resume {
+    int as_greedy;    /* no smooth variable: the greedy solves */
+    int smooth_done;  /* papers' loop: the smooth variables stopped */
+    int alt_pass;     /* the pass from the best skipped increment's selection
+                         alone is under way (1) */
+    uint32_t run;     /* smooth steps since the last increment */
+    tclod_id matched; /* papers' loop: the increment whose slope was matched */
+    double guess;     /* preconditioned loop: the last level */
+} tclod_mixed_resume;
+
 /* Smallest resolution at which derivatives are asked (a square-root benefit
  * has an infinite slope at 0). */
 #define TCLOD_SLOPE_FLOOR 1e-9

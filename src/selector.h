@@ -38,68 +38,16 @@ typedef struct tclod_node_state {
 } tclod_node_state;
 
 /* Where a solve stands between two tclod_select_step calls: the state of the
- * solver's loops, so that a step resumes exactly where the last one paused. */
+ * solver's loops, so that a step resumes exactly where the last one paused.
+ * Zeroed when a solve begins. */
 typedef struct tclod_resume {
-    int phase;        /* the solver's stage; 0 = not started */
-    int as_greedy;    /* mixed solver: no smooth variable, the greedy solves */
-    int warm;         /* greedy: the solve started from the previous cut */
-    int skipped;      /* an increment did not fit */
-    int smooth_done;  /* papers' loop: the smooth variables stopped */
-    int alt_pass;     /* mixed solver: the pass from the best skipped
-                         increment's selection alone is under way (1) */
-    uint32_t run;     /* smooth steps since the last increment */
-    uint32_t k;       /* steps of a bounded stage, or the next instance */
-    tclod_id matched; /* papers' loop: the increment whose slope was matched */
-    double guess;     /* preconditioned loop: the last level */
-    /* greedy, cold start: the skipped increment whose T(n) (the increment with
-     * the increments above it) fits and gives the most benefit */
-    tclod_id alt_node;
-    double alt_benefit, alt_roots_b, alt_roots_c;
-    double alt_roots_err; /* alt_roots_c's compensation (tclod_selector.cost_err) */
-    int use_alt;
-    /* greedy, cold start: the passes after the plain one (restarts). A pass
-     * forces the increments of its decisions marked taken (with those above
-     * them) and leaves out the others; the search below explores decisions
-     * depth first. The current pass's decisions and the best pass's */
-    tclod_id pick[TCLOD_SEARCH_DEPTH], best_pick[TCLOD_SEARCH_DEPTH];
-    uint8_t take[TCLOD_SEARCH_DEPTH], best_take[TCLOD_SEARCH_DEPTH];
-    uint32_t picks, best_picks, left_out; /* left_out: decisions not taken */
-    uint32_t tries;                       /* passes made after the plain one */
-    int searching;                        /* the passes are the search's (not the T(n) one) */
-    int cut_is_best;                      /* the working cut is the best pass's */
-    int infeasible;                       /* the current pass's decisions do not fit */
-    double best_benefit;
-    tclod_id misfit;      /* the current pass's first increment that did not fit */
-    double lp_bound;      /* its benefit there plus the misfit's gain (0: none) */
-    tclod_id root_misfit; /* the plain pass's, where the search begins */
-    double root_bound;
-    double misfit_key; /* the key of the current pass's first misfit */
-    /* greedy, the plain cold pass: increments keyed at or above closure_key
-     * wait in a queue (sel->scratch[closure_head .. closure_tail)) instead of
-     * the heap and are taken first, while closure_cost (the roots' cost plus
-     * every positive Δc taken from the queue) fits */
-    int closing;
-    uint32_t closure_head, closure_tail;
-    double closure_key, closure_cost, closure_err; /* closure_err: closure_cost's
-                                                      compensation, as cost_err */
-    /* Robin Hood: time not shared out yet, value of the instances left */
-    double pool, value_left;
-    int limited; /* an instance could refine further */
-    int held;    /* TCLOD_OVERFLOW_DRAW_ROOTS: the roots' simplest levels are held
-                    out of the pool (they fit), or drawn over the budget (they do
-                    not: overflowing) */
-    int overflowing;
-    int plain; /* the solve's heads take the common path (plain_heads) */
-    /* Robin Hood's third cycle: the candidates' ring (robin_hood.c), the value
-     * in it and the smallest step it holds (or a lower bound) ... */
-    uint32_t ring_first, ring_count;
-    double ring_value, min_step;
-    double smooth_value;  /* ... the value and number of the smooth objects */
-    uint32_t smooth_open; /* below resolution 1 ... */
-    uint32_t pass_left;   /* ... the ring entries left in this pass */
-    int refined;          /* ... whether it refined an instance, */
-    uint32_t passes;      /* ... the passes begun and the pool at the */
-    double pass_pool;     /* start of the last one */
+    int phase;                  /* the solver's stage; 0 = not started */
+    int skipped;                /* an increment did not fit (greedy, mixed) */
+    uint32_t k;                 /* steps of a bounded stage (mixed), or the next
+                                   instance (Robin Hood) */
+    tclod_greedy_resume greedy; /* the greedy's, also when the mixed solver runs it */
+    tclod_mixed_resume mixed;
+    tclod_rh_resume rh;
 } tclod_resume;
 
 struct tclod_selector {
@@ -116,19 +64,10 @@ struct tclod_selector {
     /* per-node buffers, cap elements each */
     uint32_t cap;
     tclod_node_state *node;
-    tclod_delta *delta; /* the greedy's increments */
-    double *path;       /* 2 per node: benefit and cost of the increments
-                           taken above it (cold solve) */
+    tclod_greedy_state greedy; /* its per-node buffers among these */
+    double *path;              /* 2 per node: benefit and cost of the increments
+                                  taken above it (the greedy's cold solve) */
     uint8_t *flags;
-    tclod_heap inc;                             /* increments, best Δb/Δc first */
-    tclod_heap cheap;                           /* the same increments, smallest Δc first */
-    int cheap_live;                             /* cheap holds every queued increment */
-    tclod_heap dec;                             /* decrements, least loss per saved cost first */
-    uint32_t *inc_slot, *cheap_slot, *dec_slot; /* the greedy's heap slots, in dense
-                                  arrays: moving heap entries touches few lines */
-    tclod_heap_entry *inc_block, *cheap_block, *dec_block; /* the heaps' entries start
-                                  inside these, where a slot's four children share
-                                  one cache line (cap >= nodes + 3) */
     tclod_id *cut, *prev_cut, *result, *scratch;
     tclod_id *drawn; /* the result as tclod_selector_cut lists it: self leaves as
                         their additive nodes (result itself when it has none) */
@@ -137,41 +76,15 @@ struct tclod_selector {
 
     /* per-smooth-object buffers, smooth_cap elements each */
     uint32_t smooth_cap;
-    tclod_vars vars;            /* the solve's variables */
+    tclod_mixed_state mixed;    /* its per-smooth-object buffers among these */
     tclod_smooth_group *groups; /* the committed smooth result */
     uint32_t group_count;
-    uint32_t *split_node;          /* split.c's stack: quadtree nodes ... */
-    double *split_x, *split_theta; /* ... their expected resolution and loss share */
-    uint32_t *split_order;         /* split.c, per quadtree node (2 per object): the inner
-                                      nodes reached, in order; and by node: */
-    double *split_c, *split_q;     /* the sums of its visible objects' benefit scales
-                                      and of their squares, */
-    uint8_t *split_whole;          /* 1 when all of its objects are visible */
 
-    /* Robin Hood (robin_hood.c): rh_cap elements each, rh_cap >= nodes + smooth */
-    uint32_t rh_cap;
-    uint32_t rh_version; /* scene version the chains and the order describe; 0: none */
-    uint32_t rh_order_count;
-    uint32_t *rh_first;        /* the scene's child index as of the last scene change, */
-    tclod_id *rh_kids;         /* contiguous in id order (robin_hood.c) */
-    uint32_t *rh_chain;        /* every chain of single children, coarse to fine, end to end */
-    tclod_rh_chain *rh_chains; /* per node that starts a chain: the chain */
-    tclod_rh_child *rh_child;  /* per node with several children: them, least complex
-                                  first (in the scene's child ranges) */
-    uint32_t *rh_order;        /* the instances, least complex first: root ids, and smooth
-                                  ids + node count */
-    double *rh_key;            /* 2 per element: complexities and order keys while
-                                  sorting; then this frame's values by order position
-                                  (first half) and the cost of each cut slot (second
-                                  half) */
-    tclod_rh_frame *rh_stack;  /* the branches being shared out */
-    uint8_t *rh_level;         /* per node that starts a chain: the level the chain
-                                  took last (at most 255), where the next search
-                                  starts */
-    /* The Robin Hood solver also keeps, in the per-node buffers it does not
-     * otherwise use: the values of a branch's children in scratch_key, by slot
-     * in the scene's children[] (-1: not visible); the ring of its third cycle's candidates in
-     * scratch and path. */
+    /* the Robin Hood solver's own buffers; it also keeps, in the per-node
+     * buffers it does not otherwise use: the values of a branch's children in
+     * scratch_key, by slot in the scene's children[] (-1: not visible); the
+     * ring of its third cycle's candidates in scratch and path */
+    tclod_rh_state rh;
 
     uint32_t cut_count, prev_count, result_count;
     uint32_t solve_id;
@@ -212,9 +125,7 @@ struct tclod_selector {
     double benefit_sum;
     uint32_t unaffordable; /* visible, kept cut nodes with infinite cost */
     double start_time;
-    uint64_t begin_log;  /* the edit log's end at the solve's beginning */
-    double closure_hint; /* the key of the last plain cold pass's first misfit:
-                            DBL_MIN when it had none, 0 before the first */
+    uint64_t begin_log; /* the edit log's end at the solve's beginning */
     tclod_stats stats;
     struct tclod_selector_saved *keep; /* see tclod_selector_keep; NULL: none */
 };
