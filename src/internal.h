@@ -88,6 +88,13 @@ const char *tclod_calib_check(const tclod_calib_desc *d, int nested);
 #define TCLOD_ALWAYS_INLINE static inline
 #endif
 
+/* A function the compiler must not inline: one kept off the common path. */
+#if defined(__GNUC__) || defined(__clang__)
+#define TCLOD_NOINLINE __attribute__((noinline))
+#else
+#define TCLOD_NOINLINE
+#endif
+
 /* A hint to fetch the cache line at p (to write it: _WRITE); nothing where
  * the compiler has none. */
 #if defined(__GNUC__) || defined(__clang__)
