@@ -4,11 +4,13 @@
 #
 #   cmake -D OUT=<dir> -P cmake/amalgamate.cmake
 #
-# tclod.c is src/internal.h followed by every src/*.c in name order, each
-# source's #include "internal.h" dropped; the public header stays a separate
-# file that tclod.c includes. Static names must therefore be unique across
-# src/ (a static function of one file would clash with its namesake in
-# another): .ci/run compiles the result with -Werror to check.
+# tclod.c is every src/*.h, each after the headers it includes (name order
+# among those whose includes are placed), followed by every src/*.c in name
+# order, each file's #include "<private header>" lines dropped; the public
+# header stays a separate file that tclod.c includes. Static names must
+# therefore be unique across src/ (a static function of one file would clash
+# with its namesake in another): .ci/run compiles the result with -Werror to
+# check.
 if(NOT OUT)
   message(FATAL_ERROR "amalgamate.cmake: no output directory; run cmake -D OUT=<dir> -P ${CMAKE_CURRENT_LIST_FILE}")
 endif()
@@ -26,7 +28,34 @@ string(SUBSTRING "${_version}" 1 -1 _version)
 
 file(GLOB _sources RELATIVE "${_root}" "${_root}/src/*.c")
 list(SORT _sources)
-set(_files src/internal.h ${_sources})
+
+# The private headers in an order where each follows those it includes.
+file(GLOB _pending RELATIVE "${_root}" "${_root}/src/*.h")
+list(SORT _pending)
+set(_headers "")
+while(_pending)
+  set(_placed "")
+  foreach(_h IN LISTS _pending)
+    file(STRINGS "${_root}/${_h}" _includes REGEX "^#include \"[a-z_]+\\.h\"")
+    set(_ready 1)
+    foreach(_line IN LISTS _includes)
+      string(REGEX REPLACE "^#include \"([a-z_]+\\.h)\".*$" "src/\\1" _dep "${_line}")
+      list(FIND _headers "${_dep}" _at)
+      if(_at EQUAL -1)
+        set(_ready 0)
+      endif()
+    endforeach()
+    if(_ready)
+      list(APPEND _headers "${_h}")
+      list(APPEND _placed "${_h}")
+    endif()
+  endforeach()
+  if(NOT _placed)
+    message(FATAL_ERROR "amalgamate.cmake: the includes of ${_pending} form a cycle or name a missing header")
+  endif()
+  list(REMOVE_ITEM _pending ${_placed})
+endwhile()
+set(_files ${_headers} ${_sources})
 
 set(_text [=[/*
  * tclod.c: libtclod @VERSION@ in one file, generated from src/ by
@@ -65,13 +94,8 @@ string(REPLACE "@VERSION@" "${_version}" _text "${_text}")
 
 foreach(_file IN LISTS _files)
   file(READ "${_root}/${_file}" _body)
-  if(NOT _file STREQUAL "src/internal.h")
-    string(FIND "${_body}" "\n#include \"internal.h\"\n" _at)
-    if(_at EQUAL -1)
-      message(FATAL_ERROR "amalgamate.cmake: ${_file} does not include \"internal.h\"")
-    endif()
-    string(REPLACE "\n#include \"internal.h\"\n" "\n" _body "${_body}")
-  endif()
+  # each private header is in tclod.c already, above this file
+  string(REGEX REPLACE "\n#include \"[a-z_]+\\.h\"" "" _body "${_body}")
   string(APPEND _text "\n/* ---- ${_file} ---- */\n${_body}")
 endforeach()
 

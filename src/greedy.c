@@ -21,15 +21,18 @@
  * increment/decrement swaps while they gain.
  * A final exact re-summation in result order repairs any rounding drift, so the
  * budget guarantee holds to the last bit.
+ *
+ * This file holds the papers' loop, the starts and the final repair; the
+ * lookahead is in greedy_lookahead.c, the passes after the plain cold one
+ * (T(n) and the restarts' search) in greedy_search.c, and what the three
+ * share in greedy_internal.h.
  */
-#include "internal.h"
+#include "greedy_internal.h"
 
 #include <float.h>
 #include <math.h>
 #include <string.h>
 
-/* Relative gain a swap must make, so rounding can never make swaps cycle. */
-#define SWAP_MARGIN 1e-12
 /* Iterations between two reads of the clock. */
 #define CLOCK_STRIDE 16u
 
@@ -115,21 +118,12 @@ int tclod_evaluate_bad_cost(tclod_selector *sel, tclod_node_state *st, double c)
 
 /* ---- the cut and its running sums ------------------------------------------ */
 
-static int counts(const tclod_selector *sel, tclod_id n) {
-    return sel->node[n].benefit > 0.0 && !(sel->flags[n] & TCLOD_FLAG_DROPPED);
-}
-
-/* Costs are >= 0 or +inf (unaffordable): never NaN, never -inf. */
-static int unaffordable(double cost) {
-    return cost == HUGE_VAL;
-}
-
 static void account(tclod_selector *sel, tclod_id n, double sign) {
     const tclod_node_state *st = &sel->node[n];
-    if (!counts(sel, n))
+    if (!greedy_counts(sel, n))
         return;
     sel->benefit_sum += sign * st->benefit;
-    if (unaffordable(st->cost)) {
+    if (greedy_unaffordable(st->cost)) {
         if (sign > 0.0)
             sel->unaffordable++;
         else
@@ -155,15 +149,6 @@ static void greedy_cut_remove(tclod_selector *sel, tclod_id n) {
     sel->node[n].cut_pos = TCLOD_NONE;
 }
 
-/* The budget left to the cut: the frame's, minus what smooth variables hold. */
-static double cut_budget(const tclod_selector *sel) {
-    return sel->frame->budget - sel->reserved;
-}
-
-static int feasible(const tclod_selector *sel) {
-    return sel->unaffordable == 0 && sel->cost_sum <= cut_budget(sel);
-}
-
 static const tclod_id *children_of(const tclod_selector *sel, tclod_id n, uint32_t *count) {
     const tclod_scene *s = sel->scene;
     *count = s->child_count[n];
@@ -172,13 +157,6 @@ static const tclod_id *children_of(const tclod_selector *sel, tclod_id n, uint32
 }
 
 /* ---- increments and decrements ------------------------------------------------ */
-
-/* The key of increment (db, dc): NaN when it gains nothing. */
-static double ratio_key(double db, double dc) {
-    if (!(db > 0.0))
-        return (double)NAN;
-    return dc > 0.0 ? db / dc : HUGE_VAL;
-}
 
 /* Evaluates the children of a visible cut node and computes its increment.
  * Returns the heap key, or NaN when it is no candidate (no children, no gain,
@@ -190,7 +168,7 @@ static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
     double sum_b = 0.0, sum_c = 0.0, db, dc;
     int affordable = 1;
     *failed = 0;
-    if (i == end || !counts(sel, n))
+    if (i == end || !greedy_counts(sel, n))
         return (double)NAN;
     for (; i < end; ++i) {
         tclod_id c = s->children[i];
@@ -201,265 +179,94 @@ static double increment_key(tclod_selector *sel, tclod_id n, int *failed) {
         }
         sum_b += node[c].benefit;
         cost = node[c].cost;
-        affordable &= !unaffordable(cost);
-        sum_c += unaffordable(cost) ? 0.0 : cost; /* sum_c >= +0: adding +0 changes no bit */
+        affordable &= !greedy_unaffordable(cost);
+        sum_c += greedy_unaffordable(cost) ? 0.0 : cost; /* sum_c >= +0: adding +0 changes no bit */
     }
     db = sum_b - node[n].benefit;
     dc = sum_c - node[n].cost; /* -inf when n itself is unaffordable */
-    sel->delta[n].delta_b = db;
-    sel->delta[n].delta_c = dc;
+    sel->greedy.delta[n].delta_b = db;
+    sel->greedy.delta[n].delta_c = dc;
     if (!affordable || !isfinite(sum_c) || !(db > 0.0))
         return (double)NAN;
     return dc > 0.0 ? db / dc : HUGE_VAL;
-}
-
-/* A function the compiler must not inline: one kept off the common path. */
-#if defined(__GNUC__) || defined(__clang__)
-#define NOINLINE __attribute__((noinline))
-#else
-#define NOINLINE
-#endif
-
-/* The lookahead's frames: a node and its children still to visit, for the
- * nodes on the way from a cut node down to the deepest level it looks at. */
-#define LOOK_FRAMES (TCLOD_MAX_LOOKAHEAD + 1u)
-/* Dinkelbach iterations of one key at most (each is a valid increment; they
- * converge in a few). */
-#define LOOK_ITERATIONS 16u
-/* Relative margin by which a deeper cut's ratio must beat the one before it,
- * and within which two cuts' values tie (the shallower is kept): rounding
- * never makes a deeper cut of an equal ratio win. */
-#define LOOK_MARGIN 1e-12
-
-typedef struct look_frame {
-    tclod_id id;
-    uint32_t next, end; /* its children still to visit: children[next .. end) */
-    int blocked;        /* a child is unaffordable: the node stays */
-    double b, c;        /* the best cuts of the visited children's subtrees */
-} look_frame;
-
-/* One pass of the lookahead's dynamic program over cut node n's subtree, its
- * children at level 1 and nodes down to level lookahead + 1: at multiplier
- * lambda every node m below n either stays or is replaced by the best cuts of
- * its children's subtrees, whichever has the larger b - lambda c (m stays
- * when they are within tol of each other, or when a child is unaffordable);
- * n itself is always replaced. Invisible nodes stay and cost nothing. The
- * benefit and cost of the resulting cut go to *b and *c; with `write` every
- * node visited records in TCLOD_FLAG_REFINE whether it is replaced. Returns 1
- * when a node below n is replaced, 0 when the cut is n's children, -1 on a
- * strict error. No recursion: the frames live on the stack, one per level. */
-static int look_pass(tclod_selector *sel, tclod_id n, double weight, double lambda, double tol,
-                     int write, double *b, double *c) {
-    const tclod_scene *s = sel->scene;
-    tclod_node_state *node = sel->node;
-    look_frame st[LOOK_FRAMES];
-    uint32_t top = 0, limit = sel->desc.greedy.lookahead;
-    int deeper = 0;
-    st[0].id = n;
-    st[0].next = s->child_first[n];
-    st[0].end = st[0].next + s->child_count[n];
-    st[0].blocked = 0;
-    st[0].b = st[0].c = 0.0;
-    for (;;) {
-        look_frame *f = &st[top];
-        if (f->next < f->end) {
-            tclod_id m = s->children[f->next++];
-            uint32_t first, end;
-            if (evaluate(sel, m) != 0)
-                return -1;
-            if (write)
-                sel->flags[m] &= (uint8_t)~TCLOD_FLAG_REFINE;
-            if (unaffordable(node[m].cost)) {
-                f->blocked = 1;
-                f->next = f->end; /* f stays: its other children do not matter */
-                continue;
-            }
-            first = s->child_first[m];
-            end = first + s->child_count[m];
-            if (top == limit || first == end || !(node[m].benefit > 0.0)) {
-                f->b += node[m].benefit; /* invisible: +0 */
-                f->c += node[m].cost;
-                continue;
-            }
-            f = &st[++top];
-            f->id = m;
-            f->next = first;
-            f->end = end;
-            f->blocked = 0;
-            f->b = f->c = 0.0;
-            continue;
-        }
-        if (top == 0)
-            break;
-        {
-            tclod_id m = f->id;
-            double own = weight * node[m].benefit - lambda * node[m].cost;
-            double below = weight * f->b - lambda * f->c;
-            double scale = weight * (node[m].benefit + f->b) + lambda * (node[m].cost + f->c);
-            int refine = !f->blocked && below > own + tol * scale;
-            look_frame *up = &st[--top];
-            if (write && refine)
-                sel->flags[m] |= (uint8_t)TCLOD_FLAG_REFINE;
-            deeper |= refine;
-            up->b += refine ? f->b : node[m].benefit;
-            up->c += refine ? f->c : node[m].cost;
-        }
-    }
-    *b = st[0].b;
-    *c = st[0].c;
-    return deeper;
-}
-
-/* look_pass over a subtree visited before in this solve: every node in it is
- * evaluated, so no callback is called and no strict error can arise. */
-static int look_again(tclod_selector *sel, tclod_id n, double weight, double lambda, double tol,
-                      int write, double *b, double *c) {
-    int rc = look_pass(sel, n, weight, lambda, tol, write, b, c);
-    assert(rc >= 0);
-    return rc;
-}
-
-/* increment_key with lookahead: the increment of cut node n may replace it by
- * the cut of its subtree down to lookahead levels below its children with the
- * best ratio (b(Q) - b(n)) / (c(Q) - c(n)), found by Dinkelbach's method:
- * from lambda = the plain increment's ratio (0 when it gains nothing), the
- * cut Q maximising b(Q) - lambda c(Q) (look_pass) has a ratio above lambda
- * unless lambda is the best; lambda moves to it until it no longer rises. Of
- * the cuts of the best ratio the shallowest is taken (docs/greedy.md). A jump
- * sets TCLOD_FLAG_JUMP on n and TCLOD_FLAG_REFINE on the nodes it passes
- * over; its Δb and Δc go to n's delta_b and delta_c. Returns the key as
- * increment_key. */
-static NOINLINE double lookahead_key(tclod_selector *sel, tclod_id n, int *failed) {
-    const tclod_scene *s = sel->scene;
-    tclod_node_state *node = sel->node;
-    uint32_t first = s->child_first[n], end = first + s->child_count[n], i, it;
-    double key = increment_key(sel, n, failed), best, lambda, at = 0.0, b, c, q;
-    int deep = 0, rc;
-    sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED; /* no jump */
-    if (*failed || first == end || !counts(sel, n) || key == HUGE_VAL ||
-        !isfinite(sel->delta[n].delta_c))
-        return key;
-    for (i = first; i < end; ++i) {
-        tclod_id m = s->children[i];
-        if (unaffordable(node[m].cost))
-            return key; /* no increment passes one */
-        deep |= node[m].benefit > 0.0 && s->child_count[m] != 0u;
-    }
-    if (!deep)
-        return key;
-    best = key;
-    lambda = key == key ? key : 0.0;
-    deep = 0;
-    /* the first pass evaluates the subtree; the others find it evaluated */
-    rc = look_pass(sel, n, 1.0, lambda, 0.0, 0, &b, &c);
-    if (rc < 0) {
-        *failed = 1;
-        return (double)NAN;
-    }
-    for (it = 0; it < LOOK_ITERATIONS; ++it) {
-        if (it > 0)
-            rc = look_again(sel, n, 1.0, lambda, 0.0, 0, &b, &c);
-        q = ratio_key(b - node[n].benefit, c - node[n].cost);
-        if (rc == 0 || q != q || (best == best && !(q > best * (1.0 + LOOK_MARGIN))))
-            break;
-        best = q;
-        at = lambda;
-        deep = 1;
-        if (q == HUGE_VAL)
-            break;
-        lambda = q;
-    }
-    if (!deep)
-        return key;
-    /* The shallowest cut of the best ratio: ties at lambda = best stay. If
-     * rounding leaves that one short of it, the cut found at `at` is taken. */
-    rc = best < HUGE_VAL ? look_again(sel, n, 1.0, best, LOOK_MARGIN, 1, &b, &c) : 0;
-    q = rc > 0 ? ratio_key(b - node[n].benefit, c - node[n].cost) : (double)NAN;
-    if (!(q >= best * (1.0 - LOOK_MARGIN))) {
-        look_again(sel, n, 1.0, at, 0.0, 1, &b, &c);
-        q = best;
-    }
-    sel->delta[n].delta_b = b - node[n].benefit;
-    sel->delta[n].delta_c = c - node[n].cost;
-    sel->flags[n] |= (uint8_t)TCLOD_FLAG_JUMP;
-    return q;
-}
-
-/* The cheapest increment cut node n may make: what orders it in the by-cost
- * heap, which ends the fill when even it does not fit. A lookahead increment
- * that does not fit may give way to a cheaper cut (refit_jump), the cheapest
- * of which is its children's or below them (look_pass without benefits). */
-static NOINLINE double cheapest_jump(tclod_selector *sel, tclod_id n) {
-    double b, c;
-    look_again(sel, n, 0.0, 1.0, 0.0, 0, &b, &c);
-    return c - sel->node[n].cost;
 }
 
 /* The by-cost heap's key of queued increment n; `look`: the selector has a
  * lookahead (a constant wherever this is inlined). */
 static inline double cheap_key(tclod_selector *sel, tclod_id n, int look) {
     if (look && (sel->flags[n] & TCLOD_FLAG_JUMP))
-        return -cheapest_jump(sel, n);
-    return -sel->delta[n].delta_c;
+        return -tclod_greedy_cheapest_jump(sel, n);
+    return -sel->greedy.delta[n].delta_c;
 }
 
 /* 1 when an increment of this key waits in the plain pass's closure queue
  * rather than in the heap (see take_closure). */
 static int closes(const tclod_selector *sel, double key) {
-    return sel->resume.closing && key >= sel->resume.closure_key;
+    return sel->resume.greedy.closing && key >= sel->resume.greedy.closure_key;
 }
 
-/* queue_increment for a selector with (look) or without a lookahead: two
- * copies, so that the common one stays as it was without it. */
-static inline int queue_as(tclod_selector *sel, tclod_id n, int append, int look) {
+/* Queues n's increment of key `key` (NaN: no candidate), pushed, or appended
+ * (heap order restored by the caller); `look` as cheap_key. */
+static inline void enqueue_as(tclod_selector *sel, tclod_id n, double key, int append, int look) {
+    if (closes(sel, key)) {
+        sel->scratch[sel->resume.greedy.closure_tail++] = n;
+    } else if (key == key) {
+        if (append || sel->resume.greedy.closing) /* the closure's end builds the heap */
+            tclod_heap_append(&sel->greedy.inc, n, key);
+        else
+            tclod_heap_push(&sel->greedy.inc, n, key);
+        if (sel->greedy.cheap_live)
+            tclod_heap_push(&sel->greedy.cheap, n, cheap_key(sel, n, look));
+    }
+}
+
+void tclod_greedy_enqueue_looking(tclod_selector *sel, tclod_id n, double key, int append) {
+    enqueue_as(sel, n, key, append, 1);
+}
+
+/* queue_increment without a lookahead (greedy_lookahead.c has the other). */
+static inline int queue_plain(tclod_selector *sel, tclod_id n, int append) {
     int failed;
-    double key = look ? lookahead_key(sel, n, &failed) : increment_key(sel, n, &failed);
+    double key = increment_key(sel, n, &failed);
     if (failed)
         return -1;
-    if (closes(sel, key)) {
-        sel->scratch[sel->resume.closure_tail++] = n;
-    } else if (key == key) {
-        if (append || sel->resume.closing) /* the closure's end builds the heap */
-            tclod_heap_append(&sel->inc, n, key);
-        else
-            tclod_heap_push(&sel->inc, n, key);
-        if (sel->cheap_live)
-            tclod_heap_push(&sel->cheap, n, cheap_key(sel, n, look));
-    }
+    enqueue_as(sel, n, key, append, 0);
     return 0;
-}
-
-static NOINLINE int queue_looking(tclod_selector *sel, tclod_id n, int append) {
-    return queue_as(sel, n, append, 1);
 }
 
 /* Queues n's increment if it is a candidate (append: heap order restored by
  * the caller; otherwise pushed). The by-cost heap exists only once the fill
  * has begun (see increment_may_fit). */
 static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
-    return sel->desc.greedy.lookahead > 0 ? queue_looking(sel, n, append)
-                                          : queue_as(sel, n, append, 0);
+    return sel->desc.greedy.lookahead > 0 ? tclod_greedy_queue_looking(sel, n, append)
+                                          : queue_plain(sel, n, append);
 }
 
-/* requeue_increment with or without a lookahead, as queue_as. */
-static inline int requeue_as(tclod_selector *sel, tclod_id n, tclod_id *held, int look) {
-    int failed;
-    double key;
-    assert(!sel->resume.closing); /* the closure takes only increments it queued */
-    key = look ? lookahead_key(sel, n, &failed) : increment_key(sel, n, &failed);
-    if (failed)
-        return -1;
+/* Puts n's increment of key `key` in the place of *held's queued one, which
+ * is then gone; nothing when it is no candidate. `look` as cheap_key. */
+static inline void rekey_as(tclod_selector *sel, tclod_id n, tclod_id *held, double key, int look) {
     if (key == key) {
-        tclod_heap_replace(&sel->inc, *held, n, key);
-        if (sel->cheap_live)
-            tclod_heap_replace(&sel->cheap, *held, n, cheap_key(sel, n, look));
+        tclod_heap_replace(&sel->greedy.inc, *held, n, key);
+        if (sel->greedy.cheap_live)
+            tclod_heap_replace(&sel->greedy.cheap, *held, n, cheap_key(sel, n, look));
         *held = TCLOD_NONE;
     }
-    return 0;
 }
 
-static NOINLINE int requeue_looking(tclod_selector *sel, tclod_id n, tclod_id *held) {
-    return requeue_as(sel, n, held, 1);
+void tclod_greedy_rekey_looking(tclod_selector *sel, tclod_id n, tclod_id *held, double key) {
+    rekey_as(sel, n, held, key, 1);
+}
+
+/* requeue_increment without a lookahead, as queue_plain. */
+static inline int requeue_plain(tclod_selector *sel, tclod_id n, tclod_id *held) {
+    int failed;
+    double key;
+    assert(!sel->resume.greedy.closing); /* the closure takes only increments it queued */
+    key = increment_key(sel, n, &failed);
+    if (failed)
+        return -1;
+    rekey_as(sel, n, held, key, 0);
+    return 0;
 }
 
 /* Queues n's increment, if it is a candidate, in the place of old's queued
@@ -467,105 +274,45 @@ static NOINLINE int requeue_looking(tclod_selector *sel, tclod_id n, tclod_id *h
 static int requeue_increment(tclod_selector *sel, tclod_id n, tclod_id *held) {
     if (*held == TCLOD_NONE)
         return queue_increment(sel, n, 0);
-    return sel->desc.greedy.lookahead > 0 ? requeue_looking(sel, n, held)
-                                          : requeue_as(sel, n, held, 0);
+    return sel->desc.greedy.lookahead > 0 ? tclod_greedy_requeue_looking(sel, n, held)
+                                          : requeue_plain(sel, n, held);
 }
 
 static void unqueue_increment(tclod_selector *sel, tclod_id n) {
-    if (!tclod_heap_contains(&sel->inc, n))
+    if (!tclod_heap_contains(&sel->greedy.inc, n))
         return;
-    tclod_heap_remove(&sel->inc, n);
-    if (sel->cheap_live)
-        tclod_heap_remove(&sel->cheap, n);
+    tclod_heap_remove(&sel->greedy.inc, n);
+    if (sel->greedy.cheap_live)
+        tclod_heap_remove(&sel->greedy.cheap, n);
 }
 
 static void clear_heaps(tclod_selector *sel) {
-    tclod_heap_clear(&sel->inc);
-    tclod_heap_clear(&sel->cheap);
-    tclod_heap_clear(&sel->dec);
-    sel->cheap_live = 0;
+    tclod_heap_clear(&sel->greedy.inc);
+    tclod_heap_clear(&sel->greedy.cheap);
+    tclod_heap_clear(&sel->greedy.dec);
+    sel->greedy.cheap_live = 0;
 }
 
 static tclod_id pop_increment(tclod_selector *sel) {
-    tclod_id n = sel->inc.items[0].id;
+    tclod_id n = sel->greedy.inc.items[0].id;
     unqueue_increment(sel, n);
     return n;
 }
 
-/* A lookahead increment n that does not fit the room left: its node's
- * increment becomes the cut of its subtree that gains most among those on
- * the upper hull of the cuts' (cost, benefit) that fit (look_pass's
- * multipliers select exactly the hull's vertices). The search runs over the
- * breakpoints between the jump, too dear (a), and the cheapest cut (b): the
- * multiplier of the segment a-b selects a vertex between them, or ties them
- * when they are adjacent and b is the answer. Returns its key, NaN when no
- * cut that fits gains (n's increment unchanged then). */
-static NOINLINE double refit_jump(tclod_selector *sel, tclod_id n) {
-    tclod_node_state *node = sel->node;
-    double ab = sel->delta[n].delta_b, ac = sel->delta[n].delta_c, bb, bc, b, c, weight = 0.0,
-           lambda = 1.0;
-    double key;
-    uint32_t it;
-    int rc;
-    if (sel->unaffordable != 0)
-        return (double)NAN;
-    look_again(sel, n, 0.0, 1.0, 0.0, 0, &b, &c); /* the cheapest cut */
-    bb = b - node[n].benefit;
-    bc = c - node[n].cost;
-    if (!tclod_within(sel, sel->cost_sum + bc, cut_budget(sel)))
-        return (double)NAN;
-    for (it = 0; it < LOOK_ITERATIONS && ab > bb; ++it) {
-        double l = (ab - bb) / (ac - bc), db, dc, gap;
-        look_again(sel, n, 1.0, l, 0.0, 0, &b, &c);
-        db = b - node[n].benefit;
-        dc = c - node[n].cost;
-        gap = (db - l * dc) - (bb - l * bc);
-        if (!(gap > LOOK_MARGIN * (fabs(db) + fabs(bb) + l * (fabs(dc) + fabs(bc)))))
-            break;
-        if (tclod_within(sel, sel->cost_sum + dc, cut_budget(sel))) { /* as increment_fits */
-            bb = db;
-            bc = dc;
-            weight = 1.0;
-            lambda = l;
-        } else {
-            ab = db;
-            ac = dc;
-        }
-    }
-    key = ratio_key(bb, bc);
-    if (key != key)
-        return key;
-    rc = look_again(sel, n, weight, lambda, 0.0, 1, &b, &c);
-    sel->delta[n].delta_b = b - node[n].benefit;
-    sel->delta[n].delta_c = c - node[n].cost;
-    sel->flags[n] |= (uint8_t)TCLOD_FLAG_REFIT;
-    if (rc == 0)
-        sel->flags[n] &= (uint8_t)~TCLOD_FLAG_JUMP;
-    return key;
-}
-
 /* Pops misfit n; a lookahead increment is queued again as a cut that fits
- * (refit_jump), when one gains. */
+ * (tclod_greedy_refit_jump), when one gains. */
 static void skip_misfit(tclod_selector *sel, tclod_id n) {
     double key;
     pop_increment(sel);
     sel->stats.iterations++;
     if (!(sel->flags[n] & TCLOD_FLAG_JUMP))
         return;
-    key = refit_jump(sel, n);
+    key = tclod_greedy_refit_jump(sel, n);
     if (key == key) {
-        tclod_heap_push(&sel->inc, n, key);
-        if (sel->cheap_live)
-            tclod_heap_push(&sel->cheap, n, cheap_key(sel, n, 1));
+        tclod_heap_push(&sel->greedy.inc, n, key);
+        if (sel->greedy.cheap_live)
+            tclod_heap_push(&sel->greedy.cheap, n, cheap_key(sel, n, 1));
     }
-}
-
-/* 1 when increment n fits the remaining budget, by the running sum and by its
- * compensated total (an increment that fits only because the running sum
- * absorbed costs is not taken: the final summation would give it back). */
-static int increment_fits(const tclod_selector *sel, tclod_id n) {
-    return sel->unaffordable == 0 &&
-           tclod_within(sel, sel->cost_sum + sel->delta[n].delta_c, cut_budget(sel));
 }
 
 /* 1 when some queued increment fits the remaining budget. Increments that do
@@ -573,24 +320,25 @@ static int increment_fits(const tclod_selector *sel, tclod_id n) {
  * The increments ordered by cost are needed only from the first misfit on, so
  * they are heaped then, in O(n), and kept up to date after that. */
 static int increment_may_fit(tclod_selector *sel) {
-    if (!sel->cheap_live) {
+    if (!sel->greedy.cheap_live) {
         uint32_t i;
         if (sel->desc.greedy.lookahead > 0) {
-            for (i = 0; i < sel->inc.count; ++i) {
-                tclod_id n = sel->inc.items[i].id;
-                tclod_heap_append(&sel->cheap, n, cheap_key(sel, n, 1));
+            for (i = 0; i < sel->greedy.inc.count; ++i) {
+                tclod_id n = sel->greedy.inc.items[i].id;
+                tclod_heap_append(&sel->greedy.cheap, n, cheap_key(sel, n, 1));
             }
         } else {
-            for (i = 0; i < sel->inc.count; ++i) {
-                tclod_id n = sel->inc.items[i].id;
-                tclod_heap_append(&sel->cheap, n, -sel->delta[n].delta_c);
+            for (i = 0; i < sel->greedy.inc.count; ++i) {
+                tclod_id n = sel->greedy.inc.items[i].id;
+                tclod_heap_append(&sel->greedy.cheap, n, -sel->greedy.delta[n].delta_c);
             }
         }
-        tclod_heap_build(&sel->cheap);
-        sel->cheap_live = 1;
+        tclod_heap_build(&sel->greedy.cheap);
+        sel->greedy.cheap_live = 1;
     }
-    return sel->cheap.count > 0 && sel->unaffordable == 0 &&
-           tclod_within(sel, sel->cost_sum - sel->cheap.items[0].key, cut_budget(sel));
+    return sel->greedy.cheap.count > 0 && sel->unaffordable == 0 &&
+           tclod_within(sel, sel->cost_sum - sel->greedy.cheap.items[0].key,
+                        greedy_cut_budget(sel));
 }
 
 /* 1 when every child of p is in the cut. */
@@ -613,7 +361,7 @@ static double decrement_key(tclod_selector *sel, tclod_id p) {
     double sum_b = 0.0, sum_c = 0.0, loss, saved;
     int unaffordable = 0;
     for (i = 0; i < count; ++i) {
-        if (!counts(sel, ch[i]))
+        if (!greedy_counts(sel, ch[i]))
             continue;
         sum_b += sel->node[ch[i]].benefit;
         if (isinf(sel->node[ch[i]].cost))
@@ -623,8 +371,8 @@ static double decrement_key(tclod_selector *sel, tclod_id p) {
     }
     loss = sum_b - sel->node[p].benefit;
     saved = sum_c - sel->node[p].cost;
-    sel->delta[p].delta_b = loss;
-    sel->delta[p].delta_c = saved;
+    sel->greedy.delta[p].delta_b = loss;
+    sel->greedy.delta[p].delta_c = saved;
     if (isinf(sel->node[p].cost) || !isfinite(sum_c))
         return -HUGE_VAL;
     if (unaffordable)
@@ -639,80 +387,32 @@ static double decrement_key(tclod_selector *sel, tclod_id p) {
 /* Queues the decrement into p when p is collapsible. */
 static int queue_decrement(tclod_selector *sel, tclod_id p, int append) {
     double key;
-    if (p == TCLOD_NONE || tclod_heap_contains(&sel->dec, p) || !collapsible(sel, p))
+    if (p == TCLOD_NONE || tclod_heap_contains(&sel->greedy.dec, p) || !collapsible(sel, p))
         return 0;
     if (evaluate(sel, p) != 0)
         return -1;
     key = decrement_key(sel, p);
     if (append)
-        tclod_heap_append(&sel->dec, p, key);
+        tclod_heap_append(&sel->greedy.dec, p, key);
     else
-        tclod_heap_push(&sel->dec, p, key);
+        tclod_heap_push(&sel->greedy.dec, p, key);
     return 0;
-}
-
-/* A lookahead increment (TCLOD_FLAG_JUMP or REFIT): replaces cut node n by
- * the cut its key or refit_jump found, walking down through the nodes
- * flagged TCLOD_FLAG_REFINE (frames on the stack, one per level); the other
- * nodes it meets enter the cut. The first with a candidate increment takes
- * n's heap entry (*held). A warm start queues the decrements of the nodes
- * passed over whose children all entered the cut. Below a refit no skipped
- * increment's T(n) is recorded (its path cost is made infinite): a pass that
- * forces it would take n's own increment, not the refit. */
-static NOINLINE int apply_jump(tclod_selector *sel, tclod_id n, int track_dec, tclod_id *held,
-                               double path_b, double path_c) {
-    const tclod_scene *s = sel->scene;
-    struct {
-        tclod_id id;
-        uint32_t next, end;
-    } st[LOOK_FRAMES];
-    uint32_t top = 0;
-    if (sel->flags[n] & TCLOD_FLAG_REFIT)
-        path_c = HUGE_VAL;
-    sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED;
-    st[0].id = n;
-    st[0].next = s->child_first[n];
-    st[0].end = st[0].next + s->child_count[n];
-    for (;;) {
-        if (st[top].next < st[top].end) {
-            tclod_id m = s->children[st[top].next++];
-            if (sel->flags[m] & TCLOD_FLAG_REFINE) {
-                assert(top + 1u < LOOK_FRAMES);
-                ++top;
-                st[top].id = m;
-                st[top].next = s->child_first[m];
-                st[top].end = st[top].next + s->child_count[m];
-                continue;
-            }
-            greedy_cut_add(sel, m);
-            sel->path[2u * m] = path_b;
-            sel->path[2u * m + 1u] = path_c;
-            if (requeue_increment(sel, m, held) != 0)
-                return -1;
-            continue;
-        }
-        if (track_dec && queue_decrement(sel, st[top].id, 0) != 0)
-            return -1;
-        if (top == 0)
-            return 0;
-        --top;
-    }
 }
 
 /* Replaces cut node n by its children (or, with lookahead, by the deeper cut
  * its key found). The first child with a candidate increment takes the place
  * of n's queued increment: one heap update instead of a removal and an
  * insertion. */
-static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
+TCLOD_ALWAYS_INLINE int apply_increment_as(tclod_selector *sel, tclod_id n, int track_dec) {
     uint32_t count, i;
     const tclod_id *ch = children_of(sel, n, &count);
     tclod_id parent = sel->scene->parent[n];
-    tclod_id held = tclod_heap_contains(&sel->inc, n) ? n : TCLOD_NONE;
-    double path_b = sel->path[2u * n] + sel->delta[n].delta_b;
-    double path_c = sel->path[2u * n + 1u] + sel->delta[n].delta_c;
+    tclod_id held = tclod_heap_contains(&sel->greedy.inc, n) ? n : TCLOD_NONE;
+    double path_b = sel->path[2u * n] + sel->greedy.delta[n].delta_b;
+    double path_c = sel->path[2u * n + 1u] + sel->greedy.delta[n].delta_c;
     greedy_cut_remove(sel, n);
     if (sel->flags[n] & (TCLOD_FLAG_JUMP | TCLOD_FLAG_REFIT)) {
-        if (apply_jump(sel, n, track_dec, &held, path_b, path_c) != 0)
+        if (tclod_greedy_apply_jump(sel, n, track_dec, &held, path_b, path_c) != 0)
             return -1;
     } else {
         for (i = 0; i < count; ++i) {
@@ -728,20 +428,29 @@ static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
     if (held != TCLOD_NONE)
         unqueue_increment(sel, held);
     sel->stats.increments++;
-    if (track_dec && parent != TCLOD_NONE && tclod_heap_contains(&sel->dec, parent))
-        tclod_heap_remove(&sel->dec, parent);
+    if (track_dec && parent != TCLOD_NONE && tclod_heap_contains(&sel->greedy.dec, parent))
+        tclod_heap_remove(&sel->greedy.dec, parent);
     return 0;
+}
+
+static int apply_increment(tclod_selector *sel, tclod_id n, int track_dec) {
+    return apply_increment_as(sel, n, track_dec);
+}
+
+/* apply_increment without decrements to track: a cold pass's. */
+static int apply_increment_cold(tclod_selector *sel, tclod_id n) {
+    return apply_increment_as(sel, n, 0);
 }
 
 static int apply_decrement(tclod_selector *sel, tclod_id p) {
     uint32_t count, i;
     const tclod_id *ch = children_of(sel, p, &count);
-    if (tclod_heap_contains(&sel->dec, p))
-        tclod_heap_remove(&sel->dec, p);
+    if (tclod_heap_contains(&sel->greedy.dec, p))
+        tclod_heap_remove(&sel->greedy.dec, p);
     for (i = 0; i < count; ++i) {
         unqueue_increment(sel, ch[i]);
-        if (tclod_heap_contains(&sel->dec, ch[i]))
-            tclod_heap_remove(&sel->dec, ch[i]);
+        if (tclod_heap_contains(&sel->greedy.dec, ch[i]))
+            tclod_heap_remove(&sel->greedy.dec, ch[i]);
         greedy_cut_remove(sel, ch[i]);
     }
     greedy_cut_add(sel, p);
@@ -751,12 +460,30 @@ static int apply_decrement(tclod_selector *sel, tclod_id p) {
     return queue_decrement(sel, sel->scene->parent[p], 0);
 }
 
+/* ---- for greedy_lookahead.c -------------------------------------------------- */
+
+double tclod_greedy_increment_key(tclod_selector *sel, tclod_id n, int *failed) {
+    return increment_key(sel, n, failed);
+}
+
+void tclod_greedy_cut_add(tclod_selector *sel, tclod_id n) {
+    greedy_cut_add(sel, n);
+}
+
+int tclod_greedy_requeue(tclod_selector *sel, tclod_id n, tclod_id *held) {
+    return requeue_increment(sel, n, held);
+}
+
+int tclod_greedy_queue_decrement(tclod_selector *sel, tclod_id p) {
+    return queue_decrement(sel, p, 0);
+}
+
 /* ---- roots ------------------------------------------------------------------- */
 
 /* 1 when root r fits on top of `used` (an unaffordable root never does, even
  * under an unlimited budget). */
 static int fits_alone(const tclod_selector *sel, tclod_id r, double used) {
-    return !isinf(sel->node[r].cost) && used + sel->node[r].cost <= cut_budget(sel);
+    return !isinf(sel->node[r].cost) && used + sel->node[r].cost <= greedy_cut_budget(sel);
 }
 
 /* Keeps the visible roots of the cut in scratch[0..n) order, starting with
@@ -790,14 +517,14 @@ static void draw_roots(tclod_selector *sel) {
     uint32_t i;
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id r = sel->cut[i];
-        if (!counts(sel, r) || !isinf(sel->node[r].cost))
+        if (!greedy_counts(sel, r) || !isinf(sel->node[r].cost))
             continue;
         account(sel, r, -1.0);
         sel->flags[r] |= TCLOD_FLAG_DROPPED;
         sel->stats.dropped_roots++;
         unqueue_increment(sel, r);
     }
-    sel->stats.over_budget = sel->cost_sum > cut_budget(sel);
+    sel->stats.over_budget = sel->cost_sum > greedy_cut_budget(sel);
 }
 
 /* When even the visible roots in the cut do not fit: keeps the highest value
@@ -814,7 +541,7 @@ static void drop_roots(tclod_selector *sel) {
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id r = sel->cut[i];
         double c;
-        if (!counts(sel, r))
+        if (!greedy_counts(sel, r))
             continue;
         c = sel->node[r].cost;
         sel->scratch[n] = r;
@@ -867,14 +594,14 @@ static int start_cold(tclod_selector *sel) {
         sel->path[2u * r] = sel->path[2u * r + 1u] = 0.0;
         greedy_cut_add(sel, r);
     }
-    if (!feasible(sel))
+    if (!greedy_feasible(sel))
         drop_roots(sel);
     if (sel->stats.over_budget)
         return 0; /* the roots over the budget, and nothing more */
     for (i = 0; i < sel->cut_count; ++i)
         if (queue_increment(sel, sel->cut[i], 1) != 0)
             return -1;
-    tclod_heap_build(&sel->inc);
+    tclod_heap_build(&sel->greedy.inc);
     return 0;
 }
 
@@ -1103,8 +830,8 @@ static int start_warm(tclod_selector *sel) {
             queue_decrement(sel, p, 1) != 0)
             return -1;
     }
-    tclod_heap_build(&sel->inc);
-    tclod_heap_build(&sel->dec);
+    tclod_heap_build(&sel->greedy.inc);
+    tclod_heap_build(&sel->greedy.dec);
     return 0;
 }
 
@@ -1144,16 +871,16 @@ int tclod_out_of_time(tclod_selector *sel) {
  * roots are dropped if the roots alone do not fit (by the running sum, as
  * start_cold has it). Always completes. */
 static int restore_budget(tclod_selector *sel) {
-    while (!feasible(sel) ||
-           (sel->dec.count > 0 && !tclod_within(sel, sel->cost_sum, cut_budget(sel)))) {
-        if (sel->dec.count == 0) {
+    while (!greedy_feasible(sel) || (sel->greedy.dec.count > 0 &&
+                                     !tclod_within(sel, sel->cost_sum, greedy_cut_budget(sel)))) {
+        if (sel->greedy.dec.count == 0) {
             drop_roots(sel);
             if (sel->stats.over_budget)
                 clear_heaps(sel); /* the roots over the budget, and nothing more */
             break;
         }
         sel->stats.iterations++;
-        if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0)
+        if (apply_decrement(sel, tclod_heap_pop(&sel->greedy.dec)) != 0)
             return -1;
     }
     return 0;
@@ -1161,19 +888,19 @@ static int restore_budget(tclod_selector *sel) {
 
 /* Loss per saved cost of the cheapest decrement that saves cost, or +inf. */
 static double min_loss_ratio(const tclod_selector *sel) {
-    if (sel->dec.count == 0)
+    if (sel->greedy.dec.count == 0)
         return HUGE_VAL;
-    tclod_id p = sel->dec.items[0].id;
-    if (!(sel->delta[p].delta_c > 0.0))
+    tclod_id p = sel->greedy.dec.items[0].id;
+    if (!(sel->greedy.delta[p].delta_c > 0.0))
         return HUGE_VAL;
-    return -sel->dec.items[0].key;
+    return -sel->greedy.dec.items[0].key;
 }
 
 /* Makes room for increment n by decrements whose summed loss stays below its
  * gain. Returns 1 when the swap was made, 0 when it would not gain. */
 static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
-    double need = sel->cost_sum + sel->delta[n].delta_c - sel->frame->budget;
-    double gain = sel->delta[n].delta_b, freed = 0.0, loss = 0.0;
+    double need = sel->cost_sum + sel->greedy.delta[n].delta_c - sel->frame->budget;
+    double gain = sel->greedy.delta[n].delta_b, freed = 0.0, loss = 0.0;
     tclod_id parent = sel->scene->parent[n];
     uint32_t taken = 0, i;
     int ok = 0;
@@ -1184,20 +911,20 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
      * loses at least that ratio times need */
     if (gain <= min_loss_ratio(sel) * need)
         return 0;
-    while (sel->dec.count > 0) {
-        double key = sel->dec.items[0].key;
-        tclod_id p = sel->dec.items[0].id;
-        if (p != parent && !(sel->delta[p].delta_c > 0.0))
+    while (sel->greedy.dec.count > 0) {
+        double key = sel->greedy.dec.items[0].key;
+        tclod_id p = sel->greedy.dec.items[0].id;
+        if (p != parent && !(sel->greedy.delta[p].delta_c > 0.0))
             break; /* the rest saves nothing */
-        tclod_heap_pop(&sel->dec);
+        tclod_heap_pop(&sel->greedy.dec);
         sel->scratch[taken] = p;
         sel->scratch_key[taken] = key;
         taken++;
         if (p == parent)
             continue; /* would remove n itself */
-        freed += sel->delta[p].delta_c;
-        loss += sel->delta[p].delta_b;
-        if (gain - loss <= SWAP_MARGIN * fabs(gain))
+        freed += sel->greedy.delta[p].delta_c;
+        loss += sel->greedy.delta[p].delta_b;
+        if (gain - loss <= GREEDY_SWAP_MARGIN * fabs(gain))
             break;
         if (freed >= need) {
             ok = 1;
@@ -1207,7 +934,7 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
     for (i = 0; i < taken; ++i) {
         tclod_id p = sel->scratch[i];
         if (!ok || p == parent)
-            tclod_heap_push(&sel->dec, p, sel->scratch_key[i]);
+            tclod_heap_push(&sel->greedy.dec, p, sel->scratch_key[i]);
     }
     if (!ok)
         return 0;
@@ -1224,42 +951,6 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
     if (apply_increment(sel, n, 1) != 0)
         *failed = 1;
     return 1;
-}
-
-/* A cold solve records the best single skipped increment with the increments
- * above it (sel->resume.alt_*): one that a pass forcing it reproduces, so not
- * a refit (apply_jump keeps those below one out). */
-static void consider_alternative(tclod_selector *sel, tclod_id n) {
-    tclod_resume *R = &sel->resume;
-    const double *path = &sel->path[2u * n];
-    double c = R->alt_roots_c + path[1] + sel->delta[n].delta_c;
-    double b = R->alt_roots_b + path[0] + sel->delta[n].delta_b;
-    /* fits as increment_fits has it, with the roots' compensation */
-    if (c <= sel->frame->budget && !(c + R->alt_roots_err > sel->frame->budget) &&
-        b > R->alt_benefit && !(sel->flags[n] & TCLOD_FLAG_REFIT)) {
-        R->alt_node = n;
-        R->alt_benefit = b;
-    }
-}
-
-/* A cold pass records its first misfit n and the bound of the linear
- * relaxation there: the benefit so far plus n's gain (docs/greedy.md). */
-static void note_misfit(tclod_selector *sel, tclod_id n) {
-    tclod_resume *R = &sel->resume;
-    if (R->misfit != TCLOD_NONE)
-        return;
-    R->misfit = n;
-    R->misfit_key = sel->inc.items[0].key;
-    R->lp_bound = sel->benefit_sum + sel->delta[n].delta_b;
-}
-
-/* 1 when the current pass leaves node n's increment out. */
-static int left_out(const tclod_resume *R, tclod_id n) {
-    uint32_t i;
-    for (i = 0; i < R->picks; ++i)
-        if (R->pick[i] == n && !R->take[i])
-            return 1;
-    return 0;
 }
 
 /* Relative margin above the previous solve's first misfit from which the
@@ -1280,28 +971,28 @@ static int take_closure(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     int sliced = sel->slice_end > 0.0 || sel->slice_iterations != 0;
     uint32_t dropped;
-    while (R->closure_tail > R->closure_head) {
-        tclod_id n = sel->scratch[R->closure_head];
-        double grow = sel->delta[n].delta_c > 0.0 ? sel->delta[n].delta_c : 0.0;
-        double total = R->closure_cost + grow;
-        if (sel->unaffordable != 0 || !(total <= cut_budget(sel)) ||
-            total + R->closure_err > cut_budget(sel))
+    while (R->greedy.closure_tail > R->greedy.closure_head) {
+        tclod_id n = sel->scratch[R->greedy.closure_head];
+        double grow = sel->greedy.delta[n].delta_c > 0.0 ? sel->greedy.delta[n].delta_c : 0.0;
+        double total = R->greedy.closure_cost + grow;
+        if (sel->unaffordable != 0 || !(total <= greedy_cut_budget(sel)) ||
+            total + R->greedy.closure_err > greedy_cut_budget(sel))
             break;
-        R->closure_head++;
-        tclod_add_compensated(&R->closure_cost, &R->closure_err, grow);
+        R->greedy.closure_head++;
+        tclod_add_compensated(&R->greedy.closure_cost, &R->greedy.closure_err, grow);
         sel->stats.iterations++;
-        if (apply_increment(sel, n, 0) != 0)
+        if (apply_increment_cold(sel, n) != 0)
             return -1;
         if (sliced)
             return 0;
     }
-    if (R->closure_tail == R->closure_head) {
-        R->closing = 0;
-        tclod_heap_build(&sel->inc);
+    if (R->greedy.closure_tail == R->greedy.closure_head) {
+        R->greedy.closing = 0;
+        tclod_heap_build(&sel->greedy.inc);
         return 0;
     }
-    R->closing = 0;
-    R->closure_head = R->closure_tail = 0;
+    R->greedy.closing = 0;
+    R->greedy.closure_head = R->greedy.closure_tail = 0;
     dropped = sel->stats.dropped_roots; /* the roots are dropped again, the same way */
     if (start_cold(sel) != 0)
         return -1;
@@ -1322,41 +1013,41 @@ static int improve(tclod_selector *sel, int warm, int alt) {
         int swapped;
         if (tclod_out_of_time(sel))
             return 0;
-        if (sel->resume.closing) {
+        if (sel->resume.greedy.closing) {
             if (take_closure(sel) != 0)
                 return -1;
             continue;
         }
-        if (warm && sel->dec.count > 0 && sel->dec.items[0].key == HUGE_VAL) {
+        if (warm && sel->greedy.dec.count > 0 && sel->greedy.dec.items[0].key == HUGE_VAL) {
             sel->stats.iterations++;
-            if (apply_decrement(sel, tclod_heap_pop(&sel->dec)) != 0)
+            if (apply_decrement(sel, tclod_heap_pop(&sel->greedy.dec)) != 0)
                 return -1;
             continue;
         }
-        if (sel->inc.count == 0)
+        if (sel->greedy.inc.count == 0)
             break;
-        n = sel->inc.items[0].id;
-        if (sel->resume.left_out > 0 && left_out(&sel->resume, n)) {
+        n = sel->greedy.inc.items[0].id;
+        if (sel->resume.greedy.left_out > 0 && greedy_left_out(&sel->resume, n)) {
             pop_increment(sel);
             continue;
         }
-        if (increment_fits(sel, n)) { /* its entry goes in apply_increment */
+        if (greedy_increment_fits(sel, n)) { /* its entry goes in apply_increment */
             sel->stats.iterations++;
             if (apply_increment(sel, n, warm) != 0)
                 return -1;
             continue;
         }
         if (!warm)
-            note_misfit(sel, n);
+            greedy_note_misfit(sel, n);
         if (increment_may_fit(sel)) { /* fill: skip the misfit, try smaller ones */
             *skipped = 1;
             if (alt)
-                consider_alternative(sel, n);
+                greedy_consider_alternative(sel, n);
             skip_misfit(sel, n);
             continue;
         }
         *skipped = 1;
-        if (!warm || !(sel->inc.items[0].key > min_loss_ratio(sel)))
+        if (!warm || !(sel->greedy.inc.items[0].key > min_loss_ratio(sel)))
             break;
         n = pop_increment(sel);
         sel->stats.iterations++;
@@ -1367,71 +1058,9 @@ static int improve(tclod_selector *sel, int warm, int alt) {
             continue;
     }
     if (alt)
-        for (i = 0; i < sel->inc.count; ++i)
-            consider_alternative(sel, sel->inc.items[i].id);
+        for (i = 0; i < sel->greedy.inc.count; ++i)
+            greedy_consider_alternative(sel, sel->greedy.inc.items[i].id);
     sel->stats.stop_reason = *skipped ? TCLOD_STOP_BUDGET : TCLOD_STOP_FINEST;
-    return 0;
-}
-
-/* Takes node n's increment and those above it that are not taken yet. Returns
- * 1 when one of them is left out by the current pass (nothing is taken
- * then), 0 when done, -1 on a strict error. */
-static int force_path(tclod_selector *sel, tclod_id n) {
-    const tclod_scene *s = sel->scene;
-    uint32_t depth = 0;
-    int below = 1; /* a is not refined yet: the cut is at a or above it */
-    tclod_id a;
-    for (a = n; a != TCLOD_NONE; a = s->parent[a]) {
-        if (below && sel->resume.left_out > 0 && left_out(&sel->resume, a))
-            return 1;
-        below &= sel->node[a].cut_pos == TCLOD_NONE;
-        sel->scratch[depth++] = a;
-    }
-    while (depth-- > 0) {
-        a = sel->scratch[depth];
-        /* taken already, or passed over by a lookahead increment above */
-        if (sel->node[a].cut_pos == TCLOD_NONE)
-            continue;
-        /* n's own lookahead increment, when it does not fit: the cut that does */
-        if (depth == 0 && (sel->flags[a] & TCLOD_FLAG_JUMP) && !increment_fits(sel, a)) {
-            double key = refit_jump(sel, a);
-            if (key != key)
-                return 1;
-        }
-        sel->stats.iterations++;
-        if (apply_increment(sel, a, 0) != 0)
-            return -1;
-    }
-    return 0;
-}
-
-/* Starts a pass from the roots with the current decisions: the increments
- * taken forced (with those above them), the others left out by improve.
- * Sets resume.infeasible when the forced ones do not fit. */
-static int start_decided(tclod_selector *sel) {
-    tclod_resume *R = &sel->resume;
-    uint32_t i;
-    if (start_cold(sel) != 0)
-        return -1;
-    R->left_out = 0;
-    for (i = 0; i < R->picks; ++i)
-        R->left_out += !R->take[i];
-    R->infeasible = 0;
-    R->misfit = TCLOD_NONE;
-    R->lp_bound = 0.0;
-    R->skipped = 0;
-    sel->stats.stop_reason = TCLOD_STOP_FINEST;
-    for (i = 0; i < R->picks && !R->infeasible; ++i) {
-        int rc;
-        if (!R->take[i])
-            continue;
-        rc = force_path(sel, R->pick[i]);
-        if (rc < 0)
-            return -1;
-        R->infeasible = rc > 0;
-    }
-    if (!feasible(sel) || !tclod_within(sel, sel->cost_sum, cut_budget(sel)))
-        R->infeasible = 1;
     return 0;
 }
 
@@ -1442,7 +1071,7 @@ static double result_total(const tclod_selector *sel) {
     double sum = 0.0;
     uint32_t i, count = sel->cut_count;
     for (i = 0; i < count; ++i)
-        if (counts(sel, cut[i]))
+        if (greedy_counts(sel, cut[i]))
             sum += sel->node[cut[i]].cost;
     return sum;
 }
@@ -1476,7 +1105,7 @@ static uint32_t drop_order(tclod_selector *sel) {
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id r = sel->cut[i];
         double c;
-        if (!counts(sel, r))
+        if (!greedy_counts(sel, r))
             continue;
         c = sel->node[r].cost;
         sel->scratch[n] = ~r;
@@ -1503,7 +1132,7 @@ static uint32_t drop_order(tclod_selector *sel) {
  * Always ends within the budget. */
 static int enforce_budget(tclod_selector *sel, int dec_built) {
     const tclod_scene *s = sel->scene;
-    double limit = cut_budget(sel), sum = result_total(sel);
+    double limit = greedy_cut_budget(sel), sum = result_total(sel);
     uint32_t round = 0, drops = 0, next_drop = 0, i;
     int dropping = 0, late = 0;
     for (;;) {
@@ -1519,7 +1148,7 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
         if (sel->stats.over_budget)
             return 0; /* the roots alone exceed the budget, and overflow draws them */
         if (!dec_built) {
-            tclod_heap_clear(&sel->dec);
+            tclod_heap_clear(&sel->greedy.dec);
             for (i = 0; i < sel->cut_count; ++i) {
                 tclod_id p = s->parent[sel->cut[i]];
                 if (queue_decrement(sel, p, 0) != 0)
@@ -1531,9 +1160,9 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
         most = late || round > 30u ? UINT32_MAX : 1u << round;
         least = round < 2u ? 1u : 1u << (round > 31u ? 30u : round - 1u);
         while (undone < least || (undone < most && !(est <= limit))) {
-            if (sel->dec.count > 0) {
-                tclod_id p = tclod_heap_pop(&sel->dec);
-                est -= sel->delta[p].delta_c; /* the cost the collapse saves */
+            if (sel->greedy.dec.count > 0) {
+                tclod_id p = tclod_heap_pop(&sel->greedy.dec);
+                est -= sel->greedy.delta[p].delta_c; /* the cost the collapse saves */
                 if (apply_decrement(sel, p) != 0)
                     return -1;
             } else {
@@ -1566,28 +1195,13 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
     }
 }
 
-/* The stages of a greedy solve (sel->resume.phase). */
-enum {
-    GREEDY_START = 0,
-    GREEDY_IMPROVE,
-    GREEDY_PASS, /* a pass after the plain one, with resume.pick/take */
-    GREEDY_IMPROVE_PASS,
-    GREEDY_REPLAY, /* the best pass again, when another one ended last */
-    GREEDY_IMPROVE_REPLAY,
-    GREEDY_END
-};
-
-/* The relative shortfall from the relaxation's bound below which a solve
- * searches no further. */
-#define RESTART_GAP 1e-2
-
 /* Starts the solve: a warm start is brought within the budget, a cold one
  * starts from the roots. Always completes. */
 static int greedy_start(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
-    R->warm = !sel->desc.cold_start && sel->has_cut;
+    R->greedy.warm = !sel->desc.cold_start && sel->has_cut;
     R->skipped = 0;
-    if (R->warm && sel->node_version != sel->scene->node_version) {
+    if (R->greedy.warm && sel->node_version != sel->scene->node_version) {
         /* the edits since the cut was made, from the log while it holds them */
         const tclod_scene *s = sel->scene;
         uint64_t seen = sel->user.log_seen;
@@ -1596,106 +1210,28 @@ static int greedy_start(tclod_selector *sel) {
         else
             repair_cut(sel);
     }
-    if (R->warm)
+    if (R->greedy.warm)
         return start_warm(sel) != 0 ? -1 : restore_budget(sel);
-    R->closure_head = R->closure_tail = 0;
-    R->closing = sel->closure_hint > 0.0 && sel->frame->max_iterations == 0 &&
-                 sel->frame->solve_seconds == 0.0;
-    R->closure_key = sel->closure_hint * CLOSURE_MARGIN;
+    R->greedy.closure_head = R->greedy.closure_tail = 0;
+    R->greedy.closing = sel->greedy.closure_hint > 0.0 && sel->frame->max_iterations == 0 &&
+                        sel->frame->solve_seconds == 0.0;
+    R->greedy.closure_key = sel->greedy.closure_hint * CLOSURE_MARGIN;
     if (start_cold(sel) != 0)
         return -1;
-    R->closure_cost = sel->cost_sum;
-    R->closure_err = sel->cost_err;
-    R->alt_node = TCLOD_NONE;
-    R->alt_benefit = 0.0;
-    R->alt_roots_b = sel->benefit_sum;
-    R->alt_roots_c = sel->cost_sum;
-    R->alt_roots_err = sel->cost_err;
-    R->use_alt =
+    R->greedy.closure_cost = sel->cost_sum;
+    R->greedy.closure_err = sel->cost_err;
+    R->greedy.alt_node = TCLOD_NONE;
+    R->greedy.alt_benefit = 0.0;
+    R->greedy.alt_roots_b = sel->benefit_sum;
+    R->greedy.alt_roots_c = sel->cost_sum;
+    R->greedy.alt_roots_err = sel->cost_err;
+    R->greedy.use_alt =
         sel->stats.dropped_roots == 0 && !sel->stats.over_budget && sel->desc.greedy.restarts > 0;
-    R->misfit = TCLOD_NONE;
-    R->lp_bound = 0.0;
-    R->picks = R->best_picks = R->left_out = R->tries = 0;
-    R->searching = 0;
+    R->greedy.misfit = TCLOD_NONE;
+    R->greedy.lp_bound = 0.0;
+    R->greedy.picks = R->greedy.best_picks = R->greedy.left_out = R->greedy.tries = 0;
+    R->greedy.searching = 0;
     return 0;
-}
-
-/* Whether the search may go on below a pass whose bound is `bound`: passes
- * left, no limit in the frame, and a bound more than RESTART_GAP above the
- * best result. */
-static int worth_searching(const tclod_selector *sel, double bound) {
-    const tclod_resume *R = &sel->resume;
-    const tclod_frame *f = sel->frame;
-    return sel->desc.greedy.restarts > 1 && R->tries < (uint32_t)sel->desc.greedy.restarts &&
-           f->max_iterations == 0 && f->solve_seconds == 0.0 &&
-           bound > R->best_benefit * (1.0 + RESTART_GAP);
-}
-
-/* The search's next decisions after a pass (depth first): below a pass whose
- * bound leaves room, its first misfit taken; otherwise the last decision
- * taken is left out instead, the decisions after it dropped. Returns 0 when
- * the search is over. */
-static int next_decisions(tclod_selector *sel, int below) {
-    tclod_resume *R = &sel->resume;
-    if (below && R->picks < TCLOD_SEARCH_DEPTH) {
-        R->pick[R->picks] = R->misfit;
-        R->take[R->picks++] = 1;
-        return 1;
-    }
-    while (R->picks > 0 && !R->take[R->picks - 1u])
-        R->picks--;
-    if (R->picks == 0)
-        return 0;
-    R->take[R->picks - 1u] = 0;
-    return 1;
-}
-
-/* The stage after a pass of a cold solve. The plain pass is followed by the
- * one from the best skipped increment's T(n) when that alone beats it (the
- * half-optimum safeguard), and, with restarts > 1, by the search: passes with
- * increments forced or left out, branching on each pass's first misfit while
- * the relaxation's bound there says the optimum may be more than RESTART_GAP
- * better, as many as restarts allows. Then the best pass is made again if it
- * is not the last one. A pass stopped by a limit ends the solve. */
-static int after_pass(tclod_selector *sel) {
-    tclod_resume *R = &sel->resume;
-    int plain = R->tries == 0 && !R->searching && R->picks == 0;
-    if (sel->stopped || (sel->stats.stop_reason != TCLOD_STOP_BUDGET &&
-                         sel->stats.stop_reason != TCLOD_STOP_FINEST))
-        return GREEDY_END;
-    R->cut_is_best = 0;
-    if (plain || (!R->infeasible && sel->benefit_sum > R->best_benefit * (1.0 + SWAP_MARGIN))) {
-        R->best_benefit = sel->benefit_sum;
-        R->best_picks = R->picks;
-        memcpy(R->best_pick, R->pick, sizeof(tclod_id) * R->picks);
-        memcpy(R->best_take, R->take, R->picks);
-        R->cut_is_best = 1;
-    }
-    if (plain) {
-        R->root_misfit = R->misfit;
-        R->root_bound = R->lp_bound;
-        sel->closure_hint = R->misfit != TCLOD_NONE ? R->misfit_key : DBL_MIN;
-        if (R->use_alt && R->alt_node != TCLOD_NONE &&
-            R->alt_benefit > R->best_benefit * (1.0 + SWAP_MARGIN)) {
-            R->pick[0] = R->alt_node; /* the T(n) pass */
-            R->take[0] = 1;
-            R->picks = 1;
-            return GREEDY_PASS;
-        }
-    }
-    if (R->use_alt && !R->searching) { /* the search begins below the plain pass */
-        R->searching = 1;
-        R->picks = 0;
-        R->misfit = R->root_misfit;
-        if (R->root_misfit != TCLOD_NONE && worth_searching(sel, R->root_bound) &&
-            next_decisions(sel, 1))
-            return GREEDY_PASS;
-    } else if (R->searching && R->tries < (uint32_t)sel->desc.greedy.restarts &&
-               next_decisions(sel, !R->infeasible && R->misfit != TCLOD_NONE &&
-                                       worth_searching(sel, R->lp_bound))) {
-        return GREEDY_PASS;
-    }
-    return R->cut_is_best ? GREEDY_END : GREEDY_REPLAY;
 }
 
 tclod_status tclod_greedy_solve(tclod_selector *sel) {
@@ -1708,26 +1244,26 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
             R->phase = GREEDY_IMPROVE;
             break;
         case GREEDY_IMPROVE:
-            rc = improve(sel, R->warm, !R->warm && R->use_alt);
+            rc = improve(sel, R->greedy.warm, !R->greedy.warm && R->greedy.use_alt);
             if (!sel->paused)
-                R->phase = R->warm ? GREEDY_END : after_pass(sel);
+                R->phase = R->greedy.warm ? GREEDY_END : tclod_greedy_after_pass(sel);
             break;
         case GREEDY_PASS:
-            R->tries++;
-            rc = start_decided(sel);
+            R->greedy.tries++;
+            rc = tclod_greedy_start_decided(sel);
             R->phase = GREEDY_IMPROVE_PASS;
             break;
         case GREEDY_IMPROVE_PASS:
-            if (!R->infeasible)
+            if (!R->greedy.infeasible)
                 rc = improve(sel, 0, 0);
             if (!sel->paused)
-                R->phase = after_pass(sel);
+                R->phase = tclod_greedy_after_pass(sel);
             break;
         case GREEDY_REPLAY:
-            R->picks = R->best_picks;
-            memcpy(R->pick, R->best_pick, sizeof(tclod_id) * R->picks);
-            memcpy(R->take, R->best_take, R->picks);
-            rc = start_decided(sel);
+            R->greedy.picks = R->greedy.best_picks;
+            memcpy(R->greedy.pick, R->greedy.best_pick, sizeof(tclod_id) * R->greedy.picks);
+            memcpy(R->greedy.take, R->greedy.best_take, R->greedy.picks);
+            rc = tclod_greedy_start_decided(sel);
             R->phase = GREEDY_IMPROVE_REPLAY;
             break;
         case GREEDY_IMPROVE_REPLAY:
@@ -1736,7 +1272,7 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
                 R->phase = GREEDY_END;
             break;
         default:
-            rc = enforce_budget(sel, R->warm);
+            rc = enforce_budget(sel, R->greedy.warm);
             clear_heaps(sel);
             return rc == 0 ? TCLOD_OK : TCLOD_ERR_CALLBACK;
         }
@@ -1745,6 +1281,42 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
         return TCLOD_OK;
     clear_heaps(sel);
     return TCLOD_ERR_CALLBACK;
+}
+
+/* ---- buffers ------------------------------------------------------------------ */
+
+size_t tclod_greedy_buffers(tclod_greedy_state *g, tclod_array *out) {
+    size_t n = 0;
+    /* increments are NaN until computed; no heap slot is TCLOD_NONE */
+    out[n++] = (tclod_array){(void **)&g->delta, sizeof(tclod_delta), 0xff};
+    out[n++] = (tclod_array){(void **)&g->inc_slot, sizeof(uint32_t), 0xff};
+    out[n++] = (tclod_array){(void **)&g->cheap_slot, sizeof(uint32_t), 0xff};
+    out[n++] = (tclod_array){(void **)&g->dec_slot, sizeof(uint32_t), 0xff};
+    out[n++] = (tclod_array){(void **)&g->inc_block, sizeof(tclod_heap_entry), -1};
+    out[n++] = (tclod_array){(void **)&g->cheap_block, sizeof(tclod_heap_entry), -1};
+    out[n++] = (tclod_array){(void **)&g->dec_block, sizeof(tclod_heap_entry), -1};
+    return n;
+}
+
+/* Where a heap's entries start in its block: entry 1 on a 64-byte boundary,
+ * so that every slot's four children lie in one cache line. Up to three
+ * entries are skipped. */
+static tclod_heap_entry *heap_items(tclod_heap_entry *block) {
+    uintptr_t a = (uintptr_t)(void *)block;
+    if (a % sizeof(tclod_heap_entry) != 0)
+        return block;
+    return block + (64u + 48u - a % 64u) % 64u / sizeof(tclod_heap_entry);
+}
+
+/* The heaps find their entries in their blocks and their slots in dense
+ * arrays. */
+void tclod_greedy_bind(tclod_greedy_state *g) {
+    g->inc.items = heap_items(g->inc_block);
+    g->cheap.items = heap_items(g->cheap_block);
+    g->dec.items = heap_items(g->dec_block);
+    g->inc.pos = g->inc_slot;
+    g->cheap.pos = g->cheap_slot;
+    g->dec.pos = g->dec_slot;
 }
 
 /* ---- the steps the mixed solver interleaves with its smooth ones ------------ */
@@ -1756,19 +1328,19 @@ int tclod_greedy_start(tclod_selector *sel) {
 tclod_id tclod_greedy_candidate(tclod_selector *sel, double *ratio, int *skipped) {
     for (;;) {
         tclod_id n;
-        if (sel->inc.count == 0)
+        if (sel->greedy.inc.count == 0)
             return TCLOD_NONE;
-        n = sel->inc.items[0].id;
-        if (increment_fits(sel, n)) {
-            *ratio = sel->inc.items[0].key;
+        n = sel->greedy.inc.items[0].id;
+        if (greedy_increment_fits(sel, n)) {
+            *ratio = sel->greedy.inc.items[0].key;
             return n;
         }
         *skipped = 1;
         if (!increment_may_fit(sel))
             return TCLOD_NONE;
         /* smooth steps only add cost too: a misfit never fits again */
-        if (sel->resume.use_alt)
-            consider_alternative(sel, n);
+        if (sel->resume.greedy.use_alt)
+            greedy_consider_alternative(sel, n);
         skip_misfit(sel, n);
     }
 }
@@ -1776,44 +1348,13 @@ tclod_id tclod_greedy_candidate(tclod_selector *sel, double *ratio, int *skipped
 void tclod_greedy_skip(tclod_selector *sel) {
     tclod_id n = pop_increment(sel);
     sel->stats.iterations++;
-    if (sel->resume.use_alt)
-        consider_alternative(sel, n);
-}
-
-void tclod_greedy_track(tclod_selector *sel) {
-    tclod_resume *R = &sel->resume;
-    R->alt_node = TCLOD_NONE;
-    R->alt_benefit = 0.0;
-    R->alt_roots_b = sel->benefit_sum;
-    R->alt_roots_c = sel->cost_sum;
-    R->alt_roots_err = sel->cost_err;
-    R->use_alt =
-        sel->stats.dropped_roots == 0 && !sel->stats.over_budget && sel->desc.greedy.restarts > 0;
-}
-
-tclod_id tclod_greedy_alternative(tclod_selector *sel, double *benefit) {
-    tclod_resume *R = &sel->resume;
-    uint32_t i;
-    if (!R->use_alt)
-        return TCLOD_NONE;
-    for (i = 0; i < sel->inc.count; ++i)
-        consider_alternative(sel, sel->inc.items[i].id);
-    *benefit = R->alt_benefit;
-    return R->alt_node;
-}
-
-int tclod_greedy_force(tclod_selector *sel, tclod_id n) {
-    sel->resume.picks = sel->resume.left_out = 0;
-    if (start_cold(sel) != 0)
-        return -1;
-    /* 1: n's lookahead jump no longer fits and no cut of it does; the path
-     * above it is taken, a cut within the budget like T(n) without n */
-    return force_path(sel, n) < 0 ? -1 : 0;
+    if (sel->resume.greedy.use_alt)
+        greedy_consider_alternative(sel, n);
 }
 
 int tclod_greedy_take(tclod_selector *sel, tclod_id n) {
     sel->stats.iterations++;
-    return apply_increment(sel, n, 0);
+    return apply_increment_cold(sel, n);
 }
 
 int tclod_greedy_enforce(tclod_selector *sel) {

@@ -15,7 +15,7 @@
  * the last entry climbs back (Floyd): the heap ends in exactly the arrangement
  * a top-down sift would give, with one comparison per level fewer.
  */
-#include "internal.h"
+#include "heap.h"
 
 #define ARITY 4u
 

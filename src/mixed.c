@@ -24,7 +24,7 @@
  * line falls, and keeps the best of the local maxima on either side of them.
  * Every step keeps the selection within the budget.
  */
-#include "internal.h"
+#include "selector.h"
 
 #include <float.h>
 #include <math.h>
@@ -118,7 +118,7 @@ int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, const
 
 static int var_call(tclod_selector *sel, uint32_t v, double x, double *b, double *db, double *c,
                     double *dc) {
-    const tclod_vars *V = &sel->vars;
+    const tclod_vars *V = &sel->mixed.vars;
     return tclod_smooth_call(sel, V->first[v], V->size[v], &V->bounds[4u * v], V->area[v],
                              V->distance[v], x, b, db, c, dc);
 }
@@ -293,7 +293,7 @@ static int spend_exceeds(tclod_vars *V, double lambda, double left) {
  * to a spend within a thousandth of the budget (setup costs make the spend
  * jump; the method then halves). */
 static double level(const tclod_selector *sel, double left, double guess) {
-    const tclod_vars *V = &sel->vars;
+    const tclod_vars *V = &sel->mixed.vars;
     double tol = 1e-3 * fabs(sel->frame->budget), lo, hi, flo, fhi, spent;
     uint32_t k;
     int side = 0;
@@ -417,7 +417,7 @@ static void update_model(tclod_vars *V, uint32_t v) {
  * kinked cost's slope there is not the one further on. A bad benefit makes the
  * variable invisible for this solve. */
 static int start_variables(tclod_selector *sel) {
-    tclod_vars *V = &sel->vars;
+    tclod_vars *V = &sel->mixed.vars;
     uint32_t v;
     vars_changed(V);
     V->bound_reach = SPEND_BOUND_REACH;
@@ -459,7 +459,7 @@ static void var_ratio(tclod_vars *V, uint32_t v) {
  * change only with the variables, so only those that changed are done again
  * (moving_changed), or all after vars_changed. */
 static void ratios(tclod_selector *sel) {
-    tclod_vars *V = &sel->vars;
+    tclod_vars *V = &sel->mixed.vars;
     uint32_t v;
     if (!V->fresh)
         for (v = 0; v < V->count; ++v)
@@ -469,7 +469,7 @@ static void ratios(tclod_selector *sel) {
 
 /* ratios, then the largest ratio among the variables below full resolution. */
 static double top_ratio(tclod_selector *sel) {
-    const tclod_vars *V = &sel->vars;
+    const tclod_vars *V = &sel->mixed.vars;
     double best = 0.0;
     uint32_t v;
     ratios(sel);
@@ -496,7 +496,7 @@ static void moving_changed(tclod_vars *V, uint32_t n) {
  * in *slope: +inf when the step gains benefit without adding cost. 0 when the
  * direction gains no benefit. */
 static uint32_t finish_direction(tclod_selector *sel, double *slope) {
-    tclod_vars *V = &sel->vars;
+    tclod_vars *V = &sel->mixed.vars;
     double a_max = 0.0, num = 0.0, den = 0.0;
     uint32_t v, n = 0, i;
     for (v = 0; v < V->count; ++v)
@@ -521,7 +521,7 @@ static uint32_t finish_direction(tclod_selector *sel, double *slope) {
  * of eq. 8.13 taken relative to the variable's slope (eps' = eps db/dr), so
  * that it does not depend on the benefit's scale; 0 for saturated variables. */
 static uint32_t gradient_direction(tclod_selector *sel, double eps, double *slope) {
-    tclod_vars *V = &sel->vars;
+    tclod_vars *V = &sel->mixed.vars;
     uint32_t v;
     for (v = 0; v < V->count; ++v) {
         double f = V->ratio[v] > 0.0 && V->r[v] < 1.0 ? 1.0 - eps / (1.0 - V->r[v]) : 0.0;
@@ -534,7 +534,7 @@ static uint32_t gradient_direction(tclod_selector *sel, double eps, double *slop
  * for var_target, up when its slope is above the target and down when an
  * earlier step took it past (a diagonal quasi-Newton step). */
 static uint32_t model_direction(tclod_selector *sel, double target, double *slope) {
-    tclod_vars *V = &sel->vars;
+    tclod_vars *V = &sel->mixed.vars;
     double log_target = target > 0.0 ? log(target) : 0.0;
     uint32_t v;
     for (v = 0; v < V->count; ++v) {
@@ -549,7 +549,7 @@ static uint32_t model_direction(tclod_selector *sel, double target, double *slop
  * resolution between variables at constant cost. Returns 0 when nothing falls
  * to pay for it. */
 static int level_direction(tclod_selector *sel, uint32_t n) {
-    tclod_vars *V = &sel->vars;
+    tclod_vars *V = &sel->mixed.vars;
     double up = 0.0, down = 0.0, scale;
     uint32_t i;
     for (i = 0; i < n; ++i) {
@@ -588,7 +588,7 @@ typedef struct line {
 } line;
 
 static int line_eval(tclod_selector *sel, line *L, double t, line_point *p) {
-    tclod_vars *V = &sel->vars;
+    tclod_vars *V = &sel->mixed.vars;
     uint32_t i;
     p->t = t;
     p->benefit = p->cost = p->slope_b = p->slope_c = p->abs_b = p->abs_c = 0.0;
@@ -820,7 +820,7 @@ static int line_best(tclod_selector *sel, line *L, const line_point *origin, con
  * gained next to nothing. */
 static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budget_bound,
                        int *matched, int *stalled) {
-    tclod_vars *V = &sel->vars;
+    tclod_vars *V = &sel->mixed.vars;
     double budget = sel->frame->budget, moving_cost = 0.0;
     line_point origin, top, best;
     line L;
@@ -898,8 +898,8 @@ static int line_search(tclod_selector *sel, uint32_t n, double lambda, int *budg
 static void block_moving(tclod_selector *sel, uint32_t n) {
     uint32_t i;
     for (i = 0; i < n; ++i)
-        sel->vars.state[sel->vars.moving[i]] = TCLOD_VAR_BLOCKED;
-    moving_changed(&sel->vars, n);
+        sel->mixed.vars.state[sel->mixed.vars.moving[i]] = TCLOD_VAR_BLOCKED;
+    moving_changed(&sel->mixed.vars, n);
 }
 
 /* The papers' loop (eq. 8.8-8.14) with the gradient direction. */
@@ -915,14 +915,14 @@ static int improve_gradient(tclod_selector *sel) {
         if (tclod_out_of_time(sel))
             return 0;
         cand = tclod_greedy_candidate(sel, &slope_d, &R->skipped);
-        if (cand != TCLOD_NONE && cand == R->matched) { /* Figure 8.1: Q, then P */
+        if (cand != TCLOD_NONE && cand == R->mixed.matched) { /* Figure 8.1: Q, then P */
             if (tclod_greedy_take(sel, cand) != 0)
                 return -1;
-            R->matched = TCLOD_NONE;
-            R->run = 0;
+            R->mixed.matched = TCLOD_NONE;
+            R->mixed.run = 0;
             continue;
         }
-        if (!R->smooth_done && top_ratio(sel) > 0.0) {
+        if (!R->mixed.smooth_done && top_ratio(sel) > 0.0) {
             n = gradient_direction(sel, d->mixed.smooth_epsilon, &slope_c);
             if (n == 0 && d->mixed.smooth_epsilon > 0.0)
                 n = gradient_direction(sel, 0.0, &slope_c);
@@ -932,7 +932,7 @@ static int improve_gradient(tclod_selector *sel) {
         if (cand != TCLOD_NONE && (n == 0 || slope_d >= slope_c)) {
             if (tclod_greedy_take(sel, cand) != 0)
                 return -1;
-            R->run = 0;
+            R->mixed.run = 0;
             continue;
         }
         target = cand != TCLOD_NONE ? keep * slope_d : 0.0;
@@ -943,19 +943,19 @@ static int improve_gradient(tclod_selector *sel) {
             return -1;
         if (budget_bound) {
             R->skipped = 1;
-            R->smooth_done = 1; /* t_max came from the budget: it is spent */
+            R->mixed.smooth_done = 1; /* t_max came from the budget: it is spent */
         }
         if (moved && !stalled) {
-            if (++R->run >= SMOOTH_RUN)
-                R->smooth_done = 1;
+            if (++R->mixed.run >= SMOOTH_RUN)
+                R->mixed.smooth_done = 1;
             if (at_slope && cand != TCLOD_NONE)
-                R->matched = cand;
+                R->mixed.matched = cand;
         } else if (cand != TCLOD_NONE) {
             if (tclod_greedy_take(sel, cand) != 0)
                 return -1;
-            R->run = 0;
+            R->mixed.run = 0;
         } else if (moved || budget_bound) {
-            R->smooth_done = 1;
+            R->mixed.smooth_done = 1;
         } else {
             block_moving(sel, n);
         }
@@ -1035,16 +1035,16 @@ static int improve_modelled(tclod_selector *sel) {
         cand = tclod_greedy_candidate(sel, &slope_d, &R->skipped);
         sel->reserved = held;
         if (cand != TCLOD_NONE) {
-            double dc = sel->delta[cand].delta_c, left = budget - sel->cost_sum - held;
+            double dc = sel->greedy.delta[cand].delta_c, left = budget - sel->cost_sum - held;
             if (dc > 0.0)
                 left -= dc;
             /* its slope beats the smooth variables' at the budget left after it
              * exactly when, at its slope, they would spend no more than that */
-            if (!spend_exceeds(&sel->vars, slope_d, left)) {
+            if (!spend_exceeds(&sel->mixed.vars, slope_d, left)) {
                 if (tclod_within(sel, sel->cost_sum + held + dc, budget)) {
                     if (tclod_greedy_take(sel, cand) != 0)
                         return -1;
-                    R->run = 0;
+                    R->mixed.run = 0;
                     continue;
                 }
                 /* make room: the smooth variables come down to where they
@@ -1053,22 +1053,22 @@ static int improve_modelled(tclod_selector *sel) {
                 moved = smooth_step(sel, at, &budget_bound);
                 if (moved < 0)
                     return -1;
-                if (!moved || ++R->run >= SMOOTH_RUN) {
+                if (!moved || ++R->mixed.run >= SMOOTH_RUN) {
                     tclod_greedy_skip(sel);
                     R->skipped = 1;
                 }
                 continue;
             }
         }
-        at = level(sel, limit - sel->cost_sum - held, R->guess);
+        at = level(sel, limit - sel->cost_sum - held, R->mixed.guess);
         if (isfinite(at) && at > 0.0)
-            R->guess = at;
+            R->mixed.guess = at;
         moved = smooth_step(sel, at, &budget_bound);
         if (moved < 0)
             return -1;
         if (budget_bound)
             R->skipped = 1;
-        if (!moved || ++R->run >= SMOOTH_RUN)
+        if (!moved || ++R->mixed.run >= SMOOTH_RUN)
             return 0;
     }
 }
@@ -1098,7 +1098,7 @@ static int fill(tclod_selector *sel) {
  * evens out the few variables the models left behind, at the cost of two
  * variables' callbacks per step. */
 static int polish(tclod_selector *sel) {
-    tclod_vars *V = &sel->vars;
+    tclod_vars *V = &sel->mixed.vars;
     uint32_t *k = &sel->resume.k;
     for (; *k < POLISH_STEPS; ++*k) {
         uint32_t v, hi = TCLOD_NONE, lo = TCLOD_NONE;
@@ -1141,7 +1141,7 @@ static int polish(tclod_selector *sel) {
  * running sums' drift ever carry it over the budget, the smooth variables are
  * dropped and the cut is repaired as the greedy repairs its own. */
 static int mixed_finish(tclod_selector *sel) {
-    const tclod_vars *V = &sel->vars;
+    const tclod_vars *V = &sel->mixed.vars;
     double sum = 0.0;
     uint32_t i;
     for (i = 0; i < sel->cut_count; ++i) {
@@ -1156,7 +1156,7 @@ static int mixed_finish(tclod_selector *sel) {
         return 0;
     for (i = 0; i < V->count; ++i)
         V->r[i] = V->b[i] = V->c[i] = 0.0;
-    vars_changed(&sel->vars);
+    vars_changed(&sel->mixed.vars);
     sel->reserved = 0.0;
     return tclod_greedy_enforce(sel);
 }
@@ -1174,7 +1174,7 @@ enum {
 
 /* The benefit of the working selection: the cut's and the drawn variables'. */
 static double working_benefit(const tclod_selector *sel) {
-    const tclod_vars *V = &sel->vars;
+    const tclod_vars *V = &sel->mixed.vars;
     double sum = sel->benefit_sum;
     uint32_t v;
     for (v = 0; v < V->count; ++v)
@@ -1186,7 +1186,7 @@ static double working_benefit(const tclod_selector *sel) {
 /* Every variable back at resolution 0 (a variable with a bad benefit stays
  * invisible), its model made again. */
 static int restart_variables(tclod_selector *sel) {
-    tclod_vars *V = &sel->vars;
+    tclod_vars *V = &sel->mixed.vars;
     tclod_resume *R = &sel->resume;
     uint32_t v;
     for (v = 0; v < V->count; ++v) {
@@ -1195,10 +1195,10 @@ static int restart_variables(tclod_selector *sel) {
         V->r[v] = V->b[v] = V->c[v] = 0.0;
     }
     sel->reserved = 0.0;
-    R->skipped = R->smooth_done = 0;
-    R->run = 0;
-    R->matched = TCLOD_NONE;
-    R->guess = 1.0;
+    R->skipped = R->mixed.smooth_done = 0;
+    R->mixed.run = 0;
+    R->mixed.matched = TCLOD_NONE;
+    R->mixed.guess = 1.0;
     return start_variables(sel);
 }
 
@@ -1216,22 +1216,22 @@ static int safeguard(tclod_selector *sel, int *next) {
     double alt = 0.0, now = working_benefit(sel);
     tclod_id n;
     *next = MIXED_FINISH;
-    if (R->alt_pass) {
+    if (R->mixed.alt_pass) {
         uint32_t v;
-        if (now >= R->alt_benefit)
+        if (now >= R->greedy.alt_benefit)
             return 0;
-        for (v = 0; v < sel->vars.count; ++v)
-            sel->vars.r[v] = sel->vars.b[v] = sel->vars.c[v] = 0.0;
-        vars_changed(&sel->vars);
+        for (v = 0; v < sel->mixed.vars.count; ++v)
+            sel->mixed.vars.r[v] = sel->mixed.vars.b[v] = sel->mixed.vars.c[v] = 0.0;
+        vars_changed(&sel->mixed.vars);
         sel->reserved = 0.0;
-        return tclod_greedy_force(sel, R->alt_node);
+        return tclod_greedy_force(sel, R->greedy.alt_node);
     }
     if (sel->stopped)
         return 0;
     n = tclod_greedy_alternative(sel, &alt);
     if (n == TCLOD_NONE || !(alt > now * (1.0 + 1e-12)))
         return 0;
-    R->alt_pass = 1;
+    R->mixed.alt_pass = 1;
     sel->reserved = 0.0; /* T(n) holds nothing smooth: the cut has the whole budget */
     if (tclod_greedy_force(sel, n) != 0 || restart_variables(sel) != 0)
         return -1;
@@ -1243,17 +1243,17 @@ static int mixed_start(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     int rc;
     sel->reserved = 0.0;
-    R->skipped = R->smooth_done = 0;
-    R->run = R->k = 0;
-    R->matched = TCLOD_NONE;
-    R->guess = 1.0;
+    R->skipped = R->mixed.smooth_done = 0;
+    R->mixed.run = R->k = 0;
+    R->mixed.matched = TCLOD_NONE;
+    R->mixed.guess = 1.0;
     rc = tclod_split_variables(sel);
-    sel->stats.variables = sel->vars.count;
+    sel->stats.variables = sel->mixed.vars.count;
     /* no smooth variable this frame: the discrete problem alone, which the
      * greedy solves with its safeguards (the best skipped increment, warm
      * starts) */
-    if (rc == 0 && sel->vars.count == 0) {
-        R->as_greedy = 1;
+    if (rc == 0 && sel->mixed.vars.count == 0) {
+        R->mixed.as_greedy = 1;
         return 0;
     }
     if (rc == 0)
@@ -1268,14 +1268,14 @@ static int mixed_start(tclod_selector *sel) {
 tclod_status tclod_mixed_solve(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     int modelled = !sel->desc.mixed.plain_gradient, rc = 0;
-    if (R->as_greedy)
+    if (R->mixed.as_greedy)
         return tclod_greedy_solve(sel);
     while (rc == 0 && !sel->paused) {
         int next;
         switch (R->phase) {
         case MIXED_START:
             rc = mixed_start(sel);
-            if (rc == 0 && R->as_greedy) {
+            if (rc == 0 && R->mixed.as_greedy) {
                 R->phase = 0; /* the greedy's start */
                 return tclod_greedy_solve(sel);
             }
@@ -1314,4 +1314,38 @@ tclod_status tclod_mixed_solve(tclod_selector *sel) {
         return TCLOD_OK;
     tclod_greedy_end(sel);
     return TCLOD_ERR_CALLBACK;
+}
+
+/* ---- buffers ------------------------------------------------------------------ */
+
+/* The split stack holds up to one entry per quadtree node, i.e. fewer than
+ * two per object. */
+size_t tclod_mixed_buffers(tclod_mixed_state *m, tclod_array *out) {
+    tclod_vars *v = &m->vars;
+    size_t n = 0;
+    out[n++] = (tclod_array){(void **)&v->first, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&v->size, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&v->bounds, 4 * sizeof(float), -1};
+    out[n++] = (tclod_array){(void **)&v->area, sizeof(float), -1};
+    out[n++] = (tclod_array){(void **)&v->distance, sizeof(float), -1};
+    out[n++] = (tclod_array){(void **)&v->r, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&v->b, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&v->c, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&v->db, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&v->dc, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&v->a, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&v->ratio, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&v->up, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&v->moving, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&v->state, sizeof(uint8_t), -1};
+    out[n++] = (tclod_array){(void **)&v->trial, sizeof(tclod_var_trial), -1};
+    out[n++] = (tclod_array){(void **)&v->model, sizeof(tclod_var_model), -1};
+    out[n++] = (tclod_array){(void **)&m->split_node, 2 * sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&m->split_x, 2 * sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&m->split_theta, 2 * sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&m->split_order, 2 * sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&m->split_c, 2 * sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&m->split_q, 2 * sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&m->split_whole, 2 * sizeof(uint8_t), -1};
+    return n;
 }

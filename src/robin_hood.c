@@ -25,7 +25,7 @@
  * own, each guaranteed its simplest level and sharing the rest by value, so
  * the cut never has a hole.
  */
-#include "internal.h"
+#include "selector.h"
 
 #include <float.h>
 #include <math.h>
@@ -230,22 +230,22 @@ static inline int evaluate_level(tclod_selector *sel, tclod_id n, tclod_id head,
 /* The level head's chain (of len levels) took last: where its search starts
  * (any level would do; what is no level of the chain reads as 0). */
 static inline uint32_t last_level(const tclod_selector *sel, tclod_id head, uint32_t len) {
-    uint32_t l = sel->rh_level[head];
+    uint32_t l = sel->rh.level[head];
     return l < len ? l : 0u;
 }
 
 /* Keeps `level` as the level head's chain took last (beyond 255, 255: the
  * search then starts there). */
 static inline void set_last_level(tclod_selector *sel, tclod_id head, uint32_t level) {
-    sel->rh_level[head] = (uint8_t)(level < UINT8_MAX ? level : UINT8_MAX);
+    sel->rh.level[head] = (uint8_t)(level < UINT8_MAX ? level : UINT8_MAX);
 }
 
 /* The solver reads the scene's child index through a copy of its own, made
  * when the scene changed, with every node's children contiguous in id order
- * (rh_kids, rh_first): the positions of a branch's children there are the
+ * (rh.kids, rh.first): the positions of a branch's children there are the
  * slots its sorted list and its values use. */
 static uint32_t child_count(const tclod_selector *sel, tclod_id n) {
-    return sel->rh_first[n + 1u] - sel->rh_first[n];
+    return sel->rh.first[n + 1u] - sel->rh.first[n];
 }
 
 /* Whether node n (in the index) starts an instance: a root, or one of several
@@ -338,7 +338,7 @@ static int finest_cost(tclod_selector *sel, tclod_id head, tclod_id end, int cul
     if (seen)
         *out = sel->node[end].cost; /* sanitised: a bad one is +inf, counted once */
     else if (sel->scene->bounds[end].kind & TCLOD_BOUNDS_SELF)
-        *out = sel->rh_key[chain_head(sel, sel->scene->up[end])];
+        *out = sel->rh.key[chain_head(sel, sel->scene->up[end])];
     else
         *out = node_complexity(sel, head, end);
     return sel->failed ? -1 : 0;
@@ -355,12 +355,12 @@ static int with_smooth(const tclod_selector *sel) {
 static float branch_reach(const tclod_selector *sel, tclod_id b) {
     const tclod_scene *s = sel->scene;
     const tclod_node_bounds *bb = &s->bounds[b];
-    uint32_t j, first = sel->rh_first[b], k = child_count(sel, b);
+    uint32_t j, first = sel->rh.first[b], k = child_count(sel, b);
     double reach = 0.0;
     if (!(bb->r >= 0.0))
         return -1.0f;
     for (j = 0; j < k; ++j) {
-        const tclod_node_bounds *cb = &s->bounds[sel->rh_kids[first + j]];
+        const tclod_node_bounds *cb = &s->bounds[sel->rh.kids[first + j]];
         double dx = cb->c[0] - bb->c[0], dy = cb->c[1] - bb->c[1], dz = cb->c[2] - bb->c[2], r;
         if (!(cb->r >= 0.0))
             continue;
@@ -399,14 +399,14 @@ static void mark_nested(tclod_selector *sel) {
     uint32_t i;
     for (i = 0; i < s->order_count; ++i) {
         tclod_id id = s->order[i];
-        tclod_rh_chain *ch = &sel->rh_chains[id];
+        tclod_rh_chain *ch = &sel->rh.chains[id];
         const tclod_rh_chain *up;
         tclod_id end, above;
         if (!is_head(sel, id) || !(ch->flags & TCLOD_RH_BRANCH) || s->parent[id] == TCLOD_NONE)
             continue;
         above = s->parent[id];
-        up = &sel->rh_chains[chain_head(sel, above)];
-        end = sel->rh_chain[ch->at + ch->len - 1u];
+        up = &sel->rh.chains[chain_head(sel, above)];
+        end = sel->rh.chain[ch->at + ch->len - 1u];
         if (sphere_within(s->bounds[end].c, ch->reach, s->bounds[above].c, up->reach))
             ch->flags |= TCLOD_RH_NESTED;
     }
@@ -427,12 +427,12 @@ static void keep_values(tclod_selector *sel) {
     uint32_t n = sel->scene->node_count, first, k, j;
     tclod_id id;
     for (id = 0; id < n; ++id) {
-        first = sel->rh_first[id];
+        first = sel->rh.first[id];
         k = child_count(sel, id);
         if (k < 2u)
             continue;
         for (j = 0; j < k; ++j) {
-            tclod_id c = sel->rh_kids[first + j];
+            tclod_id c = sel->rh.kids[first + j];
             if (sel->node[c].stamp == sel->solve_id)
                 sel->scratch_key[first + j] = sel->path[2u * c];
         }
@@ -451,13 +451,13 @@ static int prepare(tclod_selector *sel) {
     tclod_id id;
     /* the child index, contiguous */
     for (id = 0; id < n; ++id) {
-        sel->rh_first[id] = used;
+        sel->rh.first[id] = used;
         if (s->child_count[id])
-            memcpy(sel->rh_kids + used, s->children + s->child_first[id],
+            memcpy(sel->rh.kids + used, s->children + s->child_first[id],
                    sizeof(tclod_id) * s->child_count[id]);
         used += s->child_count[id];
     }
-    sel->rh_first[n] = used;
+    sel->rh.first[n] = used;
     used = 0;
     for (i = 0; i < s->order_count; ++i) {
         tclod_rh_chain *ch;
@@ -466,16 +466,16 @@ static int prepare(tclod_selector *sel) {
         id = s->order[i];
         if (!is_head(sel, id))
             continue;
-        ch = &sel->rh_chains[id];
+        ch = &sel->rh.chains[id];
         b = &s->bounds[id];
         ch->at = used;
         ch->flags = TCLOD_RH_CONSECUTIVE | TCLOD_RH_SHARED;
-        for (m = id;; m = sel->rh_kids[sel->rh_first[m]]) {
+        for (m = id;; m = sel->rh.kids[sel->rh.first[m]]) {
             if (m != id + (used - ch->at))
                 ch->flags &= ~(uint32_t)TCLOD_RH_CONSECUTIVE;
             if (memcmp(&s->bounds[m], b, sizeof *b) != 0)
                 ch->flags &= ~(uint32_t)TCLOD_RH_SHARED;
-            sel->rh_chain[used++] = m;
+            sel->rh.chain[used++] = m;
             if (child_count(sel, m) != 1u)
                 break;
         }
@@ -484,13 +484,13 @@ static int prepare(tclod_selector *sel) {
         if (child_count(sel, m) > 1u) {
             ch->flags |= TCLOD_RH_BRANCH;
             ch->reach = branch_reach(sel, m);
-            ch->first = sel->rh_first[m];
+            ch->first = sel->rh.first[m];
             ch->count = child_count(sel, m);
         }
         ch->len = used - ch->at;
         if (!by_cost)
-            sel->rh_key[id] = node_complexity(sel, id, m);
-        else if (finest_cost(sel, id, m, culled_below(sel, id), &sel->rh_key[id]) != 0)
+            sel->rh.key[id] = node_complexity(sel, id, m);
+        else if (finest_cost(sel, id, m, culled_below(sel, id), &sel->rh.key[id]) != 0)
             return -1;
     }
     assert(used == s->order_count);
@@ -498,34 +498,34 @@ static int prepare(tclod_selector *sel) {
     /* each branch's children, least complex first (ties: smaller id, which is the
      * smaller slot: a child range lists its ids in order), sorted in scratch */
     for (id = 0; id < n; ++id) {
-        uint32_t first = sel->rh_first[id], k = child_count(sel, id), j;
+        uint32_t first = sel->rh.first[id], k = child_count(sel, id), j;
         if (k < 2u)
             continue;
         for (j = 0; j < k; ++j) {
             sel->scratch[first + j] = first + j;
-            sel->scratch_key[first + j] = -sel->rh_key[sel->rh_kids[first + j]];
+            sel->scratch_key[first + j] = -sel->rh.key[sel->rh.kids[first + j]];
         }
         tclod_sort_by_key(sel->scratch + first, sel->scratch_key + first, k);
         for (j = 0; j < k; ++j) {
-            tclod_rh_child *c = &sel->rh_child[first + j];
+            tclod_rh_child *c = &sel->rh.child[first + j];
             c->slot = sel->scratch[first + j];
-            c->id = sel->rh_kids[c->slot];
-            c->chain = sel->rh_chains[c->id];
+            c->id = sel->rh.kids[c->slot];
+            c->chain = sel->rh.chains[c->id];
         }
     }
-    /* the second half of rh_key holds the order's keys (none: an empty scene) */
-    keys = sel->rh_key ? sel->rh_key + sel->rh_cap : NULL;
+    /* the second half of rh.key holds the order's keys (none: an empty scene) */
+    keys = sel->rh.key ? sel->rh.key + sel->rh.cap : NULL;
     for (i = 0; i < s->root_count; ++i) {
-        sel->rh_order[count] = s->roots[i];
-        keys[count++] = -sel->rh_key[s->roots[i]];
+        sel->rh.order[count] = s->roots[i];
+        keys[count++] = -sel->rh.key[s->roots[i]];
     }
     if (with_smooth(sel))
         for (i = 0; i < s->smooth_live; ++i) {
-            sel->rh_order[count] = n + i;
+            sel->rh.order[count] = n + i;
             keys[count++] = -smooth_complexity(sel, i);
         }
-    tclod_sort_by_key(sel->rh_order, keys, count);
-    sel->rh_order_count = count;
+    tclod_sort_by_key(sel->rh.order, keys, count);
+    sel->rh.order_count = count;
     if (by_cost)
         keep_values(sel);
     /* no chain has taken a level yet: their searches start at the first */
@@ -533,7 +533,7 @@ static int prepare(tclod_selector *sel) {
         set_last_level(sel, id, 0u);
     if (sel->failed)
         return -1;
-    sel->rh_version = s->version;
+    sel->rh.version = s->version;
     return 0;
 }
 
@@ -541,9 +541,9 @@ static int prepare(tclod_selector *sel) {
 
 /* The cost each cut slot adds to the total (0 for a culled or dropped node),
  * kept in slot order so that the exact total is a sequential sum: the second
- * half of rh_key. */
+ * half of rh.key. */
 static double *cut_costs(tclod_selector *sel) {
-    return sel->rh_key ? sel->rh_key + sel->rh_cap : NULL; /* NULL: an empty scene */
+    return sel->rh.key ? sel->rh.key + sel->rh.cap : NULL; /* NULL: an empty scene */
 }
 
 /* Puts n into the cut with `flags`, adding `add` to the total (costs:
@@ -602,23 +602,23 @@ static void cut_clear(tclod_selector *sel) {
  * most once, so node capacity suffices. */
 static void push_candidate(tclod_selector *sel, uint32_t id, double value, double step) {
     tclod_resume *R = &sel->resume;
-    uint32_t at = R->ring_first + R->ring_count; /* < 2 cap */
+    uint32_t at = R->rh.ring_first + R->rh.ring_count; /* < 2 cap */
     if (at >= sel->cap)
         at -= sel->cap;
     sel->scratch[at] = id;
     sel->path[2u * at] = value;
     sel->path[2u * at + 1u] = step;
-    R->ring_count++;
-    R->ring_value += value;
-    if (step < R->min_step)
-        R->min_step = step;
+    R->rh.ring_count++;
+    R->rh.ring_value += value;
+    if (step < R->rh.min_step)
+        R->rh.min_step = step;
 }
 
 static uint32_t pop_candidate(tclod_selector *sel, double *value, double *step) {
     tclod_resume *R = &sel->resume;
-    uint32_t at = R->ring_first;
-    R->ring_first = at + 1u < sel->cap ? at + 1u : 0u;
-    R->ring_count--;
+    uint32_t at = R->rh.ring_first;
+    R->rh.ring_first = at + 1u < sel->cap ? at + 1u : 0u;
+    R->rh.ring_count--;
     *value = sel->path[2u * at];
     *step = sel->path[2u * at + 1u];
     return sel->scratch[at];
@@ -639,7 +639,7 @@ static void node_candidate(tclod_selector *sel, tclod_id head, tclod_id n, doubl
 /* Level k of the chain ch starting at head. */
 static inline tclod_id chain_node(const tclod_selector *sel, tclod_id head,
                                   const tclod_rh_chain *ch, uint32_t k) {
-    return ch->flags & TCLOD_RH_CONSECUTIVE ? head + k : sel->rh_chain[ch->at + k];
+    return ch->flags & TCLOD_RH_CONSECUTIVE ? head + k : sel->rh.chain[ch->at + k];
 }
 
 /* 1 when node n, a level of the chain ch starting at head, costs at most
@@ -753,19 +753,19 @@ TCLOD_ALWAYS_INLINE int evaluate_children(tclod_selector *sel, const tclod_rh_ch
      * time (docs/robin_hood.md, memory): their sorted list, their values'
      * slots and, per child, its bounds and the records of its first levels */
     for (j = 0; j < k; j += 64u / sizeof(tclod_rh_child))
-        TCLOD_PREFETCH(&sel->rh_child[first + j]);
-    TCLOD_PREFETCH(&sel->rh_child[first + k - 1u]);
+        TCLOD_PREFETCH(&sel->rh.child[first + j]);
+    TCLOD_PREFETCH(&sel->rh.child[first + k - 1u]);
     for (j = 0; j < k; j += 64u / sizeof(double))
         TCLOD_PREFETCH_WRITE(&sel->scratch_key[first + j]);
     for (j = 0; j < k; ++j) {
-        tclod_id c = sel->rh_kids[first + j];
+        tclod_id c = sel->rh.kids[first + j];
         TCLOD_PREFETCH_WRITE(&sel->node[c]);
         /* the next line, by address: it may lie past the array's end */
         TCLOD_PREFETCH_WRITE((const void *)((uintptr_t)&sel->node[c] + 64u));
         TCLOD_PREFETCH(&s->bounds[c]);
     }
     for (j = 0; j < k; ++j) {
-        tclod_id c = sel->rh_kids[first + j];
+        tclod_id c = sel->rh.kids[first + j];
         double v;
         if (sel->node[c].stamp == sel->solve_id) {
             /* a branch's children are evaluated here only: an earlier call for b
@@ -796,7 +796,7 @@ TCLOD_ALWAYS_INLINE int evaluate_children(tclod_selector *sel, const tclod_rh_ch
 /* evaluate_children, in a copy of its own for plain_heads. */
 TCLOD_ALWAYS_INLINE int branch_children(tclod_selector *sel, const tclod_rh_chain *ch, int inside,
                                         double time, double *reserve, double *value) {
-    if (sel->resume.plain)
+    if (sel->resume.rh.plain)
         return evaluate_children(sel, ch, inside, time, reserve, value, 1);
     return evaluate_children(sel, ch, inside, time, reserve, value, 0);
 }
@@ -846,17 +846,17 @@ TCLOD_ALWAYS_INLINE int place_chain(tclod_selector *sel, tclod_id head, const tc
 
 /* The first lines of the children's lists (the scene's and the sorted one)
  * of the branches that end the chains of the children at positions first ..
- * end of rh_child: what their evaluation reads first, anywhere in memory.
+ * end of rh.child: what their evaluation reads first, anywhere in memory.
  * Fetched while the earlier siblings are placed, so that a branch that
  * refines waits for one miss (its children's records) instead of two
  * (docs/robin_hood.md, memory). */
 static inline void fetch_branches(const tclod_selector *sel, uint32_t first, uint32_t end) {
     uint32_t j;
     for (j = first; j < end; ++j) {
-        const tclod_rh_chain *ch = &sel->rh_child[j].chain;
+        const tclod_rh_chain *ch = &sel->rh.child[j].chain;
         if (ch->flags & TCLOD_RH_BRANCH) {
-            TCLOD_PREFETCH(&sel->rh_kids[ch->first]);
-            TCLOD_PREFETCH(&sel->rh_child[ch->first]);
+            TCLOD_PREFETCH(&sel->rh.kids[ch->first]);
+            TCLOD_PREFETCH(&sel->rh.child[ch->first]);
         }
     }
 }
@@ -871,7 +871,7 @@ static inline void fetch_branches(const tclod_selector *sel, uint32_t first, uin
  * time used in *used; -1 on a strict error. */
 static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch, double value,
                       double time, double *used) {
-    tclod_rh_frame *stack = sel->rh_stack;
+    tclod_rh_frame *stack = sel->rh.stack;
     double *costs = cut_costs(sel);
     double step, reserve, children;
     uint32_t top = 0;
@@ -910,7 +910,7 @@ static int place_node(tclod_selector *sel, tclod_id head, const tclod_rh_chain *
         extra = f->extra;
         value_left = f->value_left;
         for (; next < end; ++next) {
-            const tclod_rh_child *c = &sel->rh_child[next];
+            const tclod_rh_child *c = &sel->rh.child[next];
             tclod_id id = c->id;
             double v = sel->scratch_key[c->slot], share, base, u;
             if (v < 0.0) { /* culled: in the cut, not drawn */
@@ -1056,7 +1056,7 @@ static double smooth_resolution(tclod_selector *sel, uint32_t pos, float area, f
 /* Draws smooth object pos at resolution r as a group of one. */
 static int add_group(tclod_selector *sel, uint32_t pos, float area, float distance, double r,
                      double cost) {
-    tclod_vars *V = &sel->vars;
+    tclod_vars *V = &sel->mixed.vars;
     const float *b = &sel->scene->smooth_bounds[4u * sel->scene->smooth_order[pos]];
     uint32_t v = pos; /* variables sit at their position: groups come out in order */
     double db;
@@ -1075,7 +1075,7 @@ static int add_group(tclod_selector *sel, uint32_t pos, float area, float distan
  * the cost it then holds in *used (0 when not drawn) and whether the
  * resolution rose; -1 on a strict error. */
 static int place_smooth(tclod_selector *sel, uint32_t pos, double time, double pool, double *used) {
-    tclod_vars *V = &sel->vars;
+    tclod_vars *V = &sel->mixed.vars;
     float area, distance;
     double r, cost;
     int rose = 0;
@@ -1111,15 +1111,15 @@ static int finish(tclod_selector *sel) {
         sum += costs[i];
     sel->cost_sum = sum;
     sel->cost_err = 0.0; /* the repair below counts from this sum */
-    for (i = 0; i < sel->vars.count; ++i)
-        sum += sel->vars.c[i];
+    for (i = 0; i < sel->mixed.vars.count; ++i)
+        sum += sel->mixed.vars.c[i];
     if (!isinf(sum) && sum <= sel->frame->budget)
         return 0;
-    if (sel->resume.overflowing) {
+    if (sel->resume.rh.overflowing) {
         sel->stats.over_budget = 1; /* the roots alone exceed it */
         return 0;
     }
-    sel->vars.count = 0;
+    sel->mixed.vars.count = 0;
     return tclod_greedy_enforce(sel);
 }
 
@@ -1129,18 +1129,18 @@ static int finish(tclod_selector *sel) {
  * each is a miss of its own once the nodes outgrow the cache. */
 static inline void fetch_instance(const tclod_selector *sel, uint32_t k, int evaluating) {
     uint32_t id;
-    if (k >= sel->rh_order_count || (id = sel->rh_order[k]) >= sel->scene->node_count)
+    if (k >= sel->rh.order_count || (id = sel->rh.order[k]) >= sel->scene->node_count)
         return;
     if (evaluating) {
         TCLOD_PREFETCH_WRITE(&sel->node[id]);
         TCLOD_PREFETCH(&sel->scene->bounds[id]);
     } else {
         TCLOD_PREFETCH(&sel->node[id]);
-        TCLOD_PREFETCH(&sel->rh_chains[id]);
+        TCLOD_PREFETCH(&sel->rh.chains[id]);
     }
 }
 
-/* Cycle 1 of §5.2: the value of every instance (0: not drawn) into rh_key,
+/* Cycle 1 of §5.2: the value of every instance (0: not drawn) into rh.key,
  * and their total. `prepared`: prepare ran in this solve and may have
  * evaluated top-level heads already (finest_cost); a constant where this is
  * inlined, so that the other solves test nothing. */
@@ -1148,8 +1148,8 @@ TCLOD_ALWAYS_INLINE int values_as(tclod_selector *sel, double *total, int prepar
     const tclod_scene *s = sel->scene;
     uint32_t k;
     *total = 0.0;
-    for (k = 0; k < sel->rh_order_count; ++k) {
-        uint32_t id = sel->rh_order[k];
+    for (k = 0; k < sel->rh.order_count; ++k) {
+        uint32_t id = sel->rh.order[k];
         double v;
         fetch_instance(sel, k + ORDER_AHEAD, 1);
         if (id < s->node_count) {
@@ -1162,7 +1162,7 @@ TCLOD_ALWAYS_INLINE int values_as(tclod_selector *sel, double *total, int prepar
             if (v < 0.0)
                 return -1;
         }
-        sel->rh_key[k] = v;
+        sel->rh.key[k] = v;
         *total += v;
     }
     return 0;
@@ -1189,7 +1189,7 @@ values(tclod_selector *sel, double *total) {
 /* One variable per smooth object, at its position in the smooth order, all
  * at resolution 0 (not drawn) until the object's share comes. */
 static void empty_variables(tclod_selector *sel) {
-    tclod_vars *V = &sel->vars;
+    tclod_vars *V = &sel->mixed.vars;
     uint32_t i;
     V->count = with_smooth(sel) ? sel->scene->smooth_live : 0u;
     for (i = 0; i < V->count; ++i) {
@@ -1203,9 +1203,9 @@ static void empty_variables(tclod_selector *sel) {
 static int robin_hood_start(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     double budget = sel->frame->budget, total;
-    int prepared = sel->rh_version != sel->scene->version;
+    int prepared = sel->rh.version != sel->scene->version;
     if (prepared && prepare(sel) != 0) {
-        sel->rh_version = 0; /* strict: ask again next time */
+        sel->rh.version = 0; /* strict: ask again next time */
         return -1;
     }
     cut_clear(sel);
@@ -1213,34 +1213,34 @@ static int robin_hood_start(tclod_selector *sel) {
     sel->reserved = 0.0;
     if ((prepared ? values_prepared(sel, &total) : values(sel, &total)) != 0)
         return -1;
-    R->plain = plain_heads(sel);
-    R->pool = isinf(budget) ? budget : budget - BUDGET_MARGIN * budget;
-    R->held = sel->desc.overflow == TCLOD_OVERFLOW_DRAW_ROOTS;
-    R->overflowing = 0;
-    if (R->held) {
+    R->rh.plain = plain_heads(sel);
+    R->rh.pool = isinf(budget) ? budget : budget - BUDGET_MARGIN * budget;
+    R->rh.held = sel->desc.overflow == TCLOD_OVERFLOW_DRAW_ROOTS;
+    R->rh.overflowing = 0;
+    if (R->rh.held) {
         /* every visible root is drawn: their simplest levels first, then the
          * rest shared out, as a branch's children share (docs/scenes.md) */
         double roots = 0.0;
         uint32_t k;
-        for (k = 0; k < sel->rh_order_count; ++k) {
-            uint32_t id = sel->rh_order[k];
+        for (k = 0; k < sel->rh.order_count; ++k) {
+            uint32_t id = sel->rh.order[k];
             if (id < sel->scene->node_count && visible(sel, id) && !isinf(sel->node[id].cost))
                 roots += sel->node[id].cost;
         }
-        if (roots <= R->pool) {
-            R->pool -= roots;
+        if (roots <= R->rh.pool) {
+            R->rh.pool -= roots;
         } else {
-            R->overflowing = 1; /* nothing but the roots is drawn */
-            R->pool = 0.0;
+            R->rh.overflowing = 1; /* nothing but the roots is drawn */
+            R->rh.pool = 0.0;
         }
     }
-    R->value_left = total;
-    R->limited = 0;
+    R->rh.value_left = total;
+    R->rh.limited = 0;
     R->k = 0;
-    R->ring_first = R->ring_count = 0;
-    R->ring_value = R->smooth_value = 0.0;
-    R->smooth_open = 0;
-    R->min_step = HUGE_VAL;
+    R->rh.ring_first = R->rh.ring_count = 0;
+    R->rh.ring_value = R->rh.smooth_value = 0.0;
+    R->rh.smooth_open = 0;
+    R->rh.min_step = HUGE_VAL;
     return 0;
 }
 
@@ -1252,7 +1252,7 @@ static inline double share_of(double v, double pool, double value_left) {
 }
 
 static double share_for(const tclod_resume *R, double v) {
-    return share_of(v, R->pool, R->value_left);
+    return share_of(v, R->rh.pool, R->rh.value_left);
 }
 
 /* Cycle 2: least complex first, each share v_i t_r / v_f of what is left
@@ -1262,16 +1262,16 @@ static double share_for(const tclod_resume *R, double v) {
 static int share_out(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
     tclod_resume *R = &sel->resume;
-    for (; R->k < sel->rh_order_count; ++R->k) {
-        uint32_t id = sel->rh_order[R->k];
-        double v = sel->rh_key[R->k], share, used = 0.0;
+    for (; R->k < sel->rh.order_count; ++R->k) {
+        uint32_t id = sel->rh.order[R->k];
+        double v = sel->rh.key[R->k], share, used = 0.0;
         int stopped;
         fetch_instance(sel, R->k + ORDER_AHEAD, 0);
         if (!sel->stopped && tclod_out_of_time(sel) && sel->paused)
             return 0;
         stopped = sel->stopped;
         share = share_for(R, v);
-        R->value_left -= v;
+        R->rh.value_left -= v;
         if (stopped)
             share = 0.0;
         if (id < s->node_count) {
@@ -1280,8 +1280,8 @@ static int share_out(tclod_selector *sel) {
                 cut_add(sel, id, 0);
                 continue;
             }
-            if (R->held && !isinf(sel->node[id].cost)) {
-                if (R->overflowing) { /* every root at its simplest, over the budget */
+            if (R->rh.held && !isinf(sel->node[id].cost)) {
+                if (R->rh.overflowing) { /* every root at its simplest, over the budget */
                     cut_add(sel, id, 0);
                     continue;
                 }
@@ -1289,13 +1289,13 @@ static int share_out(tclod_selector *sel) {
                 share += held;
             }
             if (sel->node[id].cost <= share) {
-                if (place_node(sel, id, &sel->rh_chains[id], v, share, &used) != 0)
+                if (place_node(sel, id, &sel->rh.chains[id], v, share, &used) != 0)
                     return -1;
                 used -= held;
             } else {
                 set_last_level(sel, id, 0u); /* drawn, if at all, at its first level */
                 if ((sel->desc.robin_hood.misfit == TCLOD_MISFIT_COARSEST || stopped) &&
-                    sel->node[id].cost <= R->pool) {
+                    sel->node[id].cost <= R->rh.pool) {
                     cut_add(sel, id, 0);
                     used = sel->node[id].cost;
                     node_candidate(sel, id, id, v, 0.0); /* its next step is not known */
@@ -1309,16 +1309,16 @@ static int share_out(tclod_selector *sel) {
             uint32_t pos = id - s->node_count;
             sel->stats.variables++;
             sel->stats.iterations++;
-            if (place_smooth(sel, pos, share, R->pool, &used) < 0)
+            if (place_smooth(sel, pos, share, R->rh.pool, &used) < 0)
                 return -1;
-            if (sel->vars.r[pos] < 1.0) { /* a candidate of cycle 3 */
-                R->smooth_value += v;
-                R->smooth_open++;
+            if (sel->mixed.vars.r[pos] < 1.0) { /* a candidate of cycle 3 */
+                R->rh.smooth_value += v;
+                R->rh.smooth_open++;
             }
         }
-        R->pool -= used;
-        if (R->pool < 0.0)
-            R->pool = 0.0;
+        R->rh.pool -= used;
+        if (R->rh.pool < 0.0)
+            R->rh.pool = 0.0;
     }
     return 0;
 }
@@ -1331,7 +1331,7 @@ static int share_out(tclod_selector *sel) {
  * it refined; -1 on a strict error. */
 static int refine_node(tclod_selector *sel, tclod_id head, double v, double step, double share) {
     tclod_resume *R = &sel->resume;
-    const tclod_rh_chain *ch = &sel->rh_chains[head];
+    const tclod_rh_chain *ch = &sel->rh.chains[head];
     tclod_id n = chain_node(sel, head, ch, last_level(sel, head, ch->len));
     int dropped = (sel->flags[n] & TCLOD_FLAG_DROPPED) != 0;
     double held = dropped ? 0.0 : sel->node[n].cost, used;
@@ -1346,24 +1346,24 @@ static int refine_node(tclod_selector *sel, tclod_id head, double v, double step
     at = sel->cut_count;
     if (place_node(sel, head, ch, v, held + share, &used) != 0)
         return -1;
-    R->pool -= used - held;
-    if (R->pool < 0.0)
-        R->pool = 0.0;
+    R->rh.pool -= used - held;
+    if (R->rh.pool < 0.0)
+        R->rh.pool = 0.0;
     return dropped || sel->cut_count > at + 1u || sel->cut[at] != n;
 }
 
 /* Smooth object pos of value v, at a resolution below 1, gets `share`. */
 static int refine_smooth(tclod_selector *sel, uint32_t pos, double v, double share) {
     tclod_resume *R = &sel->resume;
-    double held = sel->vars.c[pos], used;
-    int rose = place_smooth(sel, pos, held + share, R->pool, &used);
+    double held = sel->mixed.vars.c[pos], used;
+    int rose = place_smooth(sel, pos, held + share, R->rh.pool, &used);
     if (rose > 0) {
-        R->pool -= used - held;
-        if (R->pool < 0.0)
-            R->pool = 0.0;
-        if (!(sel->vars.r[pos] < 1.0)) {
-            R->smooth_value -= v;
-            R->smooth_open--;
+        R->rh.pool -= used - held;
+        if (R->rh.pool < 0.0)
+            R->rh.pool = 0.0;
+        if (!(sel->mixed.vars.r[pos] < 1.0)) {
+            R->rh.smooth_value -= v;
+            R->rh.smooth_open--;
         }
     }
     return rose;
@@ -1379,11 +1379,11 @@ static void skip_waiting(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     uint32_t *ids = sel->scratch;
     double *path = sel->path;
-    size_t cap = sel->cap, first = R->ring_first, back = first + R->ring_count; /* < 2 cap */
-    uint32_t count = R->ring_count, left = R->pass_left;
-    double pool = R->pool, value_left = R->value_left, ring_value = R->ring_value;
-    double min_step = R->min_step;
-    int limited = R->limited;
+    size_t cap = sel->cap, first = R->rh.ring_first, back = first + R->rh.ring_count; /* < 2 cap */
+    uint32_t count = R->rh.ring_count, left = R->rh.pass_left;
+    double pool = R->rh.pool, value_left = R->rh.value_left, ring_value = R->rh.ring_value;
+    double min_step = R->rh.min_step;
+    int limited = R->rh.limited;
     if (isinf(pool))
         return; /* every step that fits tries */
     if (back >= cap)
@@ -1410,13 +1410,13 @@ static void skip_waiting(tclod_selector *sel) {
         first = first + 1u == cap ? 0u : first + 1u;
         value_left -= v;
     }
-    R->ring_first = (uint32_t)first;
-    R->ring_count = count;
-    R->pass_left = left;
-    R->value_left = value_left;
-    R->ring_value = ring_value;
-    R->min_step = min_step;
-    R->limited = limited;
+    R->rh.ring_first = (uint32_t)first;
+    R->rh.ring_count = count;
+    R->rh.pass_left = left;
+    R->rh.value_left = value_left;
+    R->rh.ring_value = ring_value;
+    R->rh.min_step = min_step;
+    R->rh.limited = limited;
 }
 
 /* Cycle 3 ([RH §7.2]: what the instances cannot use is better spent on
@@ -1438,42 +1438,42 @@ static int refill(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     for (;;) {
         int rose;
-        if (R->pass_left == 0u && R->k >= sel->rh_order_count) { /* a pass is over */
+        if (R->rh.pass_left == 0u && R->k >= sel->rh.order_count) { /* a pass is over */
             double least = REFILL_MIN * sel->frame->budget;
-            if (!R->refined || (R->ring_count == 0u && R->smooth_open == 0u) || R->pool < least ||
-                R->passes == REFILL_PASSES ||
-                (R->passes > 0u && !(R->pass_pool - R->pool >= least)) ||
-                (R->smooth_open == 0u && !(R->pool >= R->min_step)))
+            if (!R->rh.refined || (R->rh.ring_count == 0u && R->rh.smooth_open == 0u) ||
+                R->rh.pool < least || R->rh.passes == REFILL_PASSES ||
+                (R->rh.passes > 0u && !(R->rh.pass_pool - R->rh.pool >= least)) ||
+                (R->rh.smooth_open == 0u && !(R->rh.pool >= R->rh.min_step)))
                 return 0;
-            R->pass_left = R->ring_count;
-            R->value_left = R->ring_value + R->smooth_value;
-            R->ring_value = 0.0;
-            R->min_step = HUGE_VAL;
-            R->refined = 0;
-            R->pass_pool = R->pool;
-            R->passes++;
-            R->k = R->smooth_open > 0u ? 0u : sel->rh_order_count;
+            R->rh.pass_left = R->rh.ring_count;
+            R->rh.value_left = R->rh.ring_value + R->rh.smooth_value;
+            R->rh.ring_value = 0.0;
+            R->rh.min_step = HUGE_VAL;
+            R->rh.refined = 0;
+            R->rh.pass_pool = R->rh.pool;
+            R->rh.passes++;
+            R->k = R->rh.smooth_open > 0u ? 0u : sel->rh.order_count;
         }
-        if (R->pass_left > 0u) {
+        if (R->rh.pass_left > 0u) {
             uint32_t at, id;
             double v, step, share;
             int tries;
             skip_waiting(sel);
-            if (R->pass_left == 0u)
+            if (R->rh.pass_left == 0u)
                 continue;
-            at = R->ring_first;
+            at = R->rh.ring_first;
             id = sel->scratch[at];
             v = sel->path[2u * at];
             step = sel->path[2u * at + 1u];
             share = share_for(R, v);
-            tries = step <= R->pool && step <= share;
+            tries = step <= R->rh.pool && step <= share;
             if (tries && tclod_out_of_time(sel))
                 return 0;
             pop_candidate(sel, &v, &step);
-            R->pass_left--;
-            R->value_left -= v;
-            if (!(step <= R->pool)) {
-                R->limited = 1;
+            R->rh.pass_left--;
+            R->rh.value_left -= v;
+            if (!(step <= R->rh.pool)) {
+                R->rh.limited = 1;
                 continue;
             }
             if (!tries) {
@@ -1482,9 +1482,10 @@ static int refill(tclod_selector *sel) {
             }
             rose = refine_node(sel, id, v, step, share);
         } else {
-            uint32_t id = sel->rh_order[R->k];
-            double v = sel->rh_key[R->k];
-            if (id < s->node_count || !(v > 0.0) || !(sel->vars.r[id - s->node_count] < 1.0)) {
+            uint32_t id = sel->rh.order[R->k];
+            double v = sel->rh.key[R->k];
+            if (id < s->node_count || !(v > 0.0) ||
+                !(sel->mixed.vars.r[id - s->node_count] < 1.0)) {
                 R->k++;
                 continue;
             }
@@ -1492,14 +1493,14 @@ static int refill(tclod_selector *sel) {
                 return 0;
             sel->stats.iterations++;
             rose = refine_smooth(sel, id - s->node_count, v, share_for(R, v));
-            R->value_left -= v;
+            R->rh.value_left -= v;
             R->k++;
         }
         if (rose < 0)
             return -1;
         if (rose) {
             sel->stats.increments++;
-            R->refined = 1;
+            R->rh.refined = 1;
         }
     }
 }
@@ -1507,10 +1508,10 @@ static int refill(tclod_selector *sel) {
 /* Cycle 3 begins, unless the search was stopped. */
 static void refill_start(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
-    R->pass_left = 0;
-    R->k = sel->rh_order_count;
-    R->refined = !sel->stopped;
-    R->passes = 0;
+    R->rh.pass_left = 0;
+    R->k = sel->rh.order_count;
+    R->rh.refined = !sel->stopped;
+    R->rh.passes = 0;
 }
 
 tclod_status tclod_robin_hood_solve(tclod_selector *sel) {
@@ -1537,9 +1538,25 @@ tclod_status tclod_robin_hood_solve(tclod_selector *sel) {
     if (rc != 0)
         return TCLOD_ERR_CALLBACK;
     if (!sel->stopped)
-        sel->stats.stop_reason =
-            R->limited || R->ring_count > 0u || R->smooth_open > 0u || sel->stats.dropped_roots > 0u
-                ? TCLOD_STOP_BUDGET
-                : TCLOD_STOP_FINEST;
+        sel->stats.stop_reason = R->rh.limited || R->rh.ring_count > 0u || R->rh.smooth_open > 0u ||
+                                         sel->stats.dropped_roots > 0u
+                                     ? TCLOD_STOP_BUDGET
+                                     : TCLOD_STOP_FINEST;
     return sel->failed ? TCLOD_ERR_CALLBACK : TCLOD_OK;
+}
+
+/* ---- buffers ------------------------------------------------------------------ */
+
+size_t tclod_rh_buffers(tclod_rh_state *rh, tclod_array *out) {
+    size_t n = 0;
+    out[n++] = (tclod_array){(void **)&rh->first, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&rh->kids, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&rh->chain, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&rh->chains, sizeof(tclod_rh_chain), -1};
+    out[n++] = (tclod_array){(void **)&rh->child, sizeof(tclod_rh_child), -1};
+    out[n++] = (tclod_array){(void **)&rh->order, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&rh->key, 2 * sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&rh->stack, sizeof(tclod_rh_frame), -1};
+    out[n++] = (tclod_array){(void **)&rh->level, sizeof(uint8_t), -1};
+    return n;
 }

@@ -22,7 +22,7 @@
  * No result a host can still read then names the old node, so a host cannot
  * mistake it for the new one.
  */
-#include "internal.h"
+#include "scene.h"
 
 #include <math.h>
 #include <string.h>

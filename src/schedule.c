@@ -39,7 +39,7 @@
  * the first commit, so that a failure puts everything back. Only a selection
  * under way cannot be kept: the next update begins it again.
  */
-#include "internal.h"
+#include "selector.h"
 
 #include <float.h>
 #include <math.h>

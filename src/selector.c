@@ -8,7 +8,7 @@
  * committed one, so the previous result stays readable and warm starts stay
  * valid. A busy flag refuses re-entry from the host's callbacks.
  */
-#include "internal.h"
+#include "selector.h"
 
 #include <math.h>
 #include <string.h>
@@ -133,97 +133,30 @@ static tclod_selector_desc selector_resolved(const tclod_selector_desc *d) {
     return r;
 }
 
-/* Every per-node buffer of a selector, for growing and freeing them together.
- * Node records are filled with 0xff bytes: no cut or heap slot (TCLOD_NONE),
- * and a stamp no solve uses; increments too (NaN until computed). */
+/* Every per-node buffer of a selector, for growing and freeing them together:
+ * the common ones and the greedy's (which the mixed solver runs too). Node
+ * records are filled with 0xff bytes: no cut or heap slot (TCLOD_NONE), and a
+ * stamp no solve uses. */
 static size_t node_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS]) {
     size_t n = 0;
     out[n++] = (tclod_array){(void **)&sel->node, sizeof(tclod_node_state), 0xff};
-    out[n++] = (tclod_array){(void **)&sel->delta, sizeof(tclod_delta), 0xff};
     out[n++] = (tclod_array){(void **)&sel->path, 2 * sizeof(double), 0};
     out[n++] = (tclod_array){(void **)&sel->flags, sizeof(uint8_t), 0};
-    out[n++] = (tclod_array){(void **)&sel->inc_slot, sizeof(uint32_t), 0xff};
-    out[n++] = (tclod_array){(void **)&sel->cheap_slot, sizeof(uint32_t), 0xff};
-    out[n++] = (tclod_array){(void **)&sel->dec_slot, sizeof(uint32_t), 0xff};
-    out[n++] = (tclod_array){(void **)&sel->inc_block, sizeof(tclod_heap_entry), -1};
-    out[n++] = (tclod_array){(void **)&sel->cheap_block, sizeof(tclod_heap_entry), -1};
-    out[n++] = (tclod_array){(void **)&sel->dec_block, sizeof(tclod_heap_entry), -1};
     out[n++] = (tclod_array){(void **)&sel->cut, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->prev_cut, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->result, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->drawn, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->scratch, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->scratch_key, sizeof(double), -1};
-    return n;
+    return n + tclod_greedy_buffers(&sel->greedy, out + n);
 }
 
-/* Every per-smooth-object buffer; the split stack holds up to one entry per
- * quadtree node, i.e. fewer than two per object. */
+/* Every per-smooth-object buffer: the mixed solver's and the committed
+ * groups. */
 static size_t smooth_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS]) {
-    tclod_vars *v = &sel->vars;
-    size_t n = 0;
-    out[n++] = (tclod_array){(void **)&v->first, sizeof(uint32_t), -1};
-    out[n++] = (tclod_array){(void **)&v->size, sizeof(uint32_t), -1};
-    out[n++] = (tclod_array){(void **)&v->bounds, 4 * sizeof(float), -1};
-    out[n++] = (tclod_array){(void **)&v->area, sizeof(float), -1};
-    out[n++] = (tclod_array){(void **)&v->distance, sizeof(float), -1};
-    out[n++] = (tclod_array){(void **)&v->r, sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&v->b, sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&v->c, sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&v->db, sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&v->dc, sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&v->a, sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&v->ratio, sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&v->up, sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&v->moving, sizeof(uint32_t), -1};
-    out[n++] = (tclod_array){(void **)&v->state, sizeof(uint8_t), -1};
-    out[n++] = (tclod_array){(void **)&v->trial, sizeof(tclod_var_trial), -1};
-    out[n++] = (tclod_array){(void **)&v->model, sizeof(tclod_var_model), -1};
+    size_t n = tclod_mixed_buffers(&sel->mixed, out);
     out[n++] = (tclod_array){(void **)&sel->groups, sizeof(tclod_smooth_group), -1};
-    out[n++] = (tclod_array){(void **)&sel->split_node, 2 * sizeof(uint32_t), -1};
-    out[n++] = (tclod_array){(void **)&sel->split_x, 2 * sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&sel->split_theta, 2 * sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&sel->split_order, 2 * sizeof(uint32_t), -1};
-    out[n++] = (tclod_array){(void **)&sel->split_c, 2 * sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&sel->split_q, 2 * sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&sel->split_whole, 2 * sizeof(uint8_t), -1};
     return n;
-}
-
-/* The Robin Hood solver's buffers, one element per node and smooth object. */
-static size_t rh_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS]) {
-    size_t n = 0;
-    out[n++] = (tclod_array){(void **)&sel->rh_first, sizeof(uint32_t), -1};
-    out[n++] = (tclod_array){(void **)&sel->rh_kids, sizeof(tclod_id), -1};
-    out[n++] = (tclod_array){(void **)&sel->rh_chain, sizeof(uint32_t), -1};
-    out[n++] = (tclod_array){(void **)&sel->rh_chains, sizeof(tclod_rh_chain), -1};
-    out[n++] = (tclod_array){(void **)&sel->rh_child, sizeof(tclod_rh_child), -1};
-    out[n++] = (tclod_array){(void **)&sel->rh_order, sizeof(uint32_t), -1};
-    out[n++] = (tclod_array){(void **)&sel->rh_key, 2 * sizeof(double), -1};
-    out[n++] = (tclod_array){(void **)&sel->rh_stack, sizeof(tclod_rh_frame), -1};
-    out[n++] = (tclod_array){(void **)&sel->rh_level, sizeof(uint8_t), -1};
-    return n;
-}
-
-/* Where a heap's entries start in its block: entry 1 on a 64-byte boundary,
- * so that every slot's four children lie in one cache line. Up to three
- * entries are skipped. */
-static tclod_heap_entry *heap_items(tclod_heap_entry *block) {
-    uintptr_t a = (uintptr_t)(void *)block;
-    if (a % sizeof(tclod_heap_entry) != 0)
-        return block;
-    return block + (64u + 48u - a % 64u) % 64u / sizeof(tclod_heap_entry);
-}
-
-/* The heaps find their entries in their blocks and their slots in dense
- * arrays. */
-static void bind_heaps(tclod_selector *sel) {
-    sel->inc.items = heap_items(sel->inc_block);
-    sel->cheap.items = heap_items(sel->cheap_block);
-    sel->dec.items = heap_items(sel->dec_block);
-    sel->inc.pos = sel->inc_slot;
-    sel->cheap.pos = sel->cheap_slot;
-    sel->dec.pos = sel->dec_slot;
 }
 
 tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_desc *d,
@@ -262,7 +195,7 @@ void tclod_selector_destroy(tclod_selector *sel) {
     tclod_scene_detach(sel->scene, &sel->user, sel->desc.solver == TCLOD_SOLVER_ROBIN_HOOD);
     tclod_arrays_free(&alloc, buffers, node_buffers(sel, buffers), sel->cap);
     tclod_arrays_free(&alloc, buffers, smooth_buffers(sel, buffers), sel->smooth_cap);
-    tclod_arrays_free(&alloc, buffers, rh_buffers(sel, buffers), sel->rh_cap);
+    tclod_arrays_free(&alloc, buffers, tclod_rh_buffers(&sel->rh, buffers), sel->rh.cap);
     tclod_mem_free(&alloc, sel, sizeof *sel);
 }
 
@@ -289,20 +222,21 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
     int i, k;
     if (nodes + smooth < nodes || nodes > UINT32_MAX - 3u || nodes + smooth > UINT32_MAX - 1u)
         return TCLOD_ERR_NOMEM; /* ids beyond 32 bits */
-    g[0].count = node_buffers(sel, g[0].arrays);
     g[0].cap = &sel->cap;
-    /* three more entries than nodes: the heaps' alignment (heap_items) */
+    /* three more entries than nodes: the heaps' alignment (tclod_greedy_bind) */
     g[0].new_cap = nodes + 3u > sel->cap ? grown(sel->cap, nodes + 3u) : sel->cap;
-    g[1].count = smooth_buffers(sel, g[1].arrays);
     g[1].cap = &sel->smooth_cap;
     g[1].new_cap =
         uses_smooth && smooth > sel->smooth_cap ? grown(sel->smooth_cap, smooth) : sel->smooth_cap;
-    g[2].count = rh_buffers(sel, g[2].arrays);
-    g[2].cap = &sel->rh_cap;
-    /* one element more than nodes: rh_first's end */
-    g[2].new_cap = sel->desc.solver == TCLOD_SOLVER_ROBIN_HOOD && nodes + smooth + 1u > sel->rh_cap
-                       ? grown(sel->rh_cap, nodes + smooth + 1u)
-                       : sel->rh_cap;
+    g[2].cap = &sel->rh.cap;
+    /* one element more than nodes: rh.first's end */
+    g[2].new_cap = sel->desc.solver == TCLOD_SOLVER_ROBIN_HOOD && nodes + smooth + 1u > sel->rh.cap
+                       ? grown(sel->rh.cap, nodes + smooth + 1u)
+                       : sel->rh.cap;
+    /* the arrays of the blocks that grow */
+    g[0].count = g[0].new_cap != sel->cap ? node_buffers(sel, g[0].arrays) : 0;
+    g[1].count = g[1].new_cap != sel->smooth_cap ? smooth_buffers(sel, g[1].arrays) : 0;
+    g[2].count = g[2].new_cap != sel->rh.cap ? tclod_rh_buffers(&sel->rh, g[2].arrays) : 0;
     for (i = 0; i < 3; ++i) {
         if (g[i].new_cap == *g[i].cap)
             continue;
@@ -322,7 +256,7 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
                             g[i].fresh);
         *g[i].cap = g[i].new_cap;
         if (i == 0)
-            bind_heaps(sel);
+            tclod_greedy_bind(&sel->greedy);
     }
     return TCLOD_OK;
 }
@@ -346,7 +280,7 @@ void tclod_selector_keep(tclod_selector *sel, tclod_selector_saved *keep) {
     if (!keep)
         return;
     keep->valid = 0;
-    keep->closure_hint = sel->closure_hint; /* a solve writes it before its commit */
+    keep->closure_hint = sel->greedy.closure_hint; /* a solve writes it before its commit */
 }
 
 /* Copies the committed state into sel->keep, once, before a commit replaces
@@ -407,7 +341,7 @@ static void roll_back(tclod_selector *sel) {
 
 void tclod_selector_restore(tclod_selector *sel, const tclod_selector_saved *k) {
     assert(!sel->pending && !sel->busy);
-    sel->closure_hint = k->closure_hint;
+    sel->greedy.closure_hint = k->closure_hint;
     if (!k->valid)
         return; /* nothing was committed since */
     if (k->cut_count)
@@ -463,16 +397,16 @@ static void commit(tclod_selector *sel) {
         for (i = 0; i < n; ++i)
             sel->drawn[i] = tclod_scene_owner(sel->scene, result[i]);
     sel->group_count = 0;
-    for (i = 0; i < sel->vars.count; ++i) {
+    for (i = 0; i < sel->mixed.vars.count; ++i) {
         tclod_smooth_group *g;
-        if (!(sel->vars.r[i] > 0.0))
+        if (!(sel->mixed.vars.r[i] > 0.0))
             continue;
         g = &sel->groups[sel->group_count++];
-        g->first = sel->vars.first[i];
-        g->count = sel->vars.size[i];
-        g->resolution = sel->vars.r[i];
-        g->benefit = sel->vars.b[i];
-        g->cost = sel->vars.c[i];
+        g->first = sel->mixed.vars.first[i];
+        g->count = sel->mixed.vars.size[i];
+        g->resolution = sel->mixed.vars.r[i];
+        g->benefit = sel->mixed.vars.b[i];
+        g->cost = sel->mixed.vars.c[i];
         benefit += g->benefit;
         cost += g->cost;
     }
@@ -548,7 +482,7 @@ static tclod_status selector_begin(tclod_selector *sel, const tclod_frame *f, co
     sel->stopped = 0;
     sel->elapsed = 0.0;
     sel->reserved = 0.0;
-    sel->vars.count = 0;
+    sel->mixed.vars.count = 0;
     set_pending(sel, 1);
     sel->pending_version = sel->scene->version;
     sel->begin_epoch = sel->scene->epoch;

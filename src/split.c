@@ -21,7 +21,7 @@
  * C sqrt(X) (1 - 1/sqrt(n)), which it equals when one object holds all the
  * benefit.
  */
-#include "internal.h"
+#include "selector.h"
 
 #include <math.h>
 
@@ -44,7 +44,7 @@ static int culled(const tclod_selector *sel, float area) {
 
 static void add_variable(tclod_selector *sel, uint32_t first, uint32_t count, const float bounds[4],
                          float area, float distance) {
-    tclod_vars *v = &sel->vars;
+    tclod_vars *v = &sel->mixed.vars;
     uint32_t i = v->count++;
     v->first[i] = first;
     v->size[i] = count;
@@ -67,9 +67,9 @@ static const float *object_bounds(const tclod_scene *s, uint32_t pos) {
 static void split_flat(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
     uint32_t top = 0;
-    sel->split_node[top++] = 0;
+    sel->mixed.split_node[top++] = 0;
     while (top > 0) {
-        const tclod_smooth_node *node = &s->qt[sel->split_node[--top]];
+        const tclod_smooth_node *node = &s->qt[sel->mixed.split_node[--top]];
         float area, distance;
         uint32_t i;
         measure(sel, node->bounds, &area, &distance);
@@ -87,7 +87,7 @@ static void split_flat(tclod_selector *sel) {
         } else {
             /* reverse, so that the stack hands them out in order */
             for (i = node->child_count; i-- > 0;)
-                sel->split_node[top++] = node->child + i;
+                sel->mixed.split_node[top++] = node->child + i;
         }
     }
 }
@@ -115,11 +115,11 @@ static int object_scale(tclod_selector *sel, uint32_t pos, const float bounds[4]
  * were reached (a parent before its children) and summed up in reverse. */
 static int gather(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
-    double *scale = sel->vars.ratio;
+    double *scale = sel->mixed.vars.ratio;
     uint32_t top = 0, inner = 0, i;
-    sel->split_node[top++] = 0;
+    sel->mixed.split_node[top++] = 0;
     while (top > 0) {
-        uint32_t k = sel->split_node[--top];
+        uint32_t k = sel->mixed.split_node[--top];
         const tclod_smooth_node *node = &s->qt[k];
         float area, distance;
         double c = 0.0, q = 0.0;
@@ -143,28 +143,28 @@ static int gather(tclod_selector *sel) {
                 whole &= scale[i] > 0.0;
             }
         } else {
-            sel->split_order[inner++] = k;
+            sel->mixed.split_order[inner++] = k;
             for (i = node->child_count; i-- > 0;)
-                sel->split_node[top++] = node->child + i;
+                sel->mixed.split_node[top++] = node->child + i;
             continue;
         }
-        sel->split_c[k] = c;
-        sel->split_q[k] = q;
-        sel->split_whole[k] = (uint8_t)whole;
+        sel->mixed.split_c[k] = c;
+        sel->mixed.split_q[k] = q;
+        sel->mixed.split_whole[k] = (uint8_t)whole;
     }
     while (inner-- > 0) {
-        uint32_t k = sel->split_order[inner];
+        uint32_t k = sel->mixed.split_order[inner];
         const tclod_smooth_node *node = &s->qt[k];
         double c = 0.0, q = 0.0;
         int whole = 1;
         for (i = node->child; i < node->child + node->child_count; ++i) {
-            c += sel->split_c[i];
-            q += sel->split_q[i];
-            whole &= sel->split_whole[i];
+            c += sel->mixed.split_c[i];
+            q += sel->mixed.split_q[i];
+            whole &= sel->mixed.split_whole[i];
         }
-        sel->split_c[k] = c;
-        sel->split_q[k] = q;
-        sel->split_whole[k] = (uint8_t)whole;
+        sel->mixed.split_c[k] = c;
+        sel->mixed.split_q[k] = q;
+        sel->mixed.split_whole[k] = (uint8_t)whole;
     }
     return 0;
 }
@@ -184,7 +184,7 @@ static void share_resolution(const tclod_selector *sel, const tclod_smooth_node 
     int open[4], changed = 1;
     assert(n <= 4u);
     for (i = 0; i < n; ++i) {
-        double c = sel->split_c[node->child + i];
+        double c = sel->mixed.split_c[node->child + i];
         w[i] = c * c / (double)s->qt[node->child + i].count;
         open[i] = w[i] > 0.0;
         xi[i] = 0.0;
@@ -224,19 +224,19 @@ static void share_resolution(const tclod_selector *sel, const tclod_smooth_node 
 static void split_node(tclod_selector *sel, uint32_t k, double x, double theta, uint32_t *top) {
     const tclod_scene *s = sel->scene;
     const tclod_smooth_node *node = &s->qt[k];
-    double c = sel->split_c[k], n = (double)node->count, xi[4];
+    double c = sel->mixed.split_c[k], n = (double)node->count, xi[4];
     uint32_t i, visible = 0;
     float area, distance;
     if (node->count == 1 ||
-        (sel->split_whole[k] &&
-         sqrt(x) * (sqrt(sel->split_q[k]) - c / sqrt(n)) <= theta + 1e-12 * c * sqrt(x / n))) {
+        (sel->mixed.split_whole[k] && sqrt(x) * (sqrt(sel->mixed.split_q[k]) - c / sqrt(n)) <=
+                                          theta + 1e-12 * c * sqrt(x / n))) {
         measure(sel, node->bounds, &area, &distance);
         add_variable(sel, node->first, node->count, node->bounds, area, distance);
         return;
     }
     if (node->child_count == 0) { /* the visible objects of a leaf, in order */
         for (i = node->first; i < node->first + node->count; ++i)
-            if (sel->vars.ratio[i] > 0.0) {
+            if (sel->mixed.vars.ratio[i] > 0.0) {
                 const float *b = object_bounds(s, i);
                 measure(sel, b, &area, &distance);
                 add_variable(sel, i, 1, b, area, distance);
@@ -244,15 +244,15 @@ static void split_node(tclod_selector *sel, uint32_t k, double x, double theta, 
         return;
     }
     for (i = 0; i < node->child_count; ++i)
-        visible += sel->split_c[node->child + i] > 0.0;
+        visible += sel->mixed.split_c[node->child + i] > 0.0;
     share_resolution(sel, node, x, xi);
     /* reverse, so that the stack hands them out in order */
     for (i = node->child_count; i-- > 0;) {
-        if (!(sel->split_c[node->child + i] > 0.0))
+        if (!(sel->mixed.split_c[node->child + i] > 0.0))
             continue;
-        sel->split_node[*top] = node->child + i;
-        sel->split_x[*top] = xi[i];
-        sel->split_theta[*top] = theta / (double)visible;
+        sel->mixed.split_node[*top] = node->child + i;
+        sel->mixed.split_x[*top] = xi[i];
+        sel->mixed.split_theta[*top] = theta / (double)visible;
         (*top)++;
     }
 }
@@ -272,7 +272,7 @@ static int split_tree(tclod_selector *sel) {
         return 0;
     if (gather(sel) != 0)
         return -1;
-    if (!(sel->split_c[0] > 0.0))
+    if (!(sel->mixed.split_c[0] > 0.0))
         return 0;
     tclod_smooth_call(sel, root->first, root->count, root->bounds, area, distance, 1.0, &b, &db,
                       &cost, &dc);
@@ -280,19 +280,21 @@ static int split_tree(tclod_selector *sel) {
         return -1;
     if (cost > 0.0 && budget < cost)
         x = n * budget / cost;
-    sel->split_node[top] = 0;
-    sel->split_x[top] = x;
-    sel->split_theta[top] = sel->desc.mixed.split_threshold * sel->split_c[0] * sqrt(x / n);
+    sel->mixed.split_node[top] = 0;
+    sel->mixed.split_x[top] = x;
+    sel->mixed.split_theta[top] =
+        sel->desc.mixed.split_threshold * sel->mixed.split_c[0] * sqrt(x / n);
     top++;
     while (top > 0) {
         --top;
-        split_node(sel, sel->split_node[top], sel->split_x[top], sel->split_theta[top], &top);
+        split_node(sel, sel->mixed.split_node[top], sel->mixed.split_x[top],
+                   sel->mixed.split_theta[top], &top);
     }
     return 0;
 }
 
 int tclod_split_variables(tclod_selector *sel) {
-    sel->vars.count = 0;
+    sel->mixed.vars.count = 0;
     if (sel->scene->smooth_live == 0)
         return 0;
     if (!sel->desc.mixed.split_smooth) {

@@ -26,7 +26,7 @@
  * divides by. Everything is computed in double relative to the eye, so that
  * earth-centred coordinates (|x| about 6.4e6 m) keep their millimetres.
  */
-#include "internal.h"
+#include "view.h"
 
 #include <math.h>
 #include <string.h>

@@ -1,0 +1,273 @@
+/*
+ * selector.c: the selector every solver works in, and the evaluation of
+ * nodes (greedy.c) they share.
+ */
+#ifndef TCLOD_SELECTOR_H
+#define TCLOD_SELECTOR_H
+
+#include "greedy.h"
+#include "heap.h"
+#include "mixed.h"
+#include "robin_hood.h"
+#include "scene.h"
+
+/* Per-node flags (tclod_selector.flags): a root left out of the selection;
+ * with lookahead, a cut node whose queued increment reaches below its
+ * children (the greedy's JUMP), one whose increment gave way to a cut that
+ * fits (REFIT), and a node below a cut node that its increment passes over
+ * (REFINE: replaced by its children's cuts). */
+enum {
+    TCLOD_FLAG_DROPPED = 1u,
+    TCLOD_FLAG_JUMP = 2u,
+    TCLOD_FLAG_REFINE = 4u,
+    TCLOD_FLAG_REFIT = 8u,
+    TCLOD_FLAG_ABOVE = 16u /* while a warm start repairs its cut after the scene
+                              changed: a node above the cut */
+};
+
+/* What a selector knows of one node, packed in one record because the solvers
+ * touch these fields together at random ids (32 bytes: two records per cache
+ * line, an object's levels in as few lines as can be). */
+typedef struct tclod_node_state {
+    double benefit, cost; /* callback values of this solve (stamp == solve_id);
+                             cost 0 when invisible, +inf when unaffordable */
+    uint32_t stamp;
+    uint32_t cut_pos;     /* slot in cut[], or TCLOD_NONE */
+    float area, distance; /* the query's screen_area and distance in this solve:
+                             a child with the same bounds reuses them */
+} tclod_node_state;
+
+/* Where a solve stands between two tclod_select_step calls: the state of the
+ * solver's loops, so that a step resumes exactly where the last one paused.
+ * Zeroed when a solve begins. */
+typedef struct tclod_resume {
+    int phase;                  /* the solver's stage; 0 = not started */
+    int skipped;                /* an increment did not fit (greedy, mixed) */
+    uint32_t k;                 /* steps of a bounded stage (mixed), or the next
+                                   instance (Robin Hood) */
+    tclod_greedy_resume greedy; /* the greedy's, also when the mixed solver runs it */
+    tclod_mixed_resume mixed;
+    tclod_rh_resume rh;
+} tclod_resume;
+
+struct tclod_selector {
+    tclod_scene *scene; /* read-only except for its lazy child index */
+    tclod_allocator alloc;
+    char error[TCLOD_ERROR_SIZE]; /* tclod_selector_last_error */
+    tclod_selector_desc desc;
+    int busy;              /* a solve is running: re-entry is refused */
+    tclod_scene_user user; /* what the scene knows of this selector */
+    int holds;             /* a begun solve holds the scene against changes (0 for a
+                              scheduler's own selector, whose solve is begun again
+                              when the scene changed) */
+
+    /* per-node buffers, cap elements each */
+    uint32_t cap;
+    tclod_node_state *node;
+    tclod_greedy_state greedy; /* its per-node buffers among these */
+    double *path;              /* 2 per node: benefit and cost of the increments
+                                  taken above it (the greedy's cold solve) */
+    uint8_t *flags;
+    tclod_id *cut, *prev_cut, *result, *scratch;
+    tclod_id *drawn; /* the result as tclod_selector_cut lists it: self leaves as
+                        their additive nodes (result itself when it has none) */
+    int drawn_is_result;
+    double *scratch_key;
+
+    /* per-smooth-object buffers, smooth_cap elements each */
+    uint32_t smooth_cap;
+    tclod_mixed_state mixed;    /* its per-smooth-object buffers among these */
+    tclod_smooth_group *groups; /* the committed smooth result */
+    uint32_t group_count;
+
+    /* the Robin Hood solver's own buffers; it also keeps, in the per-node
+     * buffers it does not otherwise use: the values of a branch's children in
+     * scratch_key, by slot in the scene's children[] (-1: not visible); the
+     * ring of its third cycle's candidates in scratch and path */
+    tclod_rh_state rh;
+
+    uint32_t cut_count, prev_count, result_count;
+    uint32_t solve_id;
+    uint32_t scene_version;  /* scene version the cut belongs to */
+    uint32_t node_version;   /* the scene's node version the cut belongs to */
+    uint32_t smooth_version; /* the smooth version the groups belong to */
+    int has_cut;             /* cut/prev_cut describe a selection (of that node version,
+                                or repaired to the scene's at the next warm start) */
+
+    /* the solve in progress */
+    int pending;              /* begun and not finished, cancelled or failed */
+    uint32_t pending_version; /* scene version at its beginning */
+    uint32_t begin_epoch;     /* the scene's epoch at its beginning */
+    tclod_frame frame_data;   /* the frame it solves, copied at its beginning ... */
+    tclod_view view_data;     /* ... with its view */
+    tclod_resume resume;
+    int paused;                /* the step's slice ran out */
+    int stopped;               /* the frame's limit was reached, or the caller
+                                  finished the solve early */
+    double slice_end;          /* clock at which the step's slice ends; 0: none */
+    uint32_t slice_iterations; /* iteration count at which it ends; 0: none */
+    uint32_t step_start;       /* iteration count at the step's beginning */
+    double elapsed;            /* time spent in the solve's earlier steps */
+    const tclod_frame *frame;  /* &frame_data while a step runs, else NULL */
+    tclod_query query;         /* a node's query while a step runs: the frame's view,
+                                  count 1, no members; tclod_evaluate_measured sets the
+                                  rest */
+    tclod_bounds qbounds;      /* the volume the query points at */
+    tclod_view_cache view;
+    int has_view;
+    int failed;      /* strict mode: a bad callback value was seen */
+    double cost_sum; /* running: finite costs of visible, kept cut nodes */
+    double cost_err; /* running: what rounding took from cost_sum
+                        (tclod_add_compensated), so that cost_sum + cost_err is
+                        their total to within rounding of the total, absorbed
+                        costs included */
+    double reserved; /* running: cost held by smooth variables (mixed) */
+    double benefit_sum;
+    uint32_t unaffordable; /* visible, kept cut nodes with infinite cost */
+    double start_time;
+    uint64_t begin_log; /* the edit log's end at the solve's beginning */
+    tclod_stats stats;
+    struct tclod_selector_saved *keep; /* see tclod_selector_keep; NULL: none */
+};
+
+/* Whether the selector can solve its scene as it is now: the mixed solver
+ * created without smooth callbacks needs a scene without smooth objects. */
+int tclod_selector_scene_ok(const tclod_selector *sel);
+
+/* Prepares the scene and grows the selector's buffers to its size, all or
+ * nothing (what tclod_select_begin allocates, and nothing else): afterwards
+ * a begin allocates nothing until the scene grows. */
+tclod_status tclod_selector_reserve(tclod_selector *sel);
+
+/* A selector's committed result and warm-start state, as a scheduler keeps
+ * it so that a failed update can put it back (schedule.c). The arrays are
+ * the keeper's: cut and result with room for the scene's nodes, groups for
+ * its smooth objects. */
+typedef struct tclod_selector_saved {
+    tclod_id *cut, *result, *drawn;
+    tclod_smooth_group *groups;
+    uint32_t cut_count, result_count, group_count;
+    uint32_t scene_version, node_version, smooth_version;
+    int drawn_is_result;
+    uint32_t synced;   /* the selector's tclod_scene_user.synced ... */
+    uint64_t log_seen; /* ... and log_seen */
+    int has_cut;
+    double closure_hint; /* as it was when the keeping began */
+    int valid;           /* a commit has happened since: the fields above hold
+                            the state before it */
+} tclod_selector_saved;
+
+/* Begins keeping (k not NULL) or stops (NULL): from now on the first commit
+ * first copies the committed state into k, so that tclod_selector_restore
+ * can put back the state of the moment this was called. */
+void tclod_selector_keep(tclod_selector *sel, tclod_selector_saved *k);
+
+/* Puts back the state kept in k (no solve may be pending): the committed
+ * result, the warm start's cut and the greedy's closure hint. */
+void tclod_selector_restore(tclod_selector *sel, const tclod_selector_saved *k);
+
+/* Calls the benefit and cost callbacks for node n once per solve and caches
+ * the values in sel->node[n] (cost asked only when the benefit is > 0; a bad
+ * benefit counts as 0, a bad cost as +inf). Returns 0, or -1 when strict mode
+ * saw a bad value. */
+int tclod_evaluate_node(tclod_selector *sel, tclod_id n);
+
+/* Counts a bad callback value (and fails the solve in strict mode). */
+void tclod_bad_value(tclod_selector *sel);
+
+/* What tclod_evaluate_measured does with a benefit that is not positive and
+ * finite (0, -0, negative, NaN or infinite): the bad ones count (and fail a
+ * strict solve) and give 0; the node is invisible, its cost 0. Returns 0, or
+ * -1 when strict mode saw a bad value. */
+int tclod_evaluate_invisible(tclod_selector *sel, tclod_node_state *st, double b);
+
+/* What tclod_evaluate_measured does with a cost that is not in [0, +inf)
+ * (-0 passes, a bad one counts, fails a strict solve and gives +inf) of a
+ * visible node. Returns 1, or -1 when strict mode saw a bad value. */
+int tclod_evaluate_bad_cost(tclod_selector *sel, tclod_node_state *st, double c);
+
+/* Node n is a self leaf (an additive node's own drawing among its children):
+ * it takes its owner's values, evaluating the owner first if needed, with no
+ * callback of its own; the query is left as the owner's. Returns as
+ * tclod_evaluate_bounded. */
+int tclod_evaluate_self(tclod_selector *sel, tclod_id n);
+
+/* Puts node n's bounds (it has some) into the query's volume. */
+static inline const tclod_bounds *tclod_query_bounds(tclod_selector *sel, tclod_id n) {
+    const tclod_node_bounds *b = &sel->scene->bounds[n];
+    tclod_bounds *q = &sel->qbounds;
+    if (b->box != TCLOD_NONE) {
+        tclod_scene_public_bounds(sel->scene, n, q);
+        return q;
+    }
+    q->kind = TCLOD_BOUNDS_SPHERE; /* a self leaf is evaluated as its owner */
+    q->center[0] = b->c[0];
+    q->center[1] = b->c[1];
+    q->center[2] = b->c[2];
+    q->radius = b->r;
+    return q;
+}
+
+/* The callbacks of node n, not evaluated in this solve yet, with the screen
+ * area and distance of its bounds already measured (-1 without bounds or
+ * view); `bounded`: n has bounds, which the query then carries: what
+ * tclod_evaluate_node does once it has measured. Inline for the solvers'
+ * inner loops; what is not a positive finite benefit and a finite cost >= 0,
+ * and self leaves, go out of line. Returns 1 when n is visible, 0 when not, -1
+ * when strict mode saw a bad value. */
+static inline int tclod_evaluate_bounded(tclod_selector *sel, tclod_id n, float area,
+                                         double distance, int bounded) {
+    const tclod_callbacks *cb = &sel->desc.callbacks;
+    tclod_node_state *st = &sel->node[n];
+    tclod_query *q = &sel->query; /* view, count and members set for the solve */
+    double b, c;
+    if (sel->scene->bounds[n].kind & TCLOD_BOUNDS_SELF)
+        return tclod_evaluate_self(sel, n);
+    st->stamp = sel->solve_id;
+    st->area = area;
+    st->distance = (float)distance;
+    q->id = n;
+    q->screen_area = area;
+    q->distance = st->distance;
+    q->bounds = bounded ? tclod_query_bounds(sel, n) : NULL;
+    sel->stats.evaluations++;
+    b = cb->benefit(cb->user, q);
+    if (tclod_bits(b) - 1u >= TCLOD_BITS_MAX)
+        return tclod_evaluate_invisible(sel, st, b);
+    c = cb->cost(cb->user, q);
+    st->benefit = b;
+    if (tclod_bits(c) > TCLOD_BITS_MAX)
+        return tclod_evaluate_bad_cost(sel, st, c);
+    st->cost = c;
+    return 1;
+}
+
+/* tclod_evaluate_bounded with whether n has bounds found in the scene. */
+static inline int tclod_evaluate_seen(tclod_selector *sel, tclod_id n, float area,
+                                      double distance) {
+    return tclod_evaluate_bounded(sel, n, area, distance, sel->scene->bounds[n].r >= 0.0);
+}
+
+/* tclod_evaluate_seen, returning 0 whether or not n is visible. */
+static inline int tclod_evaluate_measured(tclod_selector *sel, tclod_id n, float area,
+                                          double distance) {
+    return tclod_evaluate_seen(sel, n, area, distance) < 0 ? -1 : 0;
+}
+
+/* A fit test of the cut's running cost: `total` (cost_sum and what is added
+ * to it, as the caller sums it) is within `limit`, and so is it with cost_err,
+ * the rounding the running sum lost, added. Where cost_sum is exact (cost_err
+ * 0) this is the plain test total <= limit; otherwise it refuses what fits
+ * only because the running sum absorbed costs, and never admits what the
+ * plain test refuses. (cost_err is NaN only after an infinite sum, which the
+ * plain test refuses.) */
+static inline int tclod_within(const tclod_selector *sel, double total, double limit) {
+    return total <= limit && total + sel->cost_err <= limit;
+}
+
+/* 1 when the search must stop: the frame's limit (sets stop_reason and
+ * sel->stopped; final) or the step's slice (sets sel->paused; the solver
+ * returns and resumes from sel->resume at the next step). */
+int tclod_out_of_time(tclod_selector *sel);
+
+#endif /* TCLOD_SELECTOR_H */
