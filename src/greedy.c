@@ -1220,13 +1220,7 @@ static int greedy_start(tclod_selector *sel) {
         return -1;
     R->greedy.closure_cost = sel->cost_sum;
     R->greedy.closure_err = sel->cost_err;
-    R->greedy.alt_node = TCLOD_NONE;
-    R->greedy.alt_benefit = 0.0;
-    R->greedy.alt_roots_b = sel->benefit_sum;
-    R->greedy.alt_roots_c = sel->cost_sum;
-    R->greedy.alt_roots_err = sel->cost_err;
-    R->greedy.use_alt =
-        sel->stats.dropped_roots == 0 && !sel->stats.over_budget && sel->desc.greedy.restarts > 0;
+    tclod_greedy_track(sel); /* the safeguard's state, from the roots' sums */
     R->greedy.misfit = TCLOD_NONE;
     R->greedy.lp_bound = 0.0;
     R->greedy.picks = R->greedy.best_picks = R->greedy.left_out = R->greedy.tries = 0;
