@@ -100,9 +100,11 @@ const char *tclod_calib_check(const tclod_calib_desc *d, int nested);
 #if defined(__GNUC__) || defined(__clang__)
 #define TCLOD_PREFETCH(p) __builtin_prefetch(p)
 #define TCLOD_PREFETCH_WRITE(p) __builtin_prefetch(p, 1)
+#define TCLOD_UNLIKELY(x) __builtin_expect(!!(x), 0)
 #else
 #define TCLOD_PREFETCH(p) ((void)0)
 #define TCLOD_PREFETCH_WRITE(p) ((void)0)
+#define TCLOD_UNLIKELY(x) (x)
 #endif
 /* How many slots ahead a walk over the cut fetches the node record it will
  * read: the cut lists nodes in no order of id, so each is a miss of its own

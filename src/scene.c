@@ -24,6 +24,7 @@
  */
 #include "scene.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -70,6 +71,9 @@ static size_t node_arrays(tclod_scene *s, tclod_array out[TCLOD_MAX_ARRAYS]) {
     out[n++] = (tclod_array){(void **)&s->roots, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&s->order, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&s->log, sizeof(tclod_edit), -1};
+    out[n++] = (tclod_array){(void **)&s->bytes, sizeof(float), 0};
+    out[n++] = (tclod_array){(void **)&s->res_pos, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&s->res_list, sizeof(tclod_id), -1};
     return n;
 }
 
@@ -80,6 +84,7 @@ static size_t smooth_arrays(tclod_scene *s, tclod_array out[TCLOD_MAX_ARRAYS]) {
     out[n++] = (tclod_array){(void **)&s->smooth_free, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&s->smooth_retired.id, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&s->smooth_retired.epoch, sizeof(uint32_t), -1};
+    out[n++] = (tclod_array){(void **)&s->smooth_bytes, sizeof(float), 0};
     return n;
 }
 
@@ -590,6 +595,36 @@ static int node_live(const tclod_scene *s, tclod_id n) {
     return n < s->node_count && (s->flags[n] & TCLOD_NODE_LIVE);
 }
 
+/* ---- residency ---------------------------------------------------------------- */
+
+/* A size's rule (bytes_valid). */
+#define BYTES_RULE "bytes must be finite, >= 0 and at most FLT_MAX"
+
+static int bytes_valid(double b) {
+    return b >= 0.0 && b <= (double)FLT_MAX;
+}
+
+/* Puts live node n on the resident list and counts its size. */
+static void resident_add(tclod_scene *s, tclod_id n) {
+    s->res_pos[n] = s->res_count;
+    s->res_list[s->res_count++] = n;
+    s->resident_bytes += (double)s->bytes[n];
+    s->residency_version++;
+}
+
+/* Takes resident node n off the list and its size off the total. */
+static void resident_remove(tclod_scene *s, tclod_id n) {
+    uint32_t slot = s->res_pos[n];
+    tclod_id last = s->res_list[--s->res_count];
+    s->res_list[slot] = last;
+    s->res_pos[last] = slot;
+    s->res_pos[n] = TCLOD_NONE;
+    s->resident_bytes -= (double)s->bytes[n];
+    if (s->res_count == 0 && s->smooth_live == s->smooth_absent_count)
+        s->resident_bytes = 0.0; /* let go of what rounding left */
+    s->residency_version++;
+}
+
 static void changed(tclod_scene *s) {
     s->version++;
 }
@@ -659,6 +694,10 @@ static tclod_status add_node(tclod_scene *s, const tclod_node_desc *d, tclod_id 
         return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "refine is not a tclod_refine");
     if (d->empty != 0 && d->empty != 1)
         return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "empty must be 0 or 1");
+    if (d->not_resident != 0 && d->not_resident != 1)
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "not_resident must be 0 or 1");
+    if (!bytes_valid(d->bytes))
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn, BYTES_RULE);
     if (d->parent != TCLOD_NONE && !node_live(s, d->parent))
         return tclod_fail(s->error, TCLOD_ERR_HIERARCHY, fn,
                           "parent is neither TCLOD_NONE nor a live node");
@@ -685,6 +724,14 @@ static tclod_status add_node(tclod_scene *s, const tclod_node_desc *d, tclod_id 
         (uint8_t)(TCLOD_NODE_LIVE | (d->refine == TCLOD_REFINE_ADD ? TCLOD_NODE_ADD : 0u) |
                   (d->empty ? TCLOD_NODE_EMPTY : 0u));
     s->child_count[id] = s->child_cap[id] = 0;
+    s->bytes[id] = (float)d->bytes;
+    s->res_pos[id] = TCLOD_NONE;
+    if (d->not_resident) {
+        s->flags[id] |= TCLOD_NODE_ABSENT;
+        s->absent_count++;
+    } else {
+        resident_add(s, id);
+    }
     if (additive) {
         self = take_node_id(s, id);
         s->up[self] = id;
@@ -694,6 +741,8 @@ static tclod_status add_node(tclod_scene *s, const tclod_node_desc *d, tclod_id 
         s->bounds[self].kind |= TCLOD_BOUNDS_SELF;
         s->flags[self] = TCLOD_NODE_SELF;
         s->child_count[self] = s->child_cap[self] = 0;
+        s->bytes[self] = 0.0f;
+        s->res_pos[self] = TCLOD_NONE;
         s->self_count++;
     }
     s->self[id] = self;
@@ -733,6 +782,10 @@ static void drop_node(tclod_scene *s, tclod_id n) {
         log_edit(s, n, TCLOD_EDIT_REMOVED);
     if (self != TCLOD_NONE && (s->flags[self] & TCLOD_NODE_INDEXED))
         log_edit(s, self, TCLOD_EDIT_REMOVED);
+    if (s->flags[n] & TCLOD_NODE_ABSENT)
+        s->absent_count--;
+    else
+        resident_remove(s, n);
     free_box(s, s->bounds[n].box);
     s->children_garbage += s->child_cap[n];
     s->child_count[n] = s->child_cap[n] = 0;
@@ -911,6 +964,7 @@ tclod_status tclod_scene_add_smooth(tclod_scene *s, const float bounds[4], tclod
     }
     memcpy(&s->smooth_bounds[4u * id], bounds, 4 * sizeof(float));
     s->smooth_flags[id] = TCLOD_NODE_LIVE;
+    s->smooth_bytes[id] = 0.0f;
     s->smooth_live++;
     smooth_changed(s);
     *out_id = id;
@@ -926,6 +980,11 @@ tclod_status tclod_scene_remove_smooth(tclod_scene *s, tclod_id smooth) {
     if (held(s))
         return tclod_fail(s->error, TCLOD_ERR_STATE, "tclod_scene_remove_smooth", HELD);
     s->epoch++;
+    if (s->smooth_flags[smooth] & TCLOD_NODE_ABSENT)
+        s->smooth_absent_count--;
+    else
+        s->resident_bytes -= (double)s->smooth_bytes[smooth];
+    s->residency_version++;
     s->smooth_flags[smooth] = 0;
     retire(&s->smooth_retired, s->smooth_cap, smooth, s->epoch);
     s->smooth_live--;
@@ -1203,4 +1262,110 @@ tclod_id tclod_scene_parent(const tclod_scene *s, tclod_id node) {
 
 const char *tclod_scene_last_error(const tclod_scene *s) {
     return s ? s->error : "";
+}
+
+/* ---- streaming ------------------------------------------------------------------ */
+
+/* Node n's (smooth object's) flags and size, or NULLs when it is not live. */
+static void residency_of(tclod_scene *s, tclod_id id, int smooth, uint8_t **flags, float **bytes) {
+    *flags = NULL;
+    *bytes = NULL;
+    if (smooth ? smooth_live(s, id) : node_live(s, id)) {
+        *flags = smooth ? &s->smooth_flags[id] : &s->flags[id];
+        *bytes = smooth ? &s->smooth_bytes[id] : &s->bytes[id];
+    }
+}
+
+static tclod_status set_resident(tclod_scene *s, tclod_id id, int resident, int smooth,
+                                 const char *fn) {
+    uint8_t *flags;
+    float *bytes;
+    if (!s)
+        return TCLOD_ERR_ARG;
+    residency_of(s, id, smooth, &flags, &bytes);
+    if (!flags)
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn,
+                          smooth ? "smooth is not a live smooth object"
+                                 : "node is not a live node");
+    if (resident != 0 && resident != 1)
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "resident must be 0 or 1");
+    if (held(s))
+        return tclod_fail(s->error, TCLOD_ERR_STATE, fn, HELD);
+    if (resident == !(*flags & TCLOD_NODE_ABSENT))
+        return TCLOD_OK;
+    *flags ^= TCLOD_NODE_ABSENT;
+    if (smooth) {
+        if (resident)
+            s->smooth_absent_count--;
+        else
+            s->smooth_absent_count++;
+        s->resident_bytes += resident ? (double)*bytes : -(double)*bytes;
+        s->residency_version++;
+    } else {
+        if (resident) {
+            s->absent_count--;
+            resident_add(s, id);
+        } else {
+            s->absent_count++;
+            resident_remove(s, id);
+        }
+    }
+    return TCLOD_OK;
+}
+
+tclod_status tclod_scene_set_resident(tclod_scene *s, tclod_id node, int resident) {
+    return set_resident(s, node, resident, 0, "tclod_scene_set_resident");
+}
+
+tclod_status tclod_scene_set_smooth_resident(tclod_scene *s, tclod_id smooth, int resident) {
+    return set_resident(s, smooth, resident, 1, "tclod_scene_set_smooth_resident");
+}
+
+static tclod_status set_bytes(tclod_scene *s, tclod_id id, double b, int smooth, const char *fn) {
+    uint8_t *flags;
+    float *bytes;
+    if (!s)
+        return TCLOD_ERR_ARG;
+    residency_of(s, id, smooth, &flags, &bytes);
+    if (!flags)
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn,
+                          smooth ? "smooth is not a live smooth object"
+                                 : "node is not a live node");
+    if (!bytes_valid(b))
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn, BYTES_RULE);
+    if (held(s))
+        return tclod_fail(s->error, TCLOD_ERR_STATE, fn, HELD);
+    if (!(*flags & TCLOD_NODE_ABSENT))
+        s->resident_bytes += (double)(float)b - (double)*bytes;
+    *bytes = (float)b;
+    s->residency_version++;
+    return TCLOD_OK;
+}
+
+tclod_status tclod_scene_set_node_bytes(tclod_scene *s, tclod_id node, double bytes) {
+    return set_bytes(s, node, bytes, 0, "tclod_scene_set_node_bytes");
+}
+
+tclod_status tclod_scene_set_smooth_bytes(tclod_scene *s, tclod_id smooth, double bytes) {
+    return set_bytes(s, smooth, bytes, 1, "tclod_scene_set_smooth_bytes");
+}
+
+int tclod_scene_node_resident(const tclod_scene *s, tclod_id node) {
+    return s && node_live(s, node) && !(s->flags[node] & TCLOD_NODE_ABSENT);
+}
+
+int tclod_scene_smooth_resident(const tclod_scene *s, tclod_id smooth) {
+    return s && smooth_live(s, smooth) && !(s->smooth_flags[smooth] & TCLOD_NODE_ABSENT);
+}
+
+double tclod_scene_node_bytes(const tclod_scene *s, tclod_id node) {
+    return s && node_live(s, node) ? (double)s->bytes[node] : 0.0;
+}
+
+double tclod_scene_smooth_bytes(const tclod_scene *s, tclod_id smooth) {
+    return s && smooth_live(s, smooth) ? (double)s->smooth_bytes[smooth] : 0.0;
+}
+
+double tclod_scene_resident_bytes(const tclod_scene *s) {
+    return s ? s->resident_bytes : 0.0;
 }

@@ -26,7 +26,8 @@ enum {
     TCLOD_NODE_EMPTY = 4u,   /* nothing to draw */
     TCLOD_NODE_SELF = 8u,    /* the drawing of an additive node among its children (its
                                 "self leaf"): an id no call returns */
-    TCLOD_NODE_INDEXED = 16u /* in the child index (the tree the solvers see) */
+    TCLOD_NODE_INDEXED = 16u, /* in the child index (the tree the solvers see) */
+    TCLOD_NODE_ABSENT = 32u   /* live and not resident (also in smooth_flags) */
 };
 
 /* What a scene knows of a selector or scheduler over it: enough to refuse
@@ -131,6 +132,19 @@ struct tclod_scene {
     tclod_smooth_node *qt;  /* 2 * smooth_index_cap nodes; qt[0] is the root */
     uint32_t qt_count;
 
+    /* streaming (docs/streaming.md): sizes, and the live resident nodes in a
+     * list (each node's slot in it, TCLOD_NONE when not in it) so that
+     * evictions are planned over them alone */
+    float *bytes;
+    uint32_t *res_pos;
+    tclod_id *res_list;
+    uint32_t res_count;
+    uint32_t absent_count; /* live nodes not resident */
+    float *smooth_bytes;
+    uint32_t smooth_absent_count;
+    double resident_bytes;      /* the sizes of the resident nodes and smooth objects */
+    uint32_t residency_version; /* bumped by every change of residency or size */
+
     /* users, and the epoch removals are counted in */
     tclod_scene_user **users;
     uint32_t user_count, user_cap;
@@ -157,6 +171,16 @@ static inline int tclod_scene_indexed(const tclod_scene *s, tclod_id n) {
 /* The node a callback is asked about for node n: n, or a self leaf's owner. */
 static inline tclod_id tclod_scene_owner(const tclod_scene *s, tclod_id n) {
     return (s->flags[n] & TCLOD_NODE_SELF) ? s->up[n] : n;
+}
+
+/* Whether the selectors must look at residency at all. */
+static inline int tclod_scene_streams(const tclod_scene *s) {
+    return (s->absent_count | s->smooth_absent_count) != 0;
+}
+
+/* Whether node n (a self leaf: its owner) is not resident. */
+static inline int tclod_scene_absent(const tclod_scene *s, tclod_id n) {
+    return (s->flags[tclod_scene_owner(s, n)] & TCLOD_NODE_ABSENT) != 0;
 }
 
 /* The public form of node n's bounds into *out (kind NONE without). */

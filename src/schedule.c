@@ -1728,3 +1728,32 @@ tclod_status tclod_scheduler_get_stats(const tclod_scheduler *sch, tclod_schedul
 const char *tclod_scheduler_last_error(const tclod_scheduler *sch) {
     return sch ? sch->error : "";
 }
+
+/* ---- streaming ------------------------------------------------------------------ */
+
+tclod_status tclod_scheduler_set_stream(tclod_scheduler *sch, const tclod_stream_desc *d) {
+    static const char fn[] = "tclod_scheduler_set_stream";
+    const char *why;
+    if (!sch)
+        return TCLOD_ERR_ARG;
+    if (sch->busy)
+        return tclod_fail(sch->error, TCLOD_ERR_STATE, fn, TCLOD_MSG_BUSY);
+    why = d ? tclod_stream_desc_check(d) : NULL;
+    if (why)
+        return tclod_fail(sch->error, TCLOD_ERR_ARG, fn, why);
+    return tclod_selector_set_stream(sch->sel, d);
+}
+
+tclod_status tclod_scheduler_requests(const tclod_scheduler *sch, const tclod_stream_item **items,
+                                      size_t *n) {
+    if (!sch || !items || !n)
+        return TCLOD_ERR_ARG;
+    return tclod_selector_requests(sch->sel, items, n);
+}
+
+tclod_status tclod_scheduler_evictions(const tclod_scheduler *sch, const tclod_stream_item **items,
+                                       size_t *n) {
+    if (!sch || !items || !n)
+        return TCLOD_ERR_ARG;
+    return tclod_selector_evictions(sch->sel, items, n);
+}

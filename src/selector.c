@@ -196,6 +196,8 @@ void tclod_selector_destroy(tclod_selector *sel) {
     tclod_arrays_free(&alloc, buffers, node_buffers(sel, buffers), sel->cap);
     tclod_arrays_free(&alloc, buffers, smooth_buffers(sel, buffers), sel->smooth_cap);
     tclod_arrays_free(&alloc, buffers, tclod_rh_buffers(&sel->rh, buffers), sel->rh.cap);
+    tclod_arrays_free(&alloc, buffers, tclod_stream_buffers(&sel->stream, buffers),
+                      sel->stream.cap);
     tclod_mem_free(&alloc, sel, sizeof *sel);
 }
 
@@ -217,7 +219,7 @@ typedef struct growth {
 /* Grows the per-node, per-smooth-object and Robin Hood buffers to the scene's
  * size, all or nothing. */
 static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth) {
-    growth g[3];
+    growth g[4];
     int uses_smooth = sel->desc.solver != TCLOD_SOLVER_GREEDY;
     int i, k;
     if (nodes + smooth < nodes || nodes > UINT32_MAX - 3u || nodes + smooth > UINT32_MAX - 1u)
@@ -233,11 +235,19 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
     g[2].new_cap = sel->desc.solver == TCLOD_SOLVER_ROBIN_HOOD && nodes + smooth + 1u > sel->rh.cap
                        ? grown(sel->rh.cap, nodes + smooth + 1u)
                        : sel->rh.cap;
+    g[3].cap = &sel->stream.cap;
+    /* one element more than nodes: the plan's lists hold nodes and smooth
+     * objects */
+    g[3].new_cap = tclod_stream_wanted(sel) && nodes + smooth + 1u > sel->stream.cap
+                       ? grown(sel->stream.cap, nodes + smooth + 1u)
+                       : sel->stream.cap;
     /* the arrays of the blocks that grow */
     g[0].count = g[0].new_cap != sel->cap ? node_buffers(sel, g[0].arrays) : 0;
     g[1].count = g[1].new_cap != sel->smooth_cap ? smooth_buffers(sel, g[1].arrays) : 0;
     g[2].count = g[2].new_cap != sel->rh.cap ? tclod_rh_buffers(&sel->rh, g[2].arrays) : 0;
-    for (i = 0; i < 3; ++i) {
+    g[3].count =
+        g[3].new_cap != sel->stream.cap ? tclod_stream_buffers(&sel->stream, g[3].arrays) : 0;
+    for (i = 0; i < 4; ++i) {
         if (g[i].new_cap == *g[i].cap)
             continue;
         if (tclod_arrays_alloc(&sel->alloc, g[i].arrays, g[i].count, g[i].new_cap, g[i].fresh) !=
@@ -249,7 +259,7 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
             return TCLOD_ERR_NOMEM;
         }
     }
-    for (i = 0; i < 3; ++i) {
+    for (i = 0; i < 4; ++i) {
         if (g[i].new_cap == *g[i].cap)
             continue;
         tclod_arrays_commit(&sel->alloc, g[i].arrays, g[i].count, *g[i].cap, g[i].new_cap,
@@ -470,6 +480,7 @@ static tclod_status selector_begin(tclod_selector *sel, const tclod_frame *f, co
     }
     memset(&sel->stats, 0, sizeof sel->stats);
     sel->stats.stop_reason = TCLOD_STOP_FINEST;
+    sel->stats.resident_bytes = sel->scene->resident_bytes;
     memset(&sel->resume, 0, sizeof sel->resume);
     sel->frame_data = *f;
     sel->has_view = f->view != NULL;
@@ -581,7 +592,15 @@ static tclod_status run(tclod_selector *sel, double slice_seconds, uint32_t slic
             sel->stats.stop_reason = TCLOD_STOP_ROOTS_DROPPED;
         if (sel->stats.stop_reason == TCLOD_STOP_FINEST && sel->frame_data.budget == 0.0)
             sel->stats.stop_reason = TCLOD_STOP_BUDGET; /* nothing of any cost could fit */
+        if (tclod_stream_plan(sel) != 0) {
+            tclod_fail(sel->error, TCLOD_ERR_CALLBACK, fn, TCLOD_MSG_STRICT);
+            abandon(sel);
+            sel->frame = NULL;
+            set_busy(sel, 0);
+            return TCLOD_ERR_CALLBACK;
+        }
         commit(sel);
+        tclod_stream_commit(sel);
         note(sel);
         sel->stats.solve_seconds = sel->elapsed;
         set_pending(sel, 0);

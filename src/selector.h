@@ -10,6 +10,7 @@
 #include "mixed.h"
 #include "robin_hood.h"
 #include "scene.h"
+#include "stream.h"
 
 /* Per-node flags (tclod_selector.flags): a root left out of the selection;
  * with lookahead, a cut node whose queued increment reaches below its
@@ -85,6 +86,7 @@ struct tclod_selector {
      * scratch_key, by slot in the scene's children[] (-1: not visible); the
      * ring of its third cycle's candidates in scratch and path */
     tclod_rh_state rh;
+    tclod_stream_state stream; /* residency and the plan of loads (stream.c) */
 
     uint32_t cut_count, prev_count, result_count;
     uint32_t solve_id;
@@ -192,6 +194,25 @@ int tclod_evaluate_bad_cost(tclod_selector *sel, tclod_node_state *st, double c)
  * tclod_evaluate_bounded. */
 int tclod_evaluate_self(tclod_selector *sel, tclod_id n);
 
+/* ---- stream.c ---------------------------------------------------------------- */
+
+/* Node n, visible with a finite cost, is not resident: keeps its values for
+ * the plan and makes it undrawable (stream.c). Returns as
+ * tclod_evaluate_bounded. */
+int tclod_evaluate_absent(tclod_selector *sel, tclod_id n);
+
+/* Whether the selector needs its streaming buffers: the scene has nodes not
+ * resident, or the stream desc asks for a plan. */
+int tclod_stream_wanted(const tclod_selector *sel);
+
+/* Plans the requests and evictions of the solve that ends (its working cut,
+ * before the commit) into the lists the commit makes current. Returns 0, or
+ * -1 when strict mode saw a bad size. */
+int tclod_stream_plan(tclod_selector *sel);
+
+/* Makes the planned lists current (with the commit of the solve). */
+void tclod_stream_commit(tclod_selector *sel);
+
 /* Puts node n's bounds (it has some) into the query's volume. */
 static inline const tclod_bounds *tclod_query_bounds(tclod_selector *sel, tclod_id n) {
     const tclod_node_bounds *b = &sel->scene->bounds[n];
@@ -239,6 +260,9 @@ static inline int tclod_evaluate_bounded(tclod_selector *sel, tclod_id n, float 
     if (tclod_bits(c) > TCLOD_BITS_MAX)
         return tclod_evaluate_bad_cost(sel, st, c);
     st->cost = c;
+    if (TCLOD_UNLIKELY(tclod_scene_streams(sel->scene)) &&
+        (sel->scene->flags[n] & TCLOD_NODE_ABSENT))
+        return tclod_evaluate_absent(sel, n);
     return 1;
 }
 

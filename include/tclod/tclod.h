@@ -241,6 +241,12 @@ typedef struct tclod_callbacks {
      * select. NULL: its benefit. A benefit that grows with screen area counts
      * the area twice: give the per-object weight here (docs/robin_hood.md). */
     double (*importance)(void *user, const tclod_query *q);
+    /* Streaming, optional: the size in bytes node (or smooth object) q->id
+     * will take once loaded, asked once per select for a non-resident one the
+     * scene knows no size of (0) when the select ranks it as a load request.
+     * NULL: the scene's size. A bad value is counted and the node is not
+     * requested (docs/streaming.md). */
+    double (*bytes)(void *user, const tclod_query *q);
 } tclod_callbacks;
 
 /* ------------------------------------------------------------------------- */
@@ -285,6 +291,10 @@ typedef struct tclod_node_desc {
                             content): never drawn, costs nothing, no callback asks
                             about it, its children are selected as if they hung
                             from its parent (or were roots). Default 0 */
+    int not_resident;    /* 1: its data is not loaded: never drawn until
+                            tclod_scene_set_resident (docs/streaming.md). Default 0 */
+    double bytes;        /* its size once resident, >= 0 and finite (0: not known
+                            yet). Default 0 */
 } tclod_node_desc;
 
 /* Fills d with the defaults above. */
@@ -367,6 +377,31 @@ TCLOD_API int tclod_scene_node_live(const tclod_scene *s, tclod_id node);
 TCLOD_API int tclod_scene_smooth_live(const tclod_scene *s, tclod_id smooth);
 /* Parent of a live node; TCLOD_NONE for a root or an id that is not live. */
 TCLOD_API tclod_id tclod_scene_parent(const tclod_scene *s, tclod_id node);
+
+/* Streaming (docs/streaming.md): a node or smooth object is drawn only while
+ * resident (its data loaded). Every node is resident unless added with
+ * not_resident or marked otherwise here. Each call is O(1) and changes no
+ * selection state: a select picks the residency up as it evaluates. Errors:
+ * TCLOD_ERR_ARG (s NULL; node not a live node; resident not 0 or 1),
+ * TCLOD_ERR_STATE (a solve holds the scene, or from a callback); nothing
+ * changes on error. */
+TCLOD_API tclod_status tclod_scene_set_resident(tclod_scene *s, tclod_id node, int resident);
+TCLOD_API tclod_status tclod_scene_set_smooth_resident(tclod_scene *s, tclod_id smooth,
+                                                       int resident);
+/* Sets the size in bytes a node (smooth object) takes once resident: >= 0 and
+ * finite, at most FLT_MAX (0: not known yet; tclod_callbacks.bytes may then
+ * estimate it). Errors as tclod_scene_set_resident (bytes out of range:
+ * TCLOD_ERR_ARG). */
+TCLOD_API tclod_status tclod_scene_set_node_bytes(tclod_scene *s, tclod_id node, double bytes);
+TCLOD_API tclod_status tclod_scene_set_smooth_bytes(tclod_scene *s, tclod_id smooth, double bytes);
+/* 1 when node (smooth object) is live and resident, else 0. */
+TCLOD_API int tclod_scene_node_resident(const tclod_scene *s, tclod_id node);
+TCLOD_API int tclod_scene_smooth_resident(const tclod_scene *s, tclod_id smooth);
+/* The size set for a live node (smooth object); 0 otherwise. */
+TCLOD_API double tclod_scene_node_bytes(const tclod_scene *s, tclod_id node);
+TCLOD_API double tclod_scene_smooth_bytes(const tclod_scene *s, tclod_id smooth);
+/* The sizes of the live resident nodes and smooth objects, summed (0 for NULL). */
+TCLOD_API double tclod_scene_resident_bytes(const tclod_scene *s);
 
 /* ------------------------------------------------------------------------- */
 /* Selector                                                                  */
@@ -547,6 +582,12 @@ typedef struct tclod_stats {
     double solve_seconds;          /* wall-clock time of the solve */
     tclod_stop_reason stop_reason; /* why the solve stopped */
     uint32_t notes;                /* TCLOD_NOTE_* bits: what the host may not have meant */
+    uint32_t absent_roots;         /* roots not resident: their hierarchies draw nothing */
+    uint32_t requests;             /* load requests listed (tclod_selector_requests) */
+    uint32_t evictions;            /* evictions listed (tclod_selector_evictions) */
+    double resident_bytes;         /* the scene's resident bytes when the solve began */
+    double request_bytes;          /* the listed requests' bytes */
+    double eviction_bytes;         /* the listed evictions' bytes */
 } tclod_stats;
 
 /* tclod_stats.notes: conditions a select does not fail on (strict mode fails on
@@ -559,6 +600,9 @@ typedef struct tclod_stats {
 #define TCLOD_NOTE_NOTHING_DRAWN                           \
     0x8u /* the scene is not empty and the selection draws \
             nothing */
+#define TCLOD_NOTE_MEMORY_SHORT                               \
+    0x10u /* the memory budget is smaller than what must stay \
+             resident: no load was requested (docs/streaming.md) */
 
 /* Per-view solver state and the current result. */
 typedef struct tclod_selector tclod_selector;
@@ -644,6 +688,56 @@ TCLOD_API tclod_status tclod_selector_smooth_groups(const tclod_selector *sel,
  * group it was drawn in); 0 = not drawn (also for unknown ids, NULL, during a
  * solve, and for solvers that do not solve smooth objects). O(log groups). */
 TCLOD_API double tclod_selector_resolution(const tclod_selector *sel, tclod_id smooth);
+
+/* ------------------------------------------------------------------------- */
+/* Streaming                                                                 */
+/* ------------------------------------------------------------------------- */
+
+/* What a select plans for the host's loader (docs/streaming.md). All zero
+ * (the default): nothing; loads and evictions cost the select nothing. */
+typedef struct tclod_stream_desc {
+    uint32_t max_requests;    /* load requests to list per select; 0: none */
+    double max_request_bytes; /* their bytes at most (the first request is listed
+                                 whatever its size); 0: no cap */
+    double memory_budget;     /* bytes the resident nodes, the loads in flight and
+                                 the requests may take together; 0: no budget (no
+                                 evictions listed) */
+    double bytes_in_flight;   /* bytes of loads requested earlier and not resident
+                                 yet: they count against memory_budget */
+} tclod_stream_desc;
+
+/* Sets what the next selects plan; d NULL: nothing. Errors: TCLOD_ERR_ARG
+ * (NULL sel; a field NaN, infinite or negative, naming it), TCLOD_ERR_STATE
+ * (from a callback); nothing changes on error. */
+TCLOD_API tclod_status tclod_selector_set_stream(tclod_selector *sel, const tclod_stream_desc *d);
+
+/* tclod_stream_item.flags */
+#define TCLOD_STREAM_SMOOTH 0x1u /* id is a smooth object, not a node */
+#define TCLOD_STREAM_LISTED 0x2u /* it was in the previous select's list too */
+
+/* A load request or an eviction. */
+typedef struct tclod_stream_item {
+    tclod_id id;
+    uint32_t flags; /* TCLOD_STREAM_* */
+    double bytes;   /* its size (the scene's, or tclod_callbacks.bytes) */
+    double value;   /* a request: the benefit its arrival would add per byte
+                       (ranked highest first); an eviction: the benefit it
+                       gives per byte (ranked lowest first) */
+} tclod_stream_item;
+
+/* The load requests of the last select, best first: the non-resident nodes
+ * its selection or the selections that follow would draw, ranked by the
+ * benefit their arrival adds per byte, capped by the stream desc; a node is
+ * listed after its ancestors it needs. The evictions: resident nodes to free,
+ * least valuable first, so that resident bytes, loads in flight and the
+ * requests fit the memory budget; never a drawn node, one a drawn node falls
+ * back to, or one the plan needs next. *items points into the selector:
+ * valid until the next select or destroy. Errors: TCLOD_ERR_ARG (NULL
+ * argument), TCLOD_ERR_STATE (during a solve). */
+TCLOD_API tclod_status tclod_selector_requests(const tclod_selector *sel,
+                                               const tclod_stream_item **items, size_t *n);
+TCLOD_API tclod_status tclod_selector_evictions(const tclod_selector *sel,
+                                                const tclod_stream_item **items, size_t *n);
 
 /* ------------------------------------------------------------------------- */
 /* Benefit and cost models                                                   */
@@ -914,6 +1008,15 @@ TCLOD_API tclod_status tclod_scheduler_report_frame(tclod_scheduler *sch, double
  * (the update divides it by the scale itself). Valid until the scheduler is
  * destroyed; NULL for NULL. */
 TCLOD_API const tclod_calib *tclod_scheduler_calib(const tclod_scheduler *sch);
+
+/* Streaming with a scheduler: as tclod_selector_set_stream, and the lists
+ * of its last update, which also cover the predicted views and keep what a
+ * running morph draws at either end (docs/streaming.md). */
+TCLOD_API tclod_status tclod_scheduler_set_stream(tclod_scheduler *sch, const tclod_stream_desc *d);
+TCLOD_API tclod_status tclod_scheduler_requests(const tclod_scheduler *sch,
+                                                const tclod_stream_item **items, size_t *n);
+TCLOD_API tclod_status tclod_scheduler_evictions(const tclod_scheduler *sch,
+                                                 const tclod_stream_item **items, size_t *n);
 
 /* The scheduler's figures (tclod_scheduler_stats). Errors: TCLOD_ERR_ARG. */
 TCLOD_API tclod_status tclod_scheduler_get_stats(const tclod_scheduler *sch,

@@ -1,0 +1,49 @@
+/*
+ * stream.c: residency in the solvers' evaluation, and the plan of load
+ * requests and evictions a select makes for the host's loader
+ * (docs/streaming.md).
+ */
+#ifndef TCLOD_STREAM_H
+#define TCLOD_STREAM_H
+
+#include "heap.h"
+
+/* What a selector keeps for streaming (tclod_selector.stream). Its per-node
+ * buffers (cap elements each) are allocated by the first select that plans
+ * or sees a node that is not resident. */
+typedef struct tclod_stream_state {
+    tclod_stream_desc desc; /* tclod_selector_set_stream */
+    uint32_t cap;
+    /* the true values of the nodes not resident that this solve evaluated
+     * (valid where seen[n] == the solve's id): the solver itself sees them
+     * as not drawable (stream.c, tclod_evaluate_absent) */
+    uint32_t *seen;
+    double *benefit, *cost;
+    /* the plan: per node its state in it (STREAM_* in stream.c), the rank
+     * a requested node may have at most (the lowest of its requested
+     * ancestors'), and the plan when it was last protected (least recently
+     * used first among evictions of equal value) */
+    uint8_t *mark;
+    double *cap_value;
+    uint32_t *used;
+    tclod_id *touched; /* the nodes whose mark the plan set */
+    uint32_t touched_count;
+    tclod_heap heap; /* the plan's increments, then the eviction candidates */
+    tclod_id *ids;   /* scratch: candidates */
+    double *keys;
+    uint32_t plans; /* plans made: the clock of used[] */
+    /* the lists: the current ones (read by the host) and the ones the next
+     * plan writes, swapped when a select commits */
+    tclod_stream_item *list[2][2]; /* [requests, evictions][current, next] */
+    uint32_t count[2][2];
+    uint32_t list_cap; /* items each list has room for: nodes + smooth objects */
+} tclod_stream_state;
+
+/* Lists the streaming buffers into out (room for TCLOD_MAX_ARRAYS); returns
+ * how many. */
+size_t tclod_stream_buffers(tclod_stream_state *S, tclod_array *out);
+
+/* NULL when d is valid for tclod_selector_set_stream, else the rule it breaks. */
+const char *tclod_stream_desc_check(const tclod_stream_desc *d);
+
+#endif /* TCLOD_STREAM_H */
