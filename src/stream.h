@@ -36,7 +36,11 @@ typedef struct tclod_stream_state {
      * plan writes, swapped when a select commits */
     tclod_stream_item *list[2][2]; /* [requests, evictions][current, next] */
     uint32_t count[2][2];
-    uint32_t list_cap; /* items each list has room for: nodes + smooth objects */
+    /* nodes the plan keeps besides the drawn ones and what it needs next (a
+     * scheduler's: what its morphs draw at either end), with their
+     * ancestors; set by the selector's owner, never freed by it */
+    const tclod_id *keep;
+    uint32_t keep_count;
 } tclod_stream_state;
 
 /* Lists the streaming buffers into out (room for TCLOD_MAX_ARRAYS); returns
