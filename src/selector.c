@@ -529,7 +529,7 @@ static void note(tclod_selector *sel) {
     if (sel->result_count == 0 && sel->group_count == 0 &&
         (s->live_nodes > 0 || s->smooth_live > 0))
         notes |= TCLOD_NOTE_NOTHING_DRAWN;
-    sel->stats.notes = notes;
+    sel->stats.notes = notes | (sel->stats.notes & TCLOD_NOTE_MEMORY_SHORT); /* the plan's */
 }
 
 /* Runs the begun solve until it finishes or the slice (slice_end on the

@@ -25,6 +25,7 @@ typedef struct tclod_stream_state {
      * used first among evictions of equal value) */
     uint8_t *mark;
     double *cap_value;
+    double *size; /* a request candidate's size (request_bytes) */
     uint32_t *used;
     tclod_id *touched; /* the nodes whose mark the plan set */
     uint32_t touched_count;
