@@ -431,18 +431,26 @@ static double evict_one(tclod_selector *sel) {
     return z;
 }
 
+/* Makes the eviction candidates the first time the plan needs room. */
+static void need_room(tclod_selector *sel, int *built) {
+    if (!*built)
+        eviction_candidates(sel);
+    *built = 1;
+}
+
 /* The lists: the candidates ranked, those that fit the desc's caps, and the
  * evictions that make room for them. */
 static void plan_lists(tclod_selector *sel, uint32_t candidates) {
     const tclod_scene *s = sel->scene;
     tclod_stream_state *S = &sel->stream;
     const tclod_stream_desc *d = &S->desc;
-    int memory = d->memory_budget > 0.0;
+    int memory = d->memory_budget > 0.0, built = 0;
     double room = d->memory_budget - s->resident_bytes - d->bytes_in_flight, listed = 0.0;
     uint32_t i;
-    if (memory) {
-        keep_all(sel);
-        eviction_candidates(sel);
+    if (memory)
+        keep_all(sel); /* every plan: it also dates what the drawn nodes use */
+    if (memory && room < 0.0) {
+        need_room(sel, &built);
         while (room < 0.0 && S->heap.count > 0)
             room += evict_one(sel);
         if (room < 0.0) {
@@ -456,6 +464,8 @@ static void plan_lists(tclod_selector *sel, uint32_t candidates) {
         double z = S->size[n];
         if (d->max_request_bytes > 0.0 && S->count[0][1] > 0 && listed + z > d->max_request_bytes)
             break;
+        if (memory && room < z)
+            need_room(sel, &built);
         while (memory && room < z && S->heap.count > 0 &&
                (-S->heap.items[0].key < 0.0 || -S->heap.items[0].key < S->keys[i]))
             room += evict_one(sel);
