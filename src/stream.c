@@ -47,6 +47,8 @@ size_t tclod_stream_buffers(tclod_stream_state *S, tclod_array *out) {
     out[n++] = (tclod_array){(void **)&S->benefit, sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&S->cost, sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&S->mark, sizeof(uint8_t), 0};
+    out[n++] = (tclod_array){(void **)&S->smooth_mark, sizeof(uint8_t), 0};
+    out[n++] = (tclod_array){(void **)&S->smooth_used, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&S->cap_value, sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&S->size, sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&S->used, sizeof(uint32_t), 0};
@@ -145,6 +147,15 @@ static void unmark_all(tclod_stream_state *S) {
         S->mark[S->touched[i]] &= (uint8_t)~STREAM_TRANSIENT;
     S->touched_count = 0;
     tclod_heap_clear(&S->heap);
+}
+
+/* Clears the smooth objects' KEEP marks (keep_all set them on the drawn ones). */
+static void unmark_smooth(tclod_selector *sel) {
+    const tclod_vars *V = &sel->mixed.vars;
+    uint32_t i, k;
+    for (i = 0; i < V->count; ++i)
+        for (k = V->first[i]; k < V->first[i] + V->size[i]; ++k)
+            sel->stream.smooth_mark[sel->scene->smooth_order[k]] &= (uint8_t)~STREAM_KEEP;
 }
 
 /* Node n's benefit and cost as if it were resident (a self leaf: its
@@ -347,6 +358,63 @@ static int plan_target(tclod_selector *sel, uint32_t *count) {
     return 0;
 }
 
+/* The smooth objects not resident that the mixed solver would draw: the
+ * visible ones above the small-detail area, found best first by the screen
+ * area of the quadtree's cells, at most max_requests of them, each ranked
+ * by its benefit at full resolution per byte (one smooth_benefit call).
+ * Appends them to the candidates (ids node_count + smooth id). Returns 0 or
+ * -1 (strict). */
+static int plan_smooth(tclod_selector *sel, uint32_t *count) {
+    const tclod_scene *s = sel->scene;
+    const tclod_callbacks *cb = &sel->desc.callbacks;
+    tclod_stream_state *S = &sel->stream;
+    uint32_t found = 0, want = S->desc.max_requests;
+    double mean = s->res_count > 0 ? s->resident_bytes / s->res_count : 0.0;
+    float area, distance;
+    if (sel->desc.solver != TCLOD_SOLVER_MIXED || !cb->smooth_benefit || !cb->smooth_cost ||
+        s->smooth_absent_count == 0 || !sel->has_view || s->qt_count == 0 || want == 0)
+        return 0;
+    tclod_view_cache_measure(&sel->view, s->qt[0].bounds, &area, &distance);
+    if (area > 0.0f)
+        tclod_heap_push(&S->heap, 0, (double)area);
+    while (S->heap.count > 0 && found < want) {
+        const tclod_smooth_node *q = &s->qt[tclod_heap_pop(&S->heap)];
+        uint32_t i;
+        if (q->child_count > 0) {
+            for (i = 0; i < q->child_count; ++i) {
+                tclod_view_cache_measure(&sel->view, s->qt[q->child + i].bounds, &area, &distance);
+                if (area > 0.0f && (double)area >= sel->desc.smooth_cull_area)
+                    tclod_heap_push(&S->heap, q->child + i, (double)area);
+            }
+            continue;
+        }
+        for (i = q->first; i < q->first + q->count && found < want; ++i) {
+            tclod_id id = s->smooth_order[i];
+            double b, db, z = (double)s->smooth_bytes[id];
+            if (!(s->smooth_flags[id] & TCLOD_NODE_ABSENT))
+                continue;
+            tclod_view_cache_measure(&sel->view, &s->smooth_bounds[4u * id], &area, &distance);
+            if (!(area > 0.0f) || (double)area < sel->desc.smooth_cull_area)
+                continue;
+            if (tclod_smooth_call(sel, i, 1, NULL, area, distance, 1.0, &b, &db, NULL, NULL) &&
+                sel->failed)
+                return -1;
+            if (!(b > 0.0))
+                continue;
+            if (z == 0.0)
+                z = mean;
+            z = z > 1.0 ? z : 1.0;
+            S->size[s->node_count + id] = z;
+            S->ids[*count] = s->node_count + id;
+            S->keys[*count] = b / z;
+            ++*count;
+            ++found;
+        }
+    }
+    tclod_heap_clear(&S->heap);
+    return 0;
+}
+
 /* Marks node n and its ancestors kept (until one is kept already), and
  * notes them used now. */
 static void keep_path(tclod_selector *sel, tclod_id n) {
@@ -373,14 +441,24 @@ static void keep_all(tclod_selector *sel) {
     for (i = 0; i < n; ++i) /* the target: marked before this began */
         if (S->mark[S->touched[i]] & (STREAM_VCUT | STREAM_PASSED))
             keep_path(sel, S->touched[i]);
+    for (i = 0; i < sel->mixed.vars.count; ++i) {
+        const tclod_vars *V = &sel->mixed.vars;
+        uint32_t k;
+        if (V->r[i] > 0.0)
+            for (k = V->first[i]; k < V->first[i] + V->size[i]; ++k) {
+                S->smooth_mark[s->smooth_order[k]] |= STREAM_KEEP;
+                S->smooth_used[s->smooth_order[k]] = S->plans;
+            }
+    }
     for (i = 0; i < S->keep_count; ++i)
         if (S->keep[i] < s->node_count &&
             (s->flags[tclod_scene_owner(s, S->keep[i])] & (TCLOD_NODE_LIVE | TCLOD_NODE_SELF)))
             keep_path(sel, S->keep[i]);
 }
 
-/* Queues every resident node not kept (of nonzero size) as an eviction
- * candidate, least valuable first. A node's value is the benefit per byte it
+/* Queues every resident node and smooth object not kept (of nonzero size)
+ * as an eviction candidate, least valuable first. A smooth object not drawn
+ * counts as unseen. A node's value is the benefit per byte it
  * gave this solve, or, when this solve did not see it visible, less than any
  * of those: the longer since it was last kept, the less. A node is worth more
  * than any resident node below it, which cannot be drawn without it: its
@@ -408,6 +486,11 @@ static void eviction_candidates(tclod_selector *sel) {
         if (!(S->mark[n] & STREAM_KEEP) && s->bytes[n] > 0.0f)
             tclod_heap_append(&S->heap, n, -value[n]); /* a max-heap: the least valuable first */
     }
+    for (i = 0; i < s->smooth_count; ++i)
+        if ((s->smooth_flags[i] & (TCLOD_NODE_LIVE | TCLOD_NODE_ABSENT)) == TCLOD_NODE_LIVE &&
+            !(S->smooth_mark[i] & STREAM_KEEP) && s->smooth_bytes[i] > 0.0f)
+            tclod_heap_append(&S->heap, s->node_count + i,
+                              1.0 + (double)(S->plans - S->smooth_used[i]));
     tclod_heap_build(&S->heap);
 }
 
@@ -424,11 +507,20 @@ static void add_item(tclod_stream_item *list, uint32_t *count, tclod_id id, uint
 static double evict_one(tclod_selector *sel) {
     tclod_stream_state *S = &sel->stream;
     double key = S->heap.items[0].key;
+    const tclod_scene *s = sel->scene;
     tclod_id n = tclod_heap_pop(&S->heap);
-    double z = (double)sel->scene->bytes[n];
+    if (n >= s->node_count) { /* a smooth object */
+        n -= s->node_count;
+        add_item(S->list[1][1], &S->count[1][1], n,
+                 TCLOD_STREAM_SMOOTH |
+                     ((S->smooth_mark[n] & STREAM_EVICTED) ? TCLOD_STREAM_LISTED : 0u),
+                 (double)s->smooth_bytes[n], 0.0);
+        return (double)s->smooth_bytes[n];
+    }
     add_item(S->list[1][1], &S->count[1][1], n,
-             (S->mark[n] & STREAM_EVICTED) ? TCLOD_STREAM_LISTED : 0u, z, -key > 0.0 ? -key : 0.0);
-    return z;
+             (S->mark[n] & STREAM_EVICTED) ? TCLOD_STREAM_LISTED : 0u, (double)s->bytes[n],
+             -key > 0.0 ? -key : 0.0);
+    return (double)s->bytes[n];
 }
 
 /* Makes the eviction candidates the first time the plan needs room. */
@@ -476,9 +568,21 @@ static void plan_lists(tclod_selector *sel, uint32_t candidates) {
         }
         room -= z;
         listed += z;
-        add_item(S->list[0][1], &S->count[0][1], n,
-                 (S->mark[n] & STREAM_LISTED) ? TCLOD_STREAM_LISTED : 0u, z, S->keys[i]);
+        if (n >= s->node_count) /* a smooth object */
+            add_item(S->list[0][1], &S->count[0][1], n - s->node_count,
+                     TCLOD_STREAM_SMOOTH |
+                         ((S->smooth_mark[n - s->node_count] & STREAM_LISTED) ? TCLOD_STREAM_LISTED
+                                                                              : 0u),
+                     z, S->keys[i]);
+        else
+            add_item(S->list[0][1], &S->count[0][1], n,
+                     (S->mark[n] & STREAM_LISTED) ? TCLOD_STREAM_LISTED : 0u, z, S->keys[i]);
     }
+}
+
+/* The marks of a listed node or smooth object. */
+static uint8_t *stream_mark(tclod_stream_state *S, const tclod_stream_item *it) {
+    return (it->flags & TCLOD_STREAM_SMOOTH) ? &S->smooth_mark[it->id] : &S->mark[it->id];
 }
 
 /* Moves the persistent marks from the current lists to the planned ones. */
@@ -487,11 +591,9 @@ static void relist(tclod_stream_state *S) {
     uint32_t i, k;
     for (k = 0; k < 2; ++k) {
         for (i = 0; i < S->count[k][0]; ++i)
-            if (!(S->list[k][0][i].flags & TCLOD_STREAM_SMOOTH))
-                S->mark[S->list[k][0][i].id] &= (uint8_t)~bit[k];
+            *stream_mark(S, &S->list[k][0][i]) &= (uint8_t)~bit[k];
         for (i = 0; i < S->count[k][1]; ++i)
-            if (!(S->list[k][1][i].flags & TCLOD_STREAM_SMOOTH))
-                S->mark[S->list[k][1][i].id] |= bit[k];
+            *stream_mark(S, &S->list[k][1][i]) |= bit[k];
     }
 }
 
@@ -510,12 +612,13 @@ int tclod_stream_plan(tclod_selector *sel) {
         return 0;
     }
     S->plans++;
-    if (plan_target(sel, &candidates) != 0) {
+    if (plan_target(sel, &candidates) != 0 || plan_smooth(sel, &candidates) != 0) {
         unmark_all(S);
         S->count[0][1] = S->count[1][1] = 0;
         return -1;
     }
     plan_lists(sel, candidates);
+    unmark_smooth(sel);
     unmark_all(S);
     relist(S);
     sel->stats.request_bytes = 0.0;
