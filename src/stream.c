@@ -562,7 +562,7 @@ static void plan_lists(tclod_selector *sel, uint32_t candidates) {
                (-S->heap.items[0].key < 0.0 || -S->heap.items[0].key < S->keys[i]))
             room += evict_one(sel);
         if (memory && room < z) {
-            if (S->count[0][1] == 0)
+            if (S->count[0][1] == 0 && S->heap.count == 0) /* nothing left to free */
                 sel->stats.notes |= TCLOD_NOTE_MEMORY_SHORT;
             break;
         }
