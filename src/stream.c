@@ -23,6 +23,7 @@ int tclod_evaluate_absent(tclod_selector *sel, tclod_id n) {
     tclod_stream_state *S = &sel->stream;
     tclod_node_state *st = &sel->node[n];
     tclod_id p = s->parent[n];
+    S->absent_seen++;
     if (S->seen && n < S->cap) {
         S->seen[n] = sel->solve_id;
         S->benefit[n] = st->benefit;
@@ -612,7 +613,10 @@ int tclod_stream_plan(tclod_selector *sel) {
         return 0;
     }
     S->plans++;
-    if (plan_target(sel, &candidates) != 0 || plan_smooth(sel, &candidates) != 0) {
+    /* a solve that met no node short of residency drew what the target would:
+     * nothing to request there */
+    if ((S->absent_seen > 0 && plan_target(sel, &candidates) != 0) ||
+        plan_smooth(sel, &candidates) != 0) {
         unmark_all(S);
         S->count[0][1] = S->count[1][1] = 0;
         return -1;

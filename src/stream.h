@@ -34,7 +34,8 @@ typedef struct tclod_stream_state {
     tclod_heap heap; /* the plan's increments, then the eviction candidates */
     tclod_id *ids;   /* scratch: candidates */
     double *keys;
-    uint32_t plans; /* plans made: the clock of used[] */
+    uint32_t plans;       /* plans made: the clock of used[] */
+    uint32_t absent_seen; /* nodes this solve evaluated and found not resident */
     /* the lists: the current ones (read by the host) and the ones the next
      * plan writes, swapped when a select commits */
     tclod_stream_item *list[2][2]; /* [requests, evictions][current, next] */
