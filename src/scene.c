@@ -1281,8 +1281,8 @@ static tclod_status residency_of(tclod_scene *s, tclod_id id, int smooth, const 
 
 static tclod_status set_resident(tclod_scene *s, tclod_id id, int resident, int smooth,
                                  const char *fn) {
-    uint8_t *flags;
-    float *bytes;
+    uint8_t *flags = NULL;
+    float *bytes = NULL;
     if (!s)
         return TCLOD_ERR_ARG;
     if (residency_of(s, id, smooth, fn, &flags, &bytes) != TCLOD_OK)
@@ -1322,8 +1322,8 @@ tclod_status tclod_scene_set_smooth_resident(tclod_scene *s, tclod_id smooth, in
 }
 
 static tclod_status set_bytes(tclod_scene *s, tclod_id id, double b, int smooth, const char *fn) {
-    uint8_t *flags;
-    float *bytes;
+    uint8_t *flags = NULL;
+    float *bytes = NULL;
     if (!s)
         return TCLOD_ERR_ARG;
     if (residency_of(s, id, smooth, fn, &flags, &bytes) != TCLOD_OK)

@@ -335,7 +335,7 @@ static int plan_target(tclod_selector *sel, uint32_t *count) {
         if (true_values(sel, p, &b, &c) != 0)
             return -1;
         for (; k < end; ++k) {
-            double cb, cc;
+            double cb = 0.0, cc = 0.0;
             (void)true_values(sel, s->children[k], &cb, &cc); /* evaluated when queued */
             if (cb > 0.0) {
                 sum_b += cb;
@@ -350,7 +350,7 @@ static int plan_target(tclod_selector *sel, uint32_t *count) {
             return -1;
         for (k = s->child_first[p]; k < end; ++k) {
             tclod_id ch = s->children[k];
-            double cb, cc;
+            double cb = 0.0, cc = 0.0;
             (void)true_values(sel, ch, &cb, &cc);
             if (cb > 0.0 && target_add(sel, ch, cb, cc, S->cap_value[ch]) != 0)
                 return -1;
