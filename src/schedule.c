@@ -31,7 +31,9 @@
  * With streaming, only resident nodes are drawn. A landed selection that
  * holds a node no longer resident draws its nearest resident ancestor in its
  * place, as a selector would (repair); a region morphs only through resident
- * nodes, else it draws S_j's nodes as they are.
+ * nodes, else it draws S_j's nodes as they are. The selector's plan keeps the
+ * nodes of the landed selections, whose paths hold every node a draw list
+ * draws (keep_landed).
  *
  * Node relations are found with epoch marks on per-node arrays: the members
  * of a cut are marked black, and a node belongs to the meet of two cuts when
@@ -202,7 +204,8 @@ struct tclod_scheduler {
     uint32_t *region_of, *region_mark;
     uint32_t epoch;
     tclod_id *list_x, *list_y; /* X_j and Y_j, or other pairs of cuts */
-    tclod_id *list_r;          /* the region roots */
+    tclod_id *list_r;          /* the region roots; during a selector call, the nodes
+                                  its plan keeps (stream.keep) */
     uint32_t *counts;          /* 3 per node: per-region counts while bucketing */
     tclod_draw *items[2];      /* 3 per node each: the shown draw list, and the next */
     uint32_t item_count[2];
@@ -1311,6 +1314,38 @@ static void sync_residency(tclod_scheduler *sch) {
     }
 }
 
+/* Names the nodes of the landed selections the pipeline draws from as the
+ * ones the selector's plan keeps, with their ancestors (which hold every node
+ * a morph draws, at either end), for the selector call that follows (then
+ * unkeep). Only a plan with a memory budget evicts. */
+static void keep_landed(tclod_scheduler *sch) {
+    tclod_stream_state *S = &sch->sel->stream;
+    uint32_t slots[4], count = 3, e, k, i, n = 0;
+    if (!(S->desc.memory_budget > 0.0))
+        return;
+    slots[0] = sch->p.prev;
+    slots[1] = sch->p.cur;
+    slots[2] = sch->p.next;
+    if (sch->p.ready)
+        slots[count++] = sch->p.landing;
+    e = next_epoch(sch);
+    for (k = 0; k < count; ++k)
+        for (i = 0; i < sch->gen[slots[k]].count; ++i) {
+            tclod_id id = sch->gen[slots[k]].ids[i];
+            if (sch->done[id] != e) {
+                sch->done[id] = e;
+                sch->list_r[n++] = id;
+            }
+        }
+    S->keep = sch->list_r;
+    S->keep_count = n;
+}
+
+static void unkeep(tclod_scheduler *sch) {
+    sch->sel->stream.keep = NULL;
+    sch->sel->stream.keep_count = 0;
+}
+
 /* ---- plans ----------------------------------------------------------------------------------- */
 
 /* Makes region r of the plan: q alone, or a morph from its X side (list 0) to
@@ -1546,10 +1581,12 @@ static tclod_status land(tclod_scheduler *sch) {
         int done = 0;
         double start = clock_in();
         sch->touched = 1;
+        keep_landed(sch);
         if (sch->p.redo)
             status = tclod_select_step(sch->sel, 0.0, 0, &done, &st);
         else
             status = tclod_select_finish(sch->sel, &st);
+        unkeep(sch);
         clock_out(sch, start);
         if (status != TCLOD_OK)
             return status;
@@ -1709,7 +1746,9 @@ static tclod_status advance(tclod_scheduler *sch, double now, const tclod_view *
         int done = 0;
         double start = clock_in();
         sch->touched = 1;
+        keep_landed(sch);
         st = tclod_select_step(sch->sel, slice_seconds, 0, &done, &stats);
+        unkeep(sch);
         clock_out(sch, start);
         if (st == TCLOD_OK && done)
             finished(sch, &stats);
@@ -1892,6 +1931,8 @@ tclod_status tclod_scheduler_requests(const tclod_scheduler *sch, const tclod_st
                                       size_t *n) {
     if (!sch || !items || !n)
         return TCLOD_ERR_ARG;
+    if (sch->busy)
+        return TCLOD_ERR_STATE;
     return tclod_selector_requests(sch->sel, items, n);
 }
 
@@ -1899,5 +1940,7 @@ tclod_status tclod_scheduler_evictions(const tclod_scheduler *sch, const tclod_s
                                        size_t *n) {
     if (!sch || !items || !n)
         return TCLOD_ERR_ARG;
+    if (sch->busy)
+        return TCLOD_ERR_STATE;
     return tclod_selector_evictions(sch->sel, items, n);
 }

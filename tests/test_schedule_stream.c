@@ -3,9 +3,11 @@
  * (src/schedule.c; docs/scheduler.md, Streaming): a morph never starts
  * towards a node that is not resident (an evicted fine end holds the old
  * level, an evicted coarse end mid-morph switches at once), a selection
- * never lands a node evicted while it ran, and over random paths with
- * residency flipped between updates no draw item ever names a node that is
- * not resident.
+ * never lands a node evicted while it ran, the evictions never name what a
+ * running morph draws at either end, the requests cover a node only a
+ * predicted view sees, the streaming calls refuse bad arguments and calls
+ * from callbacks, and over random paths with residency flipped between
+ * updates no draw item ever names a node that is not resident.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -257,6 +259,266 @@ static void a_selection_never_lands_a_node_evicted_while_it_ran(void **state) {
     tclod_scene_destroy(s);
 }
 
+/* ---- what the evictions keep ---------------------------------------------- */
+
+static int listed(const tclod_stream_item *items, size_t n, tclod_id id) {
+    size_t i;
+    for (i = 0; i < n; ++i)
+        if (items[i].id == id)
+            return 1;
+    return 0;
+}
+
+static void the_evictions_never_name_the_ends_of_a_running_morph(void **state) {
+    /* The chain A, B, C of the down-morph above (C <- B during [4, 5)) and a
+     * root D worth 5 that costs 1000, more than the budget (100): seen,
+     * never drawn. Every node is 100 bytes, 400 resident, and the memory
+     * budget is 350: each plan evicts 50 bytes or more, one node. The plan
+     * made at 4 (the selection begun then finishes at once) draws {B} and
+     * would evict the least valuable node per byte it neither draws nor
+     * passes through: C (benefit 1 below the wished depth: 1 / 100 = 0.01)
+     * before D (5 / 100 = 0.05). C is the fine end of the running morph, so
+     * the scheduler keeps it: the list is D alone, value 0.05, 100 bytes. */
+    wish_host h;
+    tclod_scene *s;
+    tclod_scheduler *sch;
+    tclod_stream_desc sd;
+    const tclod_draw *items;
+    const tclod_stream_item *ev;
+    size_t n, ne;
+    tclod_id d, k;
+    (void)state;
+    memset(&h, 0, sizeof h);
+    s = chain(&h, 3);
+    assert_int_equal(tclod_scene_add_node(s, TCLOD_NONE, NULL, &d), TCLOD_OK);
+    assert_int_equal(d, 3);
+    h.benefit[d] = 5.0;
+    h.cost[d] = 1000.0;
+    for (k = 0; k < 4; ++k)
+        assert_int_equal(tclod_scene_set_node_bytes(s, k, 100.0), TCLOD_OK);
+    h.target = 2;
+    sch = wish_scheduler(s, &h);
+    memset(&sd, 0, sizeof sd);
+    sd.memory_budget = 350.0;
+    assert_int_equal(tclod_scheduler_set_stream(sch, &sd), TCLOD_OK);
+    run_frames(sch, 0, 30);
+    h.target = 1;
+    run_frames(sch, 30, 46);
+    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(items[0].fine, 2);
+    assert_int_equal(items[0].coarse, 1);
+    assert_int_equal(tclod_scheduler_evictions(sch, &ev, &ne), TCLOD_OK);
+    assert_int_equal(ne, 1);
+    assert_int_equal(ev[0].id, d);
+    assert_float_equal(ev[0].bytes, 100.0, 0.0);
+    assert_float_equal(ev[0].value, 0.05, 1e-12);
+    assert_false(listed(ev, ne, 2));
+    assert_false(listed(ev, ne, 1));
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
+/* ---- requests for the predicted views ------------------------------------- */
+
+/* Worth 1 when the query's view sees the node, else 0; costs 1. */
+static double seen_benefit(void *user, const tclod_query *q) {
+    (void)user;
+    return q->screen_area > 0.0f ? 1.0 : 0.0;
+}
+
+static double unit_cost(void *user, const tclod_query *q) {
+    (void)user;
+    (void)q;
+    return 1.0;
+}
+
+static void the_requests_cover_a_node_only_a_predicted_view_sees(void **state) {
+    /* The camera of helper_view (90 degrees, looking down -z) moves along +x
+     * at 10 m/s: eye (t * 10, 0, 0). F, a root 1 m in radius at (60, 0, -20),
+     * is not resident (1000 bytes). tau = 1, one predicted view at the
+     * middle of the target interval: the selection begun at b sees the eye
+     * of b + 2.5, at x = 10 b + 25 (the fitted line is exact, and 25 m in
+     * 2.5 s is within max_speed 20 m/s).
+     * - begun at 1: eye x = 35, F at (25, -20): 51.3 degrees off the axis,
+     *   more than 45 + 2.3 (its angular radius at 32 m): unseen;
+     * - begun at 2: eye x = 45, F at (15, -20): 36.9 degrees: seen.
+     * The view of t = 2 itself (eye x = 20, F at (40, -20): 63.4 degrees)
+     * does not see it. So the lists of t = 1.9 (the selection of 1) request
+     * nothing, and those of t = 2 request F alone: benefit 1 over 1000
+     * bytes, value 0.001. A selector over the current view at t = 2 requests
+     * nothing. */
+    static const float near_b[4] = {30.0f, 0.0f, -50.0f, 1.0f};
+    tclod_scene *s = NULL;
+    tclod_node_desc nd;
+    tclod_selector_desc sd;
+    tclod_scheduler_desc d;
+    tclod_scheduler *sch = NULL;
+    tclod_selector *sel = NULL;
+    tclod_stream_desc st;
+    const tclod_stream_item *req;
+    tclod_frame fr;
+    tclod_view v;
+    size_t n;
+    tclod_id near_id, far_id;
+    uint32_t f;
+    (void)state;
+    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+    assert_int_equal(tclod_scene_add_node(s, TCLOD_NONE, near_b, &near_id), TCLOD_OK);
+    tclod_node_desc_default(&nd);
+    nd.bounds = tclod_bounds_sphere(60.0, 0.0, -20.0, 1.0);
+    nd.not_resident = 1;
+    nd.bytes = 1000.0;
+    assert_int_equal(tclod_scene_add_node_desc(s, &nd, &far_id), TCLOD_OK);
+    tclod_selector_desc_default(&sd);
+    sd.callbacks.benefit = seen_benefit;
+    sd.callbacks.cost = unit_cost;
+    tclod_scheduler_desc_default(&d);
+    d.tau = 1.0;
+    d.samples = 1;
+    d.confidence = TCLOD_OFF;
+    d.max_speed = 20.0;
+    assert_int_equal(tclod_scheduler_create(s, &sd, &d, NULL, &sch), TCLOD_OK);
+    memset(&st, 0, sizeof st);
+    st.max_requests = 4;
+    assert_int_equal(tclod_scheduler_set_stream(sch, &st), TCLOD_OK);
+    helper_view(&v);
+    for (f = 0; f <= 20u; ++f) {
+        v.eye[0] = (float)f;
+        assert_int_equal(tclod_scheduler_update(sch, (double)f / 10.0, &v, 100.0, 0.0), TCLOD_OK);
+        assert_int_equal(tclod_scheduler_requests(sch, &req, &n), TCLOD_OK);
+        if (f < 20u && n != 0)
+            fail_msg("t = %.1f: %u requests, expected none", (double)f / 10.0, (unsigned)n);
+    }
+    assert_int_equal(n, 1);
+    assert_int_equal(req[0].id, far_id);
+    assert_int_equal(req[0].flags, 0);
+    assert_float_equal(req[0].bytes, 1000.0, 0.0);
+    assert_float_equal(req[0].value, 0.001, 1e-15);
+    /* the current view alone asks for nothing */
+    assert_int_equal(tclod_selector_create(s, &sd, NULL, &sel), TCLOD_OK);
+    assert_int_equal(tclod_selector_set_stream(sel, &st), TCLOD_OK);
+    fr = helper_frame(&v, 100.0);
+    assert_int_equal(tclod_select(sel, &fr, NULL), TCLOD_OK);
+    assert_int_equal(tclod_selector_requests(sel, &req, &n), TCLOD_OK);
+    assert_int_equal(n, 0);
+    tclod_selector_destroy(sel);
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
+/* ---- errors ------------------------------------------------------------------ */
+
+/* A host that calls the streaming calls from its benefit callback, and
+ * counts the calls and the answers other than TCLOD_ERR_STATE. Node n is
+ * worth n + 1 and costs 1. */
+static tclod_scheduler *calling_sch;
+static uint32_t callback_calls, callback_wrong;
+
+static double calling_benefit(void *user, const tclod_query *q) {
+    const tclod_stream_item *items;
+    size_t n;
+    tclod_stream_desc d;
+    (void)user;
+    memset(&d, 0, sizeof d);
+    callback_calls++;
+    callback_wrong += tclod_scheduler_set_stream(calling_sch, &d) != TCLOD_ERR_STATE;
+    callback_wrong += tclod_scheduler_requests(calling_sch, &items, &n) != TCLOD_ERR_STATE;
+    callback_wrong += tclod_scheduler_evictions(calling_sch, &items, &n) != TCLOD_ERR_STATE;
+    return (double)q->id + 1.0;
+}
+
+static void the_streaming_calls_refuse_bad_arguments_and_callbacks(void **state) {
+    /* A chain R, A, B worth 1, 2, 3, B not resident (10 bytes), max_requests
+     * 4: each refinement gains 1, so every plan passes through A and requests
+     * B. A desc with a bad field is refused with the field named and changes
+     * nothing (B is still requested). The callbacks are called from within
+     * the selector and, once A is evicted, from the scheduler itself (it
+     * costs R, which the landed selections draw in A's place): every
+     * streaming call from them is refused. */
+    tclod_scene *s = NULL;
+    tclod_node_desc nd;
+    tclod_selector_desc sd;
+    tclod_scheduler_desc d;
+    tclod_scheduler *sch = NULL;
+    tclod_stream_desc st, bad;
+    const tclod_stream_item *items;
+    const tclod_draw *draws;
+    size_t n;
+    tclod_id r, a, b;
+    tclod_view v;
+    (void)state;
+    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+    assert_int_equal(tclod_scene_add_node(s, TCLOD_NONE, NULL, &r), TCLOD_OK);
+    assert_int_equal(tclod_scene_add_node(s, r, NULL, &a), TCLOD_OK);
+    tclod_node_desc_default(&nd);
+    nd.parent = a;
+    nd.not_resident = 1;
+    nd.bytes = 10.0;
+    assert_int_equal(tclod_scene_add_node_desc(s, &nd, &b), TCLOD_OK);
+    assert_int_equal(b, 2);
+    tclod_selector_desc_default(&sd);
+    sd.callbacks.benefit = calling_benefit;
+    sd.callbacks.cost = unit_cost;
+    tclod_scheduler_desc_default(&d);
+    assert_int_equal(tclod_scheduler_create(s, &sd, &d, NULL, &sch), TCLOD_OK);
+    calling_sch = sch;
+    memset(&st, 0, sizeof st);
+    st.max_requests = 4;
+    assert_int_equal(tclod_scheduler_set_stream(NULL, &st), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_set_stream(sch, &st), TCLOD_OK);
+    bad = st;
+    bad.memory_budget = (double)NAN;
+    assert_int_equal(tclod_scheduler_set_stream(sch, &bad), TCLOD_ERR_ARG);
+    assert_non_null(strstr(tclod_scheduler_last_error(sch), "memory_budget"));
+    bad = st;
+    bad.bytes_in_flight = -1.0;
+    assert_int_equal(tclod_scheduler_set_stream(sch, &bad), TCLOD_ERR_ARG);
+    assert_non_null(strstr(tclod_scheduler_last_error(sch), "bytes_in_flight"));
+    bad = st;
+    bad.max_request_bytes = (double)INFINITY;
+    assert_int_equal(tclod_scheduler_set_stream(sch, &bad), TCLOD_ERR_ARG);
+    assert_non_null(strstr(tclod_scheduler_last_error(sch), "max_request_bytes"));
+    assert_int_equal(tclod_scheduler_requests(NULL, &items, &n), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_requests(sch, NULL, &n), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_requests(sch, &items, NULL), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_evictions(NULL, &items, &n), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_evictions(sch, NULL, &n), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scheduler_evictions(sch, &items, NULL), TCLOD_ERR_ARG);
+    /* before the first update: empty lists */
+    assert_int_equal(tclod_scheduler_requests(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 0);
+    helper_view(&v);
+    assert_int_equal(tclod_scheduler_update(sch, 0.0, &v, 100.0, 0.0), TCLOD_OK);
+    assert_int_equal(tclod_scheduler_draws(sch, &draws, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(draws[0].fine, a);
+    assert_int_equal(tclod_scheduler_requests(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 1); /* the refused descs changed nothing */
+    assert_int_equal(items[0].id, b);
+    assert_int_equal(tclod_scheduler_evictions(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 0);
+    assert_int_equal(tclod_scene_set_resident(s, a, 0), TCLOD_OK);
+    assert_int_equal(tclod_scheduler_update(sch, 0.1, &v, 100.0, 0.0), TCLOD_OK);
+    assert_int_equal(tclod_scheduler_draws(sch, &draws, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(draws[0].fine, r);
+    assert_true(callback_calls > 0u);
+    assert_int_equal(callback_wrong, 0);
+    /* planning off: the lists stay those of the last selection to end (the
+     * one begun at 0, finished at once) until the next ends, at the boundary
+     * of tau = 0.5 */
+    assert_int_equal(tclod_scheduler_set_stream(sch, NULL), TCLOD_OK);
+    assert_int_equal(tclod_scheduler_update(sch, 0.25, &v, 100.0, 0.0), TCLOD_OK);
+    assert_int_equal(tclod_scheduler_requests(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(tclod_scheduler_update(sch, 0.5, &v, 100.0, 0.0), TCLOD_OK);
+    assert_int_equal(tclod_scheduler_requests(sch, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 0);
+    tclod_scheduler_destroy(sch);
+    tclod_scene_destroy(s);
+}
+
 /* ---- random paths with residency flipped between updates ------------------ */
 
 /* Marks on[] every node on the path from a draw item's fine node to its root. */
@@ -403,6 +665,9 @@ int main(void) {
         cmocka_unit_test(an_up_morph_never_starts_towards_an_evicted_fine_end),
         cmocka_unit_test(a_down_morph_whose_coarse_end_is_evicted_holds_the_old_level),
         cmocka_unit_test(a_selection_never_lands_a_node_evicted_while_it_ran),
+        cmocka_unit_test(the_evictions_never_name_the_ends_of_a_running_morph),
+        cmocka_unit_test(the_requests_cover_a_node_only_a_predicted_view_sees),
+        cmocka_unit_test(the_streaming_calls_refuse_bad_arguments_and_callbacks),
         cmocka_unit_test(no_draw_item_names_a_node_that_is_not_resident),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
