@@ -1868,6 +1868,8 @@ double tclod_scheduler_resolution(const tclod_scheduler *sch, tclod_id smooth) {
     if (!sch || !sch->shown.started || smooth >= sch->scene->smooth_count ||
         smooth >= sch->smooth_cap)
         return 0.0;
+    if (sch->scene->smooth_flags[smooth] & TCLOD_NODE_ABSENT)
+        return 0.0; /* not resident (evicted since a selection drew it): not drawn */
     c = sch->gen[sch->shown.cur].res[smooth];
     if (sch->desc.two_stage)
         return c;

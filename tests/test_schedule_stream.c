@@ -660,6 +660,40 @@ static void no_draw_item_names_a_node_that_is_not_resident(void **state) {
     world_scene_free(&w);
 }
 
+/* A smooth object 10 m ahead (benefit sqrt(r), cost r) under a mixed
+ * scheduler with an ample budget: drawn after the first update. Evicted,
+ * it shows resolution 0 at once, before any update, and after the next. */
+static void an_evicted_smooth_object_shows_no_resolution(void **state) {
+    const float ahead[4] = {0.0f, 0.0f, -10.0f, 1.0f};
+    table_model m;
+    tclod_scene *s = NULL;
+    tclod_scheduler *sch = NULL;
+    tclod_selector_desc sd;
+    tclod_scheduler_desc d;
+    tclod_view v;
+    tclod_id a;
+    (void)state;
+    table_init(&m);
+    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+    assert_int_equal(table_add_smooth(&m, s, ahead, TABLE_POWER, 1.0, 0.5, 1.0, 1.0, 0.0, &a),
+                     TCLOD_OK);
+    tclod_selector_desc_default(&sd);
+    sd.solver = TCLOD_SOLVER_MIXED;
+    table_mixed_callbacks(&m, &sd.callbacks);
+    tclod_scheduler_desc_default(&d);
+    assert_int_equal(tclod_scheduler_create(s, &sd, &d, NULL, &sch), TCLOD_OK);
+    helper_view(&v);
+    assert_int_equal(tclod_scheduler_update(sch, 0.0, &v, 10.0, 0.0), TCLOD_OK);
+    assert_true(tclod_scheduler_resolution(sch, a) > 0.0);
+    assert_int_equal(tclod_scene_set_smooth_resident(s, a, 0), TCLOD_OK);
+    assert_true(tclod_scheduler_resolution(sch, a) == 0.0);
+    assert_int_equal(tclod_scheduler_update(sch, 0.02, &v, 10.0, 0.0), TCLOD_OK);
+    assert_true(tclod_scheduler_resolution(sch, a) == 0.0);
+    tclod_scheduler_destroy(sch);
+    assert_int_equal(tclod_scene_destroy(s), TCLOD_OK);
+    table_free(&m);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(an_up_morph_never_starts_towards_an_evicted_fine_end),
@@ -669,6 +703,7 @@ int main(void) {
         cmocka_unit_test(the_requests_cover_a_node_only_a_predicted_view_sees),
         cmocka_unit_test(the_streaming_calls_refuse_bad_arguments_and_callbacks),
         cmocka_unit_test(no_draw_item_names_a_node_that_is_not_resident),
+        cmocka_unit_test(an_evicted_smooth_object_shows_no_resolution),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

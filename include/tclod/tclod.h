@@ -990,8 +990,8 @@ TCLOD_API tclod_status tclod_scheduler_draws(const tclod_scheduler *sch, const t
                                              size_t *n);
 
 /* This frame's resolution of smooth object `smooth` in [0, 1] (0 = not
- * drawn; also for unknown ids, NULL, before the first update and with a solver
- * that ignores smooth objects). O(1). */
+ * drawn; also for unknown ids, NULL, one not resident, before the first
+ * update and with a solver that ignores smooth objects). O(1). */
 TCLOD_API double tclod_scheduler_resolution(const tclod_scheduler *sch, tclod_id smooth);
 
 /* Reports the measured render and logic times (>= 0, the budget's unit) of the
