@@ -108,12 +108,17 @@ int tclod_evaluate_invisible(tclod_selector *sel, tclod_node_state *st, double b
 }
 
 int tclod_evaluate_bad_cost(tclod_selector *sel, tclod_node_state *st, double c) {
-    if (!(c >= 0.0 && c < HUGE_VAL)) { /* NaN, infinite or negative; -0 passes */
+    tclod_id n = (tclod_id)(st - sel->node); /* st is node n's record */
+    if (!(c >= 0.0 && c < HUGE_VAL)) {       /* NaN, infinite or negative; -0 passes */
         tclod_bad_value(sel);
         c = HUGE_VAL;
     }
     st->cost = c;
-    return sel->failed ? -1 : 1;
+    if (sel->failed)
+        return -1;
+    if (tclod_scene_streams(sel->scene) && (sel->scene->flags[n] & TCLOD_NODE_ABSENT))
+        return tclod_evaluate_absent(sel, n);
+    return 1;
 }
 
 /* ---- the cut and its running sums ------------------------------------------ */
