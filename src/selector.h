@@ -22,8 +22,10 @@ enum {
     TCLOD_FLAG_JUMP = 2u,
     TCLOD_FLAG_REFINE = 4u,
     TCLOD_FLAG_REFIT = 8u,
-    TCLOD_FLAG_ABOVE = 16u /* while a warm start repairs its cut after the scene
-                              changed: a node above the cut */
+    TCLOD_FLAG_ABOVE = 16u, /* while a warm start repairs its cut after the scene
+                               changed: a node above the cut */
+    TCLOD_FLAG_CULL = 32u   /* while a warm start repairs its cut against residency:
+                               a node above the cut whose subtree leaves it */
 };
 
 /* What a selector knows of one node, packed in one record because the solvers
