@@ -854,7 +854,7 @@ static TCLOD_NOINLINE int stream_repair(tclod_selector *sel) {
     int culls = 0;
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id n = sel->cut[i], o = tclod_scene_owner(s, n), p;
-        if (greedy_counts(sel, n) && (s->flags[o] & TCLOD_NODE_ABSENT) && !stream_top(s, o)) {
+        if (greedy_counts(sel, n) && tclod_scene_absent(s, n) && !stream_top(s, o)) {
             for (p = s->parent[o]; (s->flags[p] & TCLOD_NODE_ABSENT) && !stream_top(s, p);
                  p = s->parent[p])
                 ;
