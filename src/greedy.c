@@ -18,7 +18,9 @@
  * only the frontier (cut nodes, their children and their collapsible
  * parents), applies decrements (children -> parent, least benefit lost per
  * cost saved first) while over budget, then increments and
- * increment/decrement swaps while they gain.
+ * increment/decrement swaps while they gain; on a scene with nodes that are
+ * not resident it first gives up the cut nodes residency no longer allows
+ * (stream_repair).
  * A final exact re-summation in result order repairs any rounding drift, so the
  * budget guarantee holds to the last bit.
  *
@@ -108,12 +110,17 @@ int tclod_evaluate_invisible(tclod_selector *sel, tclod_node_state *st, double b
 }
 
 int tclod_evaluate_bad_cost(tclod_selector *sel, tclod_node_state *st, double c) {
-    if (!(c >= 0.0 && c < HUGE_VAL)) { /* NaN, infinite or negative; -0 passes */
+    tclod_id n = (tclod_id)(st - sel->node); /* st is node n's record */
+    if (!(c >= 0.0 && c < HUGE_VAL)) {       /* NaN, infinite or negative; -0 passes */
         tclod_bad_value(sel);
         c = HUGE_VAL;
     }
     st->cost = c;
-    return sel->failed ? -1 : 1;
+    if (sel->failed)
+        return -1;
+    if (tclod_scene_streams(sel->scene) && (sel->scene->flags[n] & TCLOD_NODE_ABSENT))
+        return tclod_evaluate_absent(sel, n);
+    return 1;
 }
 
 /* ---- the cut and its running sums ------------------------------------------ */
@@ -800,6 +807,107 @@ static void cull_additive(tclod_selector *sel, uint32_t count) {
         account(sel, sel->cut[i], 1.0);
 }
 
+/* Whether node n is the top of a hierarchy of its own for residency: a root,
+ * or a child of an additive node (a self leaf is one). Not resident, such a
+ * node is invisible and its subtree draws nothing; any other node that is not
+ * resident costs +inf (tclod_evaluate_absent). */
+static int stream_top(const tclod_scene *s, tclod_id n) {
+    tclod_id p = s->parent[n];
+    return p == TCLOD_NONE || (s->flags[p] & TCLOD_NODE_ADD);
+}
+
+/* Whether node a (TCLOD_NONE, or a node above the cut: stream_repair flagged
+ * it TCLOD_FLAG_ABOVE) is flagged TCLOD_FLAG_CULL or lies below one that is.
+ * Settles every node on the way up: each then carries the answer (CULL when
+ * covered, else neither flag), so that every node is walked once. */
+static int stream_covered(tclod_selector *sel, tclod_id a) {
+    const tclod_scene *s = sel->scene;
+    uint8_t *flags = sel->flags;
+    tclod_id p, q;
+    int covered;
+    for (p = a;
+         p != TCLOD_NONE && (flags[p] & (TCLOD_FLAG_ABOVE | TCLOD_FLAG_CULL)) == TCLOD_FLAG_ABOVE;
+         p = s->parent[p])
+        ;
+    covered = p != TCLOD_NONE && (flags[p] & TCLOD_FLAG_CULL);
+    for (q = a; q != p; q = s->parent[q])
+        flags[q] = (uint8_t)((flags[q] & ~(unsigned)TCLOD_FLAG_ABOVE) |
+                             (covered ? (unsigned)TCLOD_FLAG_CULL : 0u));
+    return covered;
+}
+
+/* Streaming: the evaluated previous cut made a cut the residency of now
+ * allows, as a cold solve would have left it (docs/streaming.md). A
+ * hierarchy whose top is not resident draws nothing: the top takes the
+ * place of its cut nodes. A visible cut node that is not resident (and not
+ * a top: it costs +inf) falls back to its nearest resident ancestor, or to
+ * the top above it that is not resident, which takes the place of its cut
+ * nodes; refining it again waits for the node. The nodes that take a place
+ * are evaluated: roots not resident above the cut are so counted in
+ * stats.absent_roots. O(cut + the nodes above it). Returns 0, or -1 on a
+ * strict error. */
+static TCLOD_NOINLINE int stream_repair(tclod_selector *sel) {
+    const tclod_scene *s = sel->scene;
+    tclod_node_state *node = sel->node;
+    uint8_t *flags = sel->flags;
+    uint32_t i, k = 0, above = 0, joined = 0;
+    int culls = 0;
+    for (i = 0; i < sel->cut_count; ++i) {
+        tclod_id n = sel->cut[i], o = tclod_scene_owner(s, n), p;
+        if (greedy_counts(sel, n) && tclod_scene_absent(s, n) && !stream_top(s, o)) {
+            for (p = s->parent[o]; (s->flags[p] & TCLOD_NODE_ABSENT) && !stream_top(s, p);
+                 p = s->parent[p])
+                ;
+            flags[p] |= TCLOD_FLAG_CULL;
+            culls = 1;
+        }
+        for (p = s->parent[n]; p != TCLOD_NONE && !(flags[p] & TCLOD_FLAG_ABOVE);
+             p = s->parent[p]) {
+            flags[p] |= TCLOD_FLAG_ABOVE;
+            sel->scratch[above++] = p;
+            if ((s->flags[p] & TCLOD_NODE_ABSENT) && stream_top(s, p)) {
+                flags[p] |= TCLOD_FLAG_CULL;
+                culls = 1;
+            }
+        }
+    }
+    if (culls) {
+        for (i = 0; i < sel->cut_count; ++i) {
+            tclod_id n = sel->cut[i];
+            if (stream_covered(sel, s->parent[n])) {
+                node[n].cut_pos = TCLOD_NONE;
+                flags[n] = 0;
+                continue;
+            }
+            sel->cut[k] = n;
+            node[n].cut_pos = k++;
+        }
+        sel->cut_count = k;
+        /* the outermost covered nodes, after the cut's end until their
+         * flags are cleared */
+        for (i = 0; i < above; ++i) {
+            tclod_id a = sel->scratch[i];
+            if (stream_covered(sel, a) && !stream_covered(sel, s->parent[a]))
+                sel->cut[k + joined++] = a;
+        }
+    }
+    for (i = 0; i < above; ++i)
+        flags[sel->scratch[i]] &= (uint8_t) ~(TCLOD_FLAG_ABOVE | TCLOD_FLAG_CULL);
+    if (!culls)
+        return 0;
+    for (i = 0; i < joined; ++i) {
+        tclod_id a = sel->cut[k + i];
+        cut_append(sel, a);
+        if (evaluate(sel, a) != 0)
+            return -1;
+    }
+    sel->cost_sum = sel->cost_err = sel->benefit_sum = 0.0;
+    sel->unaffordable = 0;
+    for (i = 0; i < sel->cut_count; ++i)
+        account(sel, sel->cut[i], 1.0);
+    return 0;
+}
+
 /* Cut = the previous cut, re-evaluated; queues its increments and decrements. */
 static int start_warm(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
@@ -820,6 +928,8 @@ static int start_warm(tclod_selector *sel) {
     }
     if (culled)
         cull_additive(sel, culled);
+    if (TCLOD_UNLIKELY(s->absent_count != 0) && stream_repair(sel) != 0)
+        return -1;
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id n = sel->cut[i];
         tclod_id p = s->parent[n];

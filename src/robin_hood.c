@@ -309,6 +309,19 @@ static double smooth_complexity(tclod_selector *sel, uint32_t pos) {
 /* The chain head above node n (defined below). */
 static tclod_id chain_head(const tclod_selector *sel, tclod_id n);
 
+/* Streaming: when node n (a self leaf: its additive node) is not resident and
+ * was evaluated in this solve, the cost its evaluation asked into *out
+ * (tclod_evaluate_absent keeps it) and 1; else 0. */
+static TCLOD_NOINLINE int kept_cost(const tclod_selector *sel, tclod_id n, double *out) {
+    const tclod_stream_state *S = &sel->stream;
+    tclod_id owner = tclod_scene_owner(sel->scene, n);
+    if (!(sel->scene->flags[owner] & TCLOD_NODE_ABSENT) || owner >= S->cap ||
+        S->seen[owner] != sel->solve_id)
+        return 0;
+    *out = S->cost[owner];
+    return 1;
+}
+
 /* The default complexity (callbacks.complexity NULL) of the instance starting
  * at head whose finest representation is node end, into *out: end's cost as
  * this select evaluates it for its frame, here, so that the select asks it
@@ -317,9 +330,11 @@ static tclod_id chain_head(const tclod_selector *sel, tclod_id n);
  * (node_complexity), or for a self leaf its additive node's, found before it
  * (an ancestor's chain comes first). `culled`: head lies below a branch the
  * frame does not see, whose subtree this select never evaluates: end is
- * taken as not seen without asking. A head that is its own end is evaluated
- * as cycles 1 and 2 evaluate heads, and its value (-1: not visible) waits in
- * path[2 head] for them (keep_values). Returns -1 on a strict error. */
+ * taken as not seen without asking. An end that is not resident has the
+ * cost its evaluation asked (kept_cost). A head that is its own end is
+ * evaluated as cycles 1 and 2 evaluate heads, and its value (-1: not
+ * visible) waits in path[2 head] for them (keep_values). Returns -1 on a
+ * strict error. */
 static int finest_cost(tclod_selector *sel, tclod_id head, tclod_id end, int culled, double *out) {
     int seen = 0;
     if (culled) {
@@ -335,6 +350,10 @@ static int finest_cost(tclod_selector *sel, tclod_id head, tclod_id end, int cul
             return -1;
         seen = visible(sel, end);
     }
+    /* not resident: its cost as asked, not the +inf that makes it undrawable in
+     * this solve (the order outlives the residency) */
+    if (TCLOD_UNLIKELY(sel->scene->absent_count != 0) && kept_cost(sel, end, out))
+        return sel->failed ? -1 : 0;
     if (seen)
         *out = sel->node[end].cost; /* sanitised: a bad one is +inf, counted once */
     else if (sel->scene->bounds[end].kind & TCLOD_BOUNDS_SELF)
@@ -652,9 +671,24 @@ TCLOD_ALWAYS_INLINE int fits(tclod_selector *sel, tclod_id n, tclod_id head,
     return sel->node[n].cost <= time;
 }
 
+/* Streaming: how many levels of the chain ch starting at head come before
+ * its first level that is not resident (the head is: it was placed). Such a
+ * level costs +inf (tclod_evaluate_absent), which would break the rising
+ * costs finest_level searches, so the chain ends there for this solve, as
+ * the greedy stops refining there. */
+static TCLOD_NOINLINE uint32_t resident_levels(const tclod_selector *sel, tclod_id head,
+                                               const tclod_rh_chain *ch) {
+    uint32_t k;
+    for (k = 1; k < ch->len; ++k)
+        if (sel->scene->flags[chain_node(sel, head, ch, k)] & TCLOD_NODE_ABSENT)
+            break;
+    return k;
+}
+
 /* The finest level of the chain ch starting at head whose cost is at most
  * `time`, which must cover the first (evaluated) level. The costs grow level
- * by level, so the levels that fit are a prefix of the chain. The search
+ * by level, so the levels that fit are a prefix of the chain (of its levels
+ * before the first that is not resident: resident_levels). The search
  * starts at the level the chain took last, gallops away from it and ends by
  * bisection: two evaluations when the level has not changed (one at either
  * end of the chain), about 2 log2 of the distance when it has. *step is what
@@ -662,10 +696,13 @@ TCLOD_ALWAYS_INLINE int fits(tclod_selector *sel, tclod_id n, tclod_id head,
  * on a strict error. */
 TCLOD_ALWAYS_INLINE int finest_level(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch,
                                      double time, tclod_id *out, double *step) {
-    uint32_t len = ch->len, lo = 0, hi = len, d = 1, guess;
+    uint32_t len = ch->len, lo = 0, hi, d = 1, guess;
     tclod_id lo_node;
     int f;
     assert(sel->node[head].stamp == sel->solve_id && sel->node[head].cost <= time);
+    if (TCLOD_UNLIKELY(sel->resume.rh.streams) && len > 1u)
+        len = resident_levels(sel, head, ch);
+    hi = len;
     if (len == 1u) { /* a single level: nothing to search */
         *out = head;
         set_last_level(sel, head, 0u);
@@ -977,6 +1014,8 @@ static double smooth_value(tclod_selector *sel, uint32_t pos) {
     float area, distance;
     tclod_query q;
     tclod_bounds qb;
+    if (s->smooth_flags[s->smooth_order[pos]] & TCLOD_NODE_ABSENT)
+        return 0.0; /* not resident: not drawn, like a culled one */
     smooth_measure(sel, pos, &area, &distance);
     if (sel->has_view && (!(area > 0.0f) || (double)area < sel->desc.smooth_cull_area))
         return 0.0;
@@ -1214,6 +1253,7 @@ static int robin_hood_start(tclod_selector *sel) {
     if ((prepared ? values_prepared(sel, &total) : values(sel, &total)) != 0)
         return -1;
     R->rh.plain = plain_heads(sel);
+    R->rh.streams = sel->scene->absent_count != 0;
     R->rh.pool = isinf(budget) ? budget : budget - BUDGET_MARGIN * budget;
     R->rh.held = sel->desc.overflow == TCLOD_OVERFLOW_DRAW_ROOTS;
     R->rh.overflowing = 0;

@@ -83,7 +83,8 @@ typedef struct tclod_rh_resume {
                     out of the pool (they fit), or drawn over the budget (they do
                     not: overflowing) */
     int overflowing;
-    int plain; /* the solve's heads take the common path (plain_heads) */
+    int plain;   /* the solve's heads take the common path (plain_heads) */
+    int streams; /* the scene has nodes that are not resident (resident_levels) */
     /* the third cycle: the candidates' ring (robin_hood.c), the value in it
      * and the smallest step it holds (or a lower bound) ... */
     uint32_t ring_first, ring_count;

@@ -1145,6 +1145,19 @@ static void enclose(const float *spheres, size_t stride, uint32_t n, const tclod
     for (k = 0; k < 3; ++k)
         out[k] = (float)c[k];
     out[3] = (float)(radius * (1.0 + 1e-6) + 1e-6 * (fabs(c[0]) + fabs(c[1]) + fabs(c[2])));
+    /* where the margins vanish (coordinates of denormal size), the float
+     * centre's rounding is made up for */
+    for (i = 0; i < n; ++i) {
+        const float *b = spheres + stride * (ids ? ids[i] : i);
+        double dx = (double)b[0] - (double)out[0], dy = (double)b[1] - (double)out[1];
+        double dz = (double)b[2] - (double)out[2];
+        double r = sqrt(dx * dx + dy * dy + dz * dz) + (double)b[3];
+        if ((double)out[3] < r) {
+            out[3] = (float)r;
+            if ((double)out[3] < r)
+                out[3] = nextafterf(out[3], HUGE_VALF);
+        }
+    }
 }
 
 /* The quadtree over the live smooth objects' ground positions, breadth first

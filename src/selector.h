@@ -22,8 +22,10 @@ enum {
     TCLOD_FLAG_JUMP = 2u,
     TCLOD_FLAG_REFINE = 4u,
     TCLOD_FLAG_REFIT = 8u,
-    TCLOD_FLAG_ABOVE = 16u /* while a warm start repairs its cut after the scene
-                              changed: a node above the cut */
+    TCLOD_FLAG_ABOVE = 16u, /* while a warm start repairs its cut after the scene
+                               changed: a node above the cut */
+    TCLOD_FLAG_CULL = 32u   /* while a warm start repairs its cut against residency:
+                               a node above the cut whose subtree leaves it */
 };
 
 /* What a selector knows of one node, packed in one record because the solvers
@@ -184,8 +186,10 @@ void tclod_bad_value(tclod_selector *sel);
 int tclod_evaluate_invisible(tclod_selector *sel, tclod_node_state *st, double b);
 
 /* What tclod_evaluate_measured does with a cost that is not in [0, +inf)
- * (-0 passes, a bad one counts, fails a strict solve and gives +inf) of a
- * visible node. Returns 1, or -1 when strict mode saw a bad value. */
+ * (-0 passes, a bad one counts, fails a strict solve and gives +inf) of the
+ * visible node whose record st is, which then goes on as one of a finite
+ * cost would: when it is not resident, tclod_evaluate_absent. Returns as
+ * tclod_evaluate_bounded. */
 int tclod_evaluate_bad_cost(tclod_selector *sel, tclod_node_state *st, double c);
 
 /* Node n is a self leaf (an additive node's own drawing among its children):
@@ -196,9 +200,8 @@ int tclod_evaluate_self(tclod_selector *sel, tclod_id n);
 
 /* ---- stream.c ---------------------------------------------------------------- */
 
-/* Node n, visible with a finite cost, is not resident: keeps its values for
- * the plan and makes it undrawable (stream.c). Returns as
- * tclod_evaluate_bounded. */
+/* Node n, visible, is not resident: keeps its values for the plan and makes
+ * it undrawable (stream.c). Returns as tclod_evaluate_bounded. */
 int tclod_evaluate_absent(tclod_selector *sel, tclod_id n);
 
 /* Whether the selector needs its streaming buffers: the scene has nodes not

@@ -5,7 +5,8 @@
  * The scene keeps its smooth objects in a quadtree over their ground positions
  * (scene.c), so every quadtree node is a contiguous range of the smooth order.
  * A frame walks it from the root with an explicit stack: nodes outside the
- * frustum or smaller on screen than the small-detail area produce no variable.
+ * frustum or smaller on screen than the small-detail area produce no variable,
+ * nor do objects that are not resident (docs/streaming.md), like culled ones.
  * Without splitting every visible object is a variable of its own. With
  * splitting, a first pass asks every visible object's benefit scale c_j (its
  * benefit at full resolution) and sums C = sum c_j and Q = sum c_j^2 up the
@@ -42,6 +43,14 @@ static int culled(const tclod_selector *sel, float area) {
     return sel->has_view && (!(area > 0.0f) || (double)area < sel->desc.smooth_cull_area);
 }
 
+/* Whether the object at smooth order position pos is not resident: it is left
+ * out of every variable, like a culled one (docs/streaming.md). */
+static int absent(const tclod_selector *sel, uint32_t pos) {
+    const tclod_scene *s = sel->scene;
+    return s->smooth_absent_count != 0 &&
+           (s->smooth_flags[s->smooth_order[pos]] & TCLOD_NODE_ABSENT) != 0;
+}
+
 static void add_variable(tclod_selector *sel, uint32_t first, uint32_t count, const float bounds[4],
                          float area, float distance) {
     tclod_vars *v = &sel->mixed.vars;
@@ -63,7 +72,7 @@ static const float *object_bounds(const tclod_scene *s, uint32_t pos) {
     return &s->smooth_bounds[4u * s->smooth_order[pos]];
 }
 
-/* Every visible object of node k becomes a variable of its own. */
+/* Every visible, resident object of node k becomes a variable of its own. */
 static void split_flat(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
     uint32_t top = 0;
@@ -76,10 +85,13 @@ static void split_flat(tclod_selector *sel) {
         if (culled(sel, area))
             continue;
         if (node->count == 1) {
-            add_variable(sel, node->first, 1, node->bounds, area, distance);
+            if (!absent(sel, node->first))
+                add_variable(sel, node->first, 1, node->bounds, area, distance);
         } else if (node->child_count == 0) {
             for (i = node->first; i < node->first + node->count; ++i) {
                 const float *b = object_bounds(s, i);
+                if (absent(sel, i))
+                    continue;
                 measure(sel, b, &area, &distance);
                 if (!culled(sel, area))
                     add_variable(sel, i, 1, b, area, distance);
@@ -94,13 +106,13 @@ static void split_flat(tclod_selector *sel) {
 
 /* Benefit scale of one object (a leaf of one, with the leaf's bounds, or an
  * object of a leaf of several, with its own) measured at area and distance:
- * its benefit at full resolution, 0 when culled or its benefit is bad.
- * Returns -1 on a strict error. */
-static int object_scale(tclod_selector *sel, uint32_t pos, const float bounds[4], float area,
-                        float distance, double *scale) {
+ * its benefit at full resolution, 0 when culled, not resident or its benefit
+ * is bad. Returns -1 on a strict error. */
+TCLOD_ALWAYS_INLINE int object_scale(tclod_selector *sel, uint32_t pos, const float bounds[4],
+                                     float area, float distance, double *scale) {
     double db;
     *scale = 0.0;
-    if (culled(sel, area))
+    if (culled(sel, area) || absent(sel, pos))
         return 0;
     tclod_smooth_call(sel, pos, 1, bounds, area, distance, 1.0, scale, &db, NULL, NULL);
     return sel->failed ? -1 : 0;

@@ -15,7 +15,10 @@
  * tclod_scheduler_create, tclod_scheduler_update (each solver) and
  * tclod_calib_create.
  * A selector that saw failures must then go on exactly like one that never
- * did.
+ * did. Streaming: nodes added not resident with sizes, residency and sizes
+ * changed (calls that allocate nothing, so they succeed with every
+ * allocation failing), and selects with a stream desc set or nodes not
+ * resident, whose first such select grows the streaming buffers.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -589,6 +592,155 @@ static void selector_create_reports_nomem_for_every_solver(void **state) {
     table_free(&m);
 }
 
+/* The resident bytes a model of sizes and residency says (ids the table
+ * model has as nodes; smooth objects apart). */
+static double resident_sum(const table_model *m, const uint8_t *resident, const double *bytes) {
+    double sum = 0.0;
+    uint32_t i;
+    for (i = 0; i < m->count; ++i)
+        if (m->kind[i] != TABLE_NONE && resident[i])
+            sum += bytes[i];
+    return sum;
+}
+
+static void streaming_scene_under_failure(failure_mode mode) {
+    /* 500 nodes, every third added not resident, each with a size of its id
+     * in bytes (whole numbers: every sum is exact), every fifth additive,
+     * each add retried with its k-th allocation failing until it succeeds;
+     * between adds, with every allocation failing, a node's residency
+     * flipped and another's size changed (calls that allocate nothing).
+     * A failed add returns TCLOD_ERR_NOMEM and changes nothing: the count,
+     * the memory, the resident bytes, the residency and size of every node.
+     * Then 100 smooth objects the same way, sized and half of them unloaded
+     * with every allocation failing, and subtrees removed likewise; at the
+     * end the resident bytes are the model's and the scene selects within
+     * its budget, drawing only resident nodes. */
+    test_alloc t;
+    tclod_allocator hooks;
+    tclod_scene *s = NULL;
+    tclod_selector *sel = NULL;
+    tclod_selector_desc d;
+    table_model m;
+    table_rng rng;
+    tclod_frame frame;
+    tclod_stats st;
+    uint8_t resident[1024];
+    double bytes[1024], smooth_bytes = 0.0;
+    const tclod_id *ids;
+    size_t failures = 0, n, k;
+    uint32_t i;
+    test_alloc_init(&t);
+    hooks = test_alloc_hooks(&t);
+    table_init(&m);
+    table_rng_seed(&rng, 221);
+    memset(resident, 0, sizeof resident);
+    memset(bytes, 0, sizeof bytes);
+    assert_int_equal(tclod_scene_create(&hooks, &s), TCLOD_OK);
+    for (i = 0; i < 500; ++i) {
+        tclod_node_desc nd;
+        tclod_id id = 777777;
+        tclod_node_desc_default(&nd);
+        nd.parent = i < 5 ? TCLOD_NONE : table_rng_below(&rng, m.count);
+        while (nd.parent != TCLOD_NONE && m.kind[nd.parent] == TABLE_NONE)
+            nd.parent = nd.parent == 0u ? TCLOD_NONE : nd.parent - 1u;
+        nd.refine = i % 5u == 0u ? TCLOD_REFINE_ADD : TCLOD_REFINE_REPLACE;
+        nd.not_resident = i % 3u == 0u;
+        nd.bytes = (double)m.count;
+        for (k = 1; k <= MAX_ALLOCATIONS_PER_CALL; ++k) {
+            size_t held = t.outstanding_bytes;
+            uint32_t count = tclod_scene_node_count(s), j;
+            tclod_status status;
+            arm(&t, mode, k);
+            status = table_add_node_desc(&m, s, &nd, 1.0 + (double)(i % 7u), 1.0, &id);
+            if (status == TCLOD_OK)
+                break;
+            assert_int_equal(status, TCLOD_ERR_NOMEM);
+            assert_int_equal(id, 777777);
+            assert_int_equal(tclod_scene_node_count(s), count);
+            assert_int_equal(t.outstanding_bytes, held);
+            assert_true(tclod_scene_resident_bytes(s) == resident_sum(&m, resident, bytes));
+            for (j = 0; j < count; ++j)
+                if (m.kind[j] != TABLE_NONE)
+                    assert_true(tclod_scene_node_resident(s, j) == resident[j] &&
+                                tclod_scene_node_bytes(s, j) == bytes[j]);
+            failures++;
+        }
+        assert_true(k <= MAX_ALLOCATIONS_PER_CALL);
+        assert_true(id < 1024);
+        resident[id] = !nd.not_resident;
+        bytes[id] = nd.bytes;
+        if (i % 7u == 6u) {
+            tclod_id a = table_rng_below(&rng, m.count), b = table_rng_below(&rng, m.count);
+            test_alloc_fail_from(&t, 1);
+            if (m.kind[a] != TABLE_NONE) {
+                assert_int_equal(tclod_scene_set_resident(s, a, !resident[a]), TCLOD_OK);
+                resident[a] = !resident[a];
+            }
+            if (m.kind[b] != TABLE_NONE) {
+                assert_int_equal(tclod_scene_set_node_bytes(s, b, 3.0 * (double)b), TCLOD_OK);
+                bytes[b] = 3.0 * (double)b;
+            }
+        }
+        test_alloc_fail_from(&t, 0);
+        assert_true(tclod_scene_resident_bytes(s) == resident_sum(&m, resident, bytes));
+    }
+    assert_true(failures > 0);
+    for (i = 0; i < 100; ++i) {
+        const float b[4] = {(float)(i % 10u) * 4.0f, 0.0f, (float)(i / 10u) * 4.0f, 1.0f};
+        tclod_id id = 777777;
+        for (k = 1; k <= MAX_ALLOCATIONS_PER_CALL; ++k) {
+            size_t held = t.outstanding_bytes;
+            tclod_status status;
+            arm(&t, mode, k);
+            status = table_add_smooth(&m, s, b, TABLE_POWER, 2.0, 0.5, 1.0, 1.0, 0.0, &id);
+            if (status == TCLOD_OK)
+                break;
+            assert_int_equal(status, TCLOD_ERR_NOMEM);
+            assert_int_equal(tclod_scene_smooth_count(s), i);
+            assert_int_equal(t.outstanding_bytes, held);
+            assert_true(tclod_scene_resident_bytes(s) ==
+                        resident_sum(&m, resident, bytes) + smooth_bytes);
+        }
+        assert_true(k <= MAX_ALLOCATIONS_PER_CALL);
+        test_alloc_fail_from(&t, 1);
+        assert_int_equal(tclod_scene_set_smooth_bytes(s, id, 10.0), TCLOD_OK);
+        if (i % 2u)
+            assert_int_equal(tclod_scene_set_smooth_resident(s, id, 0), TCLOD_OK);
+        else
+            smooth_bytes += 10.0;
+        test_alloc_fail_from(&t, 0);
+        assert_true(tclod_scene_resident_bytes(s) ==
+                    resident_sum(&m, resident, bytes) + smooth_bytes);
+    }
+    /* removals allocate nothing: subtrees of resident nodes and of nodes not
+     * resident leave the sum as the model has it */
+    test_alloc_fail_from(&t, 1);
+    for (i = 0; i < 20; ++i) {
+        tclod_id v = table_rng_below(&rng, m.count);
+        if (m.kind[v] == TABLE_NONE)
+            continue;
+        assert_int_equal(table_remove_node(&m, s, v), TCLOD_OK);
+        assert_true(tclod_scene_resident_bytes(s) ==
+                    resident_sum(&m, resident, bytes) + smooth_bytes);
+    }
+    test_alloc_fail_from(&t, 0);
+    selector_desc(&d, TCLOD_SOLVER_MIXED, &m);
+    assert_int_equal(tclod_selector_create(s, &d, NULL, &sel), TCLOD_OK);
+    frame.view = NULL;
+    frame.budget = 0.5 * total_cost(&m);
+    frame.solve_seconds = 0.0;
+    frame.max_iterations = 0;
+    assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_OK);
+    assert_true(st.cost <= frame.budget);
+    assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
+    for (k = 0; k < n; ++k)
+        assert_true(tclod_scene_node_resident(s, ids[k]));
+    tclod_selector_destroy(sel);
+    tclod_scene_destroy(s);
+    assert_nothing_left(&t);
+    table_free(&m);
+}
+
 /* Selects one frame on sel, whose allocations come from t, with the k-th
  * allocation failing (k = 1, 2, ...) in the given mode until it succeeds;
  * every failure must return TCLOD_ERR_NOMEM, leave the result and the stats
@@ -836,6 +988,156 @@ static void select_begin_reports_nomem_and_steps_allocate_nothing_for_every_solv
             }
             rig_close(&r);
         }
+}
+
+/* A selector's load requests and evictions, copied. */
+typedef struct stream_lists {
+    tclod_stream_item items[2][1200];
+    size_t n[2];
+} stream_lists;
+
+static void take_lists(const tclod_selector *sel, stream_lists *l) {
+    const tclod_stream_item *items = NULL;
+    int k;
+    for (k = 0; k < 2; ++k) {
+        assert_int_equal(k == 0 ? tclod_selector_requests(sel, &items, &l->n[k])
+                                : tclod_selector_evictions(sel, &items, &l->n[k]),
+                         TCLOD_OK);
+        assert_true(l->n[k] <= 1200);
+        if (l->n[k])
+            memcpy(l->items[k], items, l->n[k] * sizeof *items);
+    }
+}
+
+static void assert_same_lists(const stream_lists *a, const stream_lists *b, const char *what) {
+    int k;
+    for (k = 0; k < 2; ++k)
+        if (a->n[k] != b->n[k] ||
+            (a->n[k] && memcmp(a->items[k], b->items[k], a->n[k] * sizeof a->items[k][0]) != 0))
+            fail_msg("%s: the %s differ (%lu and %lu items)", what,
+                     k == 0 ? "requests" : "evictions", (unsigned long)a->n[k],
+                     (unsigned long)b->n[k]);
+}
+
+/* Flips the residency of about a tenth of the live nodes and smooth objects,
+ * with every allocation of t failing (the calls allocate nothing). */
+static void flip_some(table_model *m, tclod_scene *s, table_rng *rng, test_alloc *t) {
+    uint32_t i;
+    test_alloc_fail_from(t, 1);
+    for (i = 0; i < m->count; ++i)
+        if (m->kind[i] != TABLE_NONE && table_rng_below(rng, 10) == 0)
+            assert_int_equal(tclod_scene_set_resident(s, i, !tclod_scene_node_resident(s, i)),
+                             TCLOD_OK);
+    for (i = 0; i < m->smooth.count; ++i)
+        if (table_rng_below(rng, 10) == 0)
+            assert_int_equal(
+                tclod_scene_set_smooth_resident(s, i, !tclod_scene_smooth_resident(s, i)),
+                TCLOD_OK);
+    test_alloc_fail_from(t, 0);
+}
+
+static void streaming_selects_that_run_out_of_memory_change_nothing_for_every_solver(void **state) {
+    /* As the test above, with streaming: a scene all resident and a
+     * selector without a stream desc select first (the common buffers
+     * grow); then the streaming buffers must grow, either because the
+     * selector is given a stream desc (loads, a memory budget) or because
+     * a tenth of the nodes become not resident; then the scene grows by
+     * chains added not resident with sizes and flips again (everything
+     * grows); then it only flips (no memory needed: the select succeeds at
+     * once). A reference selector with the same desc, never failing, sees
+     * the same frames. Each failure returns TCLOD_ERR_NOMEM and leaves the
+     * result, the stats, the load requests and the evictions as they were;
+     * each success matches the reference bit for bit and draws only
+     * resident nodes. */
+    static const tclod_solver solvers[3] = {TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_MIXED,
+                                            TCLOD_SOLVER_ROBIN_HOOD};
+    static stream_lists lists_before, lists_after, lists_ref;
+    int solver, mode, trigger;
+    (void)state;
+    for (solver = 0; solver < 3; ++solver)
+        for (mode = TRANSIENT; mode <= PERSISTENT; ++mode)
+            for (trigger = 0; trigger < 2; ++trigger) {
+                rig r;
+                table_rng rng;
+                int frame;
+                rig_open(&r, solvers[solver], solver == 1, 221, 40, 100, 40);
+                table_rng_seed(&rng, 222);
+                for (frame = 0; frame < 4; ++frame) {
+                    tclod_frame f;
+                    tclod_stats st, ref_st;
+                    size_t failures = 0, k, i, n;
+                    const tclod_id *ids;
+                    if (frame == 1 && trigger == 0) {
+                        tclod_stream_desc sd;
+                        memset(&sd, 0, sizeof sd);
+                        sd.max_requests = 16;
+                        sd.memory_budget = 1e6;
+                        assert_int_equal(tclod_selector_set_stream(r.sel, &sd), TCLOD_OK);
+                        assert_int_equal(tclod_selector_set_stream(r.ref, &sd), TCLOD_OK);
+                    } else if (frame == 1) {
+                        flip_some(&r.m, r.s, &rng, &r.t);
+                    } else if (frame == 2) {
+                        uint32_t first = r.m.count;
+                        assert_int_equal(table_chains(&r.m, r.s, &rng, 60, 4, 40.0f), TCLOD_OK);
+                        for (i = first; i < r.m.count; ++i) {
+                            assert_int_equal(
+                                tclod_scene_set_node_bytes(r.s, (tclod_id)i, (double)(64u * i)),
+                                TCLOD_OK);
+                            if (i % 2u)
+                                assert_int_equal(tclod_scene_set_resident(r.s, (tclod_id)i, 0),
+                                                 TCLOD_OK);
+                        }
+                        flip_some(&r.m, r.s, &rng, &r.t);
+                    } else if (frame == 3) {
+                        flip_some(&r.m, r.s, &rng, &r.t);
+                    }
+                    f.view = NULL;
+                    f.budget = (0.2 + 0.1 * frame) * total_cost(&r.m);
+                    f.solve_seconds = 0.0;
+                    f.max_iterations = 0;
+                    take_outcome(r.sel, r.m.smooth.count, &r.before);
+                    take_lists(r.sel, &lists_before);
+                    for (k = 1; k <= MAX_ALLOCATIONS_PER_CALL; ++k) {
+                        size_t held = r.t.outstanding_bytes;
+                        tclod_status status;
+                        poison_stats(&st);
+                        arm(&r.t, (failure_mode)mode, k);
+                        status = tclod_select(r.sel, &f, &st);
+                        if (status == TCLOD_OK)
+                            break;
+                        assert_int_equal(status, TCLOD_ERR_NOMEM);
+                        assert_stats_untouched(&st);
+                        take_outcome(r.sel, r.m.smooth.count, &r.after);
+                        assert_same_outcome(&r.before, &r.after,
+                                            "a streaming select out of memory");
+                        take_lists(r.sel, &lists_after);
+                        assert_same_lists(&lists_before, &lists_after,
+                                          "a streaming select out of memory");
+                        assert_int_equal(r.t.outstanding_bytes, held);
+                        failures++;
+                    }
+                    test_alloc_fail_from(&r.t, 0);
+                    assert_true(k <= MAX_ALLOCATIONS_PER_CALL);
+                    if ((frame < 3) != (failures > 0))
+                        fail_msg("solver %d, %s, trigger %d, frame %d: %lu failures", solver,
+                                 mode_name[mode], trigger, frame, (unsigned long)failures);
+                    assert_int_equal(tclod_select(r.ref, &f, &ref_st), TCLOD_OK);
+                    take_outcome(r.sel, r.m.smooth.count, &r.after);
+                    take_outcome(r.ref, r.m.smooth.count, &r.expect);
+                    assert_same_outcome(&r.after, &r.expect,
+                                        "after failures, against the reference");
+                    assert_same_stats(&st, &ref_st);
+                    assert_int_equal(st.absent_roots, ref_st.absent_roots);
+                    take_lists(r.sel, &lists_after);
+                    take_lists(r.ref, &lists_ref);
+                    assert_same_lists(&lists_after, &lists_ref, "against the reference");
+                    assert_true(st.cost <= f.budget);
+                    assert_int_equal(tclod_selector_cut(r.sel, &ids, &n), TCLOD_OK);
+                    for (i = 0; i < n; ++i)
+                        assert_true(tclod_scene_node_resident(r.s, ids[i]));
+                }
+                rig_close(&r);
+            }
 }
 
 static void robin_hood_selects_after_the_first_allocate_nothing(void **state) {
@@ -1107,6 +1409,7 @@ static mode_test scene_create = {scene_create_under_failure};
 static mode_test add = {add_under_failure};
 static mode_test prepare = {prepare_under_failure};
 static mode_test edits = {edits_under_failure};
+static mode_test streaming_scene = {streaming_scene_under_failure};
 
 /* A cmocka test named `name` that runs mode_test m in both modes. */
 #define MODE_TEST(name, m) \
@@ -1118,9 +1421,11 @@ int main(void) {
         MODE_TEST("adding_nodes_and_smooth_objects_under_failure_adds_nothing", &add),
         MODE_TEST("prepare_and_smooth_order_under_failure_change_nothing", &prepare),
         MODE_TEST("boxes_additive_nodes_and_edits_under_failure_change_nothing", &edits),
+        MODE_TEST("a_streaming_scene_under_failure_changes_nothing", &streaming_scene),
         cmocka_unit_test(selector_create_reports_nomem_for_every_solver),
         cmocka_unit_test(selects_that_run_out_of_memory_change_nothing_for_every_solver),
         cmocka_unit_test(selects_sharing_the_scene_allocator_leak_nothing_for_every_solver),
+        cmocka_unit_test(streaming_selects_that_run_out_of_memory_change_nothing_for_every_solver),
         cmocka_unit_test(select_begin_reports_nomem_and_steps_allocate_nothing_for_every_solver),
         cmocka_unit_test(robin_hood_selects_after_the_first_allocate_nothing),
         cmocka_unit_test(scheduler_calls_report_nomem_and_change_nothing_for_every_solver),

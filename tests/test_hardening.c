@@ -8,6 +8,8 @@
  *    arithmetic on its empty buffers: UBSan's pointer-overflow check);
  *  - the mixed solver builds no variable model from values it never asked
  *    (valgrind: a smooth object whose benefit is bad near resolution 0);
+ *  - a group of smooth objects is asked about with a sphere that holds its
+ *    members also at coordinates of denormal size;
  *  - the scheduler returns from every update whatever the origin of its
  *    clock; it does not take huge finite benefits for bad values when it adds
  *    them over its predicted views; a failed update keeps the draw list; a
@@ -190,6 +192,73 @@ static void mixed_solver_leaves_a_smooth_object_bad_at_zero_undrawn(void **state
     tclod_scene_destroy(s);
 }
 
+/* What the smooth callbacks saw of groups: queries of several members, and
+ * those whose sphere left a member out. */
+typedef struct group_probe {
+    float bounds[2][4];
+    int groups, outside;
+} group_probe;
+
+static double sqrt_seeing_groups(void *user, const tclod_query *q, double r, double *d_dr) {
+    group_probe *g = (group_probe *)user;
+    uint32_t i;
+    if (q->count > 1) {
+        g->groups++;
+        for (i = 0; i < q->count; ++i) {
+            const float *b = g->bounds[q->members[i]];
+            double dx = (double)b[0] - q->bounds->center[0],
+                   dy = (double)b[1] - q->bounds->center[1];
+            double dz = (double)b[2] - q->bounds->center[2];
+            g->outside += sqrt(dx * dx + dy * dy + dz * dz) + (double)b[3] > q->bounds->radius;
+        }
+    }
+    *d_dr = 0.5 / sqrt(r);
+    return sqrt(r);
+}
+
+static void a_group_sphere_holds_its_members_at_denormal_coordinates(void **state) {
+    /* Two smooth objects of radius 0 at (0, 0, 0) and (d, d, d), d = 2^-149
+     * (the smallest float), alike: the mixed solver with split variables
+     * gives them one shared variable, asked about with the sphere of their
+     * quadtree node. Their box's centre (d/2, d/2, d/2) is no float: it rounds
+     * to (0, 0, 0). The radius reaching the far member from the true centre,
+     * sqrt(3) d/2 = 0.87 d, with margins relative to it and to the centre (of
+     * the order of 1e-6 d) rounds to d; from (0, 0, 0) the member lies
+     * sqrt(3) d = 1.73 d away, outside. Every group's sphere must hold its
+     * members (the radius then becomes 2 d, the first float above 1.73 d). */
+    const float d = 0x1p-149f;
+    group_probe g;
+    tclod_scene *s = NULL;
+    tclod_selector *sel = NULL;
+    tclod_selector_desc desc;
+    tclod_frame f = {NULL, 10.0, 0.0, 0};
+    tclod_stats st;
+    tclod_id id;
+    int k;
+    (void)state;
+    memset(&g, 0, sizeof g);
+    g.bounds[1][0] = g.bounds[1][1] = g.bounds[1][2] = d;
+    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+    for (k = 0; k < 2; ++k) {
+        assert_int_equal(tclod_scene_add_smooth(s, g.bounds[k], &id), TCLOD_OK);
+        assert_int_equal(id, (tclod_id)k);
+    }
+    tclod_selector_desc_default(&desc);
+    desc.solver = TCLOD_SOLVER_MIXED;
+    desc.mixed.split_smooth = 1;
+    desc.callbacks.benefit = zero;
+    desc.callbacks.cost = zero;
+    desc.callbacks.smooth_benefit = sqrt_seeing_groups;
+    desc.callbacks.smooth_cost = linear_cost;
+    desc.callbacks.user = &g;
+    assert_int_equal(tclod_selector_create(s, &desc, NULL, &sel), TCLOD_OK);
+    assert_int_equal(tclod_select(sel, &f, &st), TCLOD_OK);
+    assert_true(g.groups > 0);
+    assert_int_equal(g.outside, 0);
+    tclod_selector_destroy(sel);
+    tclod_scene_destroy(s);
+}
+
 /* ---- the scheduler --------------------------------------------------------------- */
 
 #if HAVE_ALARM
@@ -359,6 +428,7 @@ int main(void) {
         cmocka_unit_test(strict_mode_fails_when_a_warm_swap_meets_a_bad_value),
         cmocka_unit_test(robin_hood_selects_nothing_from_an_empty_scene),
         cmocka_unit_test(mixed_solver_leaves_a_smooth_object_bad_at_zero_undrawn),
+        cmocka_unit_test(a_group_sphere_holds_its_members_at_denormal_coordinates),
         cmocka_unit_test(scheduler_updates_return_whatever_the_clock_origin),
         cmocka_unit_test(scheduler_takes_huge_finite_benefits_for_good_values),
         cmocka_unit_test(a_failed_first_update_keeps_the_empty_draw_list),

@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
-"""Writes hand-made seed inputs for fuzz_select and fuzz_schedule that reach
-what random bytes find slowly: additive and empty nodes, boxes valid and
-bad, the overflow policy, and edits between frames (removals with subtrees,
-removals twice, moves, adds under removed parents, hidden ids, smooth edits),
-edits tried while a resumable solve is pending and from inside callbacks,
-and ids given again after every selector solved.
+"""Writes hand-made seed inputs for fuzz_select, fuzz_schedule and fuzz_stream
+that reach what random bytes find slowly: additive and empty nodes, boxes
+valid and bad, the overflow policy, and edits between frames (removals with
+subtrees, removals twice, moves, adds under removed parents, hidden ids,
+smooth edits), edits tried while a resumable solve is pending and from inside
+callbacks, and ids given again after every selector solved; residency flipped
+around drawn nodes, sizes and stream descs good and bad.
 
     tests/fuzz/make_seeds.py [CORPUS_DIR]   (default: tests/fuzz/corpus)
 
@@ -345,6 +346,120 @@ def schedule_seeds():
     return seeds
 
 
+# ---- fuzz_stream ---------------------------------------------------------------
+
+# residency calls: set_resident, set_smooth_resident, set_node_bytes,
+# set_smooth_bytes; flags by read_flag's index: 0 -> 0, 1 -> 1, 6 -> 2, 7 -> -1
+RESIDENT, SMOOTH_RESIDENT, BYTES, SMOOTH_BYTES = 0, 1, 2, 3
+UNLOAD, LOAD, FLAG_TWO = 0, 1, 6
+
+
+def residency(op, idb, flag=UNLOAD, size=None):
+    """operate 0: a residency call (size: read_bytes's byte, for the sizes)."""
+    return [0, op + 4 * flag, idb] + ([size] if op >= BYTES else [])
+
+
+def grow_one(spec, smooth_spec=None, settle=(0,)):
+    """operate 3: a node (and a smooth object), each then settled by a byte:
+    bit 0 unloads it, bits 2-7 size it (x 1024, smooth x 512) with bit 1."""
+    return [3, 1 if smooth_spec else 0] + spec + (smooth_spec or []) + list(settle)
+
+
+def stream_edit(e, settle=()):
+    """operate 4: a fuzz_host edit, and a settling byte per new id."""
+    return [4] + e + list(settle)
+
+
+def stream_desc(requests, request_bytes=0, budget=0, flight=0):
+    """operate 5: max_requests byte, then three size bytes (< 32: a special
+    double; else (b & 15) * 8^(b >> 4))."""
+    return [5, requests, request_bytes, budget, flight]
+
+
+def bytes_answer(slot, x):
+    """operate 6: what the bytes callback says of node slot (smooth: 384 +)."""
+    return [6, slot] + ([15] if x != x else dbl(x))
+
+
+def stream_frame(ops=(), held=None, view=None, budget=255, limit=0, how=0):
+    """One frame: the operations, the held call (op, id byte, flag index,
+    size byte), view, budget, limit and how bytes."""
+    out = [len(ops)]
+    for o in ops:
+        out += o
+    if held:
+        op, idb, flag = held[:3]
+        out += [1, op, idb, flag] + ([held[3]] if op >= BYTES else [])
+    else:
+        out += [0]
+    out += view if view is not None else [0]
+    out += [budget, limit, how]
+    return out
+
+
+def stream_input(d, nodes, smooths, settle, frames, bytes_callback=True):
+    out = list(d) + [1 if bytes_callback else 0, len(nodes), len(smooths)]
+    for n in nodes:
+        out += n
+    for sm in smooths:
+        out += sm
+    out += list(settle)
+    out.append(len(frames) - 1)
+    for f in frames:
+        out += f
+    return bytes(out)
+
+
+def stream_seeds():
+    """Two hierarchies R -> {A -> {A1, A2}, B} (ids 0-4) and Q -> {Q1, Q2}
+    (5-7), all resident, and three smooth objects: everything drawn; then A
+    unloaded (a warm cut keeps A1, A2 below it), A1 too (it falls back to
+    R), Q (a root: its hierarchy draws nothing), an additive node whose
+    children arrive one by one, sizes good and bad, stream descs good and
+    bad, residency tried from a callback and while a solve is pending."""
+    seeds = []
+    nodes = [node(0xff, b=1.0, c=1.0), node(0, b=2.0, c=1.0), node(1, b=3.0, c=1.0),
+             node(1, b=3.0, c=1.0), node(0, b=2.0, c=1.0), node(0xff, b=1.0, c=1.0),
+             node(5, b=2.0, c=1.0), node(5, b=2.0, c=1.0)]
+    smooths = [smooth(0, 10.5, 1.75), smooth(7, 10.5, 1.75), smooth(-7, 14, 0.875)]
+    settle = [2 | 4 << 2] * 8 + [0, 1, 2 | 8 << 2]  # sized; smooth 1 unloaded
+    additive = node(0xff, ADD, None, b=2.0, c=1.0)  # id 8, hidden 9
+    frames = [
+        stream_frame(),
+        stream_frame(ops=[residency(RESIDENT, 1)], held=(RESIDENT, 0, UNLOAD)),
+        stream_frame(ops=[residency(RESIDENT, 2), residency(BYTES, 3, size=13),
+                          residency(BYTES, 4, size=33), stream_desc(4, 0x25, 0x37, 0)],
+                     held=(BYTES, 1, 0, 40), how=64 + 2 * 4),
+        stream_frame(ops=[residency(RESIDENT, 5), residency(RESIDENT, 1, LOAD),
+                          residency(SMOOTH_RESIDENT, 0), residency(RESIDENT, 3, FLAG_TWO),
+                          grow_one(additive, settle=(0,)),
+                          grow_one(node(8, b=3.0, c=1.0), settle=(1,)),
+                          grow_one(node(8, b=3.0, c=1.0), settle=(1,)),
+                          stream_desc(2, 15, 0, 0)],
+                     held=(SMOOTH_RESIDENT, 2, UNLOAD), how=64 + 1 + 4),
+        stream_frame(ops=[residency(RESIDENT, 10, LOAD), residency(RESIDENT, 2, LOAD),
+                          bytes_answer(11, float("nan")), stream_edit(remove(1)),
+                          residency(SMOOTH_BYTES, 2, size=15)], budget=120),
+        stream_frame(ops=[residency(RESIDENT, 11, LOAD), residency(RESIDENT, 5, LOAD),
+                          residency(RESIDENT, 0)], view=view_path(10), budget=200,
+                     how=64 + 3),
+    ]
+    # greedy warm (flags bit 0), with a lookahead of 2 (bit 7, enums 1 << 6),
+    # the mixed solver with split variables (bit 1), Robin Hood (strict: the
+    # NaN size fails its select, bit 2)
+    for solver, flags, enums in ((0, 0x01, 0), (0, 0x81, 1 << 6), (1, 0x03, 0), (2, 0x05, 0)):
+        seeds.append(stream_input(desc(solver=solver, flags=flags, enums=enums), nodes, smooths,
+                                  settle, frames))
+    # the same with nodes added not resident from the start, and a root
+    # whose benefit is 0 (not counted)
+    nodes2 = nodes + [node(0xff, b=0.0, c=1.0)]
+    settle2 = [1, 1 | 2 | 4 << 2] + [2 | 4 << 2] * 6 + [1, 0, 0, 0]
+    for solver in (0, 1, 2):
+        seeds.append(stream_input(desc(solver=solver, flags=0x01), nodes2, smooths, settle2,
+                                  frames[:3], bytes_callback=False))
+    return seeds
+
+
 def write(directory, seeds):
     os.makedirs(directory, exist_ok=True)
     for data in seeds:
@@ -359,6 +474,7 @@ def main():
         os.path.dirname(os.path.abspath(__file__)), "corpus")
     write(os.path.join(root, "select"), select_seeds())
     write(os.path.join(root, "schedule"), schedule_seeds())
+    write(os.path.join(root, "stream"), stream_seeds())
 
 
 if __name__ == "__main__":

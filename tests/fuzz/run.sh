@@ -7,7 +7,7 @@
 #
 # SECONDS defaults to 60 per target (what CI runs); WORK_DIR (default: a new
 # temporary directory) receives the build, the growing corpora and any crash
-# reproducer. TARGETs default to every target (select schedule calib). Prints
+# reproducer. TARGETs default to every target (select schedule calib stream). Prints
 # each target's executions, executions per second and corpus size; exits
 # non-zero on the first crash, leak, sanitizer report or broken guarantee.
 # Needs clang and its libFuzzer runtime (Debian: libclang-rt-14-dev).
@@ -19,7 +19,7 @@ work="${2:-$(mktemp -d)}"
 shift $(($# > 2 ? 2 : $#))
 targets=("$@")
 if ((${#targets[@]} == 0)); then
-    targets=(select schedule calib)
+    targets=(select schedule calib stream)
 fi
 jobs="$(nproc 2>/dev/null || echo 2)"
 mkdir -p "$work"
