@@ -222,7 +222,8 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
     growth g[4];
     int uses_smooth = sel->desc.solver != TCLOD_SOLVER_GREEDY;
     int i, k;
-    if (nodes + smooth < nodes || nodes > UINT32_MAX - 3u || nodes + smooth > UINT32_MAX - 1u)
+    if (nodes + smooth < nodes || nodes > UINT32_MAX - 3u || smooth > (UINT32_MAX - 2u) / 2u ||
+        nodes + 2u * smooth > UINT32_MAX - 2u)
         return TCLOD_ERR_NOMEM; /* ids beyond 32 bits */
     g[0].cap = &sel->cap;
     /* three more entries than nodes: the heaps' alignment (tclod_greedy_bind) */
@@ -236,10 +237,10 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
                        ? grown(sel->rh.cap, nodes + smooth + 1u)
                        : sel->rh.cap;
     g[3].cap = &sel->stream.cap;
-    /* one element more than nodes: the plan's lists hold nodes and smooth
-     * objects */
-    g[3].new_cap = tclod_stream_wanted(sel) && nodes + smooth + 1u > sel->stream.cap
-                       ? grown(sel->stream.cap, nodes + smooth + 1u)
+    /* the plan's lists hold nodes and smooth objects, and its heap the smooth
+     * quadtree's cells (fewer than 2 per object) */
+    g[3].new_cap = tclod_stream_wanted(sel) && nodes + 2u * smooth + 2u > sel->stream.cap
+                       ? grown(sel->stream.cap, nodes + 2u * smooth + 2u)
                        : sel->stream.cap;
     /* the arrays of the blocks that grow */
     g[0].count = g[0].new_cap != sel->cap ? node_buffers(sel, g[0].arrays) : 0;
@@ -529,7 +530,7 @@ static void note(tclod_selector *sel) {
     if (sel->result_count == 0 && sel->group_count == 0 &&
         (s->live_nodes > 0 || s->smooth_live > 0))
         notes |= TCLOD_NOTE_NOTHING_DRAWN;
-    sel->stats.notes = notes;
+    sel->stats.notes = notes | (sel->stats.notes & TCLOD_NOTE_MEMORY_SHORT); /* the plan's */
 }
 
 /* Runs the begun solve until it finishes or the slice (slice_end on the

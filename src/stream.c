@@ -47,7 +47,10 @@ size_t tclod_stream_buffers(tclod_stream_state *S, tclod_array *out) {
     out[n++] = (tclod_array){(void **)&S->benefit, sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&S->cost, sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&S->mark, sizeof(uint8_t), 0};
+    out[n++] = (tclod_array){(void **)&S->smooth_mark, sizeof(uint8_t), 0};
+    out[n++] = (tclod_array){(void **)&S->smooth_used, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&S->cap_value, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&S->size, sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&S->used, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&S->touched, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&S->heap.items, sizeof(tclod_heap_entry), -1};
@@ -118,9 +121,515 @@ tclod_status tclod_selector_evictions(const tclod_selector *sel, const tclod_str
 
 /* ---- the plan -------------------------------------------------------------------- */
 
+/* tclod_stream_state.mark: the plan's target (VCUT: in its selection; PASSED:
+ * refined on the way to it), what it keeps (KEEP) and asks for (REQUEST);
+ * these are cleared when the plan ends (touched[]). LISTED and EVICTED
+ * survive it: the node is in the current request (eviction) list. */
+enum {
+    STREAM_VCUT = 1u,
+    STREAM_PASSED = 2u,
+    STREAM_KEEP = 4u,
+    STREAM_REQUEST = 8u,
+    STREAM_LISTED = 16u,
+    STREAM_EVICTED = 32u,
+    STREAM_TRANSIENT = 15u
+};
+
+static void mark(tclod_stream_state *S, tclod_id n, uint8_t bits) {
+    if (!(S->mark[n] & STREAM_TRANSIENT))
+        S->touched[S->touched_count++] = n;
+    S->mark[n] |= bits;
+}
+
+static void unmark_all(tclod_stream_state *S) {
+    uint32_t i;
+    for (i = 0; i < S->touched_count; ++i)
+        S->mark[S->touched[i]] &= (uint8_t)~STREAM_TRANSIENT;
+    S->touched_count = 0;
+    tclod_heap_clear(&S->heap);
+}
+
+/* Clears the smooth objects' KEEP marks (keep_all set them on the drawn ones). */
+static void unmark_smooth(tclod_selector *sel) {
+    const tclod_vars *V = &sel->mixed.vars;
+    uint32_t i, k;
+    for (i = 0; i < V->count; ++i)
+        for (k = V->first[i]; k < V->first[i] + V->size[i]; ++k)
+            sel->stream.smooth_mark[sel->scene->smooth_order[k]] &= (uint8_t)~STREAM_KEEP;
+}
+
+/* Node n's benefit and cost as if it were resident (a self leaf: its
+ * owner's), evaluating it if this solve has not. Returns 0, or -1 when strict
+ * mode saw a bad value. */
+static int true_values(tclod_selector *sel, tclod_id n, double *b, double *c) {
+    const tclod_stream_state *S = &sel->stream;
+    tclod_id o = tclod_scene_owner(sel->scene, n);
+    if (sel->node[o].stamp != sel->solve_id && tclod_evaluate_node(sel, o) != 0)
+        return -1;
+    if (S->seen[o] == sel->solve_id) {
+        *b = S->benefit[o];
+        *c = S->cost[o];
+    } else {
+        *b = sel->node[o].benefit;
+        *c = sel->node[o].cost;
+    }
+    return 0;
+}
+
+/* The size a request for node n counts: the scene's, else the bytes callback's,
+ * else the mean size of the resident nodes (1 byte when there is none).
+ * Returns 0 with *bytes > 0, 1 when a bad callback value leaves n out, -1
+ * when strict mode failed on it. */
+static int request_bytes(tclod_selector *sel, tclod_id n, double *bytes) {
+    const tclod_scene *s = sel->scene;
+    const tclod_callbacks *cb = &sel->desc.callbacks;
+    double z = (double)s->bytes[n];
+    if (z == 0.0 && cb->bytes) {
+        tclod_query *q = &sel->query;
+        q->id = n;
+        q->screen_area = sel->node[n].area;
+        q->distance = sel->node[n].distance;
+        q->bounds = s->bounds[n].r >= 0.0 ? tclod_query_bounds(sel, n) : NULL;
+        z = cb->bytes(cb->user, q);
+        if (!(z >= 0.0 && z < HUGE_VAL)) {
+            tclod_bad_value(sel);
+            return sel->failed ? -1 : 1;
+        }
+    }
+    if (z == 0.0)
+        z = s->res_count > 0 ? s->resident_bytes / s->res_count : 0.0;
+    *bytes = z > 1.0 ? z : 1.0;
+    sel->stream.size[n] = *bytes;
+    return 0;
+}
+
+/* The increment of target node n: its visible children in its place. Queues
+ * it when it gains benefit and no child's cost is unaffordable. Returns 0 or
+ * -1 (strict). */
+static int queue_increment(tclod_selector *sel, tclod_id n, double b, double c) {
+    const tclod_scene *s = sel->scene;
+    uint32_t i = s->child_first[n], end = i + s->child_count[n];
+    double sum_b = 0.0, sum_c = 0.0, db, dc;
+    for (; i < end; ++i) {
+        double cb, cc;
+        if (true_values(sel, s->children[i], &cb, &cc) != 0)
+            return -1;
+        if (!(cb > 0.0))
+            continue;
+        if (isinf(cc))
+            return 0;
+        sum_b += cb;
+        sum_c += cc;
+    }
+    db = sum_b - b;
+    dc = sum_c - c;
+    if (s->child_count[n] > 0 && db > 0.0)
+        tclod_heap_push(&sel->stream.heap, n, dc > 0.0 ? db / dc : HUGE_VAL);
+    return 0;
+}
+
+/* Adds visible node n to the target with the rank its requested ancestors
+ * cap its own requests at, and queues its increment. */
+static int target_add(tclod_selector *sel, tclod_id n, double b, double c, double cap) {
+    tclod_stream_state *S = &sel->stream;
+    S->cap_value[n] = cap;
+    mark(S, n, STREAM_VCUT);
+    return queue_increment(sel, n, b, c);
+}
+
+/* Appends node n to the request candidates with key `key`. */
+static void candidate(tclod_stream_state *S, tclod_id n, double key, uint32_t *count) {
+    mark(S, n, STREAM_REQUEST);
+    S->ids[*count] = n;
+    S->keys[*count] = key;
+    ++*count;
+}
+
+/* The children of target node p that are not resident, as request candidates
+ * ranked by the benefit their arrival adds per byte, at most p's cap: each
+ * child of an additive node by its own benefit (they join one by one), the
+ * children of a replacing one as a group, by the increment's gain over their
+ * bytes together (a child of bad size leaves the group out). Every child's
+ * cap becomes its rank (not resident) or p's. Returns 0 or -1 (strict). */
+static int request_children(tclod_selector *sel, tclod_id p, double gain, uint32_t *count) {
+    const tclod_scene *s = sel->scene;
+    tclod_stream_state *S = &sel->stream;
+    uint32_t i, first = s->child_first[p], end = first + s->child_count[p], group = *count;
+    int additive = (s->flags[p] & TCLOD_NODE_ADD) != 0, bad = 0;
+    double cap = S->cap_value[p], group_bytes = 0.0;
+    for (i = first; i < end; ++i) {
+        tclod_id ch = s->children[i];
+        double b, c, z;
+        int r;
+        S->cap_value[ch] = cap;
+        if (!(s->flags[ch] & TCLOD_NODE_ABSENT))
+            continue; /* resident, or a self leaf (its owner is p) */
+        if (true_values(sel, ch, &b, &c) != 0)
+            return -1;
+        if (!(b > 0.0))
+            continue;
+        r = request_bytes(sel, ch, &z);
+        if (r < 0)
+            return -1;
+        if (r > 0) {
+            bad = 1;
+        } else if (additive) {
+            candidate(S, ch, b / z < cap ? b / z : cap, count);
+        } else {
+            candidate(S, ch, 0.0, count);
+            group_bytes += z;
+        }
+    }
+    if (!additive) {
+        double rank = gain / group_bytes < cap ? gain / group_bytes : cap;
+        for (i = group; i < *count; ++i) {
+            if (bad)
+                S->mark[S->ids[i]] &= (uint8_t)~STREAM_REQUEST;
+            S->keys[i] = rank;
+        }
+        if (bad)
+            *count = group;
+    }
+    for (i = group; i < *count; ++i)
+        S->cap_value[S->ids[i]] = S->keys[i];
+    return 0;
+}
+
+/* The plan's target: the greedy ([MB97]) over the tree as if every node were
+ * resident, from the roots, within the frame's budget, without lookahead:
+ * the increments by benefit gained per cost, each taken when it fits. The
+ * nodes it draws or passes through that are not resident become request
+ * candidates (ids[0 .. *count), keys their ranks). Returns 0 or -1. */
+static int plan_target(tclod_selector *sel, uint32_t *count) {
+    const tclod_scene *s = sel->scene;
+    tclod_stream_state *S = &sel->stream;
+    double budget = sel->frame->budget, total = 0.0;
+    uint32_t i;
+    *count = 0;
+    for (i = 0; i < s->root_count; ++i) {
+        tclod_id r = s->roots[i];
+        double b, c, z = 1.0, cap = HUGE_VAL;
+        int absent = (s->flags[r] & TCLOD_NODE_ABSENT) != 0;
+        if (true_values(sel, r, &b, &c) != 0)
+            return -1;
+        if (!(b > 0.0) || !(total + c <= budget))
+            continue;
+        if (absent) {
+            int k = request_bytes(sel, r, &z);
+            if (k < 0)
+                return -1;
+            if (k > 0)
+                continue;
+            cap = b / z;
+            candidate(S, r, cap, count);
+        }
+        total += c;
+        if (target_add(sel, r, b, c, cap) != 0)
+            return -1;
+    }
+    while (S->heap.count > 0) {
+        tclod_id p = tclod_heap_pop(&S->heap);
+        uint32_t k = s->child_first[p], end = k + s->child_count[p];
+        double b, c, sum_b = 0.0, sum_c = 0.0;
+        if (true_values(sel, p, &b, &c) != 0)
+            return -1;
+        for (; k < end; ++k) {
+            double cb, cc;
+            (void)true_values(sel, s->children[k], &cb, &cc); /* evaluated when queued */
+            if (cb > 0.0) {
+                sum_b += cb;
+                sum_c += cc;
+            }
+        }
+        if (!(total + (sum_c - c) <= budget))
+            continue;
+        total += sum_c - c;
+        S->mark[p] = (uint8_t)((S->mark[p] & ~STREAM_VCUT) | STREAM_PASSED);
+        if (request_children(sel, p, sum_b - b, count) != 0)
+            return -1;
+        for (k = s->child_first[p]; k < end; ++k) {
+            tclod_id ch = s->children[k];
+            double cb, cc;
+            (void)true_values(sel, ch, &cb, &cc);
+            if (cb > 0.0 && target_add(sel, ch, cb, cc, S->cap_value[ch]) != 0)
+                return -1;
+        }
+    }
+    return 0;
+}
+
+/* The smooth objects not resident that the mixed solver would draw: the
+ * visible ones above the small-detail area, found best first by the screen
+ * area of the quadtree's cells, at most max_requests of them, each ranked
+ * by its benefit at full resolution per byte (one smooth_benefit call).
+ * Appends them to the candidates (ids node_count + smooth id). Returns 0 or
+ * -1 (strict). */
+static int plan_smooth(tclod_selector *sel, uint32_t *count) {
+    const tclod_scene *s = sel->scene;
+    const tclod_callbacks *cb = &sel->desc.callbacks;
+    tclod_stream_state *S = &sel->stream;
+    uint32_t found = 0, want = S->desc.max_requests;
+    double mean = s->res_count > 0 ? s->resident_bytes / s->res_count : 0.0;
+    float area, distance;
+    if (sel->desc.solver != TCLOD_SOLVER_MIXED || !cb->smooth_benefit || !cb->smooth_cost ||
+        s->smooth_absent_count == 0 || !sel->has_view || s->qt_count == 0 || want == 0)
+        return 0;
+    tclod_view_cache_measure(&sel->view, s->qt[0].bounds, &area, &distance);
+    if (area > 0.0f)
+        tclod_heap_push(&S->heap, 0, (double)area);
+    while (S->heap.count > 0 && found < want) {
+        const tclod_smooth_node *q = &s->qt[tclod_heap_pop(&S->heap)];
+        uint32_t i;
+        if (q->child_count > 0) {
+            for (i = 0; i < q->child_count; ++i) {
+                tclod_view_cache_measure(&sel->view, s->qt[q->child + i].bounds, &area, &distance);
+                if (area > 0.0f && (double)area >= sel->desc.smooth_cull_area)
+                    tclod_heap_push(&S->heap, q->child + i, (double)area);
+            }
+            continue;
+        }
+        for (i = q->first; i < q->first + q->count && found < want; ++i) {
+            tclod_id id = s->smooth_order[i];
+            double b, db, z = (double)s->smooth_bytes[id];
+            if (!(s->smooth_flags[id] & TCLOD_NODE_ABSENT))
+                continue;
+            tclod_view_cache_measure(&sel->view, &s->smooth_bounds[4u * id], &area, &distance);
+            if (!(area > 0.0f) || (double)area < sel->desc.smooth_cull_area)
+                continue;
+            if (tclod_smooth_call(sel, i, 1, NULL, area, distance, 1.0, &b, &db, NULL, NULL) &&
+                sel->failed)
+                return -1;
+            if (!(b > 0.0))
+                continue;
+            if (z == 0.0)
+                z = mean;
+            z = z > 1.0 ? z : 1.0;
+            S->size[s->node_count + id] = z;
+            S->ids[*count] = s->node_count + id;
+            S->keys[*count] = b / z;
+            ++*count;
+            ++found;
+        }
+    }
+    tclod_heap_clear(&S->heap);
+    return 0;
+}
+
+/* Marks node n and its ancestors kept (until one is kept already), and
+ * notes them used now. */
+static void keep_path(tclod_selector *sel, tclod_id n) {
+    const tclod_scene *s = sel->scene;
+    tclod_stream_state *S = &sel->stream;
+    for (n = tclod_scene_owner(s, n); n != TCLOD_NONE && !(S->mark[n] & STREAM_KEEP);
+         n = s->up[n]) {
+        mark(S, n, STREAM_KEEP);
+        S->used[n] = S->plans;
+    }
+}
+
+/* What must stay resident: the drawn nodes, the target's and the owner's
+ * keep list, each with its ancestors. */
+static void keep_all(tclod_selector *sel) {
+    const tclod_scene *s = sel->scene;
+    tclod_stream_state *S = &sel->stream;
+    uint32_t i, n = S->touched_count;
+    for (i = 0; i < sel->cut_count; ++i) {
+        tclod_id id = sel->cut[i];
+        if (sel->node[id].benefit > 0.0 && !(sel->flags[id] & TCLOD_FLAG_DROPPED))
+            keep_path(sel, id);
+    }
+    for (i = 0; i < n; ++i) /* the target: marked before this began */
+        if (S->mark[S->touched[i]] & (STREAM_VCUT | STREAM_PASSED))
+            keep_path(sel, S->touched[i]);
+    for (i = 0; i < sel->mixed.vars.count; ++i) {
+        const tclod_vars *V = &sel->mixed.vars;
+        uint32_t k;
+        if (V->r[i] > 0.0)
+            for (k = V->first[i]; k < V->first[i] + V->size[i]; ++k) {
+                S->smooth_mark[s->smooth_order[k]] |= STREAM_KEEP;
+                S->smooth_used[s->smooth_order[k]] = S->plans;
+            }
+    }
+    for (i = 0; i < S->keep_count; ++i)
+        if (S->keep[i] < s->node_count &&
+            (s->flags[tclod_scene_owner(s, S->keep[i])] & (TCLOD_NODE_LIVE | TCLOD_NODE_SELF)))
+            keep_path(sel, S->keep[i]);
+}
+
+/* Queues every resident node and smooth object not kept (of nonzero size)
+ * as an eviction candidate, least valuable first. A smooth object not drawn
+ * counts as unseen. A node's value is the benefit per byte it
+ * gave this solve, or, when this solve did not see it visible, less than any
+ * of those: the longer since it was last kept, the less. A node is worth more
+ * than any resident node below it, which cannot be drawn without it: its
+ * descendants go first. */
+static void eviction_candidates(tclod_selector *sel) {
+    const tclod_scene *s = sel->scene;
+    tclod_stream_state *S = &sel->stream;
+    double *value = S->cap_value; /* free once the target is made */
+    uint32_t i;
+    for (i = 0; i < s->res_count; ++i) {
+        tclod_id n = s->res_list[i];
+        if (sel->node[n].stamp == sel->solve_id && sel->node[n].benefit > 0.0 && s->bytes[n] > 0.0f)
+            value[n] = sel->node[n].benefit / (double)s->bytes[n];
+        else
+            value[n] = -1.0 - (double)(S->plans - S->used[n]);
+    }
+    for (i = 0; i < s->res_count; ++i) {
+        tclod_id n = s->res_list[i], a;
+        for (a = s->up[n]; a != TCLOD_NONE && s->res_pos[a] != TCLOD_NONE && value[a] <= value[n];
+             n = a, a = s->up[a])
+            value[a] = nextafter(value[n], HUGE_VAL);
+    }
+    for (i = 0; i < s->res_count; ++i) {
+        tclod_id n = s->res_list[i];
+        if (!(S->mark[n] & STREAM_KEEP) && s->bytes[n] > 0.0f)
+            tclod_heap_append(&S->heap, n, -value[n]); /* a max-heap: the least valuable first */
+    }
+    for (i = 0; i < s->smooth_count; ++i)
+        if ((s->smooth_flags[i] & (TCLOD_NODE_LIVE | TCLOD_NODE_ABSENT)) == TCLOD_NODE_LIVE &&
+            !(S->smooth_mark[i] & STREAM_KEEP) && s->smooth_bytes[i] > 0.0f)
+            tclod_heap_append(&S->heap, s->node_count + i,
+                              1.0 + (double)(S->plans - S->smooth_used[i]));
+    tclod_heap_build(&S->heap);
+}
+
+static void add_item(tclod_stream_item *list, uint32_t *count, tclod_id id, uint32_t flags,
+                     double bytes, double value) {
+    tclod_stream_item *it = &list[(*count)++];
+    it->id = id;
+    it->flags = flags;
+    it->bytes = bytes;
+    it->value = value;
+}
+
+/* Lists the least valuable eviction candidate; returns its bytes. */
+static double evict_one(tclod_selector *sel) {
+    tclod_stream_state *S = &sel->stream;
+    double key = S->heap.items[0].key;
+    const tclod_scene *s = sel->scene;
+    tclod_id n = tclod_heap_pop(&S->heap);
+    if (n >= s->node_count) { /* a smooth object */
+        n -= s->node_count;
+        add_item(S->list[1][1], &S->count[1][1], n,
+                 TCLOD_STREAM_SMOOTH |
+                     ((S->smooth_mark[n] & STREAM_EVICTED) ? TCLOD_STREAM_LISTED : 0u),
+                 (double)s->smooth_bytes[n], 0.0);
+        return (double)s->smooth_bytes[n];
+    }
+    add_item(S->list[1][1], &S->count[1][1], n,
+             (S->mark[n] & STREAM_EVICTED) ? TCLOD_STREAM_LISTED : 0u, (double)s->bytes[n],
+             -key > 0.0 ? -key : 0.0);
+    return (double)s->bytes[n];
+}
+
+/* Makes the eviction candidates the first time the plan needs room. */
+static void need_room(tclod_selector *sel, int *built) {
+    if (!*built)
+        eviction_candidates(sel);
+    *built = 1;
+}
+
+/* The lists: the candidates ranked, those that fit the desc's caps, and the
+ * evictions that make room for them. */
+static void plan_lists(tclod_selector *sel, uint32_t candidates) {
+    const tclod_scene *s = sel->scene;
+    tclod_stream_state *S = &sel->stream;
+    const tclod_stream_desc *d = &S->desc;
+    int memory = d->memory_budget > 0.0, built = 0;
+    double room = d->memory_budget - s->resident_bytes - d->bytes_in_flight, listed = 0.0;
+    uint32_t i;
+    if (memory)
+        keep_all(sel); /* every plan: it also dates what the drawn nodes use */
+    if (memory && room < 0.0) {
+        need_room(sel, &built);
+        while (room < 0.0 && S->heap.count > 0)
+            room += evict_one(sel);
+        if (room < 0.0) {
+            sel->stats.notes |= TCLOD_NOTE_MEMORY_SHORT;
+            return;
+        }
+    }
+    tclod_sort_by_key(S->ids, S->keys, candidates);
+    for (i = 0; i < candidates && S->count[0][1] < d->max_requests; ++i) {
+        tclod_id n = S->ids[i];
+        double z = S->size[n];
+        if (d->max_request_bytes > 0.0 && S->count[0][1] > 0 && listed + z > d->max_request_bytes)
+            break;
+        if (memory && room < z)
+            need_room(sel, &built);
+        while (memory && room < z && S->heap.count > 0 &&
+               (-S->heap.items[0].key < 0.0 || -S->heap.items[0].key < S->keys[i]))
+            room += evict_one(sel);
+        if (memory && room < z) {
+            if (S->count[0][1] == 0)
+                sel->stats.notes |= TCLOD_NOTE_MEMORY_SHORT;
+            break;
+        }
+        room -= z;
+        listed += z;
+        if (n >= s->node_count) /* a smooth object */
+            add_item(S->list[0][1], &S->count[0][1], n - s->node_count,
+                     TCLOD_STREAM_SMOOTH |
+                         ((S->smooth_mark[n - s->node_count] & STREAM_LISTED) ? TCLOD_STREAM_LISTED
+                                                                              : 0u),
+                     z, S->keys[i]);
+        else
+            add_item(S->list[0][1], &S->count[0][1], n,
+                     (S->mark[n] & STREAM_LISTED) ? TCLOD_STREAM_LISTED : 0u, z, S->keys[i]);
+    }
+}
+
+/* The marks of a listed node or smooth object. */
+static uint8_t *stream_mark(tclod_stream_state *S, const tclod_stream_item *it) {
+    return (it->flags & TCLOD_STREAM_SMOOTH) ? &S->smooth_mark[it->id] : &S->mark[it->id];
+}
+
+/* Moves the persistent marks from the current lists to the planned ones. */
+static void relist(tclod_stream_state *S) {
+    static const uint8_t bit[2] = {STREAM_LISTED, STREAM_EVICTED};
+    uint32_t i, k;
+    for (k = 0; k < 2; ++k) {
+        for (i = 0; i < S->count[k][0]; ++i)
+            *stream_mark(S, &S->list[k][0][i]) &= (uint8_t)~bit[k];
+        for (i = 0; i < S->count[k][1]; ++i)
+            *stream_mark(S, &S->list[k][1][i]) |= bit[k];
+    }
+}
+
 int tclod_stream_plan(tclod_selector *sel) {
     tclod_stream_state *S = &sel->stream;
+    const tclod_stream_desc *d = &S->desc;
+    uint32_t candidates = 0;
+    int over;
     S->count[0][1] = S->count[1][1] = 0;
+    if (!S->seen)
+        return 0; /* no streaming buffers: nothing to plan (tclod_stream_wanted) */
+    over = d->memory_budget > 0.0 &&
+           sel->scene->resident_bytes + d->bytes_in_flight > d->memory_budget;
+    if (!over && (d->max_requests == 0 || !tclod_scene_streams(sel->scene))) {
+        relist(S);
+        return 0;
+    }
+    S->plans++;
+    if (plan_target(sel, &candidates) != 0 || plan_smooth(sel, &candidates) != 0) {
+        unmark_all(S);
+        S->count[0][1] = S->count[1][1] = 0;
+        return -1;
+    }
+    plan_lists(sel, candidates);
+    unmark_smooth(sel);
+    unmark_all(S);
+    relist(S);
+    sel->stats.request_bytes = 0.0;
+    sel->stats.eviction_bytes = 0.0;
+    {
+        uint32_t i;
+        for (i = 0; i < S->count[0][1]; ++i)
+            sel->stats.request_bytes += S->list[0][1][i].bytes;
+        for (i = 0; i < S->count[1][1]; ++i)
+            sel->stats.eviction_bytes += S->list[1][1][i].bytes;
+    }
     return 0;
 }
 

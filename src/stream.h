@@ -24,7 +24,10 @@ typedef struct tclod_stream_state {
      * ancestors'), and the plan when it was last protected (least recently
      * used first among evictions of equal value) */
     uint8_t *mark;
+    uint8_t *smooth_mark;  /* the same per smooth object (LISTED, EVICTED, KEEP) */
+    uint32_t *smooth_used; /* the plan when it was last drawn */
     double *cap_value;
+    double *size; /* a request candidate's size (request_bytes) */
     uint32_t *used;
     tclod_id *touched; /* the nodes whose mark the plan set */
     uint32_t touched_count;

@@ -1,0 +1,479 @@
+/*
+ * test_plan — the plan a select makes for a streaming host
+ * (docs/streaming.md, the plan), on trees small enough to work by hand:
+ *  - the load requests are the nodes the all-resident selection within the
+ *    budget needs and the scene does not hold, ranked by the benefit their
+ *    arrival adds per byte, a node never before its requested ancestors;
+ *  - the desc's caps: count, bytes (the first request always listed) and
+ *    memory with the loads in flight;
+ *  - the evictions: least valuable per byte first, never a drawn node, one on
+ *    the path to it or one the plan needs, and a node after the resident
+ *    nodes below it; a memory budget below what must stay is noted;
+ *  - the bytes callback: asked for nodes of unknown size; a bad size leaves
+ *    its group out (strict mode fails the select and keeps the old lists).
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <string.h>
+
+#include <tclod/tclod.h>
+
+#include "helpers.h"
+#include "table_scene.h"
+
+/* |a - b| <= tol */
+#define assert_near(a, b, tol) assert_true(fabs((double)(a) - (double)(b)) <= (tol))
+
+/* Adds a node of the given refinement, residency and size with its table
+ * benefit and cost; returns its id. */
+static tclod_id add(helper_fixture *f, tclod_id parent, tclod_refine refine, int resident,
+                    double bytes, double benefit, double cost) {
+    tclod_node_desc d;
+    tclod_id id;
+    tclod_node_desc_default(&d);
+    d.parent = parent;
+    d.refine = refine;
+    d.not_resident = !resident;
+    d.bytes = bytes;
+    assert_int_equal(table_add_node_desc(&f->model, f->scene, &d, benefit, cost, &id), TCLOD_OK);
+    return id;
+}
+
+static tclod_stats run(tclod_selector *sel, double budget) {
+    tclod_frame fr = helper_frame(NULL, budget);
+    tclod_stats st;
+    assert_int_equal(tclod_select(sel, &fr, &st), TCLOD_OK);
+    return st;
+}
+
+static void set_stream(tclod_selector *sel, uint32_t max_requests, double max_bytes, double memory,
+                       double in_flight) {
+    tclod_stream_desc d;
+    memset(&d, 0, sizeof d);
+    d.max_requests = max_requests;
+    d.max_request_bytes = max_bytes;
+    d.memory_budget = memory;
+    d.bytes_in_flight = in_flight;
+    assert_int_equal(tclod_selector_set_stream(sel, &d), TCLOD_OK);
+}
+
+/* Asserts the ids of a list, in order. */
+static void assert_list(const tclod_stream_item *items, size_t n, const tclod_id *ids, size_t m) {
+    size_t i;
+    assert_int_equal(n, m);
+    for (i = 0; i < m; ++i)
+        assert_int_equal(items[i].id, ids[i]);
+}
+
+static void assert_requests(const tclod_selector *sel, const tclod_id *ids, size_t m) {
+    const tclod_stream_item *items = NULL;
+    size_t n = 0;
+    assert_int_equal(tclod_selector_requests(sel, &items, &n), TCLOD_OK);
+    assert_list(items, n, ids, m);
+}
+
+static void assert_evictions(const tclod_selector *sel, const tclod_id *ids, size_t m) {
+    const tclod_stream_item *items = NULL;
+    size_t n = 0;
+    assert_int_equal(tclod_selector_evictions(sel, &items, &n), TCLOD_OK);
+    assert_list(items, n, ids, m);
+}
+
+/* ---- requests -------------------------------------------------------------------- */
+
+/* Two hierarchies (benefit b, cost c, bytes z):
+ *   R (b 1, c 1, 100 B, resident)        replace
+ *     A (b 2, c 1, 200 B)                replace
+ *       A1, A2 (b 3, c 1, 100 B each)
+ *     B (b 2, c 1, 200 B)
+ *   S (b 1, c 1, 100 B, resident)        additive (its self leaf takes id 6)
+ *     S1 (b 0.5, c 0.1, 10 B), S2 (b 0.5, c 0.1, 1000 B)
+ * Ids: R 0, A 1, B 2, A1 3, A2 4, S 5, S1 7, S2 8; only R and S resident. */
+typedef struct two_trees {
+    tclod_id r, a, b, a1, a2, s, s1, s2;
+} two_trees;
+
+static two_trees build_two_trees(helper_fixture *f) {
+    two_trees t;
+    t.r = add(f, TCLOD_NONE, TCLOD_REFINE_REPLACE, 1, 100, 1.0, 1.0);
+    t.a = add(f, t.r, TCLOD_REFINE_REPLACE, 0, 200, 2.0, 1.0);
+    t.b = add(f, t.r, TCLOD_REFINE_REPLACE, 0, 200, 2.0, 1.0);
+    t.a1 = add(f, t.a, TCLOD_REFINE_REPLACE, 0, 100, 3.0, 1.0);
+    t.a2 = add(f, t.a, TCLOD_REFINE_REPLACE, 0, 100, 3.0, 1.0);
+    t.s = add(f, TCLOD_NONE, TCLOD_REFINE_ADD, 1, 100, 1.0, 1.0);
+    t.s1 = add(f, t.s, TCLOD_REFINE_REPLACE, 0, 10, 0.5, 0.1);
+    t.s2 = add(f, t.s, TCLOD_REFINE_REPLACE, 0, 1000, 0.5, 0.1);
+    return t;
+}
+
+/* An ample budget: the all-resident selection draws A1, A2, B and S with S1
+ * and S2. Ranks: S1 alone 0.5 / 10 = 0.05, S2 0.5 / 1000 = 0.0005 (additive
+ * children join one by one); A and B together (4 - 1) / 400 = 0.0075; A1 and
+ * A2 together (6 - 2) / 200 = 0.02, capped at A's 0.0075 (they cannot be
+ * drawn before A is). Equal ranks by id: S1, A, B, A1, A2, S2. Nothing is
+ * drawn but R and S until the loads arrive. */
+static void requests_rank_gain_per_byte(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    two_trees t = build_two_trees(f);
+    tclod_selector *sel = helper_selector(f->scene, &f->model, 1);
+    const tclod_id order[6] = {t.s1, t.a, t.b, t.a1, t.a2, t.s2}, drawn[2] = {t.r, t.s};
+    const tclod_stream_item *items;
+    size_t n;
+    tclod_stats st;
+    set_stream(sel, 100, 0.0, 0.0, 0.0);
+    st = run(sel, 100.0);
+    helper_assert_cut(sel, drawn, 2);
+    assert_requests(sel, order, 6);
+    assert_int_equal(tclod_selector_requests(sel, &items, &n), TCLOD_OK);
+    assert_near(items[0].value, 0.05, 1e-15);
+    assert_near(items[0].bytes, 10.0, 0.0);
+    assert_near(items[1].value, 0.0075, 1e-15);
+    assert_near(items[3].value, 0.0075, 1e-15);
+    assert_near(items[5].value, 0.0005, 1e-15);
+    assert_int_equal(items[0].flags, 0u);
+    assert_int_equal(st.requests, 6u);
+    assert_near(st.request_bytes, 10.0 + 200 + 200 + 100 + 100 + 1000, 0.0);
+    /* asked again, the same list says it was listed before */
+    run(sel, 100.0);
+    assert_requests(sel, order, 6);
+    assert_int_equal(tclod_selector_requests(sel, &items, &n), TCLOD_OK);
+    assert_int_equal(items[2].flags, TCLOD_STREAM_LISTED);
+    tclod_selector_destroy(sel);
+}
+
+/* Budget 3.5: roots 2; the increments by gain per cost: S's 1 / 0.2 = 5 (to
+ * 2.2), R's 3 / 1 = 3 (to 3.2), then A's 4 / 1 (to 4.2) does not fit. The
+ * selection needs S1, S2, A and B, not A1 and A2. */
+static void requests_stop_at_the_budget(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    two_trees t = build_two_trees(f);
+    tclod_selector *sel = helper_selector(f->scene, &f->model, 1);
+    const tclod_id order[4] = {t.s1, t.a, t.b, t.s2};
+    set_stream(sel, 100, 0.0, 0.0, 0.0);
+    run(sel, 3.5);
+    assert_requests(sel, order, 4);
+    tclod_selector_destroy(sel);
+}
+
+/* The caps: 2 requests: S1, A. 250 bytes: S1 (10) and A (200) make 210, B
+ * would make 410. 5 bytes: S1 alone, over the cap, because the first request
+ * is always listed. No max_requests: nothing. */
+static void requests_respect_the_caps(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    two_trees t = build_two_trees(f);
+    tclod_selector *sel = helper_selector(f->scene, &f->model, 1);
+    const tclod_id two[2] = {t.s1, t.a};
+    set_stream(sel, 2, 0.0, 0.0, 0.0);
+    run(sel, 100.0);
+    assert_requests(sel, two, 2);
+    set_stream(sel, 100, 250.0, 0.0, 0.0);
+    run(sel, 100.0);
+    assert_requests(sel, two, 2);
+    set_stream(sel, 100, 5.0, 0.0, 0.0);
+    run(sel, 100.0);
+    assert_requests(sel, two, 1);
+    set_stream(sel, 0, 0.0, 0.0, 0.0);
+    run(sel, 100.0);
+    assert_requests(sel, NULL, 0);
+    tclod_selector_destroy(sel);
+}
+
+/* Once A and B arrive, R refines into them; A1 and A2 come next at their
+ * own rank (6 - 2) / 200 = 0.02, no longer capped by A's: after S1 (0.05),
+ * before S2 (0.0005). */
+static void arrivals_move_the_requests_down(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    two_trees t = build_two_trees(f);
+    tclod_selector *sel = helper_selector(f->scene, &f->model, 1);
+    const tclod_id order[4] = {t.s1, t.a1, t.a2, t.s2}, drawn[4] = {t.a, t.b, t.s, 6};
+    const tclod_stream_item *items;
+    size_t n;
+    set_stream(sel, 100, 0.0, 0.0, 0.0);
+    run(sel, 100.0);
+    assert_int_equal(tclod_scene_set_resident(f->scene, t.a, 1), TCLOD_OK);
+    assert_int_equal(tclod_scene_set_resident(f->scene, t.b, 1), TCLOD_OK);
+    run(sel, 100.0);
+    helper_assert_cut(sel, drawn, 3); /* the self leaf is listed as S */
+    assert_requests(sel, order, 4);
+    assert_int_equal(tclod_selector_requests(sel, &items, &n), TCLOD_OK);
+    assert_near(items[1].value, 0.02, 1e-15);
+    assert_int_equal(items[1].flags, TCLOD_STREAM_LISTED);
+    tclod_selector_destroy(sel);
+}
+
+/* ---- evictions -------------------------------------------------------------------- */
+
+/* Everything resident, 100 B each:
+ *   R (b 1, c 1): A (b 2, c 1) with A1, A2 (b 1.2, c 1); B (b 2, c 1)
+ *   T (b 1, c 1): T1 (b 1.5, c 2)
+ * Ids R 0, A 1, B 2, A1 3, A2 4, T 5, T1 6: 700 B. Budget 2 draws R and T
+ * (every increment costs 1 more). Per byte, A and B are worth 0.02, T1 0.015
+ * and A1, A2 0.012 (or less than any seen node, if the solve did not look at
+ * them). */
+typedef struct resident_trees {
+    tclod_id r, a, b, a1, a2, t, t1;
+} resident_trees;
+
+static resident_trees build_resident(helper_fixture *f) {
+    resident_trees t;
+    t.r = add(f, TCLOD_NONE, TCLOD_REFINE_REPLACE, 1, 100, 1.0, 1.0);
+    t.a = add(f, t.r, TCLOD_REFINE_REPLACE, 1, 100, 2.0, 1.0);
+    t.b = add(f, t.r, TCLOD_REFINE_REPLACE, 1, 100, 2.0, 1.0);
+    t.a1 = add(f, t.a, TCLOD_REFINE_REPLACE, 1, 100, 1.2, 1.0);
+    t.a2 = add(f, t.a, TCLOD_REFINE_REPLACE, 1, 100, 1.2, 1.0);
+    t.t = add(f, TCLOD_NONE, TCLOD_REFINE_REPLACE, 1, 100, 1.0, 1.0);
+    t.t1 = add(f, t.t, TCLOD_REFINE_REPLACE, 1, 100, 1.5, 2.0);
+    return t;
+}
+
+/* 500 B: free 200, A1 and A2 (the least valuable). 300 B: then T1
+ * (0.015), then A (0.02, before B by id: A1 and A2 below it are listed
+ * already). 100 B: less than R and T, which are drawn: every other node is
+ * listed and the select notes the shortfall. The drawn nodes never are. */
+static void evictions_free_the_least_valuable(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    resident_trees t = build_resident(f);
+    tclod_selector *sel = helper_selector(f->scene, &f->model, 1);
+    const tclod_id first[2] = {t.a1, t.a2}, more[4] = {t.a1, t.a2, t.t1, t.a},
+                   all[5] = {t.a1, t.a2, t.t1, t.a, t.b};
+    const tclod_stream_item *items;
+    size_t n;
+    tclod_stats st;
+    assert_near(tclod_scene_resident_bytes(f->scene), 700.0, 0.0);
+    set_stream(sel, 0, 0.0, 500.0, 0.0);
+    st = run(sel, 2.0);
+    assert_evictions(sel, first, 2);
+    assert_near(st.eviction_bytes, 200.0, 0.0);
+    assert_int_equal(st.notes & TCLOD_NOTE_MEMORY_SHORT, 0u);
+    set_stream(sel, 0, 0.0, 300.0, 0.0);
+    run(sel, 2.0);
+    assert_evictions(sel, more, 4);
+    assert_int_equal(tclod_selector_evictions(sel, &items, &n), TCLOD_OK);
+    assert_int_equal(items[0].flags, TCLOD_STREAM_LISTED);
+    assert_int_equal(items[2].flags, 0u);
+    assert_near(items[2].value, 0.015, 1e-15);
+    set_stream(sel, 0, 0.0, 100.0, 0.0);
+    st = run(sel, 2.0);
+    assert_evictions(sel, all, 5);
+    assert_int_equal(st.notes & TCLOD_NOTE_MEMORY_SHORT, TCLOD_NOTE_MEMORY_SHORT);
+    /* the budget met: nothing to free */
+    set_stream(sel, 0, 0.0, 700.0, 0.0);
+    st = run(sel, 2.0);
+    assert_evictions(sel, NULL, 0);
+    assert_int_equal(st.notes & TCLOD_NOTE_MEMORY_SHORT, 0u);
+    tclod_selector_destroy(sel);
+}
+
+/* Budget 10 draws A1, A2, B and T1 (cost 5); R, A and T are the paths to them. Under
+ * 100 B nothing may go: no eviction, and the shortfall is noted. */
+static void evictions_keep_drawn_nodes_and_their_paths(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    resident_trees t = build_resident(f);
+    tclod_selector *sel = helper_selector(f->scene, &f->model, 1);
+    const tclod_id drawn[4] = {t.b, t.a1, t.a2, t.t1};
+    tclod_stats st;
+    set_stream(sel, 0, 0.0, 100.0, 0.0);
+    st = run(sel, 10.0);
+    helper_assert_cut(sel, drawn, 4);
+    assert_evictions(sel, NULL, 0);
+    assert_int_equal(st.notes & TCLOD_NOTE_MEMORY_SHORT, TCLOD_NOTE_MEMORY_SHORT);
+    tclod_selector_destroy(sel);
+}
+
+/* R (b 1, c 1), its child X (b 1.1, c 3) and X's child X1 (b 3, c 2), 100 B
+ * each, all resident. Budget 10 draws X1 (R to X gains 0.1 for 2, X to X1
+ * 1.9 for -1); budget 1 then draws R alone, and the warm start has seen X
+ * (1.1 / 100 = 0.011 per byte) and X1 (0.03). Memory 200: one must go, and
+ * X, though worth less itself, is the only way to X1: X1 goes. */
+static void a_node_is_evicted_after_the_nodes_below_it(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id r = add(f, TCLOD_NONE, TCLOD_REFINE_REPLACE, 1, 100, 1.0, 1.0);
+    tclod_id x = add(f, r, TCLOD_REFINE_REPLACE, 1, 100, 1.1, 3.0);
+    tclod_id x1 = add(f, x, TCLOD_REFINE_REPLACE, 1, 100, 3.0, 2.0);
+    tclod_selector *sel = helper_selector(f->scene, &f->model, 1);
+    const tclod_id first[1] = {x1}, drawn[1] = {r};
+    run(sel, 10.0);
+    helper_assert_cut(sel, first, 1);
+    set_stream(sel, 0, 0.0, 200.0, 0.0);
+    run(sel, 1.0);
+    helper_assert_cut(sel, drawn, 1);
+    assert_evictions(sel, first, 1);
+    tclod_selector_destroy(sel);
+}
+
+/* R, A and B resident (300 B), A1 and A2 not (100 B each); budget 10.
+ * Memory 400: room for A1 only (A2 would need an eviction, and R, A and B
+ * must stay). With 100 B in flight: no room even for A1: nothing listed,
+ * noted. Memory 500: both. */
+static void requests_fit_the_memory_budget(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id r = add(f, TCLOD_NONE, TCLOD_REFINE_REPLACE, 1, 100, 1.0, 1.0);
+    tclod_id a = add(f, r, TCLOD_REFINE_REPLACE, 1, 100, 2.0, 1.0);
+    tclod_id b = add(f, r, TCLOD_REFINE_REPLACE, 1, 100, 2.0, 1.0);
+    tclod_id a1 = add(f, a, TCLOD_REFINE_REPLACE, 0, 100, 3.0, 1.0);
+    tclod_id a2 = add(f, a, TCLOD_REFINE_REPLACE, 0, 100, 3.0, 1.0);
+    tclod_selector *sel = helper_selector(f->scene, &f->model, 1);
+    const tclod_id one[1] = {a1}, both[2] = {a1, a2};
+    tclod_stats st;
+    (void)b;
+    set_stream(sel, 100, 0.0, 400.0, 0.0);
+    st = run(sel, 10.0);
+    assert_requests(sel, one, 1);
+    assert_evictions(sel, NULL, 0);
+    assert_int_equal(st.notes & TCLOD_NOTE_MEMORY_SHORT, 0u);
+    set_stream(sel, 100, 0.0, 400.0, 100.0);
+    st = run(sel, 10.0);
+    assert_requests(sel, NULL, 0);
+    assert_int_equal(st.notes & TCLOD_NOTE_MEMORY_SHORT, TCLOD_NOTE_MEMORY_SHORT);
+    set_stream(sel, 100, 0.0, 500.0, 0.0);
+    run(sel, 10.0);
+    assert_requests(sel, both, 2);
+    tclod_selector_destroy(sel);
+}
+
+/* A load worth more evicts a node worth less. Two roots, 100 B each: P (b 1,
+ * c 1) with P1, P2 (b 5, c 0.5, not resident), and Q (b 1, c 1) with Q1
+ * (b 1.2, c 2, resident): 300 B resident. Budget 2.5: the roots take 2, Q1
+ * would take 1 more; the all-resident selection refines P (gain 9 for no
+ * more cost). P1 and P2 rank 9 / 200 = 0.045 each; Q1, seen this select,
+ * is worth 1.2 / 100 = 0.012 per byte. Memory 300: P1 evicts Q1; P2 finds
+ * nothing more to free (P and Q are drawn): only P1 is listed. */
+static void loads_evict_what_is_worth_less(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id p = add(f, TCLOD_NONE, TCLOD_REFINE_REPLACE, 1, 100, 1.0, 1.0);
+    tclod_id p1 = add(f, p, TCLOD_REFINE_REPLACE, 0, 100, 5.0, 0.5);
+    tclod_id p2 = add(f, p, TCLOD_REFINE_REPLACE, 0, 100, 5.0, 0.5);
+    tclod_id q = add(f, TCLOD_NONE, TCLOD_REFINE_REPLACE, 1, 100, 1.0, 1.0);
+    tclod_id q1 = add(f, q, TCLOD_REFINE_REPLACE, 1, 100, 1.2, 2.0);
+    tclod_selector *sel = helper_selector(f->scene, &f->model, 1);
+    const tclod_id req[1] = {p1}, ev[1] = {q1};
+    (void)p2;
+    assert_near(tclod_scene_resident_bytes(f->scene), 300.0, 0.0);
+    set_stream(sel, 100, 0.0, 300.0, 0.0);
+    run(sel, 2.5);
+    assert_requests(sel, req, 1);
+    assert_evictions(sel, ev, 1);
+    tclod_selector_destroy(sel);
+}
+
+/* ---- the bytes callback ---------------------------------------------------------------- */
+
+static double callback_bytes = 50.0;
+static uint32_t bytes_calls;
+
+static double bytes_of(void *user, const tclod_query *q) {
+    (void)user;
+    (void)q;
+    bytes_calls++;
+    return callback_bytes;
+}
+
+/* R (resident) with A1, A2 of unknown size (0): the callback says 50 B each:
+ * rank (6 - 1) / 100 = 0.05, each asked once per select. A NaN leaves the
+ * group out and counts; strict mode fails the select and keeps the lists. */
+static void the_bytes_callback_sizes_unknown_nodes(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id r = add(f, TCLOD_NONE, TCLOD_REFINE_REPLACE, 1, 100, 1.0, 1.0);
+    tclod_id a1 = add(f, r, TCLOD_REFINE_REPLACE, 0, 0, 3.0, 1.0);
+    tclod_id a2 = add(f, r, TCLOD_REFINE_REPLACE, 0, 0, 3.0, 1.0);
+    const tclod_id both[2] = {a1, a2};
+    tclod_selector_desc d;
+    tclod_selector *sel = NULL;
+    tclod_frame fr = helper_frame(NULL, 10.0);
+    const tclod_stream_item *items;
+    size_t n;
+    tclod_stats st;
+    tclod_selector_desc_default(&d);
+    table_callbacks(&f->model, &d.callbacks);
+    d.callbacks.bytes = bytes_of;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    set_stream(sel, 100, 0.0, 0.0, 0.0);
+    callback_bytes = 50.0;
+    bytes_calls = 0;
+    st = run(sel, 10.0);
+    assert_requests(sel, both, 2);
+    assert_int_equal(bytes_calls, 2u);
+    assert_int_equal(tclod_selector_requests(sel, &items, &n), TCLOD_OK);
+    assert_near(items[0].value, 0.05, 1e-15);
+    assert_near(items[0].bytes, 50.0, 0.0);
+    assert_int_equal(st.invalid_values, 0u);
+    callback_bytes = (double)NAN;
+    st = run(sel, 10.0);
+    assert_requests(sel, NULL, 0);
+    assert_int_equal(st.invalid_values, 2u); /* each asked once; the group is left out */
+    tclod_selector_destroy(sel);
+    /* strict: the select fails and the previous lists stay */
+    d.strict = 1;
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    set_stream(sel, 100, 0.0, 0.0, 0.0);
+    callback_bytes = 50.0;
+    run(sel, 10.0);
+    callback_bytes = -1.0;
+    assert_int_equal(tclod_select(sel, &fr, &st), TCLOD_ERR_CALLBACK);
+    assert_requests(sel, both, 2);
+    tclod_selector_destroy(sel);
+}
+
+/* ---- the stream desc ---------------------------------------------------------------- */
+
+static void bad_stream_descs_are_refused(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_selector *sel;
+    tclod_stream_desc d;
+    (void)add(f, TCLOD_NONE, TCLOD_REFINE_REPLACE, 1, 100, 1.0, 1.0);
+    sel = helper_selector(f->scene, &f->model, 1);
+    memset(&d, 0, sizeof d);
+    d.max_requests = 7;
+    d.memory_budget = (double)NAN;
+    assert_int_equal(tclod_selector_set_stream(sel, &d), TCLOD_ERR_ARG);
+    assert_string_equal(tclod_selector_last_error(sel),
+                        "tclod_selector_set_stream: d->memory_budget must be finite and >= 0");
+    d.memory_budget = 0.0;
+    d.bytes_in_flight = -1.0;
+    assert_int_equal(tclod_selector_set_stream(sel, &d), TCLOD_ERR_ARG);
+    assert_string_equal(tclod_selector_last_error(sel),
+                        "tclod_selector_set_stream: d->bytes_in_flight must be finite and >= 0");
+    d.bytes_in_flight = 0.0;
+    d.max_request_bytes = HUGE_VAL;
+    assert_int_equal(tclod_selector_set_stream(sel, &d), TCLOD_ERR_ARG);
+    assert_string_equal(tclod_selector_last_error(sel),
+                        "tclod_selector_set_stream: d->max_request_bytes must be finite and >= 0");
+    assert_int_equal(tclod_selector_set_stream(NULL, &d), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_selector_requests(sel, NULL, NULL), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_selector_evictions(NULL, NULL, NULL), TCLOD_ERR_ARG);
+    tclod_selector_destroy(sel);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(requests_rank_gain_per_byte, helper_fixture_setup,
+                                        helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(requests_stop_at_the_budget, helper_fixture_setup,
+                                        helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(requests_respect_the_caps, helper_fixture_setup,
+                                        helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(arrivals_move_the_requests_down, helper_fixture_setup,
+                                        helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(evictions_free_the_least_valuable, helper_fixture_setup,
+                                        helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(evictions_keep_drawn_nodes_and_their_paths,
+                                        helper_fixture_setup, helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(a_node_is_evicted_after_the_nodes_below_it,
+                                        helper_fixture_setup, helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(requests_fit_the_memory_budget, helper_fixture_setup,
+                                        helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(loads_evict_what_is_worth_less, helper_fixture_setup,
+                                        helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(the_bytes_callback_sizes_unknown_nodes,
+                                        helper_fixture_setup, helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(bad_stream_descs_are_refused, helper_fixture_setup,
+                                        helper_fixture_teardown),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
