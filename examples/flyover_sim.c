@@ -139,7 +139,7 @@ static const char usage_options[] =
     "  --scene S       flyover: terrain quadtree and 5000 objects of 6 levels (default);\n"
     "                  thesis: terrain quadtree and 1.4 million trees in smooth groups\n"
     "                  of continuous resolution ([Thesis8 §8.4])\n"
-    "  --frames N      frames to simulate, N >= 1 (default 600)\n"
+    "  --frames N      frames to simulate, N >= 1 (default 600; --stream 2000)\n"
     "  --budget-ms X   render-time budget per frame in ms, X > 0 (default 10; thesis 40)\n"
     "  --solver S      selection algorithm (default greedy; thesis mixed: greedy\n"
     "                  ignores smooth objects and draws none of its trees)\n"
@@ -170,13 +170,14 @@ static const char usage_options[] =
 
 /* After stream_sim_usage_options. */
 static const char usage_stream[] =
-    "                  flyover_sim streams the flyover scene through the selector\n"
-    "                  (not with --scene thesis or --scheduler). A node's size is\n"
-    "                  28 bytes per triangle (32-byte vertices, about half a vertex\n"
-    "                  per triangle, and three 4-byte indices); its geometric error\n"
-    "                  for the baseline is (1 - w) r, w its benefit weight (the\n"
-    "                  accuracy: 1 - 2^-(k+1) for level k of an object, 2^(d - 6)\n"
-    "                  for a terrain patch of depth d) and r its bounding radius\n"
+    "                  With --stream, flyover_sim streams the flyover scene through\n"
+    "                  the selector (not with --scene thesis or --scheduler). A\n"
+    "                  node's size is 28 bytes per triangle (32-byte vertices,\n"
+    "                  about half a vertex per triangle, and three 4-byte\n"
+    "                  indices); its geometric error for the baseline is (1 - w) r,\n"
+    "                  w its benefit weight (the accuracy: 1 - 2^-(k+1) for level k\n"
+    "                  of an object, 2^(d - 6) for a terrain patch of depth d) and r\n"
+    "                  its bounding radius\n"
     "  --help          print this text and exit\n";
 
 static const char usage_output[] =
@@ -195,11 +196,6 @@ static const char usage_output[] =
     "  variables       --scene thesis: smooth variables of the solve\n"
     "  frame_ms        --simulate-gpu: the simulated frame time, ms\n"
     "  selections      --scheduler: selections landed so far\n"
-    "  resident_mb     --stream: MB resident when the frame was selected (ours)\n"
-    "  requests        --stream: loads issued after the frame's select (ours)\n"
-    "  in_flight       --stream: loads in flight after them (ours)\n"
-    "  all_benefit     --stream: the benefit with every node resident\n"
-    "  base_benefit    --stream: the baseline loader's benefit\n"
     "\n"
     "CSV (--csv), a header and a row per frame:\n"
     "  frame,select_us,drawn,cost_ms,budget_ms,benefit as in the table;\n"
@@ -615,14 +611,24 @@ typedef struct sim_scene {
     world_scene copy[2];
     int streaming;
     stream_path path;
+    double *bytes, *error; /* per node: its size and geometric error */
 } sim_scene;
 
-/* The flyover world's eye `position` frames along its loop (stream_sim_eye_fn). */
-static void flyover_eye(void *user, double position, double eye[3]) {
+/* --stream: the flyover world's sizes and geometric errors, per node id
+ * (--help): 28 bytes per triangle; the error (1 - weight) x bounding radius. */
+static void flyover_stream_model(const sim_scene *s, double *bytes, double *error) {
+    const world_scene *w = &s->world;
+    uint32_t i;
+    for (i = 0; i < w->node_count; ++i) {
+        bytes[i] = (double)w->triangles[i] * FLYOVER_BYTES_PER_TRIANGLE;
+        error[i] = (1.0 - (double)w->weight[i]) * (double)w->bounds[4u * i + 3u];
+    }
+}
+
+/* The flyover world's view `position` frames along its loop (stream_sim_view_fn). */
+static void flyover_view(void *user, double position, tclod_view *view) {
     const sim_scene *s = (const sim_scene *)user;
-    tclod_view v;
-    world_camera_at(&s->world.path, position / (double)FRAMES_PER_LOOP, &v);
-    memcpy(eye, v.eye, sizeof(v.eye));
+    world_camera_at(&s->world.path, position / (double)FRAMES_PER_LOOP, view);
 }
 
 /* Builds the scene of the given kind, timed (with --stream its two copies and
@@ -645,10 +651,19 @@ static int build_scene(sim_scene *s, const options *opt) {
         st = world_build_flyover(&s->world_desc, &s->copy[0]);
         if (st == TCLOD_OK)
             st = world_build_flyover(&s->world_desc, &s->copy[1]);
-        if (st == TCLOD_OK &&
-            !stream_path_init(&s->path, (double)FRAMES_PER_LOOP, opt->stream.teleport_every,
-                              opt->frames, flyover_eye, s))
-            st = TCLOD_ERR_NOMEM;
+        if (st == TCLOD_OK) {
+            size_t n = s->world.node_count ? s->world.node_count : 1u;
+            s->bytes = (double *)malloc(n * sizeof(double));
+            s->error = (double *)malloc(n * sizeof(double));
+            if (!s->bytes || !s->error)
+                st = TCLOD_ERR_NOMEM;
+        }
+        if (st == TCLOD_OK) {
+            flyover_stream_model(s, s->bytes, s->error);
+            if (!stream_path_init(&s->path, (double)FRAMES_PER_LOOP, opt->stream.teleport_every,
+                                  opt->frames, flyover_view, s, s->world.scene, s->bytes, s->error))
+                st = TCLOD_ERR_NOMEM;
+        }
     }
     if (st != TCLOD_OK)
         fprintf(stderr, "flyover_sim: building the scene failed: %s\n", tclod_status_string(st));
@@ -663,6 +678,8 @@ static void free_scene(sim_scene *s) {
     world_scene_free(&s->copy[0]);
     world_scene_free(&s->copy[1]);
     stream_path_free(&s->path);
+    free(s->bytes);
+    free(s->error);
 }
 
 static void camera_at(const sim_scene *s, unsigned long frame, tclod_view *view) {
@@ -673,17 +690,6 @@ static void camera_at(const sim_scene *s, unsigned long frame, tclod_view *view)
                         stream_path_position(&s->path, frame) / (double)FRAMES_PER_LOOP, view);
     else
         world_camera_at(&s->world.path, (double)frame / (double)FRAMES_PER_LOOP, view);
-}
-
-/* --stream: the flyover world's sizes and geometric errors, per node id
- * (--help): 28 bytes per triangle; the error (1 - weight) x bounding radius. */
-static void flyover_stream_model(const sim_scene *s, double *bytes, double *error) {
-    const world_scene *w = &s->world;
-    uint32_t i;
-    for (i = 0; i < w->node_count; ++i) {
-        bytes[i] = (double)w->triangles[i] * FLYOVER_BYTES_PER_TRIANGLE;
-        error[i] = (1.0 - (double)w->weight[i]) * (double)w->bounds[4u * i + 3u];
-    }
 }
 
 /* Level changes between consecutive selections, counted as the scheduler's
@@ -972,26 +978,13 @@ static int open_csv(flight *f) {
     return 1;
 }
 
-/* --stream: the flyover world's sizes and errors, and the simulation over the
- * three copies. The selectors of the copies share the world's callbacks: the
- * copies are built alike, so every id reads the same entries. */
+/* --stream: the simulation over the three copies. The selectors of the copies share the world's
+ * callbacks: the copies are built alike, so every id reads the same entries. */
 static int start_stream(flight *f) {
     sim_scene *sim = f->sim;
-    size_t n = sim->world.node_count ? sim->world.node_count : 1u;
-    double *bytes = (double *)malloc(n * sizeof(double));
-    double *error = (double *)malloc(n * sizeof(double));
-    int ok = bytes && error;
-    if (!ok)
-        out_of_memory();
-    if (ok) {
-        flyover_stream_model(sim, bytes, error);
-        ok = stream_sim_start(&f->stream, &f->opt->stream, f->opt->frames, sim->world.scene, f->sel,
-                              sim->copy[0].scene, sim->copy[1].scene, &f->sd, bytes, error,
-                              "flyover_sim");
-    }
-    free(bytes);
-    free(error);
-    return ok;
+    return stream_sim_start(&f->stream, &f->opt->stream, f->opt->frames, sim->world.scene, f->sel,
+                            sim->copy[0].scene, sim->copy[1].scene, &f->sd, sim->bytes, sim->error,
+                            "flyover_sim");
 }
 
 /* Everything before the first frame; 0 after saying what failed (end_flight
@@ -1075,8 +1068,7 @@ static void print_header(const flight *f) {
         printf("%7s %10s %7s %9s %10s %12s%s", "frame", "select_us", "drawn", "cost_ms",
                "budget_ms", "benefit", opt->simulate_gpu ? "  frame_ms" : "");
         if (sim->streaming)
-            printf(" %11s %8s %9s %12s %12s", "resident_mb", "requests", "in_flight", "all_benefit",
-                   "base_benefit");
+            stream_sim_table_header(stdout);
         printf("\n");
     }
 }
@@ -1200,9 +1192,7 @@ static int selected_frame(flight *f, unsigned long frame) {
         if (opt->simulate_gpu)
             printf(" %9.4f", frame_ms);
         if (f->sim->streaming)
-            printf(" %11.1f %8lu %9lu %12.1f %12.1f", f->stream.ours.frame_resident_bytes * 1e-6,
-                   f->stream.ours.issued, (unsigned long)f->stream.ours.load_count,
-                   f->stream.all_benefit, f->stream.base.benefit);
+            stream_sim_table_row(stdout, &f->stream);
         printf("\n");
     }
     if (f->csv) {

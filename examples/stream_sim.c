@@ -40,12 +40,19 @@ const char stream_sim_usage_options[] =
     "                  10^6 bytes, M > 0 (default: half of what the whole scene\n"
     "                  needs)\n"
     "  --teleport-every N\n"
-    "                  --stream: every N frames the camera jumps to the farthest of\n"
-    "                  8 points of its path drawn at random (fixed seed); N >= 0,\n"
-    "                  0 never (default 200)\n";
+    "                  --stream: every N frames the camera jumps to the one of 8\n"
+    "                  points of its path drawn at random (fixed seed) whose view\n"
+    "                  needs the most bytes the view it leaves does not (by the\n"
+    "                  baseline's traversal); N >= 0, 0 never (default 200)\n";
 
 const char stream_sim_usage_output[] =
-    "--stream adds CSV columns (after the others):\n"
+    "--stream adds table columns (after the others):\n"
+    "  resident_mb     MB resident when the frame was selected (ours)\n"
+    "  requests        loads issued after the frame's select (ours)\n"
+    "  in_flight       loads in flight after them (ours)\n"
+    "  all_benefit     the benefit with every node resident\n"
+    "  base_benefit    the baseline loader's benefit\n"
+    "CSV columns (after the others):\n"
     "  resident_bytes  bytes resident when the frame was selected (ours)\n"
     "  requests        loads issued after the frame's select\n"
     "  in_flight       loads in flight after them\n"
@@ -156,39 +163,6 @@ static double rng_uniform(uint64_t *state) {
 static double wrap(double position, double loop) {
     double p = fmod(position, loop);
     return p < 0.0 ? p + loop : p;
-}
-
-int stream_path_init(stream_path *p, double loop, unsigned long every, unsigned long frames,
-                     stream_sim_eye_fn eye, void *user) {
-    uint64_t rng = STREAM_SIM_SEED;
-    size_t k;
-    memset(p, 0, sizeof(*p));
-    p->loop = loop;
-    p->every = every;
-    p->events = every ? (size_t)((frames + every - 1) / every) : 1u;
-    if (p->events < 1)
-        p->events = 1;
-    p->start = (double *)malloc(p->events * sizeof(*p->start));
-    if (!p->start)
-        return 0;
-    p->start[0] = 0.0;
-    for (k = 1; k < p->events; ++k) {
-        double here[3], best = -1.0;
-        unsigned c;
-        eye(user, wrap(p->start[k - 1] + (double)every, loop), here);
-        for (c = 0; c < STREAM_SIM_TELEPORT_CANDIDATES; ++c) {
-            double at = floor(rng_uniform(&rng) * loop), there[3], d2;
-            eye(user, at, there);
-            d2 = (there[0] - here[0]) * (there[0] - here[0]) +
-                 (there[1] - here[1]) * (there[1] - here[1]) +
-                 (there[2] - here[2]) * (there[2] - here[2]);
-            if (d2 > best) {
-                best = d2;
-                p->start[k] = at;
-            }
-        }
-    }
-    return 1;
 }
 
 void stream_path_free(stream_path *p) {
@@ -310,7 +284,9 @@ static int loader_start(stream_sim *s, stream_loader *L, int baseline, tclod_sce
         L->stack = (tclod_id *)malloc(room * sizeof(tclod_id));
         L->wanted = (stream_rank *)malloc(room * sizeof(stream_rank));
         L->lru = (stream_rank *)malloc(room * sizeof(stream_rank));
-        if (!L->used || !L->kept || !L->stack || !L->wanted || !L->lru)
+        L->walk = (tclod_id *)malloc(room * sizeof(tclod_id));
+        L->walk_sse = (double *)malloc(room * sizeof(double));
+        if (!L->used || !L->kept || !L->stack || !L->wanted || !L->lru || !L->walk || !L->walk_sse)
             return out_of_memory(prog);
     }
     for (i = 0; i < n->count && st == TCLOD_OK; ++i) {
@@ -340,6 +316,8 @@ static void loader_free(stream_loader *L) {
     free(L->stack);
     free(L->wanted);
     free(L->lru);
+    free(L->walk);
+    free(L->walk_sse);
 }
 
 /* Issues the load of node id at time now (s). */
@@ -461,35 +439,50 @@ static double node_sse(const stream_nodes *n, const tclod_view *v, tclod_id i) {
     return n->error[i] * (double)v->viewport_height / (2.0 * d * tan(0.5 * (double)v->fov_y));
 }
 
-/* The baseline's traversal: from the roots, visible nodes (the frustum test)
- * are wanted, and refined while their error exceeds STREAM_SIM_MAX_SSE (a node
- * with nothing to load always). The wanted nodes that are absent go to
- * L->wanted, sorted. Returns their number. */
-static size_t sse_traversal(stream_sim *s, stream_loader *L, const tclod_view *v,
-                            unsigned long stamp) {
-    const stream_nodes *n = &s->nodes;
+/* The screen-space-error traversal: from the roots, visible nodes (the
+ * frustum test) are wanted, and refined while their error exceeds
+ * STREAM_SIM_MAX_SSE (a node with nothing to load always). The wanted nodes go
+ * to out[] and their errors to sse[] (both room for every node); returns how
+ * many. stack: room for every node. */
+static size_t sse_walk(const stream_nodes *n, const tclod_view *v, tclod_id *stack, tclod_id *out,
+                       double *sse) {
     size_t top = 0, wanted = 0;
     uint32_t r, k;
     for (r = n->root_count; r > 0; --r)
-        L->stack[top++] = n->roots[r - 1u];
+        stack[top++] = n->roots[r - 1u];
     while (top > 0) {
-        tclod_id i = L->stack[--top];
-        double sse;
+        tclod_id i = stack[--top];
+        double e;
         if (!tclod_view_bounds_visible(v, &n->bounds[i]))
             continue;
-        L->used[i] = stamp;
-        sse = node_sse(n, v, i);
-        if (L->state[i] == STREAM_ABSENT) {
-            L->wanted[wanted].key = -sse;
-            /* the order is the other way round for depth: parents first */
-            L->wanted[wanted].depth = UINT32_MAX - n->depth[i];
-            L->wanted[wanted].id = i;
-            ++wanted;
-        }
-        if (n->bytes[i] > 0.0 && !(sse > STREAM_SIM_MAX_SSE))
+        e = node_sse(n, v, i);
+        out[wanted] = i;
+        sse[wanted++] = e;
+        if (n->bytes[i] > 0.0 && !(e > STREAM_SIM_MAX_SSE))
             continue;
         for (k = n->first[i + 1u]; k > n->first[i]; --k)
-            L->stack[top++] = n->child[k - 1u];
+            stack[top++] = n->child[k - 1u];
+    }
+    return wanted;
+}
+
+/* The baseline's wanted nodes (sse_walk) marked used in this frame, and those
+ * that are absent in L->wanted, the largest error first (then parents
+ * first). Returns their number. */
+static size_t sse_traversal(stream_sim *s, stream_loader *L, const tclod_view *v,
+                            unsigned long stamp) {
+    const stream_nodes *n = &s->nodes;
+    size_t count = sse_walk(n, v, L->stack, L->walk, L->walk_sse), wanted = 0, k;
+    for (k = 0; k < count; ++k) {
+        tclod_id i = L->walk[k];
+        L->used[i] = stamp;
+        if (L->state[i] != STREAM_ABSENT)
+            continue;
+        L->wanted[wanted].key = -L->walk_sse[k];
+        /* the order is the other way round for depth: parents first */
+        L->wanted[wanted].depth = UINT32_MAX - n->depth[i];
+        L->wanted[wanted].id = i;
+        ++wanted;
     }
     qsort(L->wanted, wanted, sizeof(*L->wanted), by_rank);
     return wanted;
@@ -560,6 +553,77 @@ static int base_load(stream_sim *s, unsigned long frame, const tclod_view *v, do
         issue(s, L, id, now);
     }
     return 1;
+}
+
+/* ---- the teleports ------------------------------------------------------------------ */
+
+/* The bytes the traversal wants at view v that it did not want where mark[]
+ * holds stamp. */
+static double new_bytes(const stream_nodes *n, const tclod_view *v, tclod_id *stack, tclod_id *out,
+                        double *sse, const uint32_t *mark, uint32_t stamp) {
+    size_t count = sse_walk(n, v, stack, out, sse), k;
+    double bytes = 0.0;
+    for (k = 0; k < count; ++k)
+        if (mark[out[k]] != stamp)
+            bytes += n->bytes[out[k]];
+    return bytes;
+}
+
+int stream_path_init(stream_path *p, double loop, unsigned long every, unsigned long frames,
+                     stream_sim_view_fn view, void *user, const tclod_scene *scene,
+                     const double *bytes, const double *error) {
+    uint64_t rng = STREAM_SIM_SEED;
+    stream_nodes n;
+    size_t k, room;
+    tclod_id *stack = NULL, *out = NULL;
+    double *sse = NULL;
+    uint32_t *mark = NULL;
+    int ok;
+    memset(p, 0, sizeof(*p));
+    memset(&n, 0, sizeof(n));
+    p->loop = loop;
+    p->every = every;
+    p->events = every ? (size_t)((frames + every - 1) / every) : 1u;
+    if (p->events < 1)
+        p->events = 1;
+    p->start = (double *)malloc(p->events * sizeof(*p->start));
+    ok = p->start && nodes_read(&n, scene, bytes, error);
+    room = n.count ? n.count : 1u;
+    if (ok) {
+        stack = (tclod_id *)malloc(room * sizeof(tclod_id));
+        out = (tclod_id *)malloc(room * sizeof(tclod_id));
+        sse = (double *)malloc(room * sizeof(double));
+        mark = (uint32_t *)calloc(room, sizeof(uint32_t));
+        ok = stack && out && sse && mark;
+    }
+    if (ok)
+        p->start[0] = 0.0;
+    for (k = 1; ok && k < p->events; ++k) {
+        tclod_view here;
+        double best = -1.0;
+        size_t count, i;
+        unsigned c;
+        view(user, wrap(p->start[k - 1] + (double)every, loop), &here);
+        count = sse_walk(&n, &here, stack, out, sse);
+        for (i = 0; i < count; ++i)
+            mark[out[i]] = (uint32_t)k;
+        for (c = 0; c < STREAM_SIM_TELEPORT_CANDIDATES; ++c) {
+            double at = floor(rng_uniform(&rng) * loop), b;
+            tclod_view there;
+            view(user, at, &there);
+            b = new_bytes(&n, &there, stack, out, sse, mark, (uint32_t)k);
+            if (b > best) {
+                best = b;
+                p->start[k] = at;
+            }
+        }
+    }
+    nodes_free(&n);
+    free(stack);
+    free(out);
+    free(sse);
+    free(mark);
+    return ok;
 }
 
 /* ---- the simulation --------------------------------------------------------------------- */
@@ -683,6 +747,16 @@ int stream_sim_after(stream_sim *s, unsigned long frame, const tclod_frame *fr, 
     s->all_benefit = stats.benefit;
     follow_t95(s, frame);
     return 1;
+}
+
+void stream_sim_table_header(FILE *out) {
+    fprintf(out, " %11s %8s %9s %12s %12s", "resident_mb", "requests", "in_flight", "all_benefit",
+            "base_benefit");
+}
+
+void stream_sim_table_row(FILE *out, const stream_sim *s) {
+    fprintf(out, " %11.1f %8lu %9lu %12.1f %12.1f", s->ours.frame_resident_bytes * 1e-6,
+            s->ours.issued, (unsigned long)s->ours.load_count, s->all_benefit, s->base.benefit);
 }
 
 void stream_sim_csv_header(FILE *out) {

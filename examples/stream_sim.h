@@ -58,8 +58,10 @@
 #define STREAM_SIM_MAX_SSE 16.0
 /* t95: the share of the all-resident benefit a selection must reach. */
 #define STREAM_SIM_T95_SHARE 0.95
-/* A teleport lands on the point farthest from the eye (in space) among this
- * many points of the path drawn at random (splitmix64, STREAM_SIM_SEED). */
+/* A teleport lands on the point, among this many points of the path drawn at
+ * random (splitmix64, STREAM_SIM_SEED), whose view needs the most new data:
+ * the most bytes the screen-space-error traversal wants there and not where
+ * the camera is. */
 #define STREAM_SIM_TELEPORT_CANDIDATES 8u
 #define STREAM_SIM_SEED 0x5eed022ull
 /* With --stream, the programs fly this many frames unless --frames says. */
@@ -94,13 +96,14 @@ extern const char stream_sim_usage_output[];
 
 /* ---- the camera path with teleports -------------------------------------------- */
 
-/* The eye at `position` frames along a closed path (any real; the path
+/* The view at `position` frames along a closed path (any real; the path
  * repeats every `loop` frames). */
-typedef void (*stream_sim_eye_fn)(void *user, double position, double eye[3]);
+typedef void (*stream_sim_view_fn)(void *user, double position, tclod_view *view);
 
 /* Where the camera is in each frame: without teleports at frame f it is f
- * frames along the path; every `every` frames it jumps to a far point of the
- * path and flies on from there. */
+ * frames along the path; every `every` frames it jumps to a point of the path
+ * whose view has the least in common with where it is (see
+ * STREAM_SIM_TELEPORT_CANDIDATES) and flies on from there. */
 typedef struct stream_path {
     double loop;         /* frames per round of the path, > 0 */
     unsigned long every; /* frames between teleports; 0: none */
@@ -108,10 +111,12 @@ typedef struct stream_path {
     size_t events;
 } stream_path;
 
-/* The path of a flight of `frames` frames, its teleports drawn now. 0 when out
- * of memory. */
+/* The path of a flight of `frames` frames, its teleports chosen now over
+ * the scene with the host's sizes and errors (as stream_sim_start). 0 when
+ * out of memory (p can still be freed). */
 int stream_path_init(stream_path *p, double loop, unsigned long every, unsigned long frames,
-                     stream_sim_eye_fn eye, void *user);
+                     stream_sim_view_fn view, void *user, const tclod_scene *scene,
+                     const double *bytes, const double *error);
 void stream_path_free(stream_path *p);
 /* The position along the path, in [0, loop), at frame `frame`. */
 double stream_path_position(const stream_path *p, unsigned long frame);
@@ -176,6 +181,8 @@ typedef struct stream_loader {
     unsigned long *used; /* per node: 1 + the last frame it was wanted or drawn; 0 never */
     unsigned long *kept; /* per node: 1 + the last frame it was drawn or above a drawn node */
     tclod_id *stack;     /* the traversal's */
+    tclod_id *walk;      /* the nodes it wants */
+    double *walk_sse;    /* and their errors */
     stream_rank *wanted; /* wanted nodes not resident, the largest error first */
     stream_rank *lru;    /* eviction candidates, the least recently used first */
     size_t lru_count, lru_next;
@@ -223,6 +230,11 @@ int stream_sim_before(stream_sim *s, unsigned long frame, const char *prog);
  * a message. */
 int stream_sim_after(stream_sim *s, unsigned long frame, const tclod_frame *fr, double benefit,
                      const char *prog);
+
+/* The table's columns --stream adds (each with a leading space): its header,
+ * and this frame's row. */
+void stream_sim_table_header(FILE *out);
+void stream_sim_table_row(FILE *out, const stream_sim *s);
 
 /* The CSV columns --stream adds (with a leading comma), and this frame's. */
 void stream_sim_csv_header(FILE *out);
