@@ -4,7 +4,7 @@
  */
 #include "stream_sim.h"
 
-#include <errno.h>
+#include <ctype.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,9 +41,9 @@ const char stream_sim_usage_options[] =
     "                  needs)\n"
     "  --teleport-every N\n"
     "                  --stream: every N frames the camera jumps to the one of 8\n"
-    "                  points of its path drawn at random (fixed seed) whose view\n"
-    "                  needs the most bytes the view it leaves does not (by the\n"
-    "                  baseline's traversal); N >= 0, 0 never (default 200)\n";
+    "                  points spread along its path (golden-ratio sequence) whose\n"
+    "                  view needs the most bytes the view it leaves does not (by\n"
+    "                  the baseline's traversal); N >= 0, 0 never (default 200)\n";
 
 const char stream_sim_usage_output[] =
     "--stream adds table columns (after the others):\n"
@@ -75,17 +75,11 @@ const char stream_sim_usage_output[] =
     "  bytes_loaded           bytes of the loads completed\n"
     "  bytes_loaded_baseline  the same for the baseline\n";
 
+/* A finite number and nothing else in s. */
 static int parse_number(const char *s, double *out) {
-    char *end;
-    double v;
-    if (!s || *s == '\0')
-        return 0;
-    errno = 0;
-    v = strtod(s, &end);
-    if (errno != 0 || *end != '\0' || !isfinite(v))
-        return 0;
-    *out = v;
-    return 1;
+    int used = -1;
+    return sscanf(s, "%lf%n", out, &used) == 1 && used == (int)strlen(s) && isfinite(*out) &&
+           !isspace((unsigned char)s[0]);
 }
 
 int stream_sim_parse_option(stream_sim_options *o, const char *prog, int argc, char **argv,
@@ -147,17 +141,10 @@ int stream_sim_options_check(const stream_sim_options *o, const char *prog) {
 
 /* ---- the path ---------------------------------------------------------------------- */
 
-/* splitmix64: small, and the same sequence on every platform. */
-static uint64_t rng_next(uint64_t *state) {
-    uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-
-/* Uniform in [0, 1). */
-static double rng_uniform(uint64_t *state) {
-    return (double)(rng_next(state) >> 11) * (1.0 / 9007199254740992.0);
+/* The j-th point of the golden-ratio sequence from STREAM_SIM_TELEPORT_SEED,
+ * in [0, 1): spread evenly, the same on every platform. */
+static double golden(unsigned long j) {
+    return fmod(STREAM_SIM_TELEPORT_SEED + 0.6180339887498949 * (double)j, 1.0);
 }
 
 static double wrap(double position, double loop) {
@@ -572,7 +559,7 @@ static double new_bytes(const stream_nodes *n, const tclod_view *v, tclod_id *st
 int stream_path_init(stream_path *p, double loop, unsigned long every, unsigned long frames,
                      stream_sim_view_fn view, void *user, const tclod_scene *scene,
                      const double *bytes, const double *error) {
-    uint64_t rng = STREAM_SIM_SEED;
+    unsigned long draws = 0;
     stream_nodes n;
     size_t k, room;
     tclod_id *stack = NULL, *out = NULL;
@@ -608,7 +595,7 @@ int stream_path_init(stream_path *p, double loop, unsigned long every, unsigned 
         for (i = 0; i < count; ++i)
             mark[out[i]] = (uint32_t)k;
         for (c = 0; c < STREAM_SIM_TELEPORT_CANDIDATES; ++c) {
-            double at = floor(rng_uniform(&rng) * loop), b;
+            double at = floor(golden(draws++) * loop), b;
             tclod_view there;
             view(user, at, &there);
             b = new_bytes(&n, &there, stack, out, sse, mark, (uint32_t)k);

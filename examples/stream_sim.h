@@ -58,12 +58,12 @@
 #define STREAM_SIM_MAX_SSE 16.0
 /* t95: the share of the all-resident benefit a selection must reach. */
 #define STREAM_SIM_T95_SHARE 0.95
-/* A teleport lands on the point, among this many points of the path drawn at
- * random (splitmix64, STREAM_SIM_SEED), whose view needs the most new data:
- * the most bytes the screen-space-error traversal wants there and not where
- * the camera is. */
+/* A teleport lands on the point, among this many points spread along the
+ * path by the golden-ratio sequence (starting at STREAM_SIM_TELEPORT_SEED),
+ * whose view needs the most new data: the most bytes the screen-space-error
+ * traversal wants there and not where the camera is. */
 #define STREAM_SIM_TELEPORT_CANDIDATES 8u
-#define STREAM_SIM_SEED 0x5eed022ull
+#define STREAM_SIM_TELEPORT_SEED 0.5
 /* With --stream, the programs fly this many frames unless --frames says. */
 #define STREAM_SIM_DEFAULT_FRAMES 2000ul
 
