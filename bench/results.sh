@@ -4,7 +4,7 @@
 #
 #   bench/results.sh [BUILD_DIR] [SET...]       (default: build; every set)
 #
-# SET is one of: bench targets churn thesis theta quality callgrind churn_callgrind
+# SET is one of: bench targets churn stream thesis theta quality callgrind churn_callgrind
 # restarts_callgrind flyover scheduler.
 # A file is named after its command: the program, then each option without its dashes
 # and joined to its value by '-' (tclod_bench --scene churn --frames 2400 writes
@@ -23,8 +23,8 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 build="${1:-build}"
 shift || true
 sets=("$@")
-[ ${#sets[@]} -gt 0 ] || sets=(bench targets churn thesis theta quality callgrind churn_callgrind
-    restarts_callgrind flyover scheduler)
+[ ${#sets[@]} -gt 0 ] || sets=(bench targets churn stream thesis theta quality callgrind
+    churn_callgrind restarts_callgrind flyover scheduler)
 bench="$build/bench/tclod_bench"
 quality="$build/bench/tclod_quality"
 flyover="$build/examples/flyover_sim"
@@ -118,6 +118,26 @@ run_targets() {
 run_churn() {
     repeated 3 --scene churn
     repeated 3 --scene churn --frames 2400
+}
+
+# What streaming costs: three runs of each command (10^4 and 10^5 objects, and 10^4 under a
+# memory budget that evicts), their rows and, one row per run, their summary lines.
+run_stream() {
+    local keys summary c r file
+    keys="objects,flip_ns_median,warm_us_median,stream_us_median,stream_ratio"
+    keys="$keys,resident_only_us_median,plan_us_median,requests_per_frame,evictions_per_frame"
+    summary="$out/tclod_bench_scene-stream_summary.csv"
+    echo "options,run,$keys" >"$summary"
+    for c in "--objects 10000" "--objects 100000" "--objects 10000 --memory 0.001"; do
+        # shellcheck disable=SC2086 # c is a list of words
+        file="$out/$(name tclod_bench --scene stream $c)"
+        : >"$file"
+        for ((r = 1; r <= 3; ++r)); do
+            # shellcheck disable=SC2086
+            "$bench" --scene stream $c 2>"$tmp/err.txt" | prefixed "$r" run "$file"
+            printf '%s,%s,%s\n' "$c" "$r" "$(summary_row "$keys" <"$tmp/err.txt")" >>"$summary"
+        done
+    done
 }
 
 run_thesis() { repeated 5 --scene thesis; }
@@ -280,8 +300,8 @@ run_scheduler() {
 
 for set in "${sets[@]}"; do
     case "$set" in
-    bench | targets | churn | thesis | theta | quality | callgrind | churn_callgrind \
-        | restarts_callgrind | flyover | scheduler)
+    bench | targets | churn | stream | thesis | theta | quality | callgrind \
+        | churn_callgrind | restarts_callgrind | flyover | scheduler)
         echo "results.sh: $set" >&2
         "run_$set"
         ;;

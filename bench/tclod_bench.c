@@ -42,6 +42,34 @@
  *            longest update of each interval, one of which lands a selection). 5 timed
  *            frames (2 with --quick) after one that warms up; the times show whether a
  *            time limit holds.
+ *   stream   what streaming (docs/streaming.md) costs the library, on a random world
+ *            (10^4 objects, or --objects N) whose every node takes 32 bytes per triangle
+ *            it draws (so an object's level k takes 4^k times its level 0; a group
+ *            impostor 2 KB per object it stands for, at most 16 KB). Four rows: flips
+ *            (10^6 tclod_scene_set_resident calls on nodes drawn at random from a fixed
+ *            seed, each making its node resident when it is not and not resident when it
+ *            is, in 20 timed batches and no select in between; the times are per batch,
+ *            frames the batches, column change_ns the median over the batches of the ns
+ *            per change), then the greedy solver, warm, on the random scene's frames and
+ *            budget: warm_plain (every node resident, no stream desc: the select as
+ *            without streaming), warm_stream (only the roots resident at first; before
+ *            every frame the previous select's evictions are made not resident and its
+ *            first 20 requests resident, a loader of 20 slots whose loads arrive by the
+ *            next frame; stream desc max_requests 20, memory_budget half of all the bytes
+ *            (--memory), bytes_in_flight 0; the time is the select's, the plan
+ *            included) and warm_resident_only (the residency changes of warm_stream
+ *            replayed frame by frame, no stream desc: the same selections without the
+ *            plan). Columns requests and evictions: listed per frame; resident_bytes:
+ *            the scene's when a select began; means. Then, on stderr, the line
+ *            "summary: scene=stream objects=N flip_ns_median=A warm_us_median=B
+ *            stream_us_median=C stream_ratio=C/B resident_only_us_median=D
+ *            plan_us_median=P requests_per_frame=R evictions_per_frame=E", P the median
+ *            over the frames of warm_stream's time less warm_resident_only's. Every
+ *            frame is checked: only resident nodes drawn; warm_stream's requests live
+ *            and not resident, its evictions resident and neither drawn nor an ancestor
+ *            of a drawn node, and once its lists are applied the resident bytes within
+ *            the memory budget (unless TCLOD_NOTE_MEMORY_SHORT); warm_resident_only
+ *            selects as warm_stream did (a difference is reported).
  * random and flyover have no smooth objects. They run the greedy in two modes: cold
  * (cold_start 1: every frame starts from the roots) and warm (cold_start 0: from the
  * previous frame's cut, with the camera a little further along the loop); robin_hood
@@ -91,7 +119,8 @@
  * ns_per_evaluation (mean_us over the mean evaluations: the time per node a solve looked
  * at), violations (timed frames whose selection cost more than the budget) and
  * max_cost_ratio (the largest cost / budget of a timed frame), then edits, edit_us and
- * edit_p99_us (churn rows with edits; else 0). Every frame's selection
+ * edit_p99_us (churn rows with edits; else 0), then requests, evictions, resident_bytes
+ * and change_ns (stream rows; else 0). Every frame's selection
  * is checked against the budget by summing its nodes' (and smooth groups') costs with
  * the callbacks' formulas: a library solver that exceeds it stops the program with an
  * error; a baseline's violations are counted (only threshold_fixed, which ignores the
@@ -139,6 +168,10 @@ typedef struct bench_row {
     double max_cost_ratio;    /* largest cost / budget over the timed frames */
     /* churn rows: scene edit calls per frame and their time (median, p99); else 0 */
     double edits, edit_median_us, edit_p99_us;
+    /* stream rows: load requests and evictions listed per frame, the scene's resident
+     * bytes when a select began (means), and the median ns per residency change (flips);
+     * else 0 */
+    double requests, evictions, resident_bytes, change_ns;
 } bench_row;
 
 static const char *solver_name(tclod_solver s) {
@@ -177,6 +210,8 @@ static const char *only_solver, *only_mode;
 /* --lookahead and --restarts: tclod_selector_desc of the random and flyover rows
  * (defaults: the library's) */
 static unsigned long opt_lookahead, opt_restarts;
+/* --memory: the stream scene's memory budget, as a fraction of all its nodes' bytes */
+static double opt_memory = 0.5;
 
 static int row_wanted(const char *solver, const char *mode) {
     return (only_solver == NULL || strcmp(only_solver, solver) == 0) &&
@@ -663,7 +698,8 @@ static void print_header(void) {
     printf("scene,solver,mode,objects,nodes,median_us,p99_us,benefit,cost,budget,mean_us,"
            "visible,cut,refined,evaluations,iterations,increments,decrements,frames,"
            "variables,line_searches,object_benefit,ns_per_evaluation,violations,"
-           "max_cost_ratio,edits,edit_us,edit_p99_us\n");
+           "max_cost_ratio,edits,edit_us,edit_p99_us,requests,evictions,resident_bytes,"
+           "change_ns\n");
 }
 
 static void print_row(const char *scene, const char *solver, const char *mode,
@@ -672,12 +708,13 @@ static void print_row(const char *scene, const char *solver, const char *mode,
     /* mean time over mean evaluations: the time per node the solve looked at */
     double ns_per_evaluation = r->evaluations > 0.0 ? r->mean_us * 1000.0 / r->evaluations : 0.0;
     printf("%s,%s,%s,%lu,%lu,%.2f,%.2f,%.6g,%.6g,%.6g,%.2f,%lu,%.0f,%.0f,%.0f,%.0f,%.0f,%.0f,%lu,"
-           "%.1f,%.1f,%.6g,%.1f,%lu,%.4f,%.0f,%.2f,%.2f\n",
+           "%.1f,%.1f,%.6g,%.1f,%lu,%.4f,%.0f,%.2f,%.2f,%.2f,%.2f,%.6g,%.2f\n",
            scene, solver, mode, objects, nodes, r->median_us, r->p99_us, r->benefit, r->cost,
            budget, r->mean_us, visible, r->cut, r->refined, r->evaluations, r->iterations,
            r->increments, r->decrements, r->frames, r->variables, r->line_searches,
            r->object_benefit, ns_per_evaluation, r->violations, r->max_cost_ratio, r->edits,
-           r->edit_median_us, r->edit_p99_us);
+           r->edit_median_us, r->edit_p99_us, r->requests, r->evictions, r->resident_bytes,
+           r->change_ns);
     fflush(stdout);
 }
 
@@ -1085,6 +1122,495 @@ static int bench_churn(uint32_t objects, unsigned long frames) {
     return rc;
 }
 
+/* ---- stream: what streaming costs the library --------------------------------------- */
+
+/* The stream scene's world when --objects does not say, the timed frames with --quick,
+ * the bytes a node takes per triangle it draws (an indexed mesh: three 32-bit indices and
+ * about half a 32-byte vertex per triangle), a loader's slots (K: loads made resident per
+ * frame, and the stream desc's max_requests), and the flips: residency changes timed in
+ * batches, and the seed that picks their nodes. */
+#define STREAM_OBJECTS 10000u
+#define STREAM_QUICK_FRAMES 50ul
+#define STREAM_BYTES_PER_TRIANGLE 32.0
+#define STREAM_SLOTS 20u
+#define STREAM_FLIP_CALLS 1000000ul
+#define STREAM_FLIP_BATCHES 20ul
+#define STREAM_SEED 0x73747265616dull
+
+/* The stream rows, in the order they are printed (and run, but flips, which runs last:
+ * its changes scramble the scene's list of resident nodes, which the evictions walk). */
+enum { STREAM_FLIPS, STREAM_PLAIN, STREAM_STREAM, STREAM_RESIDENT_ONLY, STREAM_MODES };
+static const char *const stream_modes[STREAM_MODES] = {"flips", "warm_plain", "warm_stream",
+                                                       "warm_resident_only"};
+
+/* The residency changes the warm_stream run made before each frame, replayed by
+ * warm_resident_only: frame f's are ids[end[f - 1] .. end[f]) (end[-1] = 0), made
+ * resident when value is 1, not resident when 0. */
+typedef struct stream_log {
+    tclod_id *ids;
+    uint8_t *value;
+    size_t count, cap;
+    size_t *end;      /* per frame, warm-up included */
+    double *benefit;  /* per frame: the selection's benefit, which the replay must match */
+    size_t *cut;      /* and its size */
+    double *times;    /* per timed frame: warm_stream's select time, µs, in frame order */
+    double *replay;   /* and warm_resident_only's */
+    tclod_id *parent; /* bench_parents: to check what the evictions may not free */
+    uint32_t *drawn;  /* the frame (+ 1) a node was last drawn or an ancestor of a drawn one */
+} stream_log;
+
+static void stream_log_free(stream_log *g) {
+    free(g->ids);
+    free(g->value);
+    free(g->end);
+    free(g->benefit);
+    free(g->cut);
+    free(g->times);
+    free(g->replay);
+    free(g->parent);
+    free(g->drawn);
+    memset(g, 0, sizeof(*g));
+}
+
+static int stream_log_init(stream_log *g, const world_scene *w, unsigned long frames) {
+    unsigned long total = frames + WARMUP_FRAMES;
+    memset(g, 0, sizeof(*g));
+    g->cap = (size_t)total * STREAM_SLOTS;
+    g->ids = (tclod_id *)malloc(g->cap * sizeof(tclod_id));
+    g->value = (uint8_t *)malloc(g->cap);
+    g->end = (size_t *)malloc(total * sizeof(size_t));
+    g->benefit = (double *)malloc(total * sizeof(double));
+    g->cut = (size_t *)malloc(total * sizeof(size_t));
+    g->times = (double *)malloc(frames * sizeof(double));
+    g->replay = (double *)malloc(frames * sizeof(double));
+    g->parent = bench_parents(w->scene);
+    g->drawn = (uint32_t *)calloc((size_t)w->node_count + 1u, sizeof(uint32_t));
+    if (!g->ids || !g->value || !g->end || !g->benefit || !g->cut || !g->times || !g->replay ||
+        (w->node_count && !g->parent) || !g->drawn) {
+        stream_log_free(g);
+        return 1;
+    }
+    return 0;
+}
+
+/* Makes node id resident (value 1) or not (0) and logs the change; 1 on an error
+ * (reported). */
+static int stream_change(stream_log *g, tclod_scene *s, tclod_id id, int value) {
+    tclod_status st;
+    if (g->count == g->cap) {
+        size_t cap = 2u * g->cap + 64u;
+        tclod_id *ids = (tclod_id *)realloc(g->ids, cap * sizeof(tclod_id));
+        uint8_t *v;
+        if (!ids)
+            return 1;
+        g->ids = ids;
+        v = (uint8_t *)realloc(g->value, cap);
+        if (!v)
+            return 1;
+        g->value = v;
+        g->cap = cap;
+    }
+    st = tclod_scene_set_resident(s, id, value);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "tclod_bench: stream: tclod_scene_set_resident(%u, %d) failed: %s (%s)\n",
+                (unsigned)id, value, tclod_status_string(st), tclod_scene_last_error(s));
+        return 1;
+    }
+    g->ids[g->count] = id;
+    g->value[g->count++] = (uint8_t)value;
+    return 0;
+}
+
+/* Every node resident (all 1), or only the roots (the start of a streamed scene).
+ * Returns 1 on an error (reported). */
+static int stream_reset(world_scene *w, int all) {
+    uint32_t i;
+    for (i = 0; i < w->node_count; ++i) {
+        int value = all || tclod_scene_parent(w->scene, i) == TCLOD_NONE;
+        tclod_status st = tclod_scene_set_resident(w->scene, i, value);
+        if (st != TCLOD_OK) {
+            fprintf(stderr, "tclod_bench: stream: tclod_scene_set_resident(%u, %d) failed: %s\n",
+                    (unsigned)i, value, tclod_status_string(st));
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* Checks warm_stream's frame against the contract of docs/streaming.md: every drawn node
+ * resident; every request live and not resident; every eviction resident, not drawn and
+ * no ancestor of a drawn node. Returns 1 on a violation (reported). */
+static int stream_check(stream_log *g, const world_scene *w, uint32_t stamp, const tclod_id *ids,
+                        size_t n, const tclod_stream_item *req, size_t n_req,
+                        const tclod_stream_item *ev, size_t n_ev, unsigned long f) {
+    size_t i;
+    for (i = 0; i < n; ++i) {
+        tclod_id a;
+        if (!tclod_scene_node_resident(w->scene, ids[i])) {
+            fprintf(stderr, "tclod_bench: stream: frame %lu draws node %u, not resident\n", f,
+                    (unsigned)ids[i]);
+            return 1;
+        }
+        for (a = ids[i]; a != TCLOD_NONE && g->drawn[a] != stamp; a = g->parent[a])
+            g->drawn[a] = stamp;
+    }
+    for (i = 0; i < n_req; ++i)
+        if ((req[i].flags & TCLOD_STREAM_SMOOTH) || !tclod_scene_node_live(w->scene, req[i].id) ||
+            tclod_scene_node_resident(w->scene, req[i].id)) {
+            fprintf(stderr,
+                    "tclod_bench: stream: frame %lu requests node %u (flags %u), not a live "
+                    "non-resident node\n",
+                    f, (unsigned)req[i].id, (unsigned)req[i].flags);
+            return 1;
+        }
+    for (i = 0; i < n_ev; ++i)
+        if ((ev[i].flags & TCLOD_STREAM_SMOOTH) || !tclod_scene_node_resident(w->scene, ev[i].id) ||
+            g->drawn[ev[i].id] == stamp) {
+            fprintf(stderr,
+                    "tclod_bench: stream: frame %lu evicts node %u (flags %u): not resident, "
+                    "or drawn or an ancestor of a drawn node\n",
+                    f, (unsigned)ev[i].id, (unsigned)ev[i].flags);
+            return 1;
+        }
+    return 0;
+}
+
+/* Warm-up plus `frames` timed frames of the greedy solver, warm, along the world's loop
+ * with a fixed budget, in one of the select modes: warm_plain (every node resident, no
+ * stream desc), warm_stream (desc; before every frame, the previous select's evictions
+ * freed and its first STREAM_SLOTS requests made resident, logged in g) or
+ * warm_resident_only (no plan: the residency changes of g replayed). times gets the
+ * select calls' times. Every frame's selection is checked: within the budget, only
+ * resident nodes; warm_stream's lists and memory (stream_check), warm_resident_only's
+ * selection the same as warm_stream's. Returns 0 on success, 1 on an error (reported). */
+static int run_stream(world_scene *w, int mode, const tclod_stream_desc *desc, double budget,
+                      unsigned long frames, double *times, stream_log *g, bench_row *row) {
+    solve_call call;
+    tclod_selector_desc sd;
+    tclod_status st;
+    unsigned long f, total = frames + WARMUP_FRAMES, differ = 0;
+    double sum_us = 0.0;
+    size_t replayed = 0;
+
+    memset(row, 0, sizeof(*row));
+    memset(&call, 0, sizeof(call));
+    call.method = METHOD_GREEDY;
+    tclod_selector_desc_default(&sd);
+    sd.solver = TCLOD_SOLVER_GREEDY;
+    sd.callbacks = world_callbacks(w);
+    sd.cold_start = 0;
+    sd.greedy.lookahead = (uint32_t)opt_lookahead;
+    sd.greedy.restarts = opt_restarts > 0 ? (int32_t)opt_restarts : TCLOD_OFF;
+    st = tclod_selector_create(w->scene, &sd, NULL, &call.sel);
+    if (st == TCLOD_OK && mode == STREAM_STREAM)
+        st = tclod_selector_set_stream(call.sel, desc);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "tclod_bench: stream: creating a greedy selector failed: %s\n",
+                tclod_status_string(st));
+        tclod_selector_destroy(call.sel);
+        return 1;
+    }
+    if (mode == STREAM_STREAM)
+        g->count = 0;
+    for (f = 0; f < total; ++f) {
+        tclod_view view;
+        const tclod_id *ids;
+        const tclod_stream_item *req = NULL, *ev = NULL;
+        size_t n, n_req = 0, n_ev = 0, i;
+        double t0, t1, cost;
+        int rc = 0;
+
+        if (mode == STREAM_STREAM && f > 0) {
+            /* the previous select's lists: evictions first (they make the room), then
+             * as many requests as the loader has slots, all arrived */
+            st = tclod_selector_evictions(call.sel, &ev, &n_ev);
+            if (st == TCLOD_OK)
+                st = tclod_selector_requests(call.sel, &req, &n_req);
+            for (i = 0; i < n_ev && st == TCLOD_OK && rc == 0; ++i)
+                rc = stream_change(g, w->scene, ev[i].id, 0);
+            for (i = 0; i < n_req && i < STREAM_SLOTS && st == TCLOD_OK && rc == 0; ++i)
+                rc = stream_change(g, w->scene, req[i].id, 1);
+            if (st != TCLOD_OK || rc != 0) {
+                fprintf(stderr, "tclod_bench: stream: applying frame %lu's lists failed: %s\n", f,
+                        st != TCLOD_OK ? tclod_status_string(st) : "out of memory");
+                tclod_selector_destroy(call.sel);
+                return 1;
+            }
+            if (tclod_scene_resident_bytes(w->scene) > desc->memory_budget &&
+                !(call.stats.notes & TCLOD_NOTE_MEMORY_SHORT)) {
+                fprintf(stderr,
+                        "tclod_bench: stream: frame %lu: resident bytes %.17g over the memory "
+                        "budget %.17g once the lists are applied\n",
+                        f, tclod_scene_resident_bytes(w->scene), desc->memory_budget);
+                tclod_selector_destroy(call.sel);
+                return 1;
+            }
+        }
+        if (mode == STREAM_STREAM)
+            g->end[f] = g->count;
+        if (mode == STREAM_RESIDENT_ONLY) {
+            for (; replayed < g->end[f] && st == TCLOD_OK; ++replayed)
+                st = tclod_scene_set_resident(w->scene, g->ids[replayed], g->value[replayed]);
+            if (st != TCLOD_OK) {
+                fprintf(stderr, "tclod_bench: stream: replaying frame %lu's changes failed: %s\n",
+                        f, tclod_status_string(st));
+                tclod_selector_destroy(call.sel);
+                return 1;
+            }
+        }
+        world_camera_at(&w->path, (double)f / (double)FRAMES_PER_LOOP, &view);
+        memset(&call.frame, 0, sizeof(call.frame));
+        call.frame.view = &view;
+        call.frame.budget = budget;
+        t0 = bench_now_us();
+        if (f < WARMUP_FRAMES)
+            solve_once(&call);
+        else
+            bench_solve(&call);
+        t1 = bench_now_us();
+        st = call.status;
+        if (st == TCLOD_OK)
+            st = tclod_selector_cut(call.sel, &ids, &n);
+        if (st == TCLOD_OK && mode == STREAM_STREAM)
+            st = tclod_selector_requests(call.sel, &req, &n_req);
+        if (st == TCLOD_OK && mode == STREAM_STREAM)
+            st = tclod_selector_evictions(call.sel, &ev, &n_ev);
+        if (st != TCLOD_OK) {
+            fprintf(stderr, "tclod_bench: tclod_select failed: %s\n", tclod_status_string(st));
+            tclod_selector_destroy(call.sel);
+            return 1;
+        }
+        cost = world_sum_cost(w, ids, n);
+        if (call.stats.cost > budget || cost > budget) {
+            fprintf(stderr, "tclod_bench: budget exceeded: cost %.17g > budget %.17g\n", cost,
+                    budget);
+            rc = 1;
+        }
+        for (i = 0; i < n && rc == 0; ++i)
+            if (!tclod_scene_node_resident(w->scene, ids[i])) {
+                fprintf(stderr, "tclod_bench: stream: %s frame %lu draws node %u, not resident\n",
+                        stream_modes[mode], f, (unsigned)ids[i]);
+                rc = 1;
+            }
+        if (rc == 0 && mode == STREAM_STREAM) {
+            rc = stream_check(g, w, (uint32_t)f + 1u, ids, n, req, n_req, ev, n_ev, f);
+            g->benefit[f] = call.stats.benefit;
+            g->cut[f] = n;
+        }
+        if (mode == STREAM_RESIDENT_ONLY && (call.stats.benefit != g->benefit[f] || n != g->cut[f]))
+            ++differ;
+        if (rc != 0) {
+            tclod_selector_destroy(call.sel);
+            return 1;
+        }
+        if (f < WARMUP_FRAMES)
+            continue;
+        times[f - WARMUP_FRAMES] = t1 - t0;
+        if (mode == STREAM_STREAM)
+            g->times[f - WARMUP_FRAMES] = t1 - t0;
+        if (mode == STREAM_RESIDENT_ONLY)
+            g->replay[f - WARMUP_FRAMES] = t1 - t0;
+        sum_us += t1 - t0;
+        add_stats(row, &call.stats, n);
+        row->requests += (double)call.stats.requests;
+        row->evictions += (double)call.stats.evictions;
+        row->resident_bytes += call.stats.resident_bytes;
+        if (budget > 0.0 && cost / budget > row->max_cost_ratio)
+            row->max_cost_ratio = cost / budget;
+        row->refined += (double)refined_objects(w, ids, n);
+    }
+    tclod_selector_destroy(call.sel);
+    if (differ > 0)
+        fprintf(stderr,
+                "tclod_bench: stream: warning: warm_resident_only selected otherwise than "
+                "warm_stream in %lu of %lu frames on the same residency\n",
+                differ, total);
+    finish_row(row, times, frames, sum_us);
+    row->requests /= (double)frames;
+    row->evictions /= (double)frames;
+    row->resident_bytes /= (double)frames;
+    return 0;
+}
+
+/* The timed residency changes of one flips batch, out of line like bench_solve: node
+ * ids[i] becomes resident when it is not and not resident when it is (state, the bench's
+ * copy of the scene's flags, says which), so that every call is a change. Returns the
+ * calls that failed. */
+unsigned long bench_flip(tclod_scene *s, const tclod_id *ids, uint8_t *state, size_t n);
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((noinline))
+#endif
+unsigned long
+bench_flip(tclod_scene *s, const tclod_id *ids, uint8_t *state, size_t n) {
+    unsigned long failed = 0;
+    size_t i;
+    for (i = 0; i < n; ++i) {
+        tclod_id id = ids[i];
+        uint8_t v = (uint8_t)!state[id];
+        state[id] = v;
+        failed += tclod_scene_set_resident(s, id, v) != TCLOD_OK;
+    }
+    return failed;
+}
+
+/* The flips row: STREAM_FLIP_CALLS residency changes on nodes drawn at random (with
+ * replacement, from a fixed seed), in STREAM_FLIP_BATCHES timed batches, no select in
+ * between. The row's times are per batch, its frames the batches; change_ns is the median
+ * over the batches of a batch's time per change. Leaves every node resident. */
+static int run_flips(world_scene *w, bench_row *row) {
+    size_t per_batch = STREAM_FLIP_CALLS / STREAM_FLIP_BATCHES, i;
+    tclod_id *ids = (tclod_id *)malloc(per_batch * sizeof(tclod_id));
+    uint8_t *state = (uint8_t *)malloc((size_t)w->node_count + 1u);
+    double times[STREAM_FLIP_BATCHES], per_change[STREAM_FLIP_BATCHES], sum_us = 0.0;
+    uint64_t rng = STREAM_SEED;
+    unsigned long b, failed = 0;
+    memset(row, 0, sizeof(*row));
+    if (!ids || !state || w->node_count == 0) {
+        fprintf(stderr, "tclod_bench: stream: out of memory\n");
+        free(ids);
+        free(state);
+        return 1;
+    }
+    for (i = 0; i < w->node_count; ++i)
+        state[i] = (uint8_t)tclod_scene_node_resident(w->scene, (tclod_id)i);
+    for (b = 0; b < STREAM_FLIP_BATCHES; ++b) {
+        double t0;
+        for (i = 0; i < per_batch; ++i)
+            ids[i] = churn_below(&rng, w->node_count);
+        t0 = bench_now_us();
+        failed += bench_flip(w->scene, ids, state, per_batch);
+        times[b] = bench_now_us() - t0;
+        per_change[b] = times[b] * 1000.0 / (double)per_batch;
+        sum_us += times[b];
+    }
+    free(ids);
+    free(state);
+    if (failed > 0) {
+        fprintf(stderr, "tclod_bench: stream: %lu of %lu residency changes failed\n", failed,
+                STREAM_FLIP_CALLS);
+        return 1;
+    }
+    finish_row(row, times, STREAM_FLIP_BATCHES, sum_us);
+    bench_sort(per_change, STREAM_FLIP_BATCHES);
+    row->change_ns = bench_median(per_change, STREAM_FLIP_BATCHES);
+    return stream_reset(w, 1);
+}
+
+/* Whether a stream row is wanted: the select rows are the greedy's; flips has no solver
+ * (--solver does not filter it). */
+static int stream_wanted(int mode) {
+    return mode == STREAM_FLIPS ? only_mode == NULL || strcmp(only_mode, stream_modes[mode]) == 0
+                                : row_wanted("greedy", stream_modes[mode]);
+}
+
+/* The stream rows: a random world of `objects` objects whose every node is given
+ * STREAM_BYTES_PER_TRIANGLE bytes per triangle; warm_plain (every node resident),
+ * warm_stream (from the roots alone, the plan's lists applied before every frame) and
+ * warm_resident_only (warm_stream's residency replayed, no plan), then flips; printed
+ * flips first; then the summary line (stderr). */
+static int bench_stream(uint32_t objects, unsigned long frames) {
+    static const int run_order[STREAM_MODES] = {STREAM_PLAIN, STREAM_STREAM, STREAM_RESIDENT_ONLY,
+                                                STREAM_FLIPS};
+    world_random_desc d;
+    world_scene w;
+    stream_log g;
+    tclod_stream_desc desc;
+    bench_row rows[STREAM_MODES];
+    unsigned long visible;
+    int ran[STREAM_MODES] = {0, 0, 0, 0}, k, rc = 0;
+    double budget, total_bytes = 0.0, t0 = bench_now_us(), *diff = NULL;
+    double *times = (double *)malloc(frames * sizeof(*times));
+    tclod_status st = TCLOD_OK;
+    uint32_t i;
+
+    if (!times) {
+        fprintf(stderr, "tclod_bench: out of memory\n");
+        return 1;
+    }
+    world_random_desc_default(&d);
+    d.objects = objects;
+    st = world_build_random(&d, &w);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "tclod_bench: building %u objects failed: %s\n", objects,
+                tclod_status_string(st));
+        free(times);
+        return 1;
+    }
+    for (i = 0; i < w.node_count && st == TCLOD_OK; ++i) {
+        double bytes = STREAM_BYTES_PER_TRIANGLE * (double)w.triangles[i];
+        st = tclod_scene_set_node_bytes(w.scene, i, bytes);
+        total_bytes += bytes;
+    }
+    if (st != TCLOD_OK || stream_log_init(&g, &w, frames) != 0) {
+        fprintf(stderr, "tclod_bench: stream: setting up failed: %s\n",
+                tclod_status_string(st != TCLOD_OK ? st : TCLOD_ERR_NOMEM));
+        world_scene_free(&w);
+        free(times);
+        return 1;
+    }
+    memset(&desc, 0, sizeof(desc));
+    desc.max_requests = STREAM_SLOTS;
+    desc.memory_budget = opt_memory * total_bytes;
+    desc.bytes_in_flight = 0.0;
+    /* the random scene's budget */
+    visible = bench_world_visible(&w);
+    budget = (double)visible * bench_world_level1_cost(&w);
+    fprintf(stderr,
+            "tclod_bench: stream %u objects: %u nodes (%u groups), built in %.0f ms; "
+            "%lu objects in view, budget %.3f ms; %.4g bytes in all, memory budget %.4g, "
+            "%u loads per frame\n",
+            objects, w.node_count, w.group_count, (bench_now_us() - t0) / 1000.0, visible, budget,
+            total_bytes, desc.memory_budget, STREAM_SLOTS);
+    for (k = 0; k < STREAM_MODES && rc == 0; ++k) {
+        int m = run_order[k];
+        /* warm_resident_only replays what warm_stream did: warm_stream runs for either */
+        int wanted =
+            stream_wanted(m) || (m == STREAM_STREAM && stream_wanted(STREAM_RESIDENT_ONLY));
+        if (!wanted || (m == STREAM_RESIDENT_ONLY && !ran[STREAM_STREAM]))
+            continue;
+        if (m == STREAM_FLIPS)
+            rc = stream_reset(&w, 1) || run_flips(&w, &rows[m]);
+        else
+            rc = stream_reset(&w, m == STREAM_PLAIN) ||
+                 run_stream(&w, m, &desc, budget, frames, times, &g, &rows[m]);
+        ran[m] = rc == 0;
+        if (rc == 0 && m == STREAM_RESIDENT_ONLY) {
+            /* the plan's time, frame by frame: the same selections on the same residency */
+            diff = (double *)malloc(frames * sizeof(*diff));
+            if (diff) {
+                unsigned long f;
+                for (f = 0; f < frames; ++f)
+                    diff[f] = g.times[f] - g.replay[f];
+                bench_sort(diff, frames);
+            }
+        }
+    }
+    for (k = 0; k < STREAM_MODES && rc == 0; ++k)
+        if (ran[k] && stream_wanted(k))
+            print_row("stream", k == STREAM_FLIPS ? "none" : "greedy", stream_modes[k],
+                      (unsigned long)objects, (unsigned long)w.node_count, budget, visible,
+                      &rows[k]);
+    if (rc == 0 && ran[STREAM_FLIPS] && ran[STREAM_PLAIN] && ran[STREAM_STREAM] &&
+        ran[STREAM_RESIDENT_ONLY])
+        fprintf(stderr,
+                "summary: scene=stream objects=%u flip_ns_median=%.2f warm_us_median=%.2f "
+                "stream_us_median=%.2f stream_ratio=%.3f resident_only_us_median=%.2f "
+                "plan_us_median=%.2f requests_per_frame=%.2f evictions_per_frame=%.2f\n",
+                objects, rows[STREAM_FLIPS].change_ns, rows[STREAM_PLAIN].median_us,
+                rows[STREAM_STREAM].median_us,
+                rows[STREAM_PLAIN].median_us > 0.0
+                    ? rows[STREAM_STREAM].median_us / rows[STREAM_PLAIN].median_us
+                    : 0.0,
+                rows[STREAM_RESIDENT_ONLY].median_us,
+                diff ? bench_median(diff, frames) : (double)NAN, rows[STREAM_STREAM].requests,
+                rows[STREAM_STREAM].evictions);
+    free(diff);
+    stream_log_free(&g);
+    world_scene_free(&w);
+    free(times);
+    return rc;
+}
+
 /* Mean number of smooth objects in view over 16 points of the thesis loop. */
 static unsigned long thesis_mean_visible(const thesis_scene *t) {
     double sum = 0.0;
@@ -1373,7 +1899,7 @@ static void usage(FILE *out) {
     fprintf(out,
             "usage: tclod_bench [--quick] [--scene NAME] [--theta X] [--objects N] [--frames N]\n"
             "                   [--solver NAME] [--mode NAME] [--lookahead N] [--restarts N]\n"
-            "                   [--help]\n"
+            "                   [--memory F] [--help]\n"
             "\n"
             "Times tclod_select on random worlds of 10^3 ... 10^6 objects x 4 levels and on\n"
             "the flyover scene, cold (from the roots) and warm (from the previous frame), and\n"
@@ -1398,15 +1924,30 @@ static void usage(FILE *out) {
             "solve_seconds 0.05 (mode limited), in tclod_select_step slices of 0.01 s (step:\n"
             "the longest step) and in a scheduler's 2 ms slices (scheduler: the longest\n"
             "update).\n"
-            "\n"
+            "\n");
+    fprintf(out, "The stream scene measures what streaming costs the library on a random world of\n"
+                 "10^4 objects whose every node takes 32 bytes per triangle: 10^6 residency\n"
+                 "changes on random nodes (mode flips, ns per change in column change_ns), and\n"
+                 "the greedy solver's warm select with every node resident and no stream desc\n"
+                 "(warm_plain), streamed from the roots with the previous select's evictions\n"
+                 "freed and 20 of its requests made resident before every frame (warm_stream:\n"
+                 "max_requests 20, memory budget half of all bytes, the plan included), and the\n"
+                 "same residency without the plan (warm_resident_only); it prints\n"
+                 "  summary: scene=stream objects=N flip_ns_median=A warm_us_median=B\n"
+                 "           stream_us_median=C stream_ratio=C/B resident_only_us_median=D\n"
+                 "           plan_us_median=P requests_per_frame=R evictions_per_frame=E\n"
+                 "on stderr (one line; P: the median of warm_stream less warm_resident_only,\n"
+                 "frame by frame).\n"
+                 "\n");
+    fprintf(out,
             "  --quick       10^3, 10^4 and 10^5 objects only (10^5 with a quarter of the\n"
             "                frames), fewer thesis frames (under a minute), churn: at most\n"
-            "                50 frames\n"
-            "  --scene NAME  one scene only: random, flyover, churn, absorb or thesis\n"
+            "                50 frames, stream: at most 50 frames\n"
+            "  --scene NAME  one scene only: random, flyover, churn, absorb, stream or thesis\n"
             "  --theta X     thesis rows: split_threshold X (default: the library's)\n"
             "  --objects N   one random world of N objects (and the other scenes) instead;\n"
-            "                churn: its world's objects (default 10^4); absorb: its small\n"
-            "                roots (default 4*10^4)\n"
+            "                churn and stream: their world's objects (default 10^4); absorb:\n"
+            "                its small roots (default 4*10^4)\n"
             "  --frames N    timed frames per configuration (default 200; 10^6 objects, and\n"
             "                10^5 with --quick: N/4;\n"
             "                thesis: 20 views (--quick 10), flat times each once, split\n"
@@ -1416,11 +1957,16 @@ static void usage(FILE *out) {
             "  --mode NAME   only the rows of one mode: cold, warm, warm_floor (thesis:\n"
             "                split, flat, split_gradient; churn: warm, warm_noedit,\n"
             "                warm_edited; the summary needs warm and warm_noedit; absorb:\n"
-            "                limited, step, scheduler)\n"
-            "  --lookahead N random, flyover and churn rows: the greedy and mixed solvers'\n"
-            "                tclod_selector_desc.greedy.lookahead (default: the library's, 0)\n"
-            "  --restarts N  random, flyover and churn rows: tclod_selector_desc.greedy.restarts\n"
-            "                (default: the library's, 32)\n"
+            "                limited, step, scheduler; stream: flips, warm_plain,\n"
+            "                warm_stream, warm_resident_only, the summary needs all four;\n"
+            "                --solver does not filter flips)\n"
+            "  --lookahead N random, flyover, churn and stream rows: the greedy and mixed\n"
+            "                solvers' tclod_selector_desc.greedy.lookahead (default: the\n"
+            "                library's, 0)\n"
+            "  --restarts N  random, flyover, churn and stream rows:\n"
+            "                tclod_selector_desc.greedy.restarts (default: the library's, 32)\n"
+            "  --memory F    stream: the memory budget as a fraction F in (0, 1] of all the\n"
+            "                nodes' bytes (default 0.5)\n"
             "  --help        print this text and exit\n");
 }
 
@@ -1473,10 +2019,10 @@ int main(int argc, char **argv) {
             only_scene = argv[++i];
             if (strcmp(only_scene, "random") != 0 && strcmp(only_scene, "flyover") != 0 &&
                 strcmp(only_scene, "churn") != 0 && strcmp(only_scene, "thesis") != 0 &&
-                strcmp(only_scene, "absorb") != 0) {
+                strcmp(only_scene, "absorb") != 0 && strcmp(only_scene, "stream") != 0) {
                 fprintf(stderr,
                         "tclod_bench: unknown scene '%s' (scenes: random, flyover, churn, "
-                        "absorb, thesis)\n",
+                        "absorb, stream, thesis)\n",
                         only_scene);
                 return 2;
             }
@@ -1493,8 +2039,9 @@ int main(int argc, char **argv) {
                 return 2;
         } else if (strcmp(argv[i], "--solver") == 0 || strcmp(argv[i], "--mode") == 0) {
             static const char *const modes[] = {
-                "cold", "warm",           "warm_floor", "warm_noedit", "warm_edited", "split",
-                "flat", "split_gradient", "limited",    "step",        "scheduler"};
+                "cold",      "warm",  "warm_floor",     "warm_noedit", "warm_edited",
+                "split",     "flat",  "split_gradient", "limited",     "step",
+                "scheduler", "flips", "warm_plain",     "warm_stream", "warm_resident_only"};
             int is_solver = strcmp(argv[i], "--solver") == 0, known = 0, k2;
             if (i + 1 >= argc) {
                 fprintf(stderr, "tclod_bench: %s needs a value\n", argv[i]);
@@ -1525,6 +2072,19 @@ int main(int argc, char **argv) {
             theta = strtod(argv[++i], &end);
             if (errno != 0 || *end != '\0' || !(theta >= 0.0) || isinf(theta)) {
                 fprintf(stderr, "tclod_bench: --theta expects a number >= 0, got '%s'\n", argv[i]);
+                return 2;
+            }
+        } else if (strcmp(argv[i], "--memory") == 0) {
+            char *end;
+            if (i + 1 >= argc) {
+                fprintf(stderr, "tclod_bench: --memory needs a value\n");
+                return 2;
+            }
+            errno = 0;
+            opt_memory = strtod(argv[++i], &end);
+            if (errno != 0 || *end != '\0' || !(opt_memory > 0.0 && opt_memory <= 1.0)) {
+                fprintf(stderr, "tclod_bench: --memory expects a number in (0, 1], got '%s'\n",
+                        argv[i]);
                 return 2;
             }
         } else if (strcmp(argv[i], "--frames") == 0) {
@@ -1608,6 +2168,19 @@ int main(int argc, char **argv) {
         if (quick && n_frames > CHURN_QUICK_FRAMES)
             n_frames = CHURN_QUICK_FRAMES;
         if (bench_churn(objects, n_frames) != 0)
+            return 1;
+    }
+
+    if ((!only_scene || strcmp(only_scene, "stream") == 0) &&
+        (stream_wanted(STREAM_FLIPS) || stream_wanted(STREAM_PLAIN) ||
+         stream_wanted(STREAM_STREAM) || stream_wanted(STREAM_RESIDENT_ONLY))) {
+        uint32_t objects = only_objects ? only_objects : STREAM_OBJECTS;
+        /* frames as for a random world of that size, and few with --quick (CI) */
+        unsigned long n_frames =
+            objects >= 1000000u || (quick && objects >= 100000u) ? frames / 4 : frames;
+        if (quick && n_frames > STREAM_QUICK_FRAMES)
+            n_frames = STREAM_QUICK_FRAMES;
+        if (bench_stream(objects, n_frames) != 0)
             return 1;
     }
 

@@ -1266,27 +1266,27 @@ const char *tclod_scene_last_error(const tclod_scene *s) {
 
 /* ---- streaming ------------------------------------------------------------------ */
 
-/* Node n's (smooth object's) flags and size, or NULLs when it is not live. */
-static void residency_of(tclod_scene *s, tclod_id id, int smooth, uint8_t **flags, float **bytes) {
-    *flags = NULL;
-    *bytes = NULL;
-    if (smooth ? smooth_live(s, id) : node_live(s, id)) {
-        *flags = smooth ? &s->smooth_flags[id] : &s->flags[id];
-        *bytes = smooth ? &s->smooth_bytes[id] : &s->bytes[id];
-    }
+/* Points *flags and *bytes at node (smooth object) id's, or fails naming fn
+ * when it is not live. */
+static tclod_status residency_of(tclod_scene *s, tclod_id id, int smooth, const char *fn,
+                                 uint8_t **flags, float **bytes) {
+    if (!(smooth ? smooth_live(s, id) : node_live(s, id)))
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn,
+                          smooth ? "smooth is not a live smooth object"
+                                 : "node is not a live node");
+    *flags = smooth ? &s->smooth_flags[id] : &s->flags[id];
+    *bytes = smooth ? &s->smooth_bytes[id] : &s->bytes[id];
+    return TCLOD_OK;
 }
 
 static tclod_status set_resident(tclod_scene *s, tclod_id id, int resident, int smooth,
                                  const char *fn) {
-    uint8_t *flags;
-    float *bytes;
+    uint8_t *flags = NULL;
+    float *bytes = NULL;
     if (!s)
         return TCLOD_ERR_ARG;
-    residency_of(s, id, smooth, &flags, &bytes);
-    if (!flags)
-        return tclod_fail(s->error, TCLOD_ERR_ARG, fn,
-                          smooth ? "smooth is not a live smooth object"
-                                 : "node is not a live node");
+    if (residency_of(s, id, smooth, fn, &flags, &bytes) != TCLOD_OK)
+        return TCLOD_ERR_ARG;
     if (resident != 0 && resident != 1)
         return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "resident must be 0 or 1");
     if (held(s))
@@ -1322,15 +1322,12 @@ tclod_status tclod_scene_set_smooth_resident(tclod_scene *s, tclod_id smooth, in
 }
 
 static tclod_status set_bytes(tclod_scene *s, tclod_id id, double b, int smooth, const char *fn) {
-    uint8_t *flags;
-    float *bytes;
+    uint8_t *flags = NULL;
+    float *bytes = NULL;
     if (!s)
         return TCLOD_ERR_ARG;
-    residency_of(s, id, smooth, &flags, &bytes);
-    if (!flags)
-        return tclod_fail(s->error, TCLOD_ERR_ARG, fn,
-                          smooth ? "smooth is not a live smooth object"
-                                 : "node is not a live node");
+    if (residency_of(s, id, smooth, fn, &flags, &bytes) != TCLOD_OK)
+        return TCLOD_ERR_ARG;
     if (!bytes_valid(b))
         return tclod_fail(s->error, TCLOD_ERR_ARG, fn, BYTES_RULE);
     if (held(s))

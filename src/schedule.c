@@ -28,6 +28,13 @@
  * it (the budget fell, or the calibration raised it), the scheduler selects
  * at once for the current view and draws that.
  *
+ * With streaming, only resident nodes are drawn. A landed selection that
+ * holds a node no longer resident draws its nearest resident ancestor in its
+ * place, as a selector would (repair); a region morphs only through resident
+ * nodes, else it draws S_j's nodes as they are. The selector's plan keeps the
+ * nodes of the landed selections, whose paths hold every node a draw list
+ * draws (keep_landed).
+ *
  * Node relations are found with epoch marks on per-node arrays: the members
  * of a cut are marked black, and a node belongs to the meet of two cuts when
  * no proper ancestor of it is marked ([GEO §4.4]'s black and grey nodes).
@@ -119,6 +126,8 @@ typedef struct pipeline {
     uint32_t node_version;              /* the scene's node version the landed selections
                                            were purged to */
     uint32_t smooth_version;            /* and its smooth version */
+    uint32_t residency_version;         /* the scene's residency version the landed
+                                           selections and the plan were checked at */
     uint32_t prev, cur, next;           /* S_{j-1}, S_j, S_{j+1} in gen[] (may coincide) */
     int ready;                          /* the pending selection finished: it lands next, ... */
     uint32_t landing;                   /* ... from gen[landing] */
@@ -195,7 +204,8 @@ struct tclod_scheduler {
     uint32_t *region_of, *region_mark;
     uint32_t epoch;
     tclod_id *list_x, *list_y; /* X_j and Y_j, or other pairs of cuts */
-    tclod_id *list_r;          /* the region roots */
+    tclod_id *list_r;          /* the region roots; during a selector call, the nodes
+                                  its plan keeps (stream.keep) */
     uint32_t *counts;          /* 3 per node: per-region counts while bucketing */
     tclod_draw *items[2];      /* 3 per node each: the shown draw list, and the next */
     uint32_t item_count[2];
@@ -1070,44 +1080,51 @@ static void bad_value(tclod_scheduler *sch) {
         sch->failed = 1;
 }
 
+/* Node n's cost for the latest selection's views, from the callbacks;
+ * *visible is 0 (and the cost 0) when those views do not see it. */
+static double predicted_cost(tclod_scheduler *sch, tclod_id n, int *visible) {
+    const tclod_scene *s = sch->scene;
+    tclod_query q;
+    tclod_bounds qb;
+    double benefit, cost = 0.0;
+    memset(&q, 0, sizeof q);
+    q.id = tclod_scene_owner(s, n);
+    q.count = 1;
+    q.view = &sch->sv.conservative;
+    q.screen_area = q.distance = -1.0f;
+    tclod_scene_public_bounds(s, q.id, &qb);
+    q.bounds = qb.kind != TCLOD_BOUNDS_NONE ? &qb : NULL;
+    if (q.bounds) {
+        double d;
+        tclod_view_measure_bounds(&sch->sv.conservative_cache, &s->bounds[n], s->boxes,
+                                  &q.screen_area, &d);
+        q.distance = (float)d;
+    }
+    benefit = wrap_benefit(sch, &q);
+    if (value_bad(benefit)) {
+        bad_value(sch);
+        benefit = 0.0;
+    }
+    if (benefit > 0.0) {
+        cost = wrap_cost(sch, &q);
+        if (value_bad(cost)) {
+            bad_value(sch);
+            cost = HUGE_VAL;
+        }
+    }
+    *visible = benefit > 0.0;
+    return cost;
+}
+
 /* The predicted cost of node n for the current plan: the cost a landed
- * selection drew it with, else the callbacks' for the latest selection's
- * views; *visible is 0 (and the cost 0) when those views do not see it. */
+ * selection drew it with, else predicted_cost(); *visible as there. */
 static double memo(tclod_scheduler *sch, tclod_id n, int *visible) {
     plan_state *P = PLAN(sch);
     if (P->memo_mark[n] != P->memo_epoch) {
-        const tclod_scene *s = sch->scene;
-        tclod_query q;
-        tclod_bounds qb;
-        double benefit, cost = 0.0;
-        memset(&q, 0, sizeof q);
-        q.id = tclod_scene_owner(s, n);
-        q.count = 1;
-        q.view = &sch->sv.conservative;
-        q.screen_area = q.distance = -1.0f;
-        tclod_scene_public_bounds(s, q.id, &qb);
-        q.bounds = qb.kind != TCLOD_BOUNDS_NONE ? &qb : NULL;
-        if (q.bounds) {
-            double d;
-            tclod_view_measure_bounds(&sch->sv.conservative_cache, &s->bounds[n], s->boxes,
-                                      &q.screen_area, &d);
-            q.distance = (float)d;
-        }
-        benefit = wrap_benefit(sch, &q);
-        if (value_bad(benefit)) {
-            bad_value(sch);
-            benefit = 0.0;
-        }
-        if (benefit > 0.0) {
-            cost = wrap_cost(sch, &q);
-            if (value_bad(cost)) {
-                bad_value(sch);
-                cost = HUGE_VAL;
-            }
-        }
+        int vis;
+        P->memo_cost[n] = predicted_cost(sch, n, &vis);
         P->memo_mark[n] = P->memo_epoch;
-        P->memo_cost[n] = cost;
-        P->memo_visible[n] = benefit > 0.0;
+        P->memo_visible[n] = (uint8_t)vis;
     }
     *visible = P->memo_visible[n];
     return P->memo_cost[n];
@@ -1174,11 +1191,167 @@ static void add_cost(tclod_scheduler *sch, tclod_id fine, tclod_id coarse, float
     *(double *)ctx += memo(sch, fine, &vis);
 }
 
+/* ---- residency ------------------------------------------------------------------------------- */
+
+static void make_plan(tclod_scheduler *sch);
+
+/* Whether every node a morph region passes through is resident: q, its fine
+ * side and the nodes between them. The levels in turn draw each of them, and
+ * the coarse end of every morph item is one of them. */
+static int morph_resident(tclod_scheduler *sch, const region *R) {
+    const tclod_scene *s = sch->scene;
+    const plan_state *P = PLAN(sch);
+    uint32_t stamp, i;
+    if (tclod_scene_absent(s, R->root))
+        return 0;
+    stamp = next_epoch(sch);
+    for (i = 0; i < R->count; ++i) {
+        tclod_id m;
+        for (m = P->nodes[R->first + i]; m != R->root && sch->done[m] != stamp; m = s->parent[m]) {
+            sch->done[m] = stamp;
+            if (tclod_scene_absent(s, m))
+                return 0;
+        }
+    }
+    return 1;
+}
+
+/* The regions of the plan in use that draw a node not resident at some point
+ * of the interval. */
+static uint32_t absent_regions(tclod_scheduler *sch) {
+    const tclod_scene *s = sch->scene;
+    const plan_state *P = PLAN(sch);
+    uint32_t r, i, hits = 0;
+    for (r = 0; r < P->region_count; ++r) {
+        const region *R = &P->regions[r];
+        int ok = 1;
+        if (R->kind == REGION_STATIC)
+            for (i = 0; i < R->count && ok; ++i)
+                ok = !tclod_scene_absent(s, P->nodes[R->first + i]);
+        else
+            ok = morph_resident(sch, R);
+        hits += !ok;
+    }
+    return hits;
+}
+
+/* What a landed selection draws in place of node n, which is not resident:
+ * what a selector would draw, the nearest resident ancestor through
+ * replacing parents; TCLOD_NONE (nothing) past a root or an additive node,
+ * whose child's hierarchy draws nothing until it arrives. */
+static tclod_id fallback(const tclod_scene *s, tclod_id n) {
+    for (;;) {
+        tclod_id p = s->parent[n];
+        if (p == TCLOD_NONE || (s->flags[p] & TCLOD_NODE_ADD))
+            return TCLOD_NONE;
+        if (!tclod_scene_absent(s, p))
+            return p;
+        n = p;
+    }
+}
+
+/* Replaces each node of generation g that is not resident by its fallback
+ * (costed for the latest selection's views) and takes out what lies below a
+ * fallback. Returns whether g changed. */
+static int repair(tclod_scheduler *sch, uint32_t g) {
+    const tclod_scene *s = sch->scene;
+    generation *G = &sch->gen[g];
+    uint32_t i, k, e;
+    for (i = 0; i < G->count && !tclod_scene_absent(s, G->ids[i]); ++i)
+        ;
+    if (i == G->count)
+        return 0;
+    e = next_epoch(sch);
+    for (; i < G->count; ++i) {
+        tclod_id f;
+        int vis;
+        if (!tclod_scene_absent(s, G->ids[i]))
+            continue;
+        f = fallback(s, G->ids[i]);
+        G->ids[i] = f;
+        G->cost[i] = 0.0;
+        if (f != TCLOD_NONE && sch->mark_a[f] != e) { /* its first place: costed */
+            sch->mark_a[f] = e;
+            G->cost[i] = predicted_cost(sch, f, &vis);
+        }
+    }
+    for (i = k = 0; i < G->count; ++i) {
+        tclod_id n = G->ids[i];
+        if (n == TCLOD_NONE || sch->done[n] == e || below_mark(sch, sch->mark_a, e, n))
+            continue;
+        sch->done[n] = e;
+        G->ids[k] = n;
+        G->cost[k++] = G->cost[i];
+    }
+    G->count = k;
+    return 1;
+}
+
+/* After the scene's residency changed: the landed selections the pipeline
+ * draws from lose the nodes not resident (repair), and a plan that would
+ * draw one of them is made again, each region that drew one switching at
+ * once (a pop). The changes of the interval are not counted again. */
+static void sync_residency(tclod_scheduler *sch) {
+    const tclod_scene *s = sch->scene;
+    uint32_t hits;
+    if (sch->p.residency_version == s->residency_version)
+        return;
+    sch->p.residency_version = s->residency_version;
+    if (!tclod_scene_streams(s))
+        return;
+    repair(sch, sch->p.prev);
+    repair(sch, sch->p.cur);
+    repair(sch, sch->p.next);
+    if (sch->p.ready)
+        repair(sch, sch->p.landing);
+    hits = absent_regions(sch);
+    if (hits > 0) {
+        tclod_scheduler_stats kept = sch->p.stats;
+        make_plan(sch);
+        sch->p.stats.changes = kept.changes + hits;
+        sch->p.stats.morphs = kept.morphs;
+        sch->p.stats.pops = kept.pops + hits;
+    }
+}
+
+/* Names the nodes of the landed selections the pipeline draws from as the
+ * ones the selector's plan keeps, with their ancestors (which hold every node
+ * a morph draws, at either end), for the selector call that follows (then
+ * unkeep). Only a plan with a memory budget evicts. */
+static void keep_landed(tclod_scheduler *sch) {
+    tclod_stream_state *S = &sch->sel->stream;
+    uint32_t slots[4], count = 3, e, k, i, n = 0;
+    if (!(S->desc.memory_budget > 0.0))
+        return;
+    slots[0] = sch->p.prev;
+    slots[1] = sch->p.cur;
+    slots[2] = sch->p.next;
+    if (sch->p.ready)
+        slots[count++] = sch->p.landing;
+    e = next_epoch(sch);
+    for (k = 0; k < count; ++k)
+        for (i = 0; i < sch->gen[slots[k]].count; ++i) {
+            tclod_id id = sch->gen[slots[k]].ids[i];
+            if (sch->done[id] != e) {
+                sch->done[id] = e;
+                sch->list_r[n++] = id;
+            }
+        }
+    S->keep = sch->list_r;
+    S->keep_count = n;
+}
+
+static void unkeep(tclod_scheduler *sch) {
+    sch->sel->stream.keep = NULL;
+    sch->sel->stream.keep_count = 0;
+}
+
 /* ---- plans ----------------------------------------------------------------------------------- */
 
 /* Makes region r of the plan: q alone, or a morph from its X side (list 0) to
  * its Y side (list 1) -- when every state it passes through costs no more
- * than S_j's nodes in it (list 2); else S_j's nodes as they are. */
+ * than S_j's nodes in it (list 2) and every node it draws is resident; else
+ * S_j's nodes as they are. */
 static void plan_region(tclod_scheduler *sch, uint32_t r, uint32_t e) {
     region *R = &PLAN(sch)->regions[r], plan = *R;
     tclod_id q = R->root;
@@ -1225,14 +1398,15 @@ static void plan_region(tclod_scheduler *sch, uint32_t r, uint32_t e) {
                 worst = c;
         }
     }
-    if (worst <= allowed) {
+    if (worst <= allowed && (plan.kind == REGION_STATIC || !tclod_scene_streams(sch->scene) ||
+                             morph_resident(sch, &plan))) {
         *R = plan;
         if (plan.kind != REGION_STATIC)
             count_change(sch, 1);
         return;
     }
-    /* too dear somewhere: S_j's nodes, switched to at the start and from at
-     * the end */
+    /* too dear somewhere, or not resident: S_j's nodes, switched to at the
+     * start and from at the end */
     if (nx > 0 && nc > 0 && !same_nodes(sch, PLAN(sch)->nodes + fx, nx, PLAN(sch)->nodes + fc, nc))
         count_change(sch, 0);
     if (ny > 0 && nc > 0 && !same_nodes(sch, PLAN(sch)->nodes + fc, nc, PLAN(sch)->nodes + fy, ny))
@@ -1373,6 +1547,7 @@ static tclod_status select_now(tclod_scheduler *sch, const tclod_view *view, int
     sch->p.prev = sch->p.cur = sch->p.next = g;
     sch->p.node_version = sch->scene->node_version;
     sch->p.smooth_version = sch->scene->smooth_version;
+    sch->p.residency_version = sch->scene->residency_version; /* it drew resident nodes */
     make_plan(sch);
     start = clock_in();
     st = begin(sch, view);
@@ -1386,6 +1561,8 @@ static tclod_status select_now(tclod_scheduler *sch, const tclod_view *view, int
 static void finished(tclod_scheduler *sch, const tclod_stats *st) {
     sch->p.landing = fresh_slot(sch);
     store(sch, sch->p.landing);
+    if (tclod_scene_streams(sch->scene)) /* what was evicted since it saw it */
+        repair(sch, sch->p.landing);
     sch->p.ready = 1;
     sch->p.landed_invalid = st->invalid_values;
     sch->p.landed_benefit = st->benefit;
@@ -1404,10 +1581,12 @@ static tclod_status land(tclod_scheduler *sch) {
         int done = 0;
         double start = clock_in();
         sch->touched = 1;
+        keep_landed(sch);
         if (sch->p.redo)
             status = tclod_select_step(sch->sel, 0.0, 0, &done, &st);
         else
             status = tclod_select_finish(sch->sel, &st);
+        unkeep(sch);
         clock_out(sch, start);
         if (status != TCLOD_OK)
             return status;
@@ -1517,6 +1696,8 @@ static tclod_status advance(tclod_scheduler *sch, double now, const tclod_view *
     int restart = !sch->p.started || now - sch->p.boundary > (MAX_GAP + 1.0) * tau;
     if (!restart && purge(sch))
         make_plan(sch);
+    if (!restart)
+        sync_residency(sch);
     if (!restart && sch->p.lost) {
         double start = clock_in();
         st = begin_again(sch);
@@ -1565,7 +1746,9 @@ static tclod_status advance(tclod_scheduler *sch, double now, const tclod_view *
         int done = 0;
         double start = clock_in();
         sch->touched = 1;
+        keep_landed(sch);
         st = tclod_select_step(sch->sel, slice_seconds, 0, &done, &stats);
+        unkeep(sch);
         clock_out(sch, start);
         if (st == TCLOD_OK && done)
             finished(sch, &stats);
@@ -1685,6 +1868,8 @@ double tclod_scheduler_resolution(const tclod_scheduler *sch, tclod_id smooth) {
     if (!sch || !sch->shown.started || smooth >= sch->scene->smooth_count ||
         smooth >= sch->smooth_cap)
         return 0.0;
+    if (sch->scene->smooth_flags[smooth] & TCLOD_NODE_ABSENT)
+        return 0.0; /* not resident (evicted since a selection drew it): not drawn */
     c = sch->gen[sch->shown.cur].res[smooth];
     if (sch->desc.two_stage)
         return c;
@@ -1748,6 +1933,8 @@ tclod_status tclod_scheduler_requests(const tclod_scheduler *sch, const tclod_st
                                       size_t *n) {
     if (!sch || !items || !n)
         return TCLOD_ERR_ARG;
+    if (sch->busy)
+        return TCLOD_ERR_STATE;
     return tclod_selector_requests(sch->sel, items, n);
 }
 
@@ -1755,5 +1942,7 @@ tclod_status tclod_scheduler_evictions(const tclod_scheduler *sch, const tclod_s
                                        size_t *n) {
     if (!sch || !items || !n)
         return TCLOD_ERR_ARG;
+    if (sch->busy)
+        return TCLOD_ERR_STATE;
     return tclod_selector_evictions(sch->sel, items, n);
 }

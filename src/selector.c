@@ -482,6 +482,7 @@ static tclod_status selector_begin(tclod_selector *sel, const tclod_frame *f, co
     memset(&sel->stats, 0, sizeof sel->stats);
     sel->stats.stop_reason = TCLOD_STOP_FINEST;
     sel->stats.resident_bytes = sel->scene->resident_bytes;
+    sel->stream.absent_seen = 0;
     memset(&sel->resume, 0, sizeof sel->resume);
     sel->frame_data = *f;
     sel->has_view = f->view != NULL;

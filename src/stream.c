@@ -23,6 +23,7 @@ int tclod_evaluate_absent(tclod_selector *sel, tclod_id n) {
     tclod_stream_state *S = &sel->stream;
     tclod_node_state *st = &sel->node[n];
     tclod_id p = s->parent[n];
+    S->absent_seen++;
     if (S->seen && n < S->cap) {
         S->seen[n] = sel->solve_id;
         S->benefit[n] = st->benefit;
@@ -51,6 +52,9 @@ size_t tclod_stream_buffers(tclod_stream_state *S, tclod_array *out) {
     out[n++] = (tclod_array){(void **)&S->smooth_used, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&S->cap_value, sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&S->size, sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&S->delta, 2 * sizeof(double), -1};
+    out[n++] = (tclod_array){(void **)&S->queue, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&S->size_seen, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&S->used, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&S->touched, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&S->heap.items, sizeof(tclod_heap_entry), -1};
@@ -183,7 +187,13 @@ static int true_values(tclod_selector *sel, tclod_id n, double *b, double *c) {
 static int request_bytes(tclod_selector *sel, tclod_id n, double *bytes) {
     const tclod_scene *s = sel->scene;
     const tclod_callbacks *cb = &sel->desc.callbacks;
+    tclod_stream_state *S = &sel->stream;
     double z = (double)s->bytes[n];
+    if (S->size_seen[n] == sel->solve_id) { /* asked already (a pass made again) */
+        *bytes = S->size[n];
+        return *bytes > 0.0 ? 0 : 1;
+    }
+    S->size_seen[n] = sel->solve_id;
     if (z == 0.0 && cb->bytes) {
         tclod_query *q = &sel->query;
         q->id = n;
@@ -193,13 +203,14 @@ static int request_bytes(tclod_selector *sel, tclod_id n, double *bytes) {
         z = cb->bytes(cb->user, q);
         if (!(z >= 0.0 && z < HUGE_VAL)) {
             tclod_bad_value(sel);
+            S->size[n] = -1.0;
             return sel->failed ? -1 : 1;
         }
     }
     if (z == 0.0)
         z = s->res_count > 0 ? s->resident_bytes / s->res_count : 0.0;
     *bytes = z > 1.0 ? z : 1.0;
-    sel->stream.size[n] = *bytes;
+    S->size[n] = *bytes;
     return 0;
 }
 
@@ -223,8 +234,15 @@ static int queue_increment(tclod_selector *sel, tclod_id n, double b, double c) 
     }
     db = sum_b - b;
     dc = sum_c - c;
-    if (s->child_count[n] > 0 && db > 0.0)
-        tclod_heap_push(&sel->stream.heap, n, dc > 0.0 ? db / dc : HUGE_VAL);
+    sel->stream.delta[2u * n] = db;
+    sel->stream.delta[2u * n + 1u] = dc;
+    if (s->child_count[n] > 0 && db > 0.0) {
+        double key = dc > 0.0 ? db / dc : HUGE_VAL;
+        if (sel->stream.filling && key >= sel->stream.closure)
+            sel->stream.queue[sel->stream.tail++] = n;
+        else
+            tclod_heap_push(&sel->stream.heap, n, key);
+    }
     return 0;
 }
 
@@ -295,17 +313,37 @@ static int request_children(tclod_selector *sel, tclod_id p, double gain, uint32
     return 0;
 }
 
-/* The plan's target: the greedy ([MB97]) over the tree as if every node were
- * resident, from the roots, within the frame's budget, without lookahead:
- * the increments by benefit gained per cost, each taken when it fits. The
- * nodes it draws or passes through that are not resident become request
- * candidates (ids[0 .. *count), keys their ranks). Returns 0 or -1. */
-static int plan_target(tclod_selector *sel, uint32_t *count) {
+/* Takes target node p's increment: its visible children replace it, and
+ * those not resident become request candidates. Returns 0 or -1. */
+static int target_take(tclod_selector *sel, tclod_id p, uint32_t *count) {
     const tclod_scene *s = sel->scene;
     tclod_stream_state *S = &sel->stream;
-    double budget = sel->frame->budget, total = 0.0;
+    uint32_t k, end = s->child_first[p] + s->child_count[p];
+    S->mark[p] = (uint8_t)((S->mark[p] & ~STREAM_VCUT) | STREAM_PASSED);
+    if (request_children(sel, p, S->delta[2u * p], count) != 0)
+        return -1;
+    for (k = s->child_first[p]; k < end; ++k) {
+        tclod_id ch = s->children[k];
+        double cb = 0.0, cc = 0.0;
+        (void)true_values(sel, ch, &cb, &cc); /* evaluated when p was queued */
+        if (cb > 0.0 && target_add(sel, ch, cb, cc, S->cap_value[ch]) != 0)
+            return -1;
+    }
+    return 0;
+}
+
+/* One pass of the target (plan_target). Increments keyed at or above
+ * S->closure go first, first in first out, the rest by the heap. Returns 0,
+ * -1 (strict), or 1 when the first ones did not all fit (the pass must be
+ * made again with the heap alone). */
+static int target_pass(tclod_selector *sel, uint32_t *count) {
+    const tclod_scene *s = sel->scene;
+    tclod_stream_state *S = &sel->stream;
+    double budget = sel->frame->budget, total = 0.0, grow = 0.0;
     uint32_t i;
     *count = 0;
+    S->head = S->tail = 0;
+    S->least = HUGE_VAL;
     for (i = 0; i < s->root_count; ++i) {
         tclod_id r = s->roots[i];
         double b, c, z = 1.0, cap = HUGE_VAL;
@@ -327,35 +365,57 @@ static int plan_target(tclod_selector *sel, uint32_t *count) {
         if (target_add(sel, r, b, c, cap) != 0)
             return -1;
     }
+    /* the closure: in any order, as long as its growth fits, it is what the
+     * heap would take first (the greedy's closure, docs/greedy.md) */
+    while (S->head < S->tail) {
+        tclod_id p = S->queue[S->head++];
+        double dc = S->delta[2u * p + 1u];
+        grow += dc > 0.0 ? dc : 0.0;
+        if (!(total + grow <= budget))
+            return 1;
+        if (target_take(sel, p, count) != 0)
+            return -1;
+    }
+    total += grow;
+    S->filling = 0; /* from now on every increment goes to the heap */
     while (S->heap.count > 0) {
+        double key = S->heap.items[0].key;
         tclod_id p = tclod_heap_pop(&S->heap);
-        uint32_t k = s->child_first[p], end = k + s->child_count[p];
-        double b, c, sum_b = 0.0, sum_c = 0.0;
-        if (true_values(sel, p, &b, &c) != 0)
-            return -1;
-        for (; k < end; ++k) {
-            double cb, cc;
-            (void)true_values(sel, s->children[k], &cb, &cc); /* evaluated when queued */
-            if (cb > 0.0) {
-                sum_b += cb;
-                sum_c += cc;
-            }
-        }
-        if (!(total + (sum_c - c) <= budget))
+        double dc = S->delta[2u * p + 1u];
+        if (!(total + dc <= budget))
             continue;
-        total += sum_c - c;
-        S->mark[p] = (uint8_t)((S->mark[p] & ~STREAM_VCUT) | STREAM_PASSED);
-        if (request_children(sel, p, sum_b - b, count) != 0)
+        total += dc;
+        if (key < S->least)
+            S->least = key;
+        if (target_take(sel, p, count) != 0)
             return -1;
-        for (k = s->child_first[p]; k < end; ++k) {
-            tclod_id ch = s->children[k];
-            double cb, cc;
-            (void)true_values(sel, ch, &cb, &cc);
-            if (cb > 0.0 && target_add(sel, ch, cb, cc, S->cap_value[ch]) != 0)
-                return -1;
-        }
     }
     return 0;
+}
+
+/* The plan's target: the greedy ([MB97]) over the tree as if every node were
+ * resident, from the roots, within the frame's budget, without lookahead:
+ * the increments by benefit gained per cost, each taken when it fits. The
+ * nodes it draws or passes through that are not resident become request
+ * candidates (ids[0 .. *count), keys their ranks). The increments above the
+ * last target's least taken key, with a margin, are taken first in first
+ * out, which saves most of the heap's work on a frame like the last; when
+ * they do not fit, the pass is made again with the heap alone. Returns 0 or
+ * -1. */
+static int plan_target(tclod_selector *sel, uint32_t *count) {
+    tclod_stream_state *S = &sel->stream;
+    int r;
+    S->filling = S->closure > 0.0;
+    r = target_pass(sel, count);
+    if (r == 1) {
+        unmark_all(S);
+        S->closure *= 4.0; /* a smaller closure next time */
+        S->filling = 0;
+        r = target_pass(sel, count);
+    }
+    if (r == 0 && S->filling == 0 && S->least < HUGE_VAL && S->least > 0.0)
+        S->closure = 1.25 * S->least; /* the heap's part began below it */
+    return r;
 }
 
 /* The smooth objects not resident that the mixed solver would draw: the
@@ -523,6 +583,50 @@ static double evict_one(tclod_selector *sel) {
     return (double)s->bytes[n];
 }
 
+/* The request candidates ids[0 .. n), keys[0 .. n) as a binary max-heap:
+ * higher rank first, equal ranks by smaller id. Only the ones listed are
+ * popped: O(n + listed log n), not a sort of all of them. */
+static int candidate_before(const tclod_stream_state *S, uint32_t a, uint32_t b) {
+    return S->keys[a] > S->keys[b] || (S->keys[a] == S->keys[b] && S->ids[a] < S->ids[b]);
+}
+
+static void candidate_swap(tclod_stream_state *S, uint32_t a, uint32_t b) {
+    tclod_id id = S->ids[a];
+    double key = S->keys[a];
+    S->ids[a] = S->ids[b];
+    S->keys[a] = S->keys[b];
+    S->ids[b] = id;
+    S->keys[b] = key;
+}
+
+static void candidate_sift(tclod_stream_state *S, uint32_t i, uint32_t n) {
+    for (;;) {
+        uint32_t best = i, l = 2u * i + 1u, r = l + 1u;
+        if (l < n && candidate_before(S, l, best))
+            best = l;
+        if (r < n && candidate_before(S, r, best))
+            best = r;
+        if (best == i)
+            return;
+        candidate_swap(S, i, best);
+        i = best;
+    }
+}
+
+static void candidates_heapify(tclod_stream_state *S, uint32_t n) {
+    uint32_t i;
+    for (i = n / 2u; i-- > 0;)
+        candidate_sift(S, i, n);
+}
+
+/* Moves the best of the n in the heap to ids[n - 1] (keys[n - 1]) and
+ * returns it. */
+static tclod_id candidates_pop(tclod_stream_state *S, uint32_t n) {
+    candidate_swap(S, 0, n - 1u);
+    candidate_sift(S, 0, n - 1u);
+    return S->ids[n - 1u];
+}
+
 /* Makes the eviction candidates the first time the plan needs room. */
 static void need_room(tclod_selector *sel, int *built) {
     if (!*built)
@@ -550,19 +654,20 @@ static void plan_lists(tclod_selector *sel, uint32_t candidates) {
             return;
         }
     }
-    tclod_sort_by_key(S->ids, S->keys, candidates);
+    candidates_heapify(S, candidates);
     for (i = 0; i < candidates && S->count[0][1] < d->max_requests; ++i) {
-        tclod_id n = S->ids[i];
+        tclod_id n = candidates_pop(S, candidates - i); /* now at ids[candidates - i - 1] */
+        double rank = S->keys[candidates - i - 1];
         double z = S->size[n];
         if (d->max_request_bytes > 0.0 && S->count[0][1] > 0 && listed + z > d->max_request_bytes)
             break;
         if (memory && room < z)
             need_room(sel, &built);
         while (memory && room < z && S->heap.count > 0 &&
-               (-S->heap.items[0].key < 0.0 || -S->heap.items[0].key < S->keys[i]))
+               (-S->heap.items[0].key < 0.0 || -S->heap.items[0].key < rank))
             room += evict_one(sel);
         if (memory && room < z) {
-            if (S->count[0][1] == 0)
+            if (S->count[0][1] == 0 && S->heap.count == 0) /* nothing left to free */
                 sel->stats.notes |= TCLOD_NOTE_MEMORY_SHORT;
             break;
         }
@@ -573,10 +678,10 @@ static void plan_lists(tclod_selector *sel, uint32_t candidates) {
                      TCLOD_STREAM_SMOOTH |
                          ((S->smooth_mark[n - s->node_count] & STREAM_LISTED) ? TCLOD_STREAM_LISTED
                                                                               : 0u),
-                     z, S->keys[i]);
+                     z, rank);
         else
             add_item(S->list[0][1], &S->count[0][1], n,
-                     (S->mark[n] & STREAM_LISTED) ? TCLOD_STREAM_LISTED : 0u, z, S->keys[i]);
+                     (S->mark[n] & STREAM_LISTED) ? TCLOD_STREAM_LISTED : 0u, z, rank);
     }
 }
 
@@ -612,7 +717,10 @@ int tclod_stream_plan(tclod_selector *sel) {
         return 0;
     }
     S->plans++;
-    if (plan_target(sel, &candidates) != 0 || plan_smooth(sel, &candidates) != 0) {
+    /* a solve that met no node short of residency drew what the target would:
+     * nothing to request there */
+    if ((S->absent_seen > 0 && plan_target(sel, &candidates) != 0) ||
+        plan_smooth(sel, &candidates) != 0) {
         unmark_all(S);
         S->count[0][1] = S->count[1][1] = 0;
         return -1;

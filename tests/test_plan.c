@@ -420,6 +420,192 @@ static void the_bytes_callback_sizes_unknown_nodes(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* ---- smooth objects ------------------------------------------------------------------ */
+
+/* Two smooth objects of benefit sqrt(r) and cost r, 100 B each: A 10 m ahead
+ * (visible), not resident; B 10 m behind the eye, resident. The mixed solver
+ * draws nothing (A is not resident, B not visible). A is requested, ranked by
+ * its benefit at full resolution per byte, 1 / 100; with memory for 100 B, B
+ * (not drawn, not seen) is evicted to make room. */
+static void smooth_objects_are_requested_and_evicted(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    const float ahead[4] = {0.0f, 0.0f, -10.0f, 1.0f}, behind[4] = {0.0f, 0.0f, 10.0f, 1.0f};
+    tclod_id a, b;
+    tclod_selector_desc d;
+    tclod_selector *sel = NULL;
+    tclod_view v;
+    tclod_frame fr;
+    const tclod_stream_item *items;
+    size_t n;
+    tclod_stats st;
+    assert_int_equal(
+        table_add_smooth(&f->model, f->scene, ahead, TABLE_POWER, 1.0, 0.5, 1.0, 1.0, 0.0, &a),
+        TCLOD_OK);
+    assert_int_equal(
+        table_add_smooth(&f->model, f->scene, behind, TABLE_POWER, 1.0, 0.5, 1.0, 1.0, 0.0, &b),
+        TCLOD_OK);
+    assert_int_equal(tclod_scene_set_smooth_bytes(f->scene, a, 100.0), TCLOD_OK);
+    assert_int_equal(tclod_scene_set_smooth_bytes(f->scene, b, 100.0), TCLOD_OK);
+    assert_int_equal(tclod_scene_set_smooth_resident(f->scene, a, 0), TCLOD_OK);
+    assert_near(tclod_scene_resident_bytes(f->scene), 100.0, 0.0);
+    tclod_selector_desc_default(&d);
+    d.solver = TCLOD_SOLVER_MIXED;
+    table_mixed_callbacks(&f->model, &d.callbacks);
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    set_stream(sel, 10, 0.0, 100.0, 0.0);
+    helper_view(&v);
+    fr = helper_frame(&v, 10.0);
+    assert_int_equal(tclod_select(sel, &fr, &st), TCLOD_OK);
+    assert_near(tclod_selector_resolution(sel, a), 0.0, 0.0);
+    assert_int_equal(tclod_selector_requests(sel, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(items[0].id, a);
+    assert_int_equal(items[0].flags, TCLOD_STREAM_SMOOTH);
+    assert_near(items[0].value, 0.01, 1e-12);
+    assert_int_equal(tclod_selector_evictions(sel, &items, &n), TCLOD_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(items[0].id, b);
+    assert_int_equal(items[0].flags, TCLOD_STREAM_SMOOTH);
+    /* A arrives and is drawn; B was evicted: nothing left to do */
+    assert_int_equal(tclod_scene_set_smooth_resident(f->scene, a, 1), TCLOD_OK);
+    assert_int_equal(tclod_scene_set_smooth_resident(f->scene, b, 0), TCLOD_OK);
+    assert_int_equal(tclod_select(sel, &fr, &st), TCLOD_OK);
+    assert_true(tclod_selector_resolution(sel, a) > 0.0);
+    assert_int_equal(st.requests, 0u);
+    assert_int_equal(st.evictions, 0u);
+    tclod_selector_destroy(sel);
+}
+
+/* ---- a long run ------------------------------------------------------------------------ */
+
+#define RUN_NODES 400u
+#define RUN_SLOTS 8u
+
+/* A host's loader: loads in flight, each landing after a random latency. */
+typedef struct sim_loader {
+    tclod_id id[RUN_SLOTS];
+    uint32_t due[RUN_SLOTS];
+    uint32_t count;
+    double bytes;
+} sim_loader;
+
+static int in_flight(const sim_loader *l, tclod_id id) {
+    uint32_t i;
+    for (i = 0; i < l->count; ++i)
+        if (l->id[i] == id)
+            return 1;
+    return 0;
+}
+
+/* 400 nodes in 5 random hierarchies of diminishing returns, 10 to 100 B
+ * each, only the roots resident; a loader with 8 slots and latencies of 1
+ * to 8 frames; a budget on a random walk between the roots' cost and 8
+ * times it; every 40 frames the camera turns to another hierarchy (its
+ * benefits weigh 8 times the others'); memory for 30 % of all bytes. For each solver, over 400
+ * frames the host frees every eviction and starts every request it has a slot for. After that,
+ * every frame: resident bytes + bytes in flight <= the memory budget unless the select noted
+ * TCLOD_NOTE_MEMORY_SHORT; nothing drawn is not resident; no eviction names a drawn node or one not
+ * resident; no request names a resident node. */
+static void the_memory_budget_holds_over_a_long_random_run(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const tclod_solver solvers[3] = {TCLOD_SOLVER_GREEDY, TCLOD_SOLVER_MIXED,
+                                            TCLOD_SOLVER_ROBIN_HOOD};
+    table_rng rng;
+    double total = 0.0, memory, roots, base[RUN_NODES];
+    tclod_id root_of[RUN_NODES];
+    uint32_t i, k, frame;
+    table_rng_seed(&rng, 22);
+    assert_int_equal(
+        table_random_hierarchy(&f->model, f->scene, &rng, RUN_NODES, 5, TABLE_DIMINISHING),
+        TCLOD_OK);
+    for (i = 0; i < RUN_NODES; ++i) {
+        double z = (double)(10u + table_rng_below(&rng, 91u));
+        assert_int_equal(tclod_scene_set_node_bytes(f->scene, i, z), TCLOD_OK);
+        total += z;
+    }
+    for (i = 0; i < RUN_NODES; ++i) {
+        tclod_id r = i;
+        while (f->model.parent[r] != TCLOD_NONE)
+            r = f->model.parent[r];
+        root_of[i] = r;
+        base[i] = f->model.benefit[i];
+    }
+    memory = 0.3 * total;
+    roots = table_roots_cost(&f->model);
+    for (k = 0; k < 3; ++k) {
+        tclod_selector_desc d;
+        tclod_selector *sel = NULL;
+        sim_loader loader;
+        uint32_t loads = 0, evictions = 0, short_frames = 0;
+        double budget = 2.0 * roots;
+        memset(&loader, 0, sizeof loader);
+        for (i = 0; i < RUN_NODES; ++i)
+            assert_int_equal(tclod_scene_set_resident(
+                                 f->scene, i, tclod_scene_parent(f->scene, i) == TCLOD_NONE),
+                             TCLOD_OK);
+        tclod_selector_desc_default(&d);
+        d.solver = solvers[k];
+        table_callbacks(&f->model, &d.callbacks);
+        assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+        for (frame = 0; frame < 400u; ++frame) {
+            const tclod_stream_item *items;
+            const tclod_id *cut;
+            size_t n, m, j;
+            tclod_stats st;
+            /* loads that landed */
+            for (i = 0; i < loader.count;) {
+                if (loader.due[i] <= frame) {
+                    assert_int_equal(tclod_scene_set_resident(f->scene, loader.id[i], 1), TCLOD_OK);
+                    loader.bytes -= tclod_scene_node_bytes(f->scene, loader.id[i]);
+                    loader.id[i] = loader.id[loader.count - 1];
+                    loader.due[i] = loader.due[--loader.count];
+                    ++loads;
+                } else {
+                    ++i;
+                }
+            }
+            set_stream(sel, RUN_SLOTS - loader.count, 0.0, memory, loader.bytes);
+            if (frame % 40u == 0u) /* the camera turns to another hierarchy */
+                for (i = 0; i < RUN_NODES; ++i)
+                    f->model.benefit[i] = base[i] * (root_of[i] == (frame / 40u) % 5u ? 8.0 : 1.0);
+            budget *= exp(table_rng_uniform(&rng, -0.2, 0.2));
+            budget = budget < roots ? roots : (budget > 8.0 * roots ? 8.0 * roots : budget);
+            st = run(sel, budget);
+            assert_int_equal(tclod_selector_cut(sel, &cut, &m), TCLOD_OK);
+            for (j = 0; j < m; ++j)
+                assert_true(tclod_scene_node_resident(f->scene, cut[j]));
+            assert_int_equal(tclod_selector_evictions(sel, &items, &n), TCLOD_OK);
+            for (j = 0; j < n; ++j) {
+                size_t c;
+                assert_true(tclod_scene_node_resident(f->scene, items[j].id));
+                for (c = 0; c < m; ++c)
+                    assert_int_not_equal(items[j].id, cut[c]);
+                assert_int_equal(tclod_scene_set_resident(f->scene, items[j].id, 0), TCLOD_OK);
+                ++evictions;
+            }
+            assert_int_equal(tclod_selector_requests(sel, &items, &n), TCLOD_OK);
+            for (j = 0; j < n; ++j) {
+                assert_false(tclod_scene_node_resident(f->scene, items[j].id));
+                if (in_flight(&loader, items[j].id) || loader.count == RUN_SLOTS)
+                    continue;
+                loader.id[loader.count] = items[j].id;
+                loader.due[loader.count++] = frame + 1u + table_rng_below(&rng, 8u);
+                loader.bytes += items[j].bytes;
+            }
+            if (st.notes & TCLOD_NOTE_MEMORY_SHORT)
+                ++short_frames;
+            else
+                assert_true(tclod_scene_resident_bytes(f->scene) + loader.bytes <=
+                            memory * (1.0 + 1e-12));
+        }
+        /* the run streamed: loads landed and memory was made room in */
+        assert_true(loads > 100u);
+        assert_true(evictions > 50u);
+        assert_true(short_frames < 40u);
+        tclod_selector_destroy(sel);
+    }
+}
+
 /* ---- the stream desc ---------------------------------------------------------------- */
 
 static void bad_stream_descs_are_refused(void **state) {
@@ -471,6 +657,10 @@ int main(void) {
         cmocka_unit_test_setup_teardown(loads_evict_what_is_worth_less, helper_fixture_setup,
                                         helper_fixture_teardown),
         cmocka_unit_test_setup_teardown(the_bytes_callback_sizes_unknown_nodes,
+                                        helper_fixture_setup, helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(smooth_objects_are_requested_and_evicted,
+                                        helper_fixture_setup, helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(the_memory_budget_holds_over_a_long_random_run,
                                         helper_fixture_setup, helper_fixture_teardown),
         cmocka_unit_test_setup_teardown(bad_stream_descs_are_refused, helper_fixture_setup,
                                         helper_fixture_teardown),

@@ -30,7 +30,7 @@
 #include <stdint.h>
 
 #define TCLOD_VERSION_MAJOR 0
-#define TCLOD_VERSION_MINOR 3
+#define TCLOD_VERSION_MINOR 4
 #define TCLOD_VERSION_PATCH 0
 /* MAJOR * 10000 + MINOR * 100 + PATCH, what tclod_version() returns. */
 #define TCLOD_VERSION_NUMBER \
@@ -982,15 +982,16 @@ TCLOD_API tclod_status tclod_scheduler_update(tclod_scheduler *sch, double now,
                                               const tclod_view *view, double budget,
                                               double slice_seconds);
 
-/* This frame's draw list. *items points into the scheduler: valid until the
- * next update or destroy. Before the first update *n = 0. Errors:
+/* This frame's draw list. Every fine and coarse node in it is resident when
+ * the update returns (docs/scheduler.md, Streaming). *items points into the scheduler: valid
+ * until the next update or destroy. Before the first update *n = 0. Errors:
  * TCLOD_ERR_ARG (NULL argument). */
 TCLOD_API tclod_status tclod_scheduler_draws(const tclod_scheduler *sch, const tclod_draw **items,
                                              size_t *n);
 
 /* This frame's resolution of smooth object `smooth` in [0, 1] (0 = not
- * drawn; also for unknown ids, NULL, before the first update and with a solver
- * that ignores smooth objects). O(1). */
+ * drawn; also for unknown ids, NULL, one not resident, before the first
+ * update and with a solver that ignores smooth objects). O(1). */
 TCLOD_API double tclod_scheduler_resolution(const tclod_scheduler *sch, tclod_id smooth);
 
 /* Reports the measured render and logic times (>= 0, the budget's unit) of the
@@ -1009,10 +1010,22 @@ TCLOD_API tclod_status tclod_scheduler_report_frame(tclod_scheduler *sch, double
  * destroyed; NULL for NULL. */
 TCLOD_API const tclod_calib *tclod_scheduler_calib(const tclod_scheduler *sch);
 
-/* Streaming with a scheduler: as tclod_selector_set_stream, and the lists
- * of its last update, which also cover the predicted views and keep what a
- * running morph draws at either end (docs/streaming.md). */
+/* Streaming with a scheduler (docs/scheduler.md, Streaming). Sets what its
+ * selections plan, as tclod_selector_set_stream; d NULL: nothing. It applies
+ * from the next selection to end: the lists change when a selection ends,
+ * about once per tau, and with a selection made at once. Errors:
+ * TCLOD_ERR_ARG (NULL sch; a field of d NaN, infinite or negative, naming
+ * it), TCLOD_ERR_STATE (from a callback); nothing changes on error. */
 TCLOD_API tclod_status tclod_scheduler_set_stream(tclod_scheduler *sch, const tclod_stream_desc *d);
+/* The load requests and evictions of the last selection to end, as
+ * tclod_selector_requests and tclod_selector_evictions. The requests value
+ * nodes by their benefit summed over the predicted views, so they cover what
+ * the camera will need; the evictions never name a node the scheduler's draw
+ * lists draw, morph from or fall back to until the lists change (the landed
+ * selections and their ancestors are kept), nor one the prediction needs
+ * next. Empty before the first update. *items points into the scheduler:
+ * valid until the next update or destroy. Errors: TCLOD_ERR_ARG (NULL
+ * argument), TCLOD_ERR_STATE (from a callback). */
 TCLOD_API tclod_status tclod_scheduler_requests(const tclod_scheduler *sch,
                                                 const tclod_stream_item **items, size_t *n);
 TCLOD_API tclod_status tclod_scheduler_evictions(const tclod_scheduler *sch,
