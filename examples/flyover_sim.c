@@ -32,6 +32,15 @@
  * --svg FILE plots the flight (examples/frame_plot.h): the predicted cost against the
  * budget, and the selection time, per frame.
  *
+ * With --stream the flyover world streams from an empty cache (only the roots
+ * resident) through libtclod's load plan, beside a Cesium-like loader on a copy of
+ * the world and an all-resident copy for the benefit at best (examples/stream_sim.h,
+ * docs/streaming.md): the camera teleports every 200 frames, and the summary adds
+ * how fast each loader fills the view (t95) and what it loaded. A node takes 28
+ * bytes per triangle (half a vertex of 32 bytes and three 4-byte indices); the
+ * baseline's geometric error is (1 - w) r, w the node's benefit weight (its
+ * accuracy, world_scene.h) and r its bounding radius.
+ *
  * Nothing is drawn: the point is what a host's frame loop around libtclod looks like
  * and how long the selection takes. main reads as the program's outline: parse the
  * options, build the scene, start the flight (a selector, or the scheduler), fly it

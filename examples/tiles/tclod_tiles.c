@@ -24,6 +24,14 @@
  * tclod_selector_cut lists, exceeds the budget; check_errors counts where the
  * library disagreed with this program's own sums, distances and areas, or
  * broke 3D Tiles' refinement rules (0 when all is well).
+ *
+ * With --stream the tiles stream from an empty cache (only the root resident)
+ * through libtclod's load plan, beside a Cesium-like loader on a copy of the
+ * scene and an all-resident copy for the benefit at best (examples/stream_sim.h,
+ * docs/streaming.md). A tile takes its content bytes and has its geometric
+ * error; the camera flies the default spiral down and back up and teleports
+ * every 200 frames, and the summary adds how fast each loader fills the view
+ * (t95) and what it loaded.
  */
 #include <errno.h>
 #include <math.h>
