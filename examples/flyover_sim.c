@@ -32,6 +32,15 @@
  * --svg FILE plots the flight (examples/frame_plot.h): the predicted cost against the
  * budget, and the selection time, per frame.
  *
+ * With --stream the flyover world streams from an empty cache (only the roots
+ * resident) through libtclod's load plan, beside a Cesium-like loader on a copy of
+ * the world and an all-resident copy for the benefit at best (examples/stream_sim.h,
+ * docs/streaming.md): the camera teleports every 200 frames, and the summary adds
+ * how fast each loader fills the view (t95) and what it loaded. A node takes 28
+ * bytes per triangle (half a vertex of 32 bytes and three 4-byte indices); the
+ * baseline's geometric error is (1 - w) r, w the node's benefit weight (its
+ * accuracy, world_scene.h) and r its bounding radius.
+ *
  * Nothing is drawn: the point is what a host's frame loop around libtclod looks like
  * and how long the selection takes. main reads as the program's outline: parse the
  * options, build the scene, start the flight (a selector, or the scheduler), fly it
@@ -48,6 +57,7 @@
 #include <tclod/tclod.h>
 
 #include "frame_plot.h"
+#include "stream_sim.h"
 #include "thesis_scene.h"
 #include "world_scene.h"
 
@@ -63,6 +73,9 @@
  * camera's measured speed and turn rate it gives the scheduler as bounds. */
 #define SCHEDULER_HZ 60.0
 #define SCHEDULER_MARGIN 1.25
+/* --stream: bytes per triangle of a node's data: about half a vertex of 32
+ * bytes (position, normal, texture coordinates) and three 4-byte indices. */
+#define FLYOVER_BYTES_PER_TRIANGLE 28.0
 /* Without --target-ms, --simulate-gpu aims at 25 ms ([RH Table 2]'s 0.025 s). */
 #define DEFAULT_TARGET_MS 25.0
 
@@ -114,6 +127,8 @@ typedef struct options {
     int morph_given;
     double slice_us; /* its selection time per frame */
     int slice_given;
+    int frames_given;
+    stream_sim_options stream; /* --stream and its options */
 } options;
 
 static const char usage_options[] =
@@ -121,7 +136,9 @@ static const char usage_options[] =
     "                   [--solver greedy|mixed|robin_hood] [--split 0|1] [--warm 0|1]\n"
     "                   [--csv FILE] [--svg FILE]\n"
     "                   [--simulate-gpu [--target-ms T] [--gpu-c C]]\n"
-    "                   [--scheduler [--tau T] [--morph 0|1] [--slice-us X]] [--help]\n"
+    "                   [--scheduler [--tau T] [--morph 0|1] [--slice-us X]]\n"
+    "                   [--stream [--latency-ms L] [--bandwidth-mbps W] [--memory-mb M]\n"
+    "                   [--teleport-every N]] [--help]\n"
     "\n"
     "Flies a camera over a terrain with 5000 buildings and trees (or, with --scene\n"
     "thesis, over the thesis's 120 km terrain with 1.4 million trees) and selects\n"
@@ -131,7 +148,7 @@ static const char usage_options[] =
     "  --scene S       flyover: terrain quadtree and 5000 objects of 6 levels (default);\n"
     "                  thesis: terrain quadtree and 1.4 million trees in smooth groups\n"
     "                  of continuous resolution ([Thesis8 §8.4])\n"
-    "  --frames N      frames to simulate, N >= 1 (default 600)\n"
+    "  --frames N      frames to simulate, N >= 1 (default 600; --stream 2000)\n"
     "  --budget-ms X   render-time budget per frame in ms, X > 0 (default 10; thesis 40)\n"
     "  --solver S      selection algorithm (default greedy; thesis mixed: greedy\n"
     "                  ignores smooth objects and draws none of its trees)\n"
@@ -158,7 +175,18 @@ static const char usage_options[] =
     "  --tau T         --scheduler: interval and morph time in s, T > 0 (default 0.5)\n"
     "  --morph 0|1     --scheduler: 1 = three stages with geomorphs (default), 0 = two\n"
     "                  stages, selections switch at interval boundaries\n"
-    "  --slice-us X    --scheduler: selection time per frame in us, X > 0 (default 500)\n"
+    "  --slice-us X    --scheduler: selection time per frame in us, X > 0 (default 500)\n";
+
+/* After stream_sim_usage_options. */
+static const char usage_stream[] =
+    "                  With --stream, flyover_sim streams the flyover scene through\n"
+    "                  the selector (not with --scene thesis or --scheduler). A\n"
+    "                  node's size is 28 bytes per triangle (32-byte vertices,\n"
+    "                  about half a vertex per triangle, and three 4-byte\n"
+    "                  indices); its geometric error for the baseline is (1 - w) r,\n"
+    "                  w its benefit weight (the accuracy: 1 - 2^-(k+1) for level k\n"
+    "                  of an object, 2^(d - 6) for a terrain patch of depth d) and r\n"
+    "                  its bounding radius\n"
     "  --help          print this text and exit\n";
 
 static const char usage_output[] =
@@ -218,15 +246,21 @@ static const char usage_summary[] =
     "  changes_per_frame   level changes per frame\n"
     "  selections unfinished emergencies\n"
     "                      selections landed, of those the ones ended early, and\n"
-    "                      the selections made at once (tclod_scheduler_stats)\n"
+    "                      the selections made at once (tclod_scheduler_stats)\n";
+
+static const char usage_exit[] =
     "\n"
     "Exit status: 0; 1 when a libtclod call or the machine failed (the message says\n"
     "which); 2 for a bad command line.\n";
 
 static void usage(FILE *out) {
     fputs(usage_options, out);
+    fputs(stream_sim_usage_options, out);
+    fputs(usage_stream, out);
     fputs(usage_output, out);
     fputs(usage_summary, out);
+    fputs(stream_sim_usage_output, out);
+    fputs(usage_exit, out);
 }
 
 static int parse_ulong(const char *s, unsigned long *out) {
@@ -310,12 +344,20 @@ static int parse_options(int argc, char **argv, options *o) {
     o->morph_given = 0;
     o->slice_us = 500.0;
     o->slice_given = 0;
+    o->frames_given = 0;
+    stream_sim_options_default(&o->stream);
     for (i = 1; i < argc; ++i) {
         const char *opt = argv[i];
         const char *val = i + 1 < argc ? argv[i + 1] : NULL;
-        if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0) {
+        int taken;
+        if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0)
             return OPTIONS_HELP;
-        } else if (strcmp(opt, "--simulate-gpu") == 0) {
+        taken = stream_sim_parse_option(&o->stream, "flyover_sim", argc, argv, &i);
+        if (taken < 0)
+            return OPTIONS_BAD;
+        if (taken > 0)
+            continue;
+        if (strcmp(opt, "--simulate-gpu") == 0) {
             o->simulate_gpu = 1;
         } else if (strcmp(opt, "--scheduler") == 0) {
             o->scheduler = 1;
@@ -362,6 +404,7 @@ static int parse_options(int argc, char **argv, options *o) {
                             val);
                     return OPTIONS_BAD;
                 }
+                o->frames_given = 1;
             } else if (strcmp(opt, "--budget-ms") == 0) {
                 if (!parse_double(val, &o->budget_ms) || !(o->budget_ms > 0.0)) {
                     fprintf(stderr, "flyover_sim: --budget-ms expects a number > 0, got '%s'\n",
@@ -445,6 +488,15 @@ static int parse_options(int argc, char **argv, options *o) {
                         "give a frame time with --target-ms instead of --budget-ms\n");
         return OPTIONS_BAD;
     }
+    if (!stream_sim_options_check(&o->stream, "flyover_sim"))
+        return OPTIONS_BAD;
+    if (o->stream.enabled && (o->scene == SCENE_THESIS || o->scheduler)) {
+        fprintf(stderr, "flyover_sim: --stream streams the flyover scene through the selector "
+                        "(not with --scene thesis or --scheduler)\n");
+        return OPTIONS_BAD;
+    }
+    if (o->stream.enabled && !o->frames_given)
+        o->frames = STREAM_SIM_DEFAULT_FRAMES;
     if (o->scene == SCENE_THESIS) {
         /* the thesis's budget and solver, unless the command line chose others */
         if (!o->budget_given)
@@ -563,15 +615,39 @@ typedef struct sim_scene {
     thesis_desc thesis_desc;
     thesis_scene thesis;
     double build_ms; /* how long building it took */
+    /* --stream: the baseline's and the all-resident copies of the flyover
+     * world, and the path with teleports */
+    world_scene copy[2];
+    int streaming;
+    stream_path path;
+    double *bytes, *error; /* per node: its size and geometric error */
 } sim_scene;
 
-/* Builds the scene of the given kind, timed; 0 after saying what failed. */
-static int build_scene(sim_scene *s, scene_kind kind) {
+/* --stream: the flyover world's sizes and geometric errors, per node id
+ * (--help): 28 bytes per triangle; the error (1 - weight) x bounding radius. */
+static void flyover_stream_model(const sim_scene *s, double *bytes, double *error) {
+    const world_scene *w = &s->world;
+    uint32_t i;
+    for (i = 0; i < w->node_count; ++i) {
+        bytes[i] = (double)w->triangles[i] * FLYOVER_BYTES_PER_TRIANGLE;
+        error[i] = (1.0 - (double)w->weight[i]) * (double)w->bounds[4u * i + 3u];
+    }
+}
+
+/* The flyover world's view `position` frames along its loop (stream_sim_view_fn). */
+static void flyover_view(void *user, double position, tclod_view *view) {
+    const sim_scene *s = (const sim_scene *)user;
+    world_camera_at(&s->world.path, position / (double)FRAMES_PER_LOOP, view);
+}
+
+/* Builds the scene of the given kind, timed (with --stream its two copies and
+ * the path); 0 after saying what failed. */
+static int build_scene(sim_scene *s, const options *opt) {
     tclod_status st;
     memset(s, 0, sizeof(*s));
-    s->kind = kind;
+    s->kind = opt->scene;
     s->build_ms = now_us();
-    if (kind == SCENE_THESIS) {
+    if (s->kind == SCENE_THESIS) {
         thesis_desc_default(&s->thesis_desc);
         st = thesis_build(&s->thesis_desc, &s->thesis);
     } else {
@@ -579,6 +655,25 @@ static int build_scene(sim_scene *s, scene_kind kind) {
         st = world_build_flyover(&s->world_desc, &s->world);
     }
     s->build_ms = (now_us() - s->build_ms) / 1000.0;
+    if (st == TCLOD_OK && opt->stream.enabled) {
+        s->streaming = 1;
+        st = world_build_flyover(&s->world_desc, &s->copy[0]);
+        if (st == TCLOD_OK)
+            st = world_build_flyover(&s->world_desc, &s->copy[1]);
+        if (st == TCLOD_OK) {
+            size_t n = s->world.node_count ? s->world.node_count : 1u;
+            s->bytes = (double *)malloc(n * sizeof(double));
+            s->error = (double *)malloc(n * sizeof(double));
+            if (!s->bytes || !s->error)
+                st = TCLOD_ERR_NOMEM;
+        }
+        if (st == TCLOD_OK) {
+            flyover_stream_model(s, s->bytes, s->error);
+            if (!stream_path_init(&s->path, (double)FRAMES_PER_LOOP, opt->stream.teleport_every,
+                                  opt->frames, flyover_view, s, s->world.scene, s->bytes, s->error))
+                st = TCLOD_ERR_NOMEM;
+        }
+    }
     if (st != TCLOD_OK)
         fprintf(stderr, "flyover_sim: building the scene failed: %s\n", tclod_status_string(st));
     return st == TCLOD_OK;
@@ -589,11 +684,19 @@ static void free_scene(sim_scene *s) {
         thesis_scene_free(&s->thesis);
     else
         world_scene_free(&s->world);
+    world_scene_free(&s->copy[0]);
+    world_scene_free(&s->copy[1]);
+    stream_path_free(&s->path);
+    free(s->bytes);
+    free(s->error);
 }
 
 static void camera_at(const sim_scene *s, unsigned long frame, tclod_view *view) {
     if (s->kind == SCENE_THESIS)
         thesis_camera_at(&s->thesis, (double)frame / (double)THESIS_FRAMES_PER_LOOP, view);
+    else if (s->streaming)
+        world_camera_at(&s->world.path,
+                        stream_path_position(&s->path, frame) / (double)FRAMES_PER_LOOP, view);
     else
         world_camera_at(&s->world.path, (double)frame / (double)FRAMES_PER_LOOP, view);
 }
@@ -774,6 +877,7 @@ typedef struct flight {
     change_counter cc;
     unsigned long changes, mismatches;
     double sum_variables, sum_line_searches, sum_groups;
+    stream_sim stream; /* --stream */
     /* --scheduler */
     tclod_scheduler *sch;
     tclod_scheduler_desc d;
@@ -817,7 +921,9 @@ static int start_selector(flight *f) {
         if (st == TCLOD_OK) {
             if (opt->scene == SCENE_FLYOVER)
                 fd.solver = TCLOD_SOLVER_GREEDY;
-            st = tclod_selector_create(f->scene, &fd, NULL, &f->finest);
+            /* with --stream, over the all-resident copy */
+            st = tclod_selector_create(f->sim->streaming ? f->sim->copy[1].scene : f->scene, &fd,
+                                       NULL, &f->finest);
         }
         if (st != TCLOD_OK) {
             fprintf(stderr, "flyover_sim: setting up the simulated GPU failed: %s\n",
@@ -872,9 +978,22 @@ static int open_csv(flight *f) {
     else
         fprintf(f->csv,
                 "frame,select_us,drawn,cost_ms,budget_ms,benefit,iterations,increments,"
-                "decrements,variables,line_searches,smooth_groups%s\n",
+                "decrements,variables,line_searches,smooth_groups%s",
                 opt->simulate_gpu ? ",frame_ms,target_ms,scale,unconstrained_ms,factor" : "");
+    if (f->sim->streaming)
+        stream_sim_csv_header(f->csv);
+    if (!opt->scheduler)
+        fprintf(f->csv, "\n");
     return 1;
+}
+
+/* --stream: the simulation over the three copies. The selectors of the copies share the world's
+ * callbacks: the copies are built alike, so every id reads the same entries. */
+static int start_stream(flight *f) {
+    sim_scene *sim = f->sim;
+    return stream_sim_start(&f->stream, &f->opt->stream, f->opt->frames, sim->world.scene, f->sel,
+                            sim->copy[0].scene, sim->copy[1].scene, &f->sd, sim->bytes, sim->error,
+                            "flyover_sim");
 }
 
 /* Everything before the first frame; 0 after saying what failed (end_flight
@@ -892,6 +1011,8 @@ static int start_flight(flight *f, const options *opt, sim_scene *sim) {
     if (opt->split >= 0)
         f->sd.mixed.split_smooth = opt->split;
     if (!(opt->scheduler ? start_scheduler(f) : start_selector(f)))
+        return 0;
+    if (sim->streaming && !start_stream(f))
         return 0;
     f->frame_us = (double *)malloc(opt->frames * sizeof(*f->frame_us));
     if (!f->frame_us || (opt->svg_path && !frame_plot_init(&f->plot, opt->frames)))
@@ -933,16 +1054,19 @@ static void print_header(const flight *f) {
         if (opt->simulate_gpu)
             printf("solver %s, warm start %d, split %d, target %.3f ms (simulated GPU, C %g), "
                    "%lu frames\n\n",
-                   opt->solver_name, opt->warm, f->sd.mixed.split_smooth, opt->target_ms, opt->gpu_c,
-                   opt->frames);
+                   opt->solver_name, opt->warm, f->sd.mixed.split_smooth, opt->target_ms,
+                   opt->gpu_c, opt->frames);
         else
             printf("solver %s, warm start %d, split %d, budget %.3f ms, %lu frames\n\n",
-                   opt->solver_name, opt->warm, f->sd.mixed.split_smooth, opt->budget_ms, opt->frames);
+                   opt->solver_name, opt->warm, f->sd.mixed.split_smooth, opt->budget_ms,
+                   opt->frames);
         printf("%7s %10s %7s %9s %10s %12s %7s %9s%s\n", "frame", "select_us", "drawn", "cost_ms",
                "budget_ms", "benefit", "groups", "variables",
                opt->simulate_gpu ? "  frame_ms" : "");
     } else {
         print_flyover_scene(sim);
+        if (sim->streaming)
+            stream_sim_print_settings(stdout, &f->stream);
         if (opt->simulate_gpu)
             printf("solver %s, warm start %d, target %.3f ms (simulated GPU, C %g), %lu "
                    "frames\n\n",
@@ -950,8 +1074,11 @@ static void print_header(const flight *f) {
         else
             printf("solver %s, warm start %d, budget %.3f ms, %lu frames\n\n", opt->solver_name,
                    opt->warm, opt->budget_ms, opt->frames);
-        printf("%7s %10s %7s %9s %10s %12s%s\n", "frame", "select_us", "drawn", "cost_ms",
+        printf("%7s %10s %7s %9s %10s %12s%s", "frame", "select_us", "drawn", "cost_ms",
                "budget_ms", "benefit", opt->simulate_gpu ? "  frame_ms" : "");
+        if (sim->streaming)
+            stream_sim_table_header(stdout);
+        printf("\n");
     }
 }
 
@@ -1014,6 +1141,8 @@ static int selected_frame(flight *f, unsigned long frame) {
     memset(&fr, 0, sizeof(fr));
     fr.view = &view;
     fr.budget = budget;
+    if (f->sim->streaming && !stream_sim_before(&f->stream, frame, "flyover_sim"))
+        return 0;
 
     t0 = now_us();
     st = tclod_select(f->sel, &fr, &stats);
@@ -1057,6 +1186,9 @@ static int selected_frame(flight *f, unsigned long frame) {
     if (opt->simulate_gpu &&
         !simulate_gpu_frame(f, frame, &fr, &stats, &frame_ms, &unconstrained_ms, &factor))
         return 0;
+    if (f->sim->streaming &&
+        !stream_sim_after(&f->stream, frame, &fr, stats.benefit, "flyover_sim"))
+        return 0;
 
     if (frame % PRINT_EVERY == 0 || frame + 1 == opt->frames) {
         if (opt->scene == SCENE_THESIS)
@@ -1068,6 +1200,8 @@ static int selected_frame(flight *f, unsigned long frame) {
                    stats.cost, budget, stats.benefit);
         if (opt->simulate_gpu)
             printf(" %9.4f", frame_ms);
+        if (f->sim->streaming)
+            stream_sim_table_row(stdout, &f->stream);
         printf("\n");
     }
     if (f->csv) {
@@ -1079,6 +1213,8 @@ static int selected_frame(flight *f, unsigned long frame) {
         if (opt->simulate_gpu)
             fprintf(f->csv, ",%.9g,%.9g,%.9g,%.9g,%.9g", frame_ms, opt->target_ms, scale,
                     unconstrained_ms, factor);
+        if (f->sim->streaming)
+            stream_sim_csv_row(f->csv, &f->stream);
         fprintf(f->csv, "\n");
     }
     if (opt->svg_path)
@@ -1183,6 +1319,8 @@ static void print_summary(flight *f) {
     if (opt->scene == SCENE_THESIS)
         printf(" variables=%.1f line_searches=%.1f smooth_groups=%.1f", f->sum_variables / frames,
                f->sum_line_searches / frames, f->sum_groups / frames);
+    if (f->sim->streaming)
+        stream_sim_print_summary(stdout, &f->stream);
     printf("\n");
 }
 
@@ -1214,6 +1352,7 @@ static int end_flight(flight *f, int ok) {
     }
     frame_plot_free(&f->plot);
     free(f->frame_us);
+    stream_sim_free(&f->stream);
     draw_check_free(&f->check);
     tclod_scheduler_destroy(f->sch);
     change_counter_free(&f->cc);
@@ -1239,7 +1378,7 @@ int main(int argc, char **argv) {
     default:
         break;
     }
-    if (!build_scene(&sim, opt.scene))
+    if (!build_scene(&sim, &opt))
         return 1;
     ok = start_flight(&fl, &opt, &sim) && fly(&fl);
     if (ok) {

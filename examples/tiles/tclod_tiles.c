@@ -24,6 +24,14 @@
  * tclod_selector_cut lists, exceeds the budget; check_errors counts where the
  * library disagreed with this program's own sums, distances and areas, or
  * broke 3D Tiles' refinement rules (0 when all is well).
+ *
+ * With --stream the tiles stream from an empty cache (only the root resident)
+ * through libtclod's load plan, beside a Cesium-like loader on a copy of the
+ * scene and an all-resident copy for the benefit at best (examples/stream_sim.h,
+ * docs/streaming.md). A tile takes its content bytes and has its geometric
+ * error; the camera flies the default spiral down and back up and teleports
+ * every 200 frames, and the summary adds how fast each loader fills the view
+ * (t95) and what it loaded.
  */
 #include <errno.h>
 #include <math.h>
@@ -35,6 +43,7 @@
 
 #include <tclod/tclod.h>
 
+#include "stream_sim.h"
 #include "tiles_model.h"
 #include "tileset.h"
 
@@ -67,6 +76,8 @@ typedef struct options {
     double budget_ms;
     int budget_given; /* 1: --budget-ms X; 2: --budget-ms sse16 */
     double ms_per_mb;
+    int frames_given;
+    stream_sim_options stream; /* --stream and its options */
 } options;
 
 /* Per-tile scratch of check_cut, stamped so that it needs no clearing. */
@@ -84,6 +95,8 @@ typedef struct host {
     size_table sizes;
     int have_sizes;
     tclod_scene *scene;
+    tclod_scene *copy[2];  /* --stream: the baseline's and the all-resident copies */
+    double *bytes, *error; /* --stream: per node id, the tile's size and geometric error */
     tclod_id *id_of_tile;
     uint32_t *tile_of_id; /* TILE_NONE for ids no tile has (an additive node's own) */
     uint32_t id_count;
@@ -105,25 +118,31 @@ typedef struct frame_result {
     uint32_t tiles;
 } frame_result;
 
-/* The camera path of docs/tiles.md: a spiral around and down onto the target. */
+/* The camera path of docs/tiles.md: a spiral around and down onto the target.
+ * With --stream the camera flies it down and back up, round and round, with
+ * teleports (path). */
 typedef struct flight {
     double target[3], east[3], north[3], up[3];
     double radius; /* of the sphere around the root's bounding volume */
     double start, end;
-    unsigned long frames;
+    unsigned long frames; /* of the flight */
+    unsigned long spiral; /* of the spiral down: frames, or with --stream DEFAULT_FRAMES */
+    const stream_path *path;
 } flight;
 
 static void usage(FILE *out) {
     fprintf(out,
             "usage: tclod_tiles [--frames N] [--sizes FILE] [--csv FILE]\n"
-            "                   [--budget-ms X|sse16] [--ms-per-mb X] [--help] TILESET.json\n"
+            "                   [--budget-ms X|sse16] [--ms-per-mb X]\n"
+            "                   [--stream [--latency-ms L] [--bandwidth-mbps W] [--memory-mb M]\n"
+            "                   [--teleport-every N]] [--help] TILESET.json\n"
             "\n"
             "Flies a camera down a spiral onto a 3D Tiles tileset (1.0 or 1.1) and selects\n"
             "the tiles to draw every frame twice: with libtclod under a render-time budget,\n"
             "and as CesiumJS does by default (refine while the screen-space error exceeds\n"
             "16 px, the \"sse16\" traversal). Nothing is drawn.\n"
             "\n"
-            "  --frames N      frames of the flight, N >= 1 (default %lu)\n"
+            "  --frames N      frames of the flight, N >= 1 (default %lu; --stream %lu)\n"
             "  --sizes FILE    content sizes, lines uri<TAB>bytes (uri as written in the\n"
             "                  tileset), for contents that are not on disk beside it\n"
             "  --csv FILE      also write the per-frame columns below to FILE (with a header)\n"
@@ -131,7 +150,15 @@ static void usage(FILE *out) {
             "                  sse16 traversal's per-frame cost over the flight); sse16:\n"
             "                  each frame's budget is the sse16 traversal's cost at that\n"
             "                  frame, to compare the two at equal cost\n"
-            "  --ms-per-mb X   render cost of content in ms per 10^6 bytes, X > 0 (default %g)\n"
+            "  --ms-per-mb X   render cost of content in ms per 10^6 bytes, X > 0 (default %g)\n",
+            DEFAULT_FRAMES, STREAM_SIM_DEFAULT_FRAMES, DEFAULT_MS_PER_MB);
+    fputs(stream_sim_usage_options, out);
+    fprintf(out,
+            "                  With --stream, a tile's size is its content bytes (below)\n"
+            "                  and its geometric error the tileset's; the camera flies the\n"
+            "                  spiral of %lu frames down and back up, round and round,\n"
+            "                  whatever --frames, and the budget, the sse16 traversal and\n"
+            "                  the columns and keys below are of that flight and of ours\n"
             "  --help          print this text and exit\n"
             "\n"
             "A content's bytes are its file's size when it is beside the tileset, else its\n"
@@ -170,11 +197,13 @@ static void usage(FILE *out) {
             "                              distance or area disagreed with this program's,\n"
             "                              or its selection broke 3D Tiles' refinement rules\n"
             "  max_sse_median              median over frames of max_sse\n"
-            "  sse16_max_sse_median        median over frames of sse16_max_sse\n"
-            "\n"
-            "Exit status: 0 on success, 1 when the tileset or a file cannot be read or\n"
-            "libtclod fails, 2 for a bad command line.\n",
-            DEFAULT_FRAMES, DEFAULT_MS_PER_MB, TILESET_ESTIMATE_BYTES);
+            "  sse16_max_sse_median        median over frames of sse16_max_sse\n",
+            DEFAULT_FRAMES, TILESET_ESTIMATE_BYTES);
+    fputs(stream_sim_usage_output, out);
+    fputs("\n"
+          "Exit status: 0 on success, 1 when the tileset or a file cannot be read or\n"
+          "libtclod fails, 2 for a bad command line.\n",
+          out);
 }
 
 static int parse_ulong(const char *s, unsigned long *out) {
@@ -209,11 +238,18 @@ static int parse_options(int argc, char **argv, options *o) {
     memset(o, 0, sizeof(*o));
     o->frames = DEFAULT_FRAMES;
     o->ms_per_mb = DEFAULT_MS_PER_MB;
+    stream_sim_options_default(&o->stream);
     for (i = 1; i < argc; ++i) {
         const char *opt = argv[i];
         const char *val = i + 1 < argc ? argv[i + 1] : NULL;
+        int taken;
         if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0)
             return 1;
+        taken = stream_sim_parse_option(&o->stream, "tclod_tiles", argc, argv, &i);
+        if (taken < 0)
+            return 2;
+        if (taken > 0)
+            continue;
         if (opt[0] != '-' || opt[1] == '\0') {
             if (o->tileset_path) {
                 fprintf(stderr, "tclod_tiles: one tileset only, got '%s' and '%s'\n",
@@ -239,6 +275,7 @@ static int parse_options(int argc, char **argv, options *o) {
                 fprintf(stderr, "tclod_tiles: --frames expects an integer >= 1, got '%s'\n", val);
                 return 2;
             }
+            o->frames_given = 1;
         } else if (strcmp(opt, "--sizes") == 0) {
             o->sizes_path = val;
         } else if (strcmp(opt, "--csv") == 0) {
@@ -264,6 +301,10 @@ static int parse_options(int argc, char **argv, options *o) {
         fprintf(stderr, "tclod_tiles: no tileset given (try --help)\n");
         return 2;
     }
+    if (!stream_sim_options_check(&o->stream, "tclod_tiles"))
+        return 2;
+    if (o->stream.enabled && !o->frames_given)
+        o->frames = STREAM_SIM_DEFAULT_FRAMES;
     return 0;
 }
 
@@ -304,8 +345,61 @@ static int load_tileset(const options *o, host *h) {
     return 0;
 }
 
-/* One node per tile, parents first (the tiles' order), and the tables the
- * callbacks index by node id. */
+/* One node per tile into scene, parents first (the tiles' order); ids[t] gets
+ * tile t's node. 0 after saying which tile failed. */
+static int add_tiles(const tileset *ts, tclod_scene *scene, tclod_id *ids) {
+    uint32_t t;
+    for (t = 0; t < ts->count; ++t) {
+        const tile *x = &ts->tiles[t];
+        tclod_node_desc d;
+        tclod_status st;
+        tclod_node_desc_default(&d);
+        d.parent = x->parent == TILE_NONE ? TCLOD_NONE : ids[x->parent];
+        d.bounds = x->bounds;
+        d.refine = x->refine;
+        d.empty = x->empty;
+        st = tclod_scene_add_node_desc(scene, &d, &ids[t]);
+        if (st != TCLOD_OK) {
+            fprintf(stderr, "tclod_tiles: adding tile %lu as a node failed: %s\n", (unsigned long)t,
+                    tclod_status_string(st));
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* --stream: two more copies of the scene, with the same ids, and the tiles'
+ * sizes and errors by node id. */
+static int build_copies(host *h) {
+    tclod_id *ids = (tclod_id *)malloc((h->ts.count ? h->ts.count : 1) * sizeof(tclod_id));
+    size_t n = h->id_count ? h->id_count : 1u;
+    tclod_status st = ids ? TCLOD_OK : TCLOD_ERR_NOMEM;
+    uint32_t t;
+    int k, ok = 1;
+    h->bytes = (double *)calloc(n, sizeof(double));
+    h->error = (double *)calloc(n, sizeof(double));
+    if (!h->bytes || !h->error)
+        st = TCLOD_ERR_NOMEM;
+    for (t = 0; st == TCLOD_OK && t < h->ts.count; ++t) {
+        h->bytes[h->id_of_tile[t]] = h->ts.tiles[t].bytes;
+        h->error[h->id_of_tile[t]] = h->ts.tiles[t].geometric_error;
+    }
+    for (k = 0; k < 2 && ok && st == TCLOD_OK; ++k) {
+        st = tclod_scene_create(NULL, &h->copy[k]);
+        if (st == TCLOD_OK)
+            ok = add_tiles(&h->ts, h->copy[k], ids) &&
+                 memcmp(ids, h->id_of_tile, h->ts.count * sizeof(tclod_id)) == 0;
+        if (st == TCLOD_OK && ok)
+            st = tclod_scene_prepare(h->copy[k]);
+    }
+    free(ids);
+    if (st != TCLOD_OK || !ok)
+        fprintf(stderr, "tclod_tiles: building the copies of the scene failed: %s\n",
+                st != TCLOD_OK ? tclod_status_string(st) : "other ids");
+    return st == TCLOD_OK && ok;
+}
+
+/* The scene and the tables the callbacks index by node id. */
 static int build_scene(host *h, double ms_per_mb) {
     tclod_status st = tclod_scene_create(NULL, &h->scene);
     uint32_t t;
@@ -313,22 +407,10 @@ static int build_scene(host *h, double ms_per_mb) {
     h->cost_ms = (double *)malloc((h->ts.count ? h->ts.count : 1) * sizeof(double));
     if (st == TCLOD_OK && (!h->id_of_tile || !h->cost_ms))
         st = TCLOD_ERR_NOMEM;
-    for (t = 0; st == TCLOD_OK && t < h->ts.count; ++t) {
-        const tile *x = &h->ts.tiles[t];
-        tclod_node_desc d;
-        tclod_node_desc_default(&d);
-        d.parent = x->parent == TILE_NONE ? TCLOD_NONE : h->id_of_tile[x->parent];
-        d.bounds = x->bounds;
-        d.refine = x->refine;
-        d.empty = x->empty;
-        st = tclod_scene_add_node_desc(h->scene, &d, &h->id_of_tile[t]);
-        if (st != TCLOD_OK) {
-            fprintf(stderr, "tclod_tiles: adding tile %lu as a node failed: %s\n", (unsigned long)t,
-                    tclod_status_string(st));
-            return 1;
-        }
-        h->cost_ms[t] = x->bytes * 1e-6 * ms_per_mb;
-    }
+    if (st == TCLOD_OK && !add_tiles(&h->ts, h->scene, h->id_of_tile))
+        return 1;
+    for (t = 0; st == TCLOD_OK && t < h->ts.count; ++t)
+        h->cost_ms[t] = h->ts.tiles[t].bytes * 1e-6 * ms_per_mb;
     if (st == TCLOD_OK)
         st = tclod_scene_prepare(h->scene);
     if (st == TCLOD_OK) {
@@ -361,6 +443,10 @@ static void free_host(host *h) {
     free(h->rule_list);
     model_free(&h->model);
     tclod_scene_destroy(h->scene);
+    tclod_scene_destroy(h->copy[0]);
+    tclod_scene_destroy(h->copy[1]);
+    free(h->bytes);
+    free(h->error);
     free(h->id_of_tile);
     free(h->tile_of_id);
     free(h->cost_ms);
@@ -466,13 +552,13 @@ static void fit_flight(const tileset *ts, unsigned long frames, flight *f) {
     f->start = FLIGHT_START_RADII * f->radius;
     f->end = FLIGHT_END_RADII * f->radius;
     f->frames = frames;
+    f->spiral = frames;
 }
 
-/* The view at a frame: distance shrinking geometrically from start to end,
- * elevation falling linearly, azimuth turning; the camera looks at the
- * target with the local up as its up. */
-static void camera_at(const flight *f, unsigned long frame, tclod_view *v, double *distance) {
-    double t = f->frames > 1 ? (double)frame / (double)(f->frames - 1) : 0.0;
+/* The view at t in [0, 1] down the spiral: distance shrinking geometrically
+ * from start to end, elevation falling linearly, azimuth turning; the camera
+ * looks at the target with the local up as its up. */
+static void view_at(const flight *f, double t, tclod_view *v, double *distance) {
     double d = f->start * pow(f->end / f->start, t);
     double el =
         (FLIGHT_START_ELEVATION + (FLIGHT_END_ELEVATION - FLIGHT_START_ELEVATION) * t) * PI / 180.0;
@@ -493,6 +579,29 @@ static void camera_at(const flight *f, unsigned long frame, tclod_view *v, doubl
     v->far_z = (float)(d + 2.0 * f->radius);
     v->viewport_height = VIEWPORT_HEIGHT;
     *distance = d;
+}
+
+/* --stream: t down the spiral at `position` frames along the loop down and
+ * back up. */
+static double loop_t(const flight *f, double position) {
+    double last = (double)(f->spiral > 1 ? f->spiral - 1 : 1);
+    double u = position <= last ? position : 2.0 * last - position;
+    return u / last;
+}
+
+/* The view at a frame: down the spiral, or with --stream where the path is. */
+static void camera_at(const flight *f, unsigned long frame, tclod_view *v, double *distance) {
+    double t = f->frames > 1 ? (double)frame / (double)(f->frames - 1) : 0.0;
+    if (f->path)
+        t = loop_t(f, stream_path_position(f->path, frame));
+    view_at(f, t, v, distance);
+}
+
+/* The view `position` frames along the loop (stream_sim_view_fn). */
+static void loop_view(void *user, double position, tclod_view *v) {
+    const flight *f = (const flight *)user;
+    double distance;
+    view_at(f, loop_t(f, position), v, &distance);
 }
 
 /* ---- 3D Tiles' rules, checked on a selection ----------------------------------------- */
@@ -520,10 +629,12 @@ static void cut_check_free(cut_check *c) {
  * too, and listed first; and no hole: below a refined tile, every tile in the
  * frustum that neither draws nor has drawn descendants must be refined into
  * nothing visible, so that each leaf with content reached through such tiles
- * in the frustum is drawn. 0 when they do; else 1 and a message for the
- * first fault in why. */
-static int check_cut(host *h, cut_check *c, const uint32_t *list, size_t n, char *why,
-                     size_t why_size) {
+ * in the frustum is drawn. With --stream, state (libtclod's copy's residency
+ * by node id, else NULL) says which tiles are not there yet: no hole is
+ * looked for in them. 0 when they do; else 1 and a message for the first
+ * fault in why. */
+static int check_cut(host *h, cut_check *c, const uint32_t *list, size_t n, const uint8_t *state,
+                     char *why, size_t why_size) {
     const tileset *ts = &h->ts;
     size_t i, refined = 0;
     uint32_t s = ++c->stamp;
@@ -572,7 +683,7 @@ static int check_cut(host *h, cut_check *c, const uint32_t *list, size_t n, char
             uint32_t t = c->stack[--top];
             const tile *x = &ts->tiles[t];
             if (model_area(&h->model, t) <= 0.0 || c->drawn_stamp[t] == s ||
-                c->refined_stamp[t] == s)
+                c->refined_stamp[t] == s || (state && state[h->id_of_tile[t]] != STREAM_RESIDENT))
                 continue;
             if (x->child_count == 0 && !x->empty && !faults++)
                 snprintf(why, why_size,
@@ -586,11 +697,12 @@ static int check_cut(host *h, cut_check *c, const uint32_t *list, size_t n, char
     return faults > 0;
 }
 
-/* Checks one method's selection at a frame; the first fault is reported. */
+/* Checks one method's selection at a frame (state as check_cut's); the first
+ * fault is reported. */
 static void check_rules(host *h, const char *method, unsigned long frame, const uint32_t *list,
-                        size_t n) {
+                        size_t n, const uint8_t *state) {
     char why[256];
-    if (check_cut(h, &h->rules, list, n, why, sizeof(why))) {
+    if (check_cut(h, &h->rules, list, n, state, why, sizeof(why))) {
         if (h->rule_errors++ == 0)
             fprintf(stderr, "tclod_tiles: frame %lu: %s's selection breaks 3D Tiles' rules: %s\n",
                     frame, method, why);
@@ -654,7 +766,7 @@ static void sse16_frame(host *h, unsigned long frame, const tclod_view *v, uint3
     /* its benefit under the same model, outside the timing */
     for (i = 0; i < n; ++i)
         benefit += model_benefit(m, drawn[i], model_distance(m, drawn[i]));
-    check_rules(h, "the sse16 traversal", frame, drawn, n);
+    check_rules(h, "the sse16 traversal", frame, drawn, n, NULL);
     out->max_sse = max_error(h, drawn, n);
     out->cost = cost;
     out->benefit = benefit;
@@ -693,23 +805,40 @@ typedef struct totals {
     unsigned long benefit_frames;
 } totals;
 
+/* A row of the table or the CSV; ss: --stream's simulation, else NULL. */
 static void print_row(FILE *out, int csv, unsigned long frame, double budget,
-                      const frame_result *mine, const frame_result *base, double distance) {
+                      const frame_result *mine, const frame_result *base, double distance,
+                      const stream_sim *ss) {
     if (csv)
-        fprintf(out, "%lu,%.9g,%.9g,%.9g,%lu,%.3f,%.9g,%.9g,%lu,%.3f,%.3f,%.6g,%.6g\n", frame,
-                budget, mine->cost, mine->benefit, (unsigned long)mine->tiles, mine->us, base->cost,
+        fprintf(out, "%lu,%.9g,%.9g,%.9g,%lu,%.3f,%.9g,%.9g,%lu,%.3f,%.3f,%.6g,%.6g", frame, budget,
+                mine->cost, mine->benefit, (unsigned long)mine->tiles, mine->us, base->cost,
                 base->benefit, (unsigned long)base->tiles, base->us, distance, mine->max_sse,
                 base->max_sse);
     else
-        printf("%6lu %9.3f %9.3f %12.1f %6lu %9.1f %13.3f %13.1f %11lu %9.1f\n", frame, budget,
-               mine->cost, mine->benefit, (unsigned long)mine->tiles, mine->us, base->cost,
-               base->benefit, (unsigned long)base->tiles, base->us);
+        fprintf(out, "%6lu %9.3f %9.3f %12.1f %6lu %9.1f %13.3f %13.1f %11lu %9.1f", frame, budget,
+                mine->cost, mine->benefit, (unsigned long)mine->tiles, mine->us, base->cost,
+                base->benefit, (unsigned long)base->tiles, base->us);
+    if (ss && csv)
+        stream_sim_csv_row(out, ss);
+    else if (ss)
+        stream_sim_table_row(out, ss);
+    fputc('\n', out);
+}
+
+/* --stream: the simulation over the scene and its copies (their selectors
+ * share the callbacks: the copies have the same ids). 0 after saying what
+ * failed. */
+static int start_stream(host *h, const options *o, tclod_selector *sel,
+                        const tclod_selector_desc *sd, stream_sim *ss) {
+    return stream_sim_start(ss, &o->stream, o->frames, h->scene, sel, h->copy[0], h->copy[1], sd,
+                            h->bytes, h->error, "tclod_tiles");
 }
 
 /* Selects every frame of the flight under the budget, prints and writes the
  * rows, and sums the figures of the summary. */
-static int run_tclod(host *h, const flight *f, const double *budgets, const frame_result *base,
-                     FILE *csv, frame_result *mine, totals *tot) {
+static int run_tclod(host *h, const options *o, const flight *f, const double *budgets,
+                     const frame_result *base, FILE *csv, frame_result *mine, totals *tot,
+                     stream_sim *ss) {
     tclod_selector_desc sd;
     tclod_selector *sel = NULL;
     tclod_status st;
@@ -724,9 +853,18 @@ static int run_tclod(host *h, const flight *f, const double *budgets, const fram
         fprintf(stderr, "tclod_tiles: creating the selector failed: %s\n", tclod_status_string(st));
         return 1;
     }
-    printf("%6s %9s %9s %12s %6s %9s %13s %13s %11s %9s\n", "frame", "budget_ms", "cost_ms",
+    if (ss && !start_stream(h, o, sel, &sd, ss)) {
+        tclod_selector_destroy(sel);
+        return 1;
+    }
+    if (ss)
+        stream_sim_print_settings(stdout, ss);
+    printf("%6s %9s %9s %12s %6s %9s %13s %13s %11s %9s", "frame", "budget_ms", "cost_ms",
            "benefit", "tiles", "select_us", "sse16_cost_ms", "sse16_benefit", "sse16_tiles",
            "sse16_us");
+    if (ss)
+        stream_sim_table_header(stdout);
+    printf("\n");
     for (frame = 0; frame < f->frames; ++frame) {
         tclod_view view;
         tclod_frame fr;
@@ -741,6 +879,10 @@ static int run_tclod(host *h, const flight *f, const double *budgets, const fram
         memset(&fr, 0, sizeof(fr));
         fr.view = &view;
         fr.budget = budget;
+        if (ss && !stream_sim_before(ss, frame, "tclod_tiles")) {
+            tclod_selector_destroy(sel);
+            return 1;
+        }
         t0 = now_us();
         st = tclod_select(sel, &fr, &stats);
         t1 = now_us();
@@ -766,7 +908,7 @@ static int run_tclod(host *h, const flight *f, const double *budgets, const fram
             benefit += model_benefit(&h->model, t, model_distance(&h->model, t));
             h->rule_list[i] = t;
         }
-        check_rules(h, "libtclod", frame, h->rule_list, n);
+        check_rules(h, "libtclod", frame, h->rule_list, n, ss ? ss->ours.state : NULL);
         r->max_sse = max_error(h, h->rule_list, n);
         r->cost = cost;
         r->benefit = benefit;
@@ -781,9 +923,13 @@ static int run_tclod(host *h, const flight *f, const double *budgets, const fram
             tot->sum_benefit_ratio += benefit / base[frame].benefit;
             ++tot->benefit_frames;
         }
-        print_row(stdout, 0, frame, budget, r, &base[frame], distance);
+        if (ss && !stream_sim_after(ss, frame, &fr, stats.benefit, "tclod_tiles")) {
+            tclod_selector_destroy(sel);
+            return 1;
+        }
+        print_row(stdout, 0, frame, budget, r, &base[frame], distance, ss);
         if (csv)
-            print_row(csv, 1, frame, budget, r, &base[frame], distance);
+            print_row(csv, 1, frame, budget, r, &base[frame], distance, ss);
     }
     tclod_selector_destroy(sel);
     return 0;
@@ -808,13 +954,18 @@ static void print_header(const options *o, const host *h, const flight *f, doubl
            (unsigned long)c->contents, c->bytes * 1e-6, (unsigned long)c->from_file,
            (unsigned long)c->from_sizes, o->sizes_path ? o->sizes_path : "--sizes",
            (unsigned long)c->estimated, TILESET_ESTIMATE_BYTES, o->ms_per_mb);
-    printf("flight: %lu frames, %.0f m down to %.0f m from the root's centre (radius %.0f m); "
-           "budget %.3f ms (%s)\n\n",
-           f->frames, f->start, f->end, f->radius, budget, source[o->budget_given]);
+    if (f->path)
+        printf("flight: %lu frames round a spiral of %lu frames down, %.0f m to %.0f m from the "
+               "root's centre (radius %.0f m), and back up; budget %.3f ms (%s)\n\n",
+               f->frames, f->spiral, f->start, f->end, f->radius, budget, source[o->budget_given]);
+    else
+        printf("flight: %lu frames, %.0f m down to %.0f m from the root's centre (radius %.0f m); "
+               "budget %.3f ms (%s)\n\n",
+               f->frames, f->start, f->end, f->radius, budget, source[o->budget_given]);
 }
 
 static void print_summary(const host *h, unsigned long frames, double budget, frame_result *mine,
-                          frame_result *base, const totals *tot) {
+                          frame_result *base, const totals *tot, stream_sim *ss) {
     double *v = (double *)malloc(frames * sizeof(double));
     double base_max = 0.0, base_median, select_median, sse16_median, max_sse, sse16_max_sse;
     unsigned long i, check_errors;
@@ -872,12 +1023,15 @@ static void print_summary(const host *h, unsigned long frames, double budget, fr
     printf("\nsummary: frames=%lu tiles=%lu violations=%lu mean_cost_ratio=%.4f "
            "sse16_cost_max_over_median=%.4f benefit_vs_sse16=%.4f select_us_median=%.1f "
            "sse16_us_median=%.1f budget_ms=%.4f box_fallbacks=%lu check_errors=%lu "
-           "max_sse_median=%.2f sse16_max_sse_median=%.2f\n",
+           "max_sse_median=%.2f sse16_max_sse_median=%.2f",
            frames, (unsigned long)h->ts.count, tot->violations,
            tot->sum_cost_ratio / (double)frames, base_median > 0.0 ? base_max / base_median : 0.0,
            tot->benefit_frames ? tot->sum_benefit_ratio / (double)tot->benefit_frames : 0.0,
            select_median, sse16_median, budget, (unsigned long)h->ts.counts.box_fallbacks,
            check_errors, max_sse, sse16_max_sse);
+    if (ss)
+        stream_sim_print_summary(stdout, ss);
+    printf("\n");
 }
 
 /* The budget of every frame into budgets[]; returns the one the header and
@@ -898,14 +1052,17 @@ static double choose_budgets(const options *o, const frame_result *base, double 
 }
 
 /* The CSV file with its header, or NULL (said why). */
-static FILE *open_csv(const char *path) {
+static FILE *open_csv(const char *path, int streaming) {
     FILE *csv = fopen(path, "w");
     if (!csv) {
         fprintf(stderr, "tclod_tiles: cannot write %s: %s\n", path, strerror(errno));
         return NULL;
     }
     fprintf(csv, "frame,budget_ms,cost_ms,benefit,tiles,select_us,sse16_cost_ms,"
-                 "sse16_benefit,sse16_tiles,sse16_us,distance_m,max_sse,sse16_max_sse\n");
+                 "sse16_benefit,sse16_tiles,sse16_us,distance_m,max_sse,sse16_max_sse");
+    if (streaming)
+        stream_sim_csv_header(csv);
+    fputc('\n', csv);
     return csv;
 }
 
@@ -917,10 +1074,14 @@ int main(int argc, char **argv) {
     frame_result *base = NULL, *mine = NULL;
     FILE *csv = NULL;
     double budget, *budgets = NULL;
+    stream_sim stream, *ss = NULL;
+    stream_path path;
     int rc;
 
     memset(&h, 0, sizeof(h));
     memset(&tot, 0, sizeof(tot));
+    memset(&stream, 0, sizeof(stream));
+    memset(&path, 0, sizeof(path));
     rc = parse_options(argc, argv, &opt);
     if (rc == 1) {
         usage(stdout);
@@ -933,6 +1094,19 @@ int main(int argc, char **argv) {
     if (load_tileset(&opt, &h) || build_scene(&h, opt.ms_per_mb))
         goto done;
     fit_flight(&h.ts, opt.frames, &f);
+    if (opt.stream.enabled) {
+        /* the spiral of the default flight, down and back up, with teleports */
+        f.spiral = DEFAULT_FRAMES;
+        if (!build_copies(&h))
+            goto done;
+        if (!stream_path_init(&path, 2.0 * (double)(DEFAULT_FRAMES - 1u), opt.stream.teleport_every,
+                              opt.frames, loop_view, &f, h.scene, h.bytes, h.error)) {
+            fprintf(stderr, "tclod_tiles: out of memory\n");
+            goto done;
+        }
+        f.path = &path;
+        ss = &stream;
+    }
     base = (frame_result *)calloc(opt.frames, sizeof(*base));
     mine = (frame_result *)calloc(opt.frames, sizeof(*mine));
     budgets = (double *)malloc(opt.frames * sizeof(*budgets));
@@ -944,12 +1118,12 @@ int main(int argc, char **argv) {
     if (run_sse16(&h, &f, base))
         goto done;
     budget = choose_budgets(&opt, base, budgets);
-    if (opt.csv_path && !(csv = open_csv(opt.csv_path)))
+    if (opt.csv_path && !(csv = open_csv(opt.csv_path, ss != NULL)))
         goto done;
     print_header(&opt, &h, &f, budget);
-    if (run_tclod(&h, &f, budgets, base, csv, mine, &tot))
+    if (run_tclod(&h, &opt, &f, budgets, base, csv, mine, &tot, ss))
         goto done;
-    print_summary(&h, opt.frames, budget, mine, base, &tot);
+    print_summary(&h, opt.frames, budget, mine, base, &tot, ss);
     rc = 0;
 
 done:
@@ -960,6 +1134,8 @@ done:
     free(base);
     free(mine);
     free(budgets);
+    stream_sim_free(&stream);
+    stream_path_free(&path);
     free_host(&h);
     return rc;
 }
