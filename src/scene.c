@@ -726,11 +726,13 @@ static tclod_status add_node(tclod_scene *s, const tclod_node_desc *d, tclod_id 
     s->child_count[id] = s->child_cap[id] = 0;
     s->bytes[id] = (float)d->bytes;
     s->res_pos[id] = TCLOD_NONE;
-    if (d->not_resident) {
+    if (d->not_resident)
         s->flags[id] |= TCLOD_NODE_ABSENT;
-        s->absent_count++;
-    } else {
-        resident_add(s, id);
+    if (!d->empty) {
+        if (d->not_resident)
+            s->absent_count++;
+        else
+            resident_add(s, id);
     }
     if (additive) {
         self = take_node_id(s, id);
@@ -782,7 +784,9 @@ static void drop_node(tclod_scene *s, tclod_id n) {
         log_edit(s, n, TCLOD_EDIT_REMOVED);
     if (self != TCLOD_NONE && (s->flags[self] & TCLOD_NODE_INDEXED))
         log_edit(s, self, TCLOD_EDIT_REMOVED);
-    if (s->flags[n] & TCLOD_NODE_ABSENT)
+    if (s->flags[n] & TCLOD_NODE_EMPTY)
+        ; /* nothing to load: not counted */
+    else if (s->flags[n] & TCLOD_NODE_ABSENT)
         s->absent_count--;
     else
         resident_remove(s, n);
@@ -1307,6 +1311,8 @@ static tclod_status set_resident(tclod_scene *s, tclod_id id, int resident, int 
     if (resident == !(*flags & TCLOD_NODE_ABSENT))
         return TCLOD_OK;
     *flags ^= TCLOD_NODE_ABSENT;
+    if (!smooth && (*flags & TCLOD_NODE_EMPTY))
+        return TCLOD_OK; /* nothing to load: not counted */
     if (smooth) {
         if (resident)
             s->smooth_absent_count--;
@@ -1345,7 +1351,7 @@ static tclod_status set_bytes(tclod_scene *s, tclod_id id, double b, int smooth,
         return tclod_fail(s->error, TCLOD_ERR_ARG, fn, BYTES_RULE);
     if (held(s))
         return tclod_fail(s->error, TCLOD_ERR_STATE, fn, HELD);
-    if (!(*flags & TCLOD_NODE_ABSENT))
+    if (!(*flags & (TCLOD_NODE_ABSENT | TCLOD_NODE_EMPTY)))
         s->resident_bytes += (double)(float)b - (double)*bytes;
     *bytes = (float)b;
     s->residency_version++;

@@ -134,7 +134,8 @@ struct tclod_scene {
 
     /* streaming (docs/streaming.md): sizes, and the live resident nodes in a
      * list (each node's slot in it, TCLOD_NONE when not in it) so that
-     * evictions are planned over them alone */
+     * evictions are planned over them alone. Empty nodes have nothing to
+     * load: their flag is kept, but they are in no count, list or sum */
     float *bytes;
     uint32_t *res_pos;
     tclod_id *res_list;

@@ -147,8 +147,8 @@ static int is_smooth_live(const host_model *m, tclod_id id) {
 static double model_sum(const host_model *m, const residency *r) {
     double sum = 0.0;
     uint32_t i;
-    for (i = 0; i < m->nodes; ++i)
-        if (is_live(m, i) && r->resident[i])
+    for (i = 0; i < m->nodes; ++i) /* an empty node has nothing to load: not counted */
+        if (model_draws(m, i) && r->resident[i])
             sum += (double)r->bytes[i];
     for (i = 0; i < m->smooth; ++i)
         if (is_smooth_live(m, i) && r->smooth_resident[i])
