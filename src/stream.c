@@ -56,6 +56,7 @@ size_t tclod_stream_buffers(tclod_stream_state *S, tclod_array *out) {
     out[n++] = (tclod_array){(void **)&S->queue, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&S->size_seen, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&S->used, sizeof(uint32_t), 0};
+    out[n++] = (tclod_array){(void **)&S->seen_value, sizeof(double), 0};
     out[n++] = (tclod_array){(void **)&S->touched, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&S->heap.items, sizeof(tclod_heap_entry), -1};
     out[n++] = (tclod_array){(void **)&S->heap.pos, sizeof(uint32_t), 0xff};
@@ -81,6 +82,8 @@ const char *tclod_stream_desc_check(const tclod_stream_desc *d) {
         return "d->memory_budget must be finite and >= 0";
     if (!(d->bytes_in_flight >= 0.0 && d->bytes_in_flight < HUGE_VAL))
         return "d->bytes_in_flight must be finite and >= 0";
+    if (!((d->min_yield >= 0.0 && d->min_yield < HUGE_VAL) || d->min_yield == TCLOD_OFF))
+        return "d->min_yield must be finite and >= 0, or TCLOD_OFF";
     return NULL;
 }
 
@@ -342,6 +345,7 @@ static int target_pass(tclod_selector *sel, uint32_t *count) {
     double budget = sel->frame->budget, total = 0.0, grow = 0.0;
     uint32_t i;
     *count = 0;
+    S->target_benefit = 0.0;
     S->head = S->tail = 0;
     S->least = HUGE_VAL;
     for (i = 0; i < s->root_count; ++i) {
@@ -362,6 +366,7 @@ static int target_pass(tclod_selector *sel, uint32_t *count) {
             candidate(S, r, cap, count);
         }
         total += c;
+        S->target_benefit += b;
         if (target_add(sel, r, b, c, cap) != 0)
             return -1;
     }
@@ -373,6 +378,7 @@ static int target_pass(tclod_selector *sel, uint32_t *count) {
         grow += dc > 0.0 ? dc : 0.0;
         if (!(total + grow <= budget))
             return 1;
+        S->target_benefit += S->delta[2u * p];
         if (target_take(sel, p, count) != 0)
             return -1;
     }
@@ -385,6 +391,7 @@ static int target_pass(tclod_selector *sel, uint32_t *count) {
         if (!(total + dc <= budget))
             continue;
         total += dc;
+        S->target_benefit += S->delta[2u * p];
         if (key < S->least)
             S->least = key;
         if (target_take(sel, p, count) != 0)
@@ -475,6 +482,14 @@ static int plan_smooth(tclod_selector *sel, uint32_t *count) {
     return 0;
 }
 
+/* Remembers node n's benefit per byte when this solve saw it visible. */
+static void remember(tclod_selector *sel, tclod_id n) {
+    const tclod_scene *s = sel->scene;
+    if (sel->node[n].stamp == sel->solve_id && sel->node[n].benefit > 0.0 && s->bytes[n] > 0.0f &&
+        !(s->flags[n] & TCLOD_NODE_ABSENT))
+        sel->stream.seen_value[n] = sel->node[n].benefit / (double)s->bytes[n];
+}
+
 /* Marks node n and its ancestors kept (until one is kept already), and
  * notes them used now. */
 static void keep_path(tclod_selector *sel, tclod_id n) {
@@ -484,18 +499,21 @@ static void keep_path(tclod_selector *sel, tclod_id n) {
          n = s->up[n]) {
         mark(S, n, STREAM_KEEP);
         S->used[n] = S->plans;
+        remember(sel, n);
     }
 }
 
-/* What must stay resident: the drawn nodes, the target's and the owner's
- * keep list, each with its ancestors. */
+/* What must stay resident: the selection's cut, drawn or culled (a culled
+ * node coming into view would otherwise undo its parent's refinement until
+ * it came back), the target's and the owner's keep list, each with its
+ * ancestors. */
 static void keep_all(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
     tclod_stream_state *S = &sel->stream;
     uint32_t i, n = S->touched_count;
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id id = sel->cut[i];
-        if (sel->node[id].benefit > 0.0 && !(sel->flags[id] & TCLOD_FLAG_DROPPED))
+        if (!(sel->flags[id] & TCLOD_FLAG_DROPPED))
             keep_path(sel, id);
     }
     for (i = 0; i < n; ++i) /* the target: marked before this began */
@@ -517,10 +535,11 @@ static void keep_all(tclod_selector *sel) {
 }
 
 /* Queues every resident node and smooth object not kept (of nonzero size)
- * as an eviction candidate, least valuable first. A smooth object not drawn
- * counts as unseen. A node's value is the benefit per byte it
- * gave this solve, or, when this solve did not see it visible, less than any
- * of those: the longer since it was last kept, the less. A node is worth more
+ * as an eviction candidate, least valuable first. A node's value is the
+ * benefit per byte it gave when a solve last saw it visible (this one, if it
+ * did): what it is worth when the view comes back to it. One no solve saw,
+ * and a smooth object not drawn, are worth less than any of those: the
+ * longer since it was last kept, the less. A node is worth more
  * than any resident node below it, which cannot be drawn without it: its
  * descendants go first. */
 static void eviction_candidates(tclod_selector *sel) {
@@ -530,8 +549,9 @@ static void eviction_candidates(tclod_selector *sel) {
     uint32_t i;
     for (i = 0; i < s->res_count; ++i) {
         tclod_id n = s->res_list[i];
-        if (sel->node[n].stamp == sel->solve_id && sel->node[n].benefit > 0.0 && s->bytes[n] > 0.0f)
-            value[n] = sel->node[n].benefit / (double)s->bytes[n];
+        remember(sel, n);
+        if (S->seen_value[n] > 0.0)
+            value[n] = S->seen_value[n];
         else
             value[n] = -1.0 - (double)(S->plans - S->used[n]);
     }
@@ -627,6 +647,41 @@ static tclod_id candidates_pop(tclod_stream_state *S, uint32_t n) {
     return S->ids[n - 1u];
 }
 
+/* The size node n counts in the target: its own, or the resident nodes'
+ * mean when it has none. */
+static double target_bytes(const tclod_scene *s, tclod_id n) {
+    double z = (double)s->bytes[tclod_scene_owner(s, n)];
+    return z > 0.0 ? z : (s->res_count > 0 ? s->resident_bytes / s->res_count : 0.0);
+}
+
+/* Leaves out the request candidates that would bring less benefit per byte
+ * than the desc's min_yield times what the target draws brings on average:
+ * loads that would spend the link and the memory on what adds little (the
+ * last few per cent of a view that takes most of its bytes). A node's rank
+ * is capped by its requested ancestors', so a node left out leaves out what
+ * lies below it. Returns how many are left (compacted in place). */
+static uint32_t worth_loading(tclod_selector *sel, uint32_t count) {
+    const tclod_scene *s = sel->scene;
+    tclod_stream_state *S = &sel->stream;
+    double yield = S->desc.min_yield == 0.0 ? TCLOD_STREAM_MIN_YIELD : S->desc.min_yield;
+    double bytes = 0.0, floor;
+    uint32_t i, kept = 0;
+    if (yield <= 0.0)
+        return count;
+    for (i = 0; i < S->touched_count; ++i)
+        if (S->mark[S->touched[i]] & STREAM_VCUT)
+            bytes += target_bytes(s, S->touched[i]);
+    if (!(bytes > 0.0))
+        return count;
+    floor = yield * S->target_benefit / bytes;
+    for (i = 0; i < count; ++i)
+        if (S->keys[i] >= floor) {
+            S->ids[kept] = S->ids[i];
+            S->keys[kept++] = S->keys[i];
+        }
+    return kept;
+}
+
 /* Makes the eviction candidates the first time the plan needs room. */
 static void need_room(tclod_selector *sel, int *built) {
     if (!*built)
@@ -654,6 +709,7 @@ static void plan_lists(tclod_selector *sel, uint32_t candidates) {
             return;
         }
     }
+    candidates = worth_loading(sel, candidates);
     candidates_heapify(S, candidates);
     for (i = 0; i < candidates && S->count[0][1] < d->max_requests; ++i) {
         tclod_id n = candidates_pop(S, candidates - i); /* now at ids[candidates - i - 1] */

@@ -27,9 +27,10 @@ typedef struct tclod_stream_state {
     uint8_t *smooth_mark;  /* the same per smooth object (LISTED, EVICTED, KEEP) */
     uint32_t *smooth_used; /* the plan when it was last drawn */
     double *cap_value;
-    double *size;        /* a request candidate's size (request_bytes) */
-    double *delta;       /* 2 per node: its increment's gain and cost in the target */
-    uint32_t *size_seen; /* the solve that sized it (size valid) */
+    double *size;          /* a request candidate's size (request_bytes) */
+    double *delta;         /* 2 per node: its increment's gain and cost in the target */
+    double target_benefit; /* the target's benefit */
+    uint32_t *size_seen;   /* the solve that sized it (size valid) */
     /* the target's closure: increments keyed at least `closure` are taken
      * first in first out (queue[head .. tail)) while `filling`; `least`: the
      * least key the heap took */
@@ -38,7 +39,8 @@ typedef struct tclod_stream_state {
     int filling;
     double closure, least;
     uint32_t *used;
-    tclod_id *touched; /* the nodes whose mark the plan set */
+    double *seen_value; /* per node: its benefit per byte when last seen visible */
+    tclod_id *touched;  /* the nodes whose mark the plan set */
     uint32_t touched_count;
     tclod_heap heap; /* the plan's increments, then the eviction candidates */
     tclod_id *ids;   /* scratch: candidates */

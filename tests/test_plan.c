@@ -60,6 +60,7 @@ static void set_stream(tclod_selector *sel, uint32_t max_requests, double max_by
     d.max_request_bytes = max_bytes;
     d.memory_budget = memory;
     d.bytes_in_flight = in_flight;
+    d.min_yield = TCLOD_OFF; /* every gain is worth a load, but where a test says */
     assert_int_equal(tclod_selector_set_stream(sel, &d), TCLOD_OK);
 }
 
@@ -204,6 +205,40 @@ static void arrivals_move_the_requests_down(void **state) {
     assert_int_equal(tclod_selector_requests(sel, &items, &n), TCLOD_OK);
     assert_near(items[1].value, 0.02, 1e-15);
     assert_int_equal(items[1].flags, TCLOD_STREAM_LISTED);
+    tclod_selector_destroy(sel);
+}
+
+/* R (b 1, c 1) with A1, A2 (b 3, c 1, 100 B each, not resident) and Q (b 1,
+ * c 1) with Q1, Q2 (b 0.55, c 0.5, 1000 B each, not resident); R and Q
+ * resident, 100 B. Budget 10: the target draws A1, A2, Q1 and Q2, benefit
+ * 6 + 1.1 = 7.1 for 200 + 2000 B, 0.0032273 per byte on average. A1 and A2
+ * rank (6 - 1) / 200 = 0.025, Q1 and Q2 (1.1 - 1) / 2000 = 0.00005. The
+ * default min_yield 0.5 asks for 0.0016136: A1 and A2 only. TCLOD_OFF: all
+ * four. 10 (0.032273): none. */
+static void loads_that_yield_little_are_not_made(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id r = add(f, TCLOD_NONE, TCLOD_REFINE_REPLACE, 1, 100, 1.0, 1.0);
+    tclod_id a1 = add(f, r, TCLOD_REFINE_REPLACE, 0, 100, 3.0, 1.0);
+    tclod_id a2 = add(f, r, TCLOD_REFINE_REPLACE, 0, 100, 3.0, 1.0);
+    tclod_id q = add(f, TCLOD_NONE, TCLOD_REFINE_REPLACE, 1, 100, 1.0, 1.0);
+    tclod_id q1 = add(f, q, TCLOD_REFINE_REPLACE, 0, 1000, 0.55, 0.5);
+    tclod_id q2 = add(f, q, TCLOD_REFINE_REPLACE, 0, 1000, 0.55, 0.5);
+    tclod_selector *sel = helper_selector(f->scene, &f->model, 1);
+    const tclod_id worth[2] = {a1, a2}, all[4] = {a1, a2, q1, q2};
+    tclod_stream_desc d;
+    memset(&d, 0, sizeof d);
+    d.max_requests = 10;
+    assert_int_equal(tclod_selector_set_stream(sel, &d), TCLOD_OK);
+    run(sel, 10.0);
+    assert_requests(sel, worth, 2);
+    d.min_yield = TCLOD_OFF;
+    assert_int_equal(tclod_selector_set_stream(sel, &d), TCLOD_OK);
+    run(sel, 10.0);
+    assert_requests(sel, all, 4);
+    d.min_yield = 10.0;
+    assert_int_equal(tclod_selector_set_stream(sel, &d), TCLOD_OK);
+    run(sel, 10.0);
+    assert_requests(sel, NULL, 0);
     tclod_selector_destroy(sel);
 }
 
@@ -645,6 +680,8 @@ int main(void) {
         cmocka_unit_test_setup_teardown(requests_respect_the_caps, helper_fixture_setup,
                                         helper_fixture_teardown),
         cmocka_unit_test_setup_teardown(arrivals_move_the_requests_down, helper_fixture_setup,
+                                        helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(loads_that_yield_little_are_not_made, helper_fixture_setup,
                                         helper_fixture_teardown),
         cmocka_unit_test_setup_teardown(evictions_free_the_least_valuable, helper_fixture_setup,
                                         helper_fixture_teardown),

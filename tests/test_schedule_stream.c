@@ -465,6 +465,7 @@ static void the_streaming_calls_refuse_bad_arguments_and_callbacks(void **state)
     calling_sch = sch;
     memset(&st, 0, sizeof st);
     st.max_requests = 4;
+    st.min_yield = TCLOD_OFF; /* b's worth per byte does not matter here */
     assert_int_equal(tclod_scheduler_set_stream(NULL, &st), TCLOD_ERR_ARG);
     assert_int_equal(tclod_scheduler_set_stream(sch, &st), TCLOD_OK);
     bad = st;
@@ -475,6 +476,10 @@ static void the_streaming_calls_refuse_bad_arguments_and_callbacks(void **state)
     bad.bytes_in_flight = -1.0;
     assert_int_equal(tclod_scheduler_set_stream(sch, &bad), TCLOD_ERR_ARG);
     assert_non_null(strstr(tclod_scheduler_last_error(sch), "bytes_in_flight"));
+    bad = st;
+    bad.min_yield = -0.5;
+    assert_int_equal(tclod_scheduler_set_stream(sch, &bad), TCLOD_ERR_ARG);
+    assert_non_null(strstr(tclod_scheduler_last_error(sch), "min_yield"));
     bad = st;
     bad.max_request_bytes = (double)INFINITY;
     assert_int_equal(tclod_scheduler_set_stream(sch, &bad), TCLOD_ERR_ARG);

@@ -704,7 +704,15 @@ typedef struct tclod_stream_desc {
                                  evictions listed) */
     double bytes_in_flight;   /* bytes of loads requested earlier and not resident
                                  yet: they count against memory_budget */
+    double min_yield;         /* a request must bring at least this share of the
+                                 benefit per byte the plan's target brings on
+                                 average, >= 0: loads that add little for their
+                                 bytes are not made. 0: default
+                                 TCLOD_STREAM_MIN_YIELD; TCLOD_OFF: any */
 } tclod_stream_desc;
+
+/* The default tclod_stream_desc.min_yield (docs/streaming.md, the rank). */
+#define TCLOD_STREAM_MIN_YIELD 0.5
 
 /* Sets what the next selects plan; d NULL: nothing. Errors: TCLOD_ERR_ARG
  * (NULL sel; a field NaN, infinite or negative, naming it), TCLOD_ERR_STATE
