@@ -711,12 +711,12 @@ typedef struct tclod_stream_desc {
                                  TCLOD_STREAM_MIN_YIELD; TCLOD_OFF: any */
 } tclod_stream_desc;
 
-/* The default tclod_stream_desc.min_yield (docs/streaming.md, the rank). */
+/* The default tclod_stream_desc.min_yield (docs/streaming.md, the yield). */
 #define TCLOD_STREAM_MIN_YIELD 0.5
 
 /* Sets what the next selects plan; d NULL: nothing. Errors: TCLOD_ERR_ARG
- * (NULL sel; a field NaN, infinite or negative, naming it), TCLOD_ERR_STATE
- * (from a callback); nothing changes on error. */
+ * (NULL sel; a field NaN, infinite or negative, min_yield TCLOD_OFF aside,
+ * naming it), TCLOD_ERR_STATE (from a callback); nothing changes on error. */
 TCLOD_API tclod_status tclod_selector_set_stream(tclod_selector *sel, const tclod_stream_desc *d);
 
 /* tclod_stream_item.flags */
@@ -729,14 +729,16 @@ typedef struct tclod_stream_item {
     uint32_t flags; /* TCLOD_STREAM_* */
     double bytes;   /* its size (the scene's, or tclod_callbacks.bytes) */
     double value;   /* a request: the benefit its arrival would add per byte
-                       (ranked highest first); an eviction: the benefit it
-                       gives per byte (ranked lowest first) */
+                       (ranked highest first); an eviction: the benefit per
+                       byte it gave when last seen visible, 0 if never (ranked
+                       lowest first) */
 } tclod_stream_item;
 
 /* The load requests of the last select, best first: the non-resident nodes
  * its selection or the selections that follow would draw, ranked by the
- * benefit their arrival adds per byte, capped by the stream desc; a node is
- * listed after its ancestors it needs. The evictions: resident nodes to free,
+ * benefit their arrival adds per byte, those that yield too little left out
+ * (min_yield), capped by the stream desc; a node is listed after its
+ * ancestors it needs. The evictions: resident nodes to free,
  * least valuable first, so that resident bytes, loads in flight and the
  * requests fit the memory budget; never a drawn node, one a drawn node falls
  * back to, or one the plan needs next. *items points into the selector:
