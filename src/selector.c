@@ -477,6 +477,8 @@ static tclod_status selector_begin(tclod_selector *sel, const tclod_frame *f, co
         uint32_t i;
         for (i = 0; i < sel->cap; ++i)
             sel->node[i].stamp = 0;
+        for (i = 0; i < sel->stream.cap; ++i) /* the streaming stamps too */
+            sel->stream.seen[i] = sel->stream.size_seen[i] = 0;
         sel->solve_id = 1;
     }
     memset(&sel->stats, 0, sizeof sel->stats);
