@@ -86,24 +86,32 @@ size_t helper_sorted_cut(const tclod_selector *sel, tclod_id *out, size_t cap) {
     return n;
 }
 
+void helper_assert_ids(const char *what, const tclod_id *got, size_t got_n, const tclod_id *want,
+                       size_t n) {
+    size_t i;
+    if (got_n == n && (n == 0 || memcmp(got, want, n * sizeof *got) == 0))
+        return;
+    if (what != NULL)
+        print_error("%s: ", what);
+    print_error("cut differs: expected {");
+    for (i = 0; i < n; ++i)
+        print_error(" %u", (unsigned)want[i]);
+    print_error(" } got {");
+    for (i = 0; i < got_n; ++i)
+        print_error(" %u", (unsigned)got[i]);
+    print_error(" }\n");
+    fail();
+}
+
 void helper_assert_cut(const tclod_selector *sel, const tclod_id *expected, size_t n) {
     tclod_id got[64], want[64];
-    size_t got_n, i;
+    size_t got_n;
     assert_true(n <= 64);
     got_n = helper_sorted_cut(sel, got, 64);
     if (n > 0)
         memcpy(want, expected, n * sizeof *expected);
     exact_sort_ids(want, n);
-    if (got_n != n || (n > 0 && memcmp(got, want, n * sizeof *got) != 0)) {
-        print_error("cut differs: expected {");
-        for (i = 0; i < n; ++i)
-            print_error(" %u", (unsigned)want[i]);
-        print_error(" } got {");
-        for (i = 0; i < got_n; ++i)
-            print_error(" %u", (unsigned)got[i]);
-        print_error(" }\n");
-        fail();
-    }
+    helper_assert_ids(NULL, got, got_n, want, n);
 }
 
 void helper_check_result(const tclod_selector *sel, const table_model *m, const tclod_stats *st,

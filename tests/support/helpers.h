@@ -39,6 +39,11 @@ tclod_selector *helper_selector(const tclod_scene *s, table_model *m, int warm_s
  * that tclod_selector_cut succeeds and fits. Returns the number of ids. */
 size_t helper_sorted_cut(const tclod_selector *sel, tclod_id *out, size_t cap);
 
+/* Asserts that got[0..got_n) equals want[0..n) (both sorted ascending);
+ * on failure prints both lists, after "what: " when what is not NULL. */
+void helper_assert_ids(const char *what, const tclod_id *got, size_t got_n, const tclod_id *want,
+                       size_t n);
+
 /* Asserts that the current cut, as a set, is expected[0..n) (any order). */
 void helper_assert_cut(const tclod_selector *sel, const tclod_id *expected, size_t n);
 
