@@ -931,6 +931,40 @@ bench_edit(churn_plan *p, world_scene *w) {
     return calls;
 }
 
+/* A warm greedy selector over w with the options' lookahead and restarts,
+ * in a zeroed call. */
+static tclod_status warm_greedy(world_scene *w, solve_call *call) {
+    tclod_selector_desc sd;
+    memset(call, 0, sizeof(*call));
+    call->method = METHOD_GREEDY;
+    tclod_selector_desc_default(&sd);
+    sd.solver = TCLOD_SOLVER_GREEDY;
+    sd.callbacks = world_callbacks(w);
+    sd.cold_start = 0;
+    sd.greedy.lookahead = (uint32_t)opt_lookahead;
+    sd.greedy.restarts = opt_restarts > 0 ? (int32_t)opt_restarts : TCLOD_OFF;
+    return tclod_selector_create(w->scene, &sd, NULL, &call->sel);
+}
+
+/* Frame f of w's camera path within budget: solved once in the warm-up,
+ * timed after it (*us), its cut in *ids, *n. */
+static tclod_status path_frame(solve_call *call, const world_scene *w, unsigned long f,
+                               double budget, tclod_view *view, double *us, const tclod_id **ids,
+                               size_t *n) {
+    double t0;
+    world_camera_at(&w->path, (double)f / (double)FRAMES_PER_LOOP, view);
+    memset(&call->frame, 0, sizeof(call->frame));
+    call->frame.view = view;
+    call->frame.budget = budget;
+    t0 = bench_now_us();
+    if (f < WARMUP_FRAMES)
+        solve_once(call);
+    else
+        bench_solve(call);
+    *us = bench_now_us() - t0;
+    return call->status == TCLOD_OK ? tclod_selector_cut(call->sel, ids, n) : call->status;
+}
+
 /* Warm-up plus `frames` timed frames of the greedy solver, warm, along the world's loop
  * with a fixed budget, with the plan's edits before every frame after the first (the
  * first solves from the roots, with no cut to repair) when plan is not NULL. times gets
@@ -940,21 +974,12 @@ bench_edit(churn_plan *p, world_scene *w) {
 static int run_churn(world_scene *w, churn_plan *plan, double budget, unsigned long frames,
                      double *times, double *edit_times, bench_row *row) {
     solve_call call;
-    tclod_selector_desc sd;
     tclod_status st;
     unsigned long f, total = frames + WARMUP_FRAMES;
     double sum_us = 0.0, edits = 0.0;
 
     memset(row, 0, sizeof(*row));
-    memset(&call, 0, sizeof(call));
-    call.method = METHOD_GREEDY;
-    tclod_selector_desc_default(&sd);
-    sd.solver = TCLOD_SOLVER_GREEDY;
-    sd.callbacks = world_callbacks(w);
-    sd.cold_start = 0;
-    sd.greedy.lookahead = (uint32_t)opt_lookahead;
-    sd.greedy.restarts = opt_restarts > 0 ? (int32_t)opt_restarts : TCLOD_OFF;
-    st = tclod_selector_create(w->scene, &sd, NULL, &call.sel);
+    st = warm_greedy(w, &call);
     if (st != TCLOD_OK) {
         fprintf(stderr, "tclod_bench: creating a greedy selector failed: %s\n",
                 tclod_status_string(st));
@@ -964,7 +989,7 @@ static int run_churn(world_scene *w, churn_plan *plan, double budget, unsigned l
         tclod_view view;
         const tclod_id *ids;
         size_t n, i;
-        double t0, t1, e0 = 0.0, e1 = 0.0, cost;
+        double us, e0 = 0.0, e1 = 0.0, cost;
         unsigned long calls = 0;
 
         if (plan && f > 0) {
@@ -977,19 +1002,7 @@ static int run_churn(world_scene *w, churn_plan *plan, double budget, unsigned l
                 return 1;
             }
         }
-        world_camera_at(&w->path, (double)f / (double)FRAMES_PER_LOOP, &view);
-        memset(&call.frame, 0, sizeof(call.frame));
-        call.frame.view = &view;
-        call.frame.budget = budget;
-        t0 = bench_now_us();
-        if (f < WARMUP_FRAMES)
-            solve_once(&call);
-        else
-            bench_solve(&call);
-        t1 = bench_now_us();
-        st = call.status;
-        if (st == TCLOD_OK)
-            st = tclod_selector_cut(call.sel, &ids, &n);
+        st = path_frame(&call, w, f, budget, &view, &us, &ids, &n);
         if (st != TCLOD_OK) {
             fprintf(stderr, "tclod_bench: tclod_select failed: %s\n", tclod_status_string(st));
             tclod_selector_destroy(call.sel);
@@ -1012,8 +1025,8 @@ static int run_churn(world_scene *w, churn_plan *plan, double budget, unsigned l
         }
         if (f < WARMUP_FRAMES)
             continue;
-        times[f - WARMUP_FRAMES] = t1 - t0;
-        sum_us += t1 - t0;
+        times[f - WARMUP_FRAMES] = us;
+        sum_us += us;
         if (plan)
             edit_times[f - WARMUP_FRAMES] = e1 - e0;
         edits += (double)calls;
@@ -1286,22 +1299,13 @@ static int stream_check(stream_log *g, const world_scene *w, uint32_t stamp, con
 static int run_stream(world_scene *w, int mode, const tclod_stream_desc *desc, double budget,
                       unsigned long frames, double *times, stream_log *g, bench_row *row) {
     solve_call call;
-    tclod_selector_desc sd;
     tclod_status st;
     unsigned long f, total = frames + WARMUP_FRAMES, differ = 0;
     double sum_us = 0.0;
     size_t replayed = 0;
 
     memset(row, 0, sizeof(*row));
-    memset(&call, 0, sizeof(call));
-    call.method = METHOD_GREEDY;
-    tclod_selector_desc_default(&sd);
-    sd.solver = TCLOD_SOLVER_GREEDY;
-    sd.callbacks = world_callbacks(w);
-    sd.cold_start = 0;
-    sd.greedy.lookahead = (uint32_t)opt_lookahead;
-    sd.greedy.restarts = opt_restarts > 0 ? (int32_t)opt_restarts : TCLOD_OFF;
-    st = tclod_selector_create(w->scene, &sd, NULL, &call.sel);
+    st = warm_greedy(w, &call);
     if (st == TCLOD_OK && mode == STREAM_STREAM)
         st = tclod_selector_set_stream(call.sel, desc);
     if (st != TCLOD_OK) {
@@ -1317,7 +1321,7 @@ static int run_stream(world_scene *w, int mode, const tclod_stream_desc *desc, d
         const tclod_id *ids;
         const tclod_stream_item *req = NULL, *ev = NULL;
         size_t n, n_req = 0, n_ev = 0, i;
-        double t0, t1, cost;
+        double us, cost;
         int rc = 0;
 
         if (mode == STREAM_STREAM && f > 0) {
@@ -1358,19 +1362,7 @@ static int run_stream(world_scene *w, int mode, const tclod_stream_desc *desc, d
                 return 1;
             }
         }
-        world_camera_at(&w->path, (double)f / (double)FRAMES_PER_LOOP, &view);
-        memset(&call.frame, 0, sizeof(call.frame));
-        call.frame.view = &view;
-        call.frame.budget = budget;
-        t0 = bench_now_us();
-        if (f < WARMUP_FRAMES)
-            solve_once(&call);
-        else
-            bench_solve(&call);
-        t1 = bench_now_us();
-        st = call.status;
-        if (st == TCLOD_OK)
-            st = tclod_selector_cut(call.sel, &ids, &n);
+        st = path_frame(&call, w, f, budget, &view, &us, &ids, &n);
         if (st == TCLOD_OK && mode == STREAM_STREAM)
             st = tclod_selector_requests(call.sel, &req, &n_req);
         if (st == TCLOD_OK && mode == STREAM_STREAM)
@@ -1405,12 +1397,12 @@ static int run_stream(world_scene *w, int mode, const tclod_stream_desc *desc, d
         }
         if (f < WARMUP_FRAMES)
             continue;
-        times[f - WARMUP_FRAMES] = t1 - t0;
+        times[f - WARMUP_FRAMES] = us;
         if (mode == STREAM_STREAM)
-            g->times[f - WARMUP_FRAMES] = t1 - t0;
+            g->times[f - WARMUP_FRAMES] = us;
         if (mode == STREAM_RESIDENT_ONLY)
-            g->replay[f - WARMUP_FRAMES] = t1 - t0;
-        sum_us += t1 - t0;
+            g->replay[f - WARMUP_FRAMES] = us;
+        sum_us += us;
         add_stats(row, &call.stats, n);
         row->requests += (double)call.stats.requests;
         row->evictions += (double)call.stats.evictions;

@@ -243,6 +243,24 @@ static void scene_create_under_failure(failure_mode mode) {
     assert_nothing_left(&t);
 }
 
+/* A mixed selector over s and m that has selected once within half the
+ * model's total cost; asserts that the select succeeds and fits. */
+static tclod_selector *select_half_budget(tclod_scene *s, table_model *m) {
+    tclod_selector *sel = NULL;
+    tclod_selector_desc d;
+    tclod_frame frame;
+    tclod_stats st;
+    selector_desc(&d, TCLOD_SOLVER_MIXED, m);
+    assert_int_equal(tclod_selector_create(s, &d, NULL, &sel), TCLOD_OK);
+    frame.view = NULL;
+    frame.budget = 0.5 * total_cost(m);
+    frame.solve_seconds = 0.0;
+    frame.max_iterations = 0;
+    assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_OK);
+    assert_true(st.cost <= frame.budget);
+    return sel;
+}
+
 static void add_under_failure(failure_mode mode) {
     /* 700 nodes (roots, and children of random earlier nodes, with and
      * without bounds) and 300 smooth objects, each add retried until it
@@ -254,11 +272,8 @@ static void add_under_failure(failure_mode mode) {
     tclod_allocator hooks;
     tclod_scene *s = NULL;
     tclod_selector *sel = NULL;
-    tclod_selector_desc d;
     table_model m;
     table_rng rng;
-    tclod_frame frame;
-    tclod_stats st;
     tclod_id parents[700];
     size_t failures = 0, first_try = 0;
     uint32_t i;
@@ -320,14 +335,7 @@ static void add_under_failure(failure_mode mode) {
     assert_int_equal(tclod_scene_smooth_count(s), 300);
     for (i = 0; i < 700; ++i)
         assert_int_equal(tclod_scene_parent(s, i), parents[i]);
-    selector_desc(&d, TCLOD_SOLVER_MIXED, &m);
-    assert_int_equal(tclod_selector_create(s, &d, NULL, &sel), TCLOD_OK);
-    frame.view = NULL;
-    frame.budget = 0.5 * total_cost(&m);
-    frame.solve_seconds = 0.0;
-    frame.max_iterations = 0;
-    assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_OK);
-    assert_true(st.cost <= frame.budget);
+    sel = select_half_budget(s, &m);
     tclod_selector_destroy(sel);
     tclod_scene_destroy(s);
     assert_nothing_left(&t);
@@ -619,11 +627,8 @@ static void streaming_scene_under_failure(failure_mode mode) {
     tclod_allocator hooks;
     tclod_scene *s = NULL;
     tclod_selector *sel = NULL;
-    tclod_selector_desc d;
     table_model m;
     table_rng rng;
-    tclod_frame frame;
-    tclod_stats st;
     uint8_t resident[1024];
     double bytes[1024], smooth_bytes = 0.0;
     const tclod_id *ids;
@@ -724,14 +729,7 @@ static void streaming_scene_under_failure(failure_mode mode) {
                     resident_sum(&m, resident, bytes) + smooth_bytes);
     }
     test_alloc_fail_from(&t, 0);
-    selector_desc(&d, TCLOD_SOLVER_MIXED, &m);
-    assert_int_equal(tclod_selector_create(s, &d, NULL, &sel), TCLOD_OK);
-    frame.view = NULL;
-    frame.budget = 0.5 * total_cost(&m);
-    frame.solve_seconds = 0.0;
-    frame.max_iterations = 0;
-    assert_int_equal(tclod_select(sel, &frame, &st), TCLOD_OK);
-    assert_true(st.cost <= frame.budget);
+    sel = select_half_budget(s, &m);
     assert_int_equal(tclod_selector_cut(sel, &ids, &n), TCLOD_OK);
     for (k = 0; k < n; ++k)
         assert_true(tclod_scene_node_resident(s, ids[k]));

@@ -113,45 +113,14 @@ static tclod_scheduler *wish_scheduler(tclod_scene *s, wish_host *h, int morph, 
     return sch;
 }
 
-/* A chain of `levels` nodes; node k at depth k. */
+/* A chain of `levels` nodes; node k at depth k (helper_chain). */
 static tclod_scene *chain(wish_host *h, uint32_t levels) {
-    tclod_scene *s = NULL;
-    tclod_id parent = TCLOD_NONE, id;
-    uint32_t k;
-    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
-    for (k = 0; k < levels; ++k) {
-        assert_int_equal(tclod_scene_add_node(s, parent, NULL, &id), TCLOD_OK);
-        h->depth[id] = k;
-        parent = id;
-    }
-    return s;
+    return helper_chain(h->depth, levels);
 }
 
-/* Runs the scheduler at 10 frames per second from frame `from` to frame
- * `to` (exclusive), time frame / 10. */
-static void run_frames(tclod_scheduler *sch, uint32_t from, uint32_t to) {
-    tclod_view v;
-    uint32_t f;
-    helper_view(&v);
-    for (f = from; f < to; ++f)
-        assert_int_equal(tclod_scheduler_update(sch, (double)f / 10.0, &v, 100.0, 0.0), TCLOD_OK);
-}
-
-/* Asserts the draw list after the frame at time frame / 10 is exactly one
- * item. */
-static void expect_one(tclod_scheduler *sch, uint32_t frame, tclod_id fine, tclod_id coarse,
-                       double weight) {
-    const tclod_draw *items = NULL;
-    size_t n = 0;
-    run_frames(sch, frame, frame + 1u);
-    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
-    if (n != 1u || items[0].fine != fine || items[0].coarse != coarse ||
-        fabs((double)items[0].weight - weight) > 1e-5)
-        fail_msg("t = %.1f: %u items, first %u <- %u weight %g; expected %u <- %u weight %g",
-                 (double)frame / 10.0, (unsigned)n, n ? (unsigned)items[0].fine : 0u,
-                 n ? (unsigned)items[0].coarse : 0u, n ? (double)items[0].weight : 0.0,
-                 (unsigned)fine, (unsigned)coarse, weight);
-}
+/* This file's short names for helper_run_frames and helper_expect_one. */
+#define run_frames helper_run_frames
+#define expect_one helper_expect_one
 
 /* ---- the conservative camera and the prediction --------------------------- */
 
@@ -1087,12 +1056,7 @@ static void draw_lists_stay_within_the_budget_over_random_paths(void **state) {
         d.max_turn_rate = 1.0;
         d.two_stage = !(trial % 4u != 3u);
         assert_int_equal(tclod_scheduler_create(w->scene, &sd, &d, NULL, &sch), TCLOD_OK);
-        world_camera_at(&w->path, 0.0, &v);
-        v.eye[0] = (float)table_rng_uniform(&rng, 0.0, w->side);
-        v.eye[2] = (float)table_rng_uniform(&rng, 0.0, w->side);
-        v.eye[1] = 20.0f;
-        heading = table_rng_uniform(&rng, 0.0, 2.0 * PI);
-        turn = table_rng_uniform(&rng, -1.0, 1.0);
+        helper_walk_start(w, &rng, &v, &heading, &turn);
         for (f = 0; f < 400u; ++f) {
             double dt = table_rng_uniform(&rng, 0.005, 0.05), slice;
             /* now and then the path turns the other way, or the budget
@@ -1102,12 +1066,7 @@ static void draw_lists_stay_within_the_budget_over_random_paths(void **state) {
             if (table_rng_below(&rng, 80) == 0)
                 budget *= table_rng_uniform(&rng, 0.5, 1.5);
             t += dt;
-            heading += turn * dt;
-            v.eye[0] += (float)(speed * dt * cos(heading));
-            v.eye[2] += (float)(speed * dt * sin(heading));
-            v.forward[0] = (float)cos(heading);
-            v.forward[1] = -0.2f;
-            v.forward[2] = (float)sin(heading);
+            helper_walk_step(&v, speed, turn, dt, &heading);
             slice = table_rng_below(&rng, 4) == 0 ? 0.0 : table_rng_uniform(&rng, 1e-6, 2e-4);
             assert_int_equal(tclod_scheduler_update(sch, t, &v, budget, slice), TCLOD_OK);
             assert_int_equal(tclod_scheduler_get_stats(sch, &st), TCLOD_OK);

@@ -71,46 +71,6 @@ static tclod_scheduler *wish_scheduler(tclod_scene *s, wish_host *h) {
     return sch;
 }
 
-/* A chain of `levels` nodes; node k at depth k. */
-static tclod_scene *chain(wish_host *h, uint32_t levels) {
-    tclod_scene *s = NULL;
-    tclod_id parent = TCLOD_NONE, id;
-    uint32_t k;
-    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
-    for (k = 0; k < levels; ++k) {
-        assert_int_equal(tclod_scene_add_node(s, parent, NULL, &id), TCLOD_OK);
-        assert_int_equal(id, k);
-        h->depth[id] = k;
-        parent = id;
-    }
-    return s;
-}
-
-/* Updates at 10 frames per second from frame `from` to `to` (exclusive),
- * time frame / 10, budget 100. */
-static void run_frames(tclod_scheduler *sch, uint32_t from, uint32_t to) {
-    tclod_view v;
-    uint32_t f;
-    helper_view(&v);
-    for (f = from; f < to; ++f)
-        assert_int_equal(tclod_scheduler_update(sch, (double)f / 10.0, &v, 100.0, 0.0), TCLOD_OK);
-}
-
-/* Updates at frame `frame` and asserts the draw list is exactly one item. */
-static void expect_one(tclod_scheduler *sch, uint32_t frame, tclod_id fine, tclod_id coarse,
-                       double weight) {
-    const tclod_draw *items = NULL;
-    size_t n = 0;
-    run_frames(sch, frame, frame + 1u);
-    assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
-    if (n != 1u || items[0].fine != fine || items[0].coarse != coarse ||
-        fabs((double)items[0].weight - weight) > 1e-5)
-        fail_msg("t = %.1f: %u items, first %u <- %u weight %g; expected %u <- %u weight %g",
-                 (double)frame / 10.0, (unsigned)n, n ? (unsigned)items[0].fine : 0u,
-                 n ? (unsigned)items[0].coarse : 0u, n ? (double)items[0].weight : 0.0,
-                 (unsigned)fine, (unsigned)coarse, weight);
-}
-
 static void expect_counts(const tclod_scheduler *sch, uint64_t changes, uint64_t morphs,
                           uint64_t pops) {
     tclod_scheduler_stats st;
@@ -137,26 +97,26 @@ static void an_up_morph_never_starts_towards_an_evicted_fine_end(void **state) {
     tclod_scheduler *sch;
     (void)state;
     memset(&h, 0, sizeof h);
-    s = chain(&h, 2);
+    s = helper_chain(h.depth, 2);
     sch = wish_scheduler(s, &h);
-    run_frames(sch, 0, 30);
+    helper_run_frames(sch, 0, 30);
     h.target = 1;
-    run_frames(sch, 30, 45);
-    expect_one(sch, 45, 0, 0, 1.0);
+    helper_run_frames(sch, 30, 45);
+    helper_expect_one(sch, 45, 0, 0, 1.0);
     assert_int_equal(tclod_scene_set_resident(s, 1, 0), TCLOD_OK);
-    run_frames(sch, 46, 50);
-    expect_one(sch, 50, 0, 0, 1.0);
-    expect_one(sch, 51, 0, 0, 1.0); /* not B <- A at weight 0.1 */
-    run_frames(sch, 52, 55);
-    expect_one(sch, 55, 0, 0, 1.0);
+    helper_run_frames(sch, 46, 50);
+    helper_expect_one(sch, 50, 0, 0, 1.0);
+    helper_expect_one(sch, 51, 0, 0, 1.0); /* not B <- A at weight 0.1 */
+    helper_run_frames(sch, 52, 55);
+    helper_expect_one(sch, 55, 0, 0, 1.0);
     assert_int_equal(tclod_scene_set_resident(s, 1, 1), TCLOD_OK);
-    run_frames(sch, 56, 70);
-    expect_one(sch, 70, 0, 0, 1.0); /* S_7 = {A} */
-    run_frames(sch, 71, 80);
-    expect_one(sch, 80, 0, 0, 1.0);
-    expect_one(sch, 81, 1, 0, 0.1);
-    run_frames(sch, 82, 90);
-    expect_one(sch, 90, 1, 1, 1.0);
+    helper_run_frames(sch, 56, 70);
+    helper_expect_one(sch, 70, 0, 0, 1.0); /* S_7 = {A} */
+    helper_run_frames(sch, 71, 80);
+    helper_expect_one(sch, 80, 0, 0, 1.0);
+    helper_expect_one(sch, 81, 1, 0, 0.1);
+    helper_run_frames(sch, 82, 90);
+    helper_expect_one(sch, 90, 1, 1, 1.0);
     expect_counts(sch, 1, 1, 0);
     tclod_scheduler_destroy(sch);
     tclod_scene_destroy(s);
@@ -176,24 +136,24 @@ static void a_down_morph_whose_coarse_end_is_evicted_holds_the_old_level(void **
     tclod_scheduler *sch;
     (void)state;
     memset(&h, 0, sizeof h);
-    s = chain(&h, 3);
+    s = helper_chain(h.depth, 3);
     h.target = 2;
     sch = wish_scheduler(s, &h);
-    run_frames(sch, 0, 30);
+    helper_run_frames(sch, 0, 30);
     h.target = 1;
-    run_frames(sch, 30, 40);
-    expect_one(sch, 40, 2, 2, 1.0);
-    run_frames(sch, 41, 45);
-    expect_one(sch, 45, 2, 1, 0.5);
+    helper_run_frames(sch, 30, 40);
+    helper_expect_one(sch, 40, 2, 2, 1.0);
+    helper_run_frames(sch, 41, 45);
+    helper_expect_one(sch, 45, 2, 1, 0.5);
     expect_counts(sch, 1, 1, 0);
     assert_int_equal(tclod_scene_set_resident(s, 1, 0), TCLOD_OK);
-    expect_one(sch, 46, 2, 2, 1.0);
+    helper_expect_one(sch, 46, 2, 2, 1.0);
     expect_counts(sch, 2, 1, 1);
-    run_frames(sch, 47, 50);
-    expect_one(sch, 49, 2, 2, 1.0);
-    expect_one(sch, 50, 0, 0, 1.0);
-    run_frames(sch, 51, 60);
-    expect_one(sch, 60, 0, 0, 1.0);
+    helper_run_frames(sch, 47, 50);
+    helper_expect_one(sch, 49, 2, 2, 1.0);
+    helper_expect_one(sch, 50, 0, 0, 1.0);
+    helper_run_frames(sch, 51, 60);
+    helper_expect_one(sch, 60, 0, 0, 1.0);
     expect_counts(sch, 2, 1, 1);
     tclod_scheduler_destroy(sch);
     tclod_scene_destroy(s);
@@ -220,7 +180,7 @@ static void a_selection_never_lands_a_node_evicted_while_it_ran(void **state) {
     uint32_t i, f;
     (void)state;
     memset(&h, 0, sizeof h);
-    s = chain(&h, 3);
+    s = helper_chain(h.depth, 3);
     for (i = 0; i < 100u; ++i) {
         tclod_id r, c;
         assert_int_equal(tclod_scene_add_node(s, TCLOD_NONE, NULL, &r), TCLOD_OK);
@@ -289,7 +249,7 @@ static void the_evictions_never_name_the_ends_of_a_running_morph(void **state) {
     tclod_id d, k;
     (void)state;
     memset(&h, 0, sizeof h);
-    s = chain(&h, 3);
+    s = helper_chain(h.depth, 3);
     assert_int_equal(tclod_scene_add_node(s, TCLOD_NONE, NULL, &d), TCLOD_OK);
     assert_int_equal(d, 3);
     h.benefit[d] = 5.0;
@@ -301,9 +261,9 @@ static void the_evictions_never_name_the_ends_of_a_running_morph(void **state) {
     memset(&sd, 0, sizeof sd);
     sd.memory_budget = 350.0;
     assert_int_equal(tclod_scheduler_set_stream(sch, &sd), TCLOD_OK);
-    run_frames(sch, 0, 30);
+    helper_run_frames(sch, 0, 30);
     h.target = 1;
-    run_frames(sch, 30, 46);
+    helper_run_frames(sch, 30, 46);
     assert_int_equal(tclod_scheduler_draws(sch, &items, &n), TCLOD_OK);
     assert_int_equal(n, 1);
     assert_int_equal(items[0].fine, 2);
@@ -592,12 +552,7 @@ static void no_draw_item_names_a_node_that_is_not_resident(void **state) {
         sdesc.max_requests = 16;
         sdesc.memory_budget = 0.6 * total;
         assert_int_equal(tclod_scheduler_set_stream(sch, &sdesc), TCLOD_OK);
-        world_camera_at(&w.path, 0.0, &v);
-        v.eye[0] = (float)table_rng_uniform(&rng, 0.0, w.side);
-        v.eye[2] = (float)table_rng_uniform(&rng, 0.0, w.side);
-        v.eye[1] = 20.0f;
-        heading = table_rng_uniform(&rng, 0.0, 2.0 * PI);
-        turn = table_rng_uniform(&rng, -1.0, 1.0);
+        helper_walk_start(&w, &rng, &v, &heading, &turn);
         for (f = 0; f < 300u; ++f) {
             const tclod_draw *items;
             const tclod_stream_item *req, *ev;
@@ -606,12 +561,7 @@ static void no_draw_item_names_a_node_that_is_not_resident(void **state) {
             if (table_rng_below(&rng, 60) == 0)
                 turn = table_rng_uniform(&rng, -1.0, 1.0);
             t += dt;
-            heading += turn * dt;
-            v.eye[0] += (float)(speed * dt * cos(heading));
-            v.eye[2] += (float)(speed * dt * sin(heading));
-            v.forward[0] = (float)cos(heading);
-            v.forward[1] = -0.2f;
-            v.forward[2] = (float)sin(heading);
+            helper_walk_step(&v, speed, turn, dt, &heading);
             slice = table_rng_below(&rng, 8) == 0 ? 0.0 : table_rng_uniform(&rng, 1e-7, 2e-5);
             assert_int_equal(tclod_scheduler_update(sch, t, &v, budget, slice), TCLOD_OK);
             assert_int_equal(tclod_scheduler_get_stats(sch, &st), TCLOD_OK);

@@ -30,6 +30,8 @@
 
 #include <tclod/tclod.h>
 
+#include "exact.h"
+#include "helpers.h"
 #include "table_scene.h"
 
 /* ---- scenes and selectors ------------------------------------------------------ */
@@ -78,14 +80,19 @@ enum { GREEDY_WARM, GREEDY_COLD, GREEDY_LOOKAHEAD, MIXED, ROBIN_HOOD, SOLVERS };
 static const char *const solver_name[SOLVERS] = {"greedy", "greedy cold", "greedy lookahead",
                                                  "mixed", "robin hood"};
 
+/* The solver a configuration runs. */
+static tclod_solver solver_for(int which) {
+    return which == MIXED        ? TCLOD_SOLVER_MIXED
+           : which == ROBIN_HOOD ? TCLOD_SOLVER_ROBIN_HOOD
+                                 : TCLOD_SOLVER_GREEDY;
+}
+
 static tclod_selector *make_selector(fixture *f, int which) {
     tclod_selector_desc d;
     tclod_selector *sel = NULL;
     tclod_selector_desc_default(&d);
     table_mixed_callbacks(&f->m, &d.callbacks);
-    d.solver = which == MIXED        ? TCLOD_SOLVER_MIXED
-               : which == ROBIN_HOOD ? TCLOD_SOLVER_ROBIN_HOOD
-                                     : TCLOD_SOLVER_GREEDY;
+    d.solver = solver_for(which);
     d.cold_start = which == GREEDY_COLD;
     d.greedy.lookahead = which == GREEDY_LOOKAHEAD ? 2u : 0u;
     /* shares in proportion to the benefits themselves */
@@ -101,11 +108,6 @@ static void select_budget(tclod_selector *sel, double budget, uint32_t max_itera
     fr.budget = budget;
     fr.max_iterations = max_iterations;
     assert_int_equal(tclod_select(sel, &fr, st), TCLOD_OK);
-}
-
-static int compare_ids(const void *a, const void *b) {
-    tclod_id x = *(const tclod_id *)a, y = *(const tclod_id *)b;
-    return x < y ? -1 : x > y;
 }
 
 /* Asserts that the cut is expected[0..n) as a set, that no node in it is
@@ -131,23 +133,26 @@ static void expect_cut(const fixture *f, const tclod_selector *sel, const tclod_
         cost += g[i].cost;
     if (n)
         memcpy(want, expected, n * sizeof *want);
-    qsort(got, got_n, sizeof *got, compare_ids);
-    qsort(want, n, sizeof *want, compare_ids);
+    exact_sort_ids(got, got_n);
+    exact_sort_ids(want, n);
     for (i = 0; i + 1 < got_n; ++i)
         if (got[i] == got[i + 1])
             fail_msg("%s: node %u is listed twice", what, (unsigned)got[i]);
-    if (got_n != n || (n && memcmp(got, want, n * sizeof *got) != 0)) {
-        print_error("%s: cut differs: expected {", what);
-        for (i = 0; i < n; ++i)
-            print_error(" %u", (unsigned)want[i]);
-        print_error(" } got {");
-        for (i = 0; i < got_n; ++i)
-            print_error(" %u", (unsigned)got[i]);
-        print_error(" }\n");
-        fail();
-    }
+    helper_assert_ids(what, got, got_n, want, n);
     if (!(cost <= budget) || st->cost != cost)
         fail_msg("%s: cost %.17g (stats %.17g), budget %.17g", what, cost, st->cost, budget);
+}
+
+/* Selects with `budget` into *st, then expect_cut. */
+static void select_expect(const fixture *f, tclod_selector *sel, tclod_stats *st, double budget,
+                          const tclod_id *expected, size_t n, const char *what) {
+    select_budget(sel, budget, 0, st);
+    expect_cut(f, sel, st, budget, expected, n, what);
+}
+
+/* Sets node n's residency; asserts success. */
+static void set_resident(fixture *f, tclod_id n, int resident) {
+    assert_int_equal(tclod_scene_set_resident(f->s, n, resident), TCLOD_OK);
 }
 
 /* ---- refinement -------------------------------------------------------------------- */
@@ -172,19 +177,13 @@ static void a_half_loaded_refinement_keeps_its_parent(void **state) {
         b = add(&f, r, 3.0, 1.0, 0, 0, 0.0);
         add_smooth(&f, 100.0f, 1.0, 0.5);
         sel = make_selector(&f, which);
-        select_budget(sel, 10.0, 0, &st);
-        expect_cut(&f, sel, &st, 10.0, &r, 1, solver_name[which]);
+        select_expect(&f, sel, &st, 10.0, &r, 1, solver_name[which]);
         assert_int_equal(st.absent_roots, 0);
-        assert_int_equal(tclod_scene_set_resident(f.s, b, 1), TCLOD_OK);
-        select_budget(sel, 10.0, 0, &st);
-        {
-            const tclod_id want[2] = {a, b};
-            expect_cut(&f, sel, &st, 10.0, want, 2, solver_name[which]);
-        }
+        set_resident(&f, b, 1);
+        select_expect(&f, sel, &st, 10.0, (const tclod_id[]){a, b}, 2, solver_name[which]);
         /* B unloaded again: the warm start takes R back (A alone is no cut) */
-        assert_int_equal(tclod_scene_set_resident(f.s, b, 0), TCLOD_OK);
-        select_budget(sel, 10.0, 0, &st);
-        expect_cut(&f, sel, &st, 10.0, &r, 1, solver_name[which]);
+        set_resident(&f, b, 0);
+        select_expect(&f, sel, &st, 10.0, &r, 1, solver_name[which]);
         tclod_selector_destroy(sel);
         close_fixture(&f);
     }
@@ -217,13 +216,10 @@ static void a_node_not_resident_costing_minus_zero_is_not_drawn(void **state) {
         tclod_selector_desc_default(&d);
         table_mixed_callbacks(&f.m, &d.callbacks);
         d.callbacks.cost = cost_or_minus_zero;
-        d.solver = which == MIXED        ? TCLOD_SOLVER_MIXED
-                   : which == ROBIN_HOOD ? TCLOD_SOLVER_ROBIN_HOOD
-                                         : TCLOD_SOLVER_GREEDY;
+        d.solver = solver_for(which);
         d.greedy.lookahead = which == GREEDY_LOOKAHEAD ? 2u : 0u;
         assert_int_equal(tclod_selector_create(f.s, &d, NULL, &sel), TCLOD_OK);
-        select_budget(sel, 10.0, 0, &st);
-        expect_cut(&f, sel, &st, 10.0, &r, 1, solver_name[which]);
+        select_expect(&f, sel, &st, 10.0, &r, 1, solver_name[which]);
         tclod_selector_destroy(sel);
         close_fixture(&f);
     }
@@ -249,27 +245,14 @@ static void additive_children_join_one_by_one(void **state) {
         c2 = add(&f, a, 3.0, 1.0, 0, 0, 0.0);
         add_smooth(&f, 100.0f, 1.0, 0.5);
         sel = make_selector(&f, which);
-        select_budget(sel, 10.0, 0, &st);
-        expect_cut(&f, sel, &st, 10.0, &a, 1, solver_name[which]);
-        assert_int_equal(tclod_scene_set_resident(f.s, c1, 1), TCLOD_OK);
-        select_budget(sel, 10.0, 0, &st);
-        {
-            const tclod_id want[2] = {a, c1};
-            expect_cut(&f, sel, &st, 10.0, want, 2, solver_name[which]);
-        }
-        assert_int_equal(tclod_scene_set_resident(f.s, c2, 1), TCLOD_OK);
-        select_budget(sel, 10.0, 0, &st);
-        {
-            const tclod_id want[3] = {a, c1, c2};
-            expect_cut(&f, sel, &st, 10.0, want, 3, solver_name[which]);
-        }
+        select_expect(&f, sel, &st, 10.0, &a, 1, solver_name[which]);
+        set_resident(&f, c1, 1);
+        select_expect(&f, sel, &st, 10.0, (const tclod_id[]){a, c1}, 2, solver_name[which]);
+        set_resident(&f, c2, 1);
+        select_expect(&f, sel, &st, 10.0, (const tclod_id[]){a, c1, c2}, 3, solver_name[which]);
         /* and leave one by one: C1 unloaded, {A, C2} */
-        assert_int_equal(tclod_scene_set_resident(f.s, c1, 0), TCLOD_OK);
-        select_budget(sel, 10.0, 0, &st);
-        {
-            const tclod_id want[2] = {a, c2};
-            expect_cut(&f, sel, &st, 10.0, want, 2, solver_name[which]);
-        }
+        set_resident(&f, c1, 0);
+        select_expect(&f, sel, &st, 10.0, (const tclod_id[]){a, c2}, 2, solver_name[which]);
         tclod_selector_destroy(sel);
         close_fixture(&f);
     }
@@ -302,20 +285,16 @@ static void a_hierarchy_whose_root_is_not_resident_draws_nothing_and_is_counted(
         r3 = add(&f, TCLOD_NONE, 0.0, 1.0, 0, 1, 0.0);
         add_smooth(&f, 100.0f, 1.0, 0.5);
         sel = make_selector(&f, which);
-        select_budget(sel, 10.0, 0, &st);
-        expect_cut(&f, sel, &st, 10.0, kids, 4, what);
+        select_expect(&f, sel, &st, 10.0, kids, 4, what);
         assert_int_equal(st.absent_roots, 0);
-        assert_int_equal(tclod_scene_set_resident(f.s, r2, 0), TCLOD_OK);
-        assert_int_equal(tclod_scene_set_resident(f.s, r3, 0), TCLOD_OK);
-        select_budget(sel, 10.0, 0, &st);
-        expect_cut(&f, sel, &st, 10.0, kids, 2, what);
+        set_resident(&f, r2, 0);
+        set_resident(&f, r3, 0);
+        select_expect(&f, sel, &st, 10.0, kids, 2, what);
         assert_int_equal(st.absent_roots, 1);
-        select_budget(sel, 10.0, 0, &st);
-        expect_cut(&f, sel, &st, 10.0, kids, 2, what);
+        select_expect(&f, sel, &st, 10.0, kids, 2, what);
         assert_int_equal(st.absent_roots, 1);
-        assert_int_equal(tclod_scene_set_resident(f.s, r2, 1), TCLOD_OK);
-        select_budget(sel, 10.0, 0, &st);
-        expect_cut(&f, sel, &st, 10.0, kids, 4, what);
+        set_resident(&f, r2, 1);
+        select_expect(&f, sel, &st, 10.0, kids, 4, what);
         assert_int_equal(st.absent_roots, 0);
         tclod_selector_destroy(sel);
         close_fixture(&f);
@@ -340,11 +319,9 @@ static void an_additive_child_not_resident_hides_its_subtree_from_a_warm_start(v
         ids[1] = add(&f, c, 3.0, 1.0, 0, 1, 0.0);
         ids[2] = add(&f, c, 3.0, 1.0, 0, 1, 0.0);
         sel = make_selector(&f, which);
-        select_budget(sel, 10.0, 0, &st);
-        expect_cut(&f, sel, &st, 10.0, ids, 3, solver_name[which]);
-        assert_int_equal(tclod_scene_set_resident(f.s, c, 0), TCLOD_OK);
-        select_budget(sel, 10.0, 0, &st);
-        expect_cut(&f, sel, &st, 10.0, ids, 1, solver_name[which]);
+        select_expect(&f, sel, &st, 10.0, ids, 3, solver_name[which]);
+        set_resident(&f, c, 0);
+        select_expect(&f, sel, &st, 10.0, ids, 1, solver_name[which]);
         assert_int_equal(st.absent_roots, 0);
         tclod_selector_destroy(sel);
         close_fixture(&f);
@@ -392,18 +369,11 @@ static void a_warm_start_whose_cut_lost_a_node_falls_back_to_a_resident_ancestor
         open_fixture(&f);
         build_two_trees(&f, &t, 1.0);
         sel = make_selector(&f, which);
-        select_budget(sel, 10.0, 0, &st);
-        {
-            const tclod_id want[5] = {t.a1, t.a2, t.b, t.q1, t.q2};
-            expect_cut(&f, sel, &st, 10.0, want, 5, what);
-        }
-        assert_int_equal(tclod_scene_set_resident(f.s, t.a1, 0), TCLOD_OK);
-        assert_int_equal(tclod_scene_set_resident(f.s, t.a, 0), TCLOD_OK);
+        select_expect(&f, sel, &st, 10.0, (const tclod_id[]){t.a1, t.a2, t.b, t.q1, t.q2}, 5, what);
+        set_resident(&f, t.a1, 0);
+        set_resident(&f, t.a, 0);
         select_budget(sel, 10.0, 1, &st);
-        {
-            const tclod_id want[3] = {t.r, t.q1, t.q2};
-            expect_cut(&f, sel, &st, 10.0, want, 3, what);
-        }
+        expect_cut(&f, sel, &st, 10.0, (const tclod_id[]){t.r, t.q1, t.q2}, 3, what);
         assert_int_equal(st.decrements, 0);
         assert_int_equal(st.increments, 0);
         tclod_selector_destroy(sel);
@@ -430,18 +400,10 @@ static void a_fallback_over_the_budget_is_brought_within_it(void **state) {
         open_fixture(&f);
         build_two_trees(&f, &t, 4.0);
         sel = make_selector(&f, which);
-        select_budget(sel, 5.0, 0, &st);
-        {
-            const tclod_id want[5] = {t.a1, t.a2, t.b, t.q1, t.q2};
-            expect_cut(&f, sel, &st, 5.0, want, 5, what);
-        }
-        assert_int_equal(tclod_scene_set_resident(f.s, t.a1, 0), TCLOD_OK);
-        assert_int_equal(tclod_scene_set_resident(f.s, t.a, 0), TCLOD_OK);
-        select_budget(sel, 5.0, 0, &st);
-        {
-            const tclod_id want[2] = {t.r, t.q};
-            expect_cut(&f, sel, &st, 5.0, want, 2, what);
-        }
+        select_expect(&f, sel, &st, 5.0, (const tclod_id[]){t.a1, t.a2, t.b, t.q1, t.q2}, 5, what);
+        set_resident(&f, t.a1, 0);
+        set_resident(&f, t.a, 0);
+        select_expect(&f, sel, &st, 5.0, (const tclod_id[]){t.r, t.q}, 2, what);
         assert_int_equal(st.decrements, 1);
         tclod_selector_destroy(sel);
         close_fixture(&f);
@@ -467,18 +429,14 @@ static void a_lookahead_jump_may_pass_a_node_that_is_not_resident(void **state) 
     x12[0] = add(&f, x, 5.0, 1.5, 0, 1, 0.0);
     x12[1] = add(&f, x, 5.0, 1.5, 0, 1, 0.0);
     warm = make_selector(&f, GREEDY_LOOKAHEAD);
-    select_budget(warm, 10.0, 0, &st);
-    expect_cut(&f, warm, &st, 10.0, x12, 2, "lookahead");
+    select_expect(&f, warm, &st, 10.0, x12, 2, "lookahead");
     assert_int_equal(st.increments, 1);
-    assert_int_equal(tclod_scene_set_resident(f.s, x, 0), TCLOD_OK);
-    select_budget(warm, 10.0, 0, &st);
-    expect_cut(&f, warm, &st, 10.0, x12, 2, "lookahead, warm");
+    set_resident(&f, x, 0);
+    select_expect(&f, warm, &st, 10.0, x12, 2, "lookahead, warm");
     cold = make_selector(&f, GREEDY_LOOKAHEAD);
-    select_budget(cold, 10.0, 0, &st);
-    expect_cut(&f, cold, &st, 10.0, &p, 1, "lookahead, cold");
-    assert_int_equal(tclod_scene_set_resident(f.s, x12[0], 0), TCLOD_OK);
-    select_budget(warm, 10.0, 0, &st);
-    expect_cut(&f, warm, &st, 10.0, &p, 1, "lookahead, warm");
+    select_expect(&f, cold, &st, 10.0, &p, 1, "lookahead, cold");
+    set_resident(&f, x12[0], 0);
+    select_expect(&f, warm, &st, 10.0, &p, 1, "lookahead, warm");
     tclod_selector_destroy(cold);
     tclod_selector_destroy(warm);
     close_fixture(&f);
@@ -506,28 +464,23 @@ static void a_chain_ends_before_its_first_level_that_is_not_resident(void **stat
         l[1] = add(&f, l[0], 2.0, 2.0, 0, 1, 0.0);
         l[2] = add(&f, l[1], 3.0, 3.0, 0, 1, 0.0);
         sel = make_selector(&f, which);
-        select_budget(sel, 10.0, 0, &st);
-        expect_cut(&f, sel, &st, 10.0, &l[2], 1, what);
-        assert_int_equal(tclod_scene_set_resident(f.s, l[1], 0), TCLOD_OK);
+        select_expect(&f, sel, &st, 10.0, &l[2], 1, what);
+        set_resident(&f, l[1], 0);
         if (which == GREEDY_WARM || which == GREEDY_LOOKAHEAD || which == MIXED) {
             /* a warm start keeps L2: it is resident */
-            select_budget(sel, 10.0, 0, &st);
-            expect_cut(&f, sel, &st, 10.0, &l[2], 1, what);
+            select_expect(&f, sel, &st, 10.0, &l[2], 1, what);
             tclod_selector_destroy(sel);
             sel = make_selector(&f, which);
         }
-        select_budget(sel, 10.0, 0, &st);
-        expect_cut(&f, sel, &st, 10.0, &l[0], 1, what);
-        assert_int_equal(tclod_scene_set_resident(f.s, l[1], 1), TCLOD_OK);
-        assert_int_equal(tclod_scene_set_resident(f.s, l[2], 0), TCLOD_OK);
-        select_budget(sel, 10.0, 0, &st);
-        expect_cut(&f, sel, &st, 10.0, &l[1], 1, what);
-        assert_int_equal(tclod_scene_set_resident(f.s, l[1], 0), TCLOD_OK);
-        assert_int_equal(tclod_scene_set_resident(f.s, l[2], 1), TCLOD_OK);
+        select_expect(&f, sel, &st, 10.0, &l[0], 1, what);
+        set_resident(&f, l[1], 1);
+        set_resident(&f, l[2], 0);
+        select_expect(&f, sel, &st, 10.0, &l[1], 1, what);
+        set_resident(&f, l[1], 0);
+        set_resident(&f, l[2], 1);
         tclod_selector_destroy(sel);
         sel = make_selector(&f, which);
-        select_budget(sel, HUGE_VAL, 0, &st);
-        expect_cut(&f, sel, &st, HUGE_VAL, &l[0], 1, what);
+        select_expect(&f, sel, &st, HUGE_VAL, &l[0], 1, what);
         tclod_selector_destroy(sel);
         close_fixture(&f);
     }
@@ -636,8 +589,7 @@ static void residency_flipped_at_random_never_draws_a_node_not_resident(void **s
         uint32_t absent_roots = 0;
         for (i = 0; i < f.m.count; ++i)
             if (f.m.kind[i] != TABLE_NONE && table_rng_below(&rng, 10) == 0)
-                assert_int_equal(
-                    tclod_scene_set_resident(f.s, i, !tclod_scene_node_resident(f.s, i)), TCLOD_OK);
+                set_resident(&f, i, !tclod_scene_node_resident(f.s, i));
         for (i = 0; i < smooth_n; ++i)
             if (table_rng_below(&rng, 10) == 0)
                 assert_int_equal(
@@ -820,11 +772,7 @@ static void residency_calls_refuse_bad_input_and_change_nothing(void **state) {
     assert_true(tclod_scene_node_bytes(f.s, b) == (double)FLT_MAX);
     assert_true(tclod_scene_resident_bytes(f.s) == 148.0);
     /* the selection the refusals left is the one the scene gives */
-    select_budget(sel, 10.0, 0, &st);
-    {
-        const tclod_id want[2] = {r, e};
-        expect_cut(&f, sel, &st, 10.0, want, 2, "after the refusals");
-    }
+    select_expect(&f, sel, &st, 10.0, (const tclod_id[]){r, e}, 2, "after the refusals");
     tclod_selector_destroy(sel);
     close_fixture(&f);
 }
@@ -912,9 +860,7 @@ static void residency_changed_from_a_callback_is_refused(void **state) {
         d.callbacks.smooth_benefit = meddling_smooth_benefit;
         d.callbacks.smooth_cost = meddling_smooth_cost;
         d.callbacks.user = &p;
-        d.solver = which == MIXED        ? TCLOD_SOLVER_MIXED
-                   : which == ROBIN_HOOD ? TCLOD_SOLVER_ROBIN_HOOD
-                                         : TCLOD_SOLVER_GREEDY;
+        d.solver = solver_for(which);
         d.robin_hood.value = TCLOD_VALUE_BENEFIT;
         assert_int_equal(tclod_selector_create(f.s, &d, NULL, &sel), TCLOD_OK);
         select_budget(sel, 10.0, 0, &st);

@@ -294,4 +294,14 @@ const tclod_view *read_view(fuzz_reader *in, tclod_view *v);
  * never NaN. */
 void check_view_helpers(const tclod_view *v, const host_model *m);
 
+/* Defines the libFuzzer entry point: run(&reader) over the input. */
+#define FUZZ_ENTRY(run)                                            \
+    int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);  \
+    int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) { \
+        fuzz_reader in;                                            \
+        fuzz_reader_init(&in, data, size);                         \
+        run(&in);                                                  \
+        return 0;                                                  \
+    }
+
 #endif /* FUZZ_HOST_H */

@@ -608,11 +608,4 @@ static void run(fuzz_reader *in) {
     tclod_scene_destroy(s);
 }
 
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-    fuzz_reader in;
-    fuzz_reader_init(&in, data, size);
-    run(&in);
-    return 0;
-}
+FUZZ_ENTRY(run)
