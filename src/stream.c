@@ -220,7 +220,7 @@ static int request_bytes(tclod_selector *sel, tclod_id n, double *bytes) {
 /* The increment of target node n: its visible children in its place. Queues
  * it when it gains benefit and no child's cost is unaffordable. Returns 0 or
  * -1 (strict). */
-static int queue_increment(tclod_selector *sel, tclod_id n, double b, double c) {
+static int target_queue(tclod_selector *sel, tclod_id n, double b, double c) {
     const tclod_scene *s = sel->scene;
     uint32_t i = s->child_first[n], end = i + s->child_count[n];
     double sum_b = 0.0, sum_c = 0.0, db, dc;
@@ -255,7 +255,7 @@ static int target_add(tclod_selector *sel, tclod_id n, double b, double c, doubl
     tclod_stream_state *S = &sel->stream;
     S->cap_value[n] = cap;
     mark(S, n, STREAM_VCUT);
-    return queue_increment(sel, n, b, c);
+    return target_queue(sel, n, b, c);
 }
 
 /* Appends node n to the request candidates with key `key`. */
