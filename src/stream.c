@@ -463,8 +463,8 @@ static int plan_smooth(tclod_selector *sel, uint32_t *count) {
             tclod_view_cache_measure(&sel->view, &s->smooth_bounds[4u * id], &area, &distance);
             if (!(area > 0.0f) || (double)area < sel->desc.smooth_cull_area)
                 continue;
-            if (tclod_smooth_call(sel, i, 1, NULL, area, distance, 1.0, &b, &db, NULL, NULL) &&
-                sel->failed)
+            (void)tclod_smooth_call(sel, i, 1, NULL, area, distance, 1.0, &b, &db, NULL, NULL);
+            if (sel->failed) /* strict: a bad benefit or slope */
                 return -1;
             if (!(b > 0.0))
                 continue;
