@@ -36,17 +36,22 @@
 
 /* ---- scenes and selectors ------------------------------------------------------ */
 
+/* A scene, its table and the selector a test runs over them, if any: the
+ * fixture closes it. */
 typedef struct fixture {
     tclod_scene *s;
     table_model m;
+    tclod_selector *sel;
 } fixture;
 
 static void open_fixture(fixture *f) {
     assert_int_equal(tclod_scene_create(NULL, &f->s), TCLOD_OK);
     table_init(&f->m);
+    f->sel = NULL;
 }
 
 static void close_fixture(fixture *f) {
+    tclod_selector_destroy(f->sel);
     tclod_scene_destroy(f->s);
     table_free(&f->m);
 }
@@ -100,6 +105,40 @@ static tclod_selector *make_selector(fixture *f, int which) {
     assert_int_equal(tclod_selector_create(f->s, &d, NULL, &sel), TCLOD_OK);
     return sel;
 }
+
+/* Makes the fixture's selector for configuration `which`, destroying the
+ * one it held. */
+static tclod_selector *use_selector(fixture *f, int which) {
+    tclod_selector_destroy(f->sel);
+    f->sel = make_selector(f, which);
+    return f->sel;
+}
+
+/* A test body: builds its scene in a fresh fixture and selects with
+ * configuration `which`. */
+typedef void solver_body(fixture *f, int which);
+
+typedef struct solver_case {
+    solver_body *body;
+} solver_case;
+
+/* The cmocka test of a solver_case (its state): for each configuration,
+ * opens a fixture, runs the body and closes the fixture. */
+static void each_solver(void **state) {
+    const solver_case *c = (const solver_case *)*state;
+    int which;
+    for (which = 0; which < SOLVERS; ++which) {
+        fixture f;
+        open_fixture(&f);
+        c->body(&f, which);
+        close_fixture(&f);
+    }
+}
+
+/* The entry of body `b` in main's list of tests, under the body's name. */
+/* clang-format off */
+#define EACH_SOLVER(b) {#b, each_solver, NULL, NULL, &(solver_case){b}}
+/* clang-format on */
 
 static void select_budget(tclod_selector *sel, double budget, uint32_t max_iterations,
                           tclod_stats *st) {
@@ -157,36 +196,28 @@ static void set_resident(fixture *f, tclod_id n, int resident) {
 
 /* ---- refinement -------------------------------------------------------------------- */
 
-static void a_half_loaded_refinement_keeps_its_parent(void **state) {
+static void a_half_loaded_refinement_keeps_its_parent(fixture *f, int which) {
     /* R (b 1, c 1) with children A (b 3, c 1) and B (b 3, c 1, not resident),
      * budget 10. R -> {A, B} would gain 5 for 1 more, but B costs +inf while
      * it is not resident: R stays, cost 1. Once B is resident the increment
      * is taken: {A, B}, cost 2. A smooth object far away (b sqrt(r), c 0.5 r:
      * 0.5 at full resolution) lets the mixed solver run its own loop; it fits
      * beside either cut. */
-    int which;
-    (void)state;
-    for (which = 0; which < SOLVERS; ++which) {
-        fixture f;
-        tclod_selector *sel;
-        tclod_stats st;
-        tclod_id r, a, b;
-        open_fixture(&f);
-        r = add(&f, TCLOD_NONE, 1.0, 1.0, 0, 1, 0.0);
-        a = add(&f, r, 3.0, 1.0, 0, 1, 0.0);
-        b = add(&f, r, 3.0, 1.0, 0, 0, 0.0);
-        add_smooth(&f, 100.0f, 1.0, 0.5);
-        sel = make_selector(&f, which);
-        select_expect(&f, sel, &st, 10.0, &r, 1, solver_name[which]);
-        assert_int_equal(st.absent_roots, 0);
-        set_resident(&f, b, 1);
-        select_expect(&f, sel, &st, 10.0, (const tclod_id[]){a, b}, 2, solver_name[which]);
-        /* B unloaded again: the warm start takes R back (A alone is no cut) */
-        set_resident(&f, b, 0);
-        select_expect(&f, sel, &st, 10.0, &r, 1, solver_name[which]);
-        tclod_selector_destroy(sel);
-        close_fixture(&f);
-    }
+    tclod_selector *sel;
+    tclod_stats st;
+    tclod_id r, a, b;
+    r = add(f, TCLOD_NONE, 1.0, 1.0, 0, 1, 0.0);
+    a = add(f, r, 3.0, 1.0, 0, 1, 0.0);
+    b = add(f, r, 3.0, 1.0, 0, 0, 0.0);
+    add_smooth(f, 100.0f, 1.0, 0.5);
+    sel = use_selector(f, which);
+    select_expect(f, sel, &st, 10.0, &r, 1, solver_name[which]);
+    assert_int_equal(st.absent_roots, 0);
+    set_resident(f, b, 1);
+    select_expect(f, sel, &st, 10.0, (const tclod_id[]){a, b}, 2, solver_name[which]);
+    /* B unloaded again: the warm start takes R back (A alone is no cut) */
+    set_resident(f, b, 0);
+    select_expect(f, sel, &st, 10.0, &r, 1, solver_name[which]);
 }
 
 /* A cost callback answering -0 for every node (the table's values otherwise):
@@ -197,68 +228,54 @@ static double cost_or_minus_zero(void *user, const tclod_query *q) {
     return c == 0.0 ? -0.0 : c;
 }
 
-static void a_node_not_resident_costing_minus_zero_is_not_drawn(void **state) {
+static void a_node_not_resident_costing_minus_zero_is_not_drawn(fixture *f, int which) {
     /* R (b 1, c 1) with children A (b 3, c -0, not resident) and B (b 3, c 1):
      * as above, A costs +inf while it is not resident, whatever its cost:
      * the cut stays {R}, cost 1, budget 10. */
-    int which;
-    (void)state;
-    for (which = 0; which < SOLVERS; ++which) {
-        fixture f;
-        tclod_selector_desc d;
-        tclod_selector *sel = NULL;
-        tclod_stats st;
-        tclod_id r;
-        open_fixture(&f);
-        r = add(&f, TCLOD_NONE, 1.0, 1.0, 0, 1, 0.0);
-        add(&f, r, 3.0, 0.0, 0, 0, 0.0);
-        add(&f, r, 3.0, 1.0, 0, 1, 0.0);
-        tclod_selector_desc_default(&d);
-        table_mixed_callbacks(&f.m, &d.callbacks);
-        d.callbacks.cost = cost_or_minus_zero;
-        d.solver = solver_for(which);
-        d.greedy.lookahead = which == GREEDY_LOOKAHEAD ? 2u : 0u;
-        assert_int_equal(tclod_selector_create(f.s, &d, NULL, &sel), TCLOD_OK);
-        select_expect(&f, sel, &st, 10.0, &r, 1, solver_name[which]);
-        tclod_selector_destroy(sel);
-        close_fixture(&f);
-    }
+    tclod_selector_desc d;
+    tclod_selector *sel = NULL;
+    tclod_stats st;
+    tclod_id r;
+    r = add(f, TCLOD_NONE, 1.0, 1.0, 0, 1, 0.0);
+    add(f, r, 3.0, 0.0, 0, 0, 0.0);
+    add(f, r, 3.0, 1.0, 0, 1, 0.0);
+    tclod_selector_desc_default(&d);
+    table_mixed_callbacks(&f->m, &d.callbacks);
+    d.callbacks.cost = cost_or_minus_zero;
+    d.solver = solver_for(which);
+    d.greedy.lookahead = which == GREEDY_LOOKAHEAD ? 2u : 0u;
+    assert_int_equal(tclod_selector_create(f->s, &d, NULL, &f->sel), TCLOD_OK);
+    sel = f->sel;
+    select_expect(f, sel, &st, 10.0, &r, 1, solver_name[which]);
 }
 
-static void additive_children_join_one_by_one(void **state) {
+static void additive_children_join_one_by_one(fixture *f, int which) {
     /* Additive root A (b 2, c 1) with children C1 and C2 (b 3, c 1 each), both
      * not resident, budget 10. A -> {A, C1, C2} gains 0 (the children are
      * invisible): {A}, cost 1. C1 arrives: the increment gains 3 for 1 more,
      * {A, C1}, cost 2 (C2 is still invisible). C2 arrives: {A, C1, C2}, cost
      * 3. Warm starts find C2 in their cut and count it once it is
      * resident. */
-    int which;
-    (void)state;
-    for (which = 0; which < SOLVERS; ++which) {
-        fixture f;
-        tclod_selector *sel;
-        tclod_stats st;
-        tclod_id a, c1, c2;
-        open_fixture(&f);
-        a = add(&f, TCLOD_NONE, 2.0, 1.0, 1, 1, 0.0);
-        c1 = add(&f, a, 3.0, 1.0, 0, 0, 0.0);
-        c2 = add(&f, a, 3.0, 1.0, 0, 0, 0.0);
-        add_smooth(&f, 100.0f, 1.0, 0.5);
-        sel = make_selector(&f, which);
-        select_expect(&f, sel, &st, 10.0, &a, 1, solver_name[which]);
-        set_resident(&f, c1, 1);
-        select_expect(&f, sel, &st, 10.0, (const tclod_id[]){a, c1}, 2, solver_name[which]);
-        set_resident(&f, c2, 1);
-        select_expect(&f, sel, &st, 10.0, (const tclod_id[]){a, c1, c2}, 3, solver_name[which]);
-        /* and leave one by one: C1 unloaded, {A, C2} */
-        set_resident(&f, c1, 0);
-        select_expect(&f, sel, &st, 10.0, (const tclod_id[]){a, c2}, 2, solver_name[which]);
-        tclod_selector_destroy(sel);
-        close_fixture(&f);
-    }
+    tclod_selector *sel;
+    tclod_stats st;
+    tclod_id a, c1, c2;
+    a = add(f, TCLOD_NONE, 2.0, 1.0, 1, 1, 0.0);
+    c1 = add(f, a, 3.0, 1.0, 0, 0, 0.0);
+    c2 = add(f, a, 3.0, 1.0, 0, 0, 0.0);
+    add_smooth(f, 100.0f, 1.0, 0.5);
+    sel = use_selector(f, which);
+    select_expect(f, sel, &st, 10.0, &a, 1, solver_name[which]);
+    set_resident(f, c1, 1);
+    select_expect(f, sel, &st, 10.0, (const tclod_id[]){a, c1}, 2, solver_name[which]);
+    set_resident(f, c2, 1);
+    select_expect(f, sel, &st, 10.0, (const tclod_id[]){a, c1, c2}, 3, solver_name[which]);
+    /* and leave one by one: C1 unloaded, {A, C2} */
+    set_resident(f, c1, 0);
+    select_expect(f, sel, &st, 10.0, (const tclod_id[]){a, c2}, 2, solver_name[which]);
 }
 
-static void a_hierarchy_whose_root_is_not_resident_draws_nothing_and_is_counted(void **state) {
+static void a_hierarchy_whose_root_is_not_resident_draws_nothing_and_is_counted(fixture *f,
+                                                                                int which) {
     /* Roots R1, R2 (b 1, c 1), each with two children (b 2, c 1), and R3
      * (b 0: not visible, not resident, no children), budget 10. All
      * resident: every increment fits, the four children are drawn (cost 4),
@@ -267,65 +284,50 @@ static void a_hierarchy_whose_root_is_not_resident_draws_nothing_and_is_counted(
      * absent root (R3 is not visible: not counted), again at the next select
      * (a count per select, not a sum). R3 unloaded changes nothing. R2 back:
      * the four children again, no absent root. */
-    int which;
-    (void)state;
-    for (which = 0; which < SOLVERS; ++which) {
-        fixture f;
-        tclod_selector *sel;
-        tclod_stats st;
-        tclod_id r1, r2, r3, kids[4];
-        const char *what = solver_name[which];
-        open_fixture(&f);
-        r1 = add(&f, TCLOD_NONE, 1.0, 1.0, 0, 1, 0.0);
-        kids[0] = add(&f, r1, 2.0, 1.0, 0, 1, 0.0);
-        kids[1] = add(&f, r1, 2.0, 1.0, 0, 1, 0.0);
-        r2 = add(&f, TCLOD_NONE, 1.0, 1.0, 0, 1, 0.0);
-        kids[2] = add(&f, r2, 2.0, 1.0, 0, 1, 0.0);
-        kids[3] = add(&f, r2, 2.0, 1.0, 0, 1, 0.0);
-        r3 = add(&f, TCLOD_NONE, 0.0, 1.0, 0, 1, 0.0);
-        add_smooth(&f, 100.0f, 1.0, 0.5);
-        sel = make_selector(&f, which);
-        select_expect(&f, sel, &st, 10.0, kids, 4, what);
-        assert_int_equal(st.absent_roots, 0);
-        set_resident(&f, r2, 0);
-        set_resident(&f, r3, 0);
-        select_expect(&f, sel, &st, 10.0, kids, 2, what);
-        assert_int_equal(st.absent_roots, 1);
-        select_expect(&f, sel, &st, 10.0, kids, 2, what);
-        assert_int_equal(st.absent_roots, 1);
-        set_resident(&f, r2, 1);
-        select_expect(&f, sel, &st, 10.0, kids, 4, what);
-        assert_int_equal(st.absent_roots, 0);
-        tclod_selector_destroy(sel);
-        close_fixture(&f);
-    }
+    tclod_selector *sel;
+    tclod_stats st;
+    tclod_id r1, r2, r3, kids[4];
+    const char *what = solver_name[which];
+    r1 = add(f, TCLOD_NONE, 1.0, 1.0, 0, 1, 0.0);
+    kids[0] = add(f, r1, 2.0, 1.0, 0, 1, 0.0);
+    kids[1] = add(f, r1, 2.0, 1.0, 0, 1, 0.0);
+    r2 = add(f, TCLOD_NONE, 1.0, 1.0, 0, 1, 0.0);
+    kids[2] = add(f, r2, 2.0, 1.0, 0, 1, 0.0);
+    kids[3] = add(f, r2, 2.0, 1.0, 0, 1, 0.0);
+    r3 = add(f, TCLOD_NONE, 0.0, 1.0, 0, 1, 0.0);
+    add_smooth(f, 100.0f, 1.0, 0.5);
+    sel = use_selector(f, which);
+    select_expect(f, sel, &st, 10.0, kids, 4, what);
+    assert_int_equal(st.absent_roots, 0);
+    set_resident(f, r2, 0);
+    set_resident(f, r3, 0);
+    select_expect(f, sel, &st, 10.0, kids, 2, what);
+    assert_int_equal(st.absent_roots, 1);
+    select_expect(f, sel, &st, 10.0, kids, 2, what);
+    assert_int_equal(st.absent_roots, 1);
+    set_resident(f, r2, 1);
+    select_expect(f, sel, &st, 10.0, kids, 4, what);
+    assert_int_equal(st.absent_roots, 0);
 }
 
-static void an_additive_child_not_resident_hides_its_subtree_from_a_warm_start(void **state) {
+static void an_additive_child_not_resident_hides_its_subtree_from_a_warm_start(fixture *f,
+                                                                               int which) {
     /* Additive root A (b 1, c 1) with child C (b 2, c 1), whose children C1,
      * C2 (b 3, c 1) are drawn: {A, C1, C2}, cost 3 (budget 10). C unloaded:
      * as the child of an additive node it is invisible, its subtree draws
      * nothing: {A}, cost 1, also from the warm start that held C1 and C2. */
-    int which;
-    (void)state;
-    for (which = 0; which < SOLVERS; ++which) {
-        fixture f;
-        tclod_selector *sel;
-        tclod_stats st;
-        tclod_id ids[3], c;
-        open_fixture(&f);
-        ids[0] = add(&f, TCLOD_NONE, 1.0, 1.0, 1, 1, 0.0);
-        c = add(&f, ids[0], 2.0, 1.0, 0, 1, 0.0);
-        ids[1] = add(&f, c, 3.0, 1.0, 0, 1, 0.0);
-        ids[2] = add(&f, c, 3.0, 1.0, 0, 1, 0.0);
-        sel = make_selector(&f, which);
-        select_expect(&f, sel, &st, 10.0, ids, 3, solver_name[which]);
-        set_resident(&f, c, 0);
-        select_expect(&f, sel, &st, 10.0, ids, 1, solver_name[which]);
-        assert_int_equal(st.absent_roots, 0);
-        tclod_selector_destroy(sel);
-        close_fixture(&f);
-    }
+    tclod_selector *sel;
+    tclod_stats st;
+    tclod_id ids[3], c;
+    ids[0] = add(f, TCLOD_NONE, 1.0, 1.0, 1, 1, 0.0);
+    c = add(f, ids[0], 2.0, 1.0, 0, 1, 0.0);
+    ids[1] = add(f, c, 3.0, 1.0, 0, 1, 0.0);
+    ids[2] = add(f, c, 3.0, 1.0, 0, 1, 0.0);
+    sel = use_selector(f, which);
+    select_expect(f, sel, &st, 10.0, ids, 3, solver_name[which]);
+    set_resident(f, c, 0);
+    select_expect(f, sel, &st, 10.0, ids, 1, solver_name[which]);
+    assert_int_equal(st.absent_roots, 0);
 }
 
 /* ---- warm starts ---------------------------------------------------------------------- */
@@ -347,7 +349,8 @@ static void build_two_trees(fixture *f, two_trees *t, double r_cost) {
     t->q2 = add(f, t->q, 2.0, 1.0, 0, 1, 0.0);
 }
 
-static void a_warm_start_whose_cut_lost_a_node_falls_back_to_a_resident_ancestor(void **state) {
+static void a_warm_start_whose_cut_lost_a_node_falls_back_to_a_resident_ancestor(fixture *f,
+                                                                                 int which) {
     /* Costs 1 everywhere, budget 10: every increment fits (R -> {A, B}: Δb 3,
      * Δc 1; A -> {A1, A2}: Δb 4, Δc 1; Q -> {Q1, Q2}: Δb 3, Δc 1), the cut is
      * {A1, A2, B, Q1, Q2}, cost 5. The host unloads A1 and A, a drawn node
@@ -356,58 +359,42 @@ static void a_warm_start_whose_cut_lost_a_node_falls_back_to_a_resident_ancestor
      * nodes; R cannot refine while A is missing: {R, Q1, Q2}, cost 3,
      * reached without a decrement or an increment (Q's subtree untouched),
      * so that even a limit of one iteration gets it. */
-    int which;
-    (void)state;
-    for (which = 0; which < SOLVERS; ++which) {
-        fixture f;
-        two_trees t;
-        tclod_selector *sel;
-        tclod_stats st;
-        const char *what = solver_name[which];
-        if (which == GREEDY_COLD || which == ROBIN_HOOD)
-            continue; /* no warm start */
-        open_fixture(&f);
-        build_two_trees(&f, &t, 1.0);
-        sel = make_selector(&f, which);
-        select_expect(&f, sel, &st, 10.0, (const tclod_id[]){t.a1, t.a2, t.b, t.q1, t.q2}, 5, what);
-        set_resident(&f, t.a1, 0);
-        set_resident(&f, t.a, 0);
-        select_budget(sel, 10.0, 1, &st);
-        expect_cut(&f, sel, &st, 10.0, (const tclod_id[]){t.r, t.q1, t.q2}, 3, what);
-        assert_int_equal(st.decrements, 0);
-        assert_int_equal(st.increments, 0);
-        tclod_selector_destroy(sel);
-        close_fixture(&f);
-    }
+    two_trees t;
+    tclod_selector *sel;
+    tclod_stats st;
+    const char *what = solver_name[which];
+    if (which == GREEDY_COLD || which == ROBIN_HOOD)
+        return; /* no warm start */
+    build_two_trees(f, &t, 1.0);
+    sel = use_selector(f, which);
+    select_expect(f, sel, &st, 10.0, (const tclod_id[]){t.a1, t.a2, t.b, t.q1, t.q2}, 5, what);
+    set_resident(f, t.a1, 0);
+    set_resident(f, t.a, 0);
+    select_budget(sel, 10.0, 1, &st);
+    expect_cut(f, sel, &st, 10.0, (const tclod_id[]){t.r, t.q1, t.q2}, 3, what);
+    assert_int_equal(st.decrements, 0);
+    assert_int_equal(st.increments, 0);
 }
 
-static void a_fallback_over_the_budget_is_brought_within_it(void **state) {
+static void a_fallback_over_the_budget_is_brought_within_it(fixture *f, int which) {
     /* As above with R costing 4 and a budget of 5: the roots cost 5 and fit;
      * R -> {A, B} saves 2 (Δc -2) and is taken, then A -> {A1, A2} and
      * Q -> {Q1, Q2}, 1 more each: {A1, A2, B, Q1, Q2}, cost 5. With A1 and A
      * unloaded R falls back in, {R, Q1, Q2} costs 6 > 5, and the warm start
      * collapses Q's children (the only decrement): {R, Q}, cost 5. */
-    int which;
-    (void)state;
-    for (which = 0; which < SOLVERS; ++which) {
-        fixture f;
-        two_trees t;
-        tclod_selector *sel;
-        tclod_stats st;
-        const char *what = solver_name[which];
-        if (which == GREEDY_COLD || which == ROBIN_HOOD)
-            continue;
-        open_fixture(&f);
-        build_two_trees(&f, &t, 4.0);
-        sel = make_selector(&f, which);
-        select_expect(&f, sel, &st, 5.0, (const tclod_id[]){t.a1, t.a2, t.b, t.q1, t.q2}, 5, what);
-        set_resident(&f, t.a1, 0);
-        set_resident(&f, t.a, 0);
-        select_expect(&f, sel, &st, 5.0, (const tclod_id[]){t.r, t.q}, 2, what);
-        assert_int_equal(st.decrements, 1);
-        tclod_selector_destroy(sel);
-        close_fixture(&f);
-    }
+    two_trees t;
+    tclod_selector *sel;
+    tclod_stats st;
+    const char *what = solver_name[which];
+    if (which == GREEDY_COLD || which == ROBIN_HOOD)
+        return;
+    build_two_trees(f, &t, 4.0);
+    sel = use_selector(f, which);
+    select_expect(f, sel, &st, 5.0, (const tclod_id[]){t.a1, t.a2, t.b, t.q1, t.q2}, 5, what);
+    set_resident(f, t.a1, 0);
+    set_resident(f, t.a, 0);
+    select_expect(f, sel, &st, 5.0, (const tclod_id[]){t.r, t.q}, 2, what);
+    assert_int_equal(st.decrements, 1);
 }
 
 static void a_lookahead_jump_may_pass_a_node_that_is_not_resident(void **state) {
@@ -444,46 +431,36 @@ static void a_lookahead_jump_may_pass_a_node_that_is_not_resident(void **state) 
 
 /* ---- chains ---------------------------------------------------------------------- */
 
-static void a_chain_ends_before_its_first_level_that_is_not_resident(void **state) {
+static void a_chain_ends_before_its_first_level_that_is_not_resident(fixture *f, int which) {
     /* One object of three levels L0 -> L1 -> L2 (b 1, 2, 3; c 1, 2, 3). With
      * a budget of 10 every solver draws L2 (cost 3). L1 unloaded: L2 is
      * resident, but no solver refines past L1 (the Robin Hood solver's
      * search, which starts at the level taken last, included): L0, cost 1.
      * L1 back and L2 unloaded: L1, cost 2. With an infinite budget and L1
      * unloaded: L0 again. */
-    int which;
-    (void)state;
-    for (which = 0; which < SOLVERS; ++which) {
-        fixture f;
-        tclod_selector *sel;
-        tclod_stats st;
-        tclod_id l[3];
-        const char *what = solver_name[which];
-        open_fixture(&f);
-        l[0] = add(&f, TCLOD_NONE, 1.0, 1.0, 0, 1, 0.0);
-        l[1] = add(&f, l[0], 2.0, 2.0, 0, 1, 0.0);
-        l[2] = add(&f, l[1], 3.0, 3.0, 0, 1, 0.0);
-        sel = make_selector(&f, which);
-        select_expect(&f, sel, &st, 10.0, &l[2], 1, what);
-        set_resident(&f, l[1], 0);
-        if (which == GREEDY_WARM || which == GREEDY_LOOKAHEAD || which == MIXED) {
-            /* a warm start keeps L2: it is resident */
-            select_expect(&f, sel, &st, 10.0, &l[2], 1, what);
-            tclod_selector_destroy(sel);
-            sel = make_selector(&f, which);
-        }
-        select_expect(&f, sel, &st, 10.0, &l[0], 1, what);
-        set_resident(&f, l[1], 1);
-        set_resident(&f, l[2], 0);
-        select_expect(&f, sel, &st, 10.0, &l[1], 1, what);
-        set_resident(&f, l[1], 0);
-        set_resident(&f, l[2], 1);
-        tclod_selector_destroy(sel);
-        sel = make_selector(&f, which);
-        select_expect(&f, sel, &st, HUGE_VAL, &l[0], 1, what);
-        tclod_selector_destroy(sel);
-        close_fixture(&f);
+    tclod_selector *sel;
+    tclod_stats st;
+    tclod_id l[3];
+    const char *what = solver_name[which];
+    l[0] = add(f, TCLOD_NONE, 1.0, 1.0, 0, 1, 0.0);
+    l[1] = add(f, l[0], 2.0, 2.0, 0, 1, 0.0);
+    l[2] = add(f, l[1], 3.0, 3.0, 0, 1, 0.0);
+    sel = use_selector(f, which);
+    select_expect(f, sel, &st, 10.0, &l[2], 1, what);
+    set_resident(f, l[1], 0);
+    if (which == GREEDY_WARM || which == GREEDY_LOOKAHEAD || which == MIXED) {
+        /* a warm start keeps L2: it is resident */
+        select_expect(f, sel, &st, 10.0, &l[2], 1, what);
+        sel = use_selector(f, which);
     }
+    select_expect(f, sel, &st, 10.0, &l[0], 1, what);
+    set_resident(f, l[1], 1);
+    set_resident(f, l[2], 0);
+    select_expect(f, sel, &st, 10.0, &l[1], 1, what);
+    set_resident(f, l[1], 0);
+    set_resident(f, l[2], 1);
+    sel = use_selector(f, which);
+    select_expect(f, sel, &st, HUGE_VAL, &l[0], 1, what);
 }
 
 /* ---- smooth objects ---------------------------------------------------------------- */
@@ -825,68 +802,61 @@ static double meddling_smooth_cost(void *user, const tclod_query *q, double r, d
     return table_smooth_cost(((meddler *)user)->m, q, r, d_dr);
 }
 
-static void residency_changed_from_a_callback_is_refused(void **state) {
+static void residency_changed_from_a_callback_is_refused(fixture *f, int which) {
     /* A benefit callback tries to unload R, resize it, unload and resize the
      * smooth object during each solver's select: each call is
      * TCLOD_ERR_STATE ("a solve holds the scene"), the select succeeds and
      * draws R's children (b 3, c 1 each, budget 10), and the scene keeps R
      * resident at 100 bytes, the smooth object resident at 8: 108 resident
      * bytes. A pending resumable solve refuses the same. */
-    int which;
-    (void)state;
-    for (which = 0; which < SOLVERS; ++which) {
-        fixture f;
-        meddler p;
-        tclod_selector_desc d;
-        tclod_selector *sel = NULL;
-        tclod_stats st;
-        tclod_frame fr;
-        tclod_id r, kids[2], o;
-        int k, done = 0;
-        open_fixture(&f);
-        r = add(&f, TCLOD_NONE, 1.0, 1.0, 0, 1, 100.0);
-        kids[0] = add(&f, r, 3.0, 1.0, 0, 1, 0.0);
-        kids[1] = add(&f, r, 3.0, 1.0, 0, 1, 0.0);
-        o = add_smooth(&f, 50.0f, 1.0, 0.5);
-        assert_int_equal(tclod_scene_set_smooth_bytes(f.s, o, 8.0), TCLOD_OK);
-        memset(&p, 0, sizeof p);
-        p.m = &f.m;
-        p.s = f.s;
-        p.node = r;
-        p.smooth = o;
-        tclod_selector_desc_default(&d);
-        d.callbacks.benefit = meddling_benefit;
-        d.callbacks.cost = meddling_cost;
-        d.callbacks.smooth_benefit = meddling_smooth_benefit;
-        d.callbacks.smooth_cost = meddling_smooth_cost;
-        d.callbacks.user = &p;
-        d.solver = solver_for(which);
-        d.robin_hood.value = TCLOD_VALUE_BENEFIT;
-        assert_int_equal(tclod_selector_create(f.s, &d, NULL, &sel), TCLOD_OK);
-        select_budget(sel, 10.0, 0, &st);
-        assert_true(p.tried);
-        for (k = 0; k < 4; ++k) {
-            assert_int_equal(p.got[k], TCLOD_ERR_STATE);
-            assert_non_null(strstr(p.error[k], "a solve holds the scene"));
-        }
-        expect_cut(&f, sel, &st, 10.0, kids, 2, solver_name[which]);
-        assert_true(tclod_scene_node_resident(f.s, r) && tclod_scene_node_bytes(f.s, r) == 100.0);
-        assert_true(tclod_scene_smooth_resident(f.s, o) && tclod_scene_smooth_bytes(f.s, o) == 8.0);
-        assert_true(tclod_scene_resident_bytes(f.s) == 108.0);
-        /* between begin and the end of the solve */
-        memset(&fr, 0, sizeof fr);
-        fr.budget = 10.0;
-        assert_int_equal(tclod_select_begin(sel, &fr), TCLOD_OK);
-        assert_int_equal(tclod_scene_set_resident(f.s, kids[0], 0), TCLOD_ERR_STATE);
-        assert_int_equal(tclod_scene_set_node_bytes(f.s, kids[0], 5.0), TCLOD_ERR_STATE);
-        assert_int_equal(tclod_scene_set_smooth_resident(f.s, o, 0), TCLOD_ERR_STATE);
-        assert_int_equal(tclod_select_step(sel, 0.0, 0, &done, &st), TCLOD_OK);
-        assert_true(done);
-        expect_cut(&f, sel, &st, 10.0, kids, 2, solver_name[which]);
-        assert_true(tclod_scene_resident_bytes(f.s) == 108.0);
-        tclod_selector_destroy(sel);
-        close_fixture(&f);
+    meddler p;
+    tclod_selector_desc d;
+    tclod_selector *sel = NULL;
+    tclod_stats st;
+    tclod_frame fr;
+    tclod_id r, kids[2], o;
+    int k, done = 0;
+    r = add(f, TCLOD_NONE, 1.0, 1.0, 0, 1, 100.0);
+    kids[0] = add(f, r, 3.0, 1.0, 0, 1, 0.0);
+    kids[1] = add(f, r, 3.0, 1.0, 0, 1, 0.0);
+    o = add_smooth(f, 50.0f, 1.0, 0.5);
+    assert_int_equal(tclod_scene_set_smooth_bytes(f->s, o, 8.0), TCLOD_OK);
+    memset(&p, 0, sizeof p);
+    p.m = &f->m;
+    p.s = f->s;
+    p.node = r;
+    p.smooth = o;
+    tclod_selector_desc_default(&d);
+    d.callbacks.benefit = meddling_benefit;
+    d.callbacks.cost = meddling_cost;
+    d.callbacks.smooth_benefit = meddling_smooth_benefit;
+    d.callbacks.smooth_cost = meddling_smooth_cost;
+    d.callbacks.user = &p;
+    d.solver = solver_for(which);
+    d.robin_hood.value = TCLOD_VALUE_BENEFIT;
+    assert_int_equal(tclod_selector_create(f->s, &d, NULL, &f->sel), TCLOD_OK);
+    sel = f->sel;
+    select_budget(sel, 10.0, 0, &st);
+    assert_true(p.tried);
+    for (k = 0; k < 4; ++k) {
+        assert_int_equal(p.got[k], TCLOD_ERR_STATE);
+        assert_non_null(strstr(p.error[k], "a solve holds the scene"));
     }
+    expect_cut(f, sel, &st, 10.0, kids, 2, solver_name[which]);
+    assert_true(tclod_scene_node_resident(f->s, r) && tclod_scene_node_bytes(f->s, r) == 100.0);
+    assert_true(tclod_scene_smooth_resident(f->s, o) && tclod_scene_smooth_bytes(f->s, o) == 8.0);
+    assert_true(tclod_scene_resident_bytes(f->s) == 108.0);
+    /* between begin and the end of the solve */
+    memset(&fr, 0, sizeof fr);
+    fr.budget = 10.0;
+    assert_int_equal(tclod_select_begin(sel, &fr), TCLOD_OK);
+    assert_int_equal(tclod_scene_set_resident(f->s, kids[0], 0), TCLOD_ERR_STATE);
+    assert_int_equal(tclod_scene_set_node_bytes(f->s, kids[0], 5.0), TCLOD_ERR_STATE);
+    assert_int_equal(tclod_scene_set_smooth_resident(f->s, o, 0), TCLOD_ERR_STATE);
+    assert_int_equal(tclod_select_step(sel, 0.0, 0, &done, &st), TCLOD_OK);
+    assert_true(done);
+    expect_cut(f, sel, &st, 10.0, kids, 2, solver_name[which]);
+    assert_true(tclod_scene_resident_bytes(f->s) == 108.0);
 }
 
 /* ---- resident bytes ------------------------------------------------------------------ */
@@ -958,19 +928,19 @@ static void resident_bytes_follow_adds_removals_sizes_and_flips(void **state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(a_half_loaded_refinement_keeps_its_parent),
-        cmocka_unit_test(a_node_not_resident_costing_minus_zero_is_not_drawn),
-        cmocka_unit_test(additive_children_join_one_by_one),
-        cmocka_unit_test(a_hierarchy_whose_root_is_not_resident_draws_nothing_and_is_counted),
-        cmocka_unit_test(an_additive_child_not_resident_hides_its_subtree_from_a_warm_start),
-        cmocka_unit_test(a_warm_start_whose_cut_lost_a_node_falls_back_to_a_resident_ancestor),
-        cmocka_unit_test(a_fallback_over_the_budget_is_brought_within_it),
+        EACH_SOLVER(a_half_loaded_refinement_keeps_its_parent),
+        EACH_SOLVER(a_node_not_resident_costing_minus_zero_is_not_drawn),
+        EACH_SOLVER(additive_children_join_one_by_one),
+        EACH_SOLVER(a_hierarchy_whose_root_is_not_resident_draws_nothing_and_is_counted),
+        EACH_SOLVER(an_additive_child_not_resident_hides_its_subtree_from_a_warm_start),
+        EACH_SOLVER(a_warm_start_whose_cut_lost_a_node_falls_back_to_a_resident_ancestor),
+        EACH_SOLVER(a_fallback_over_the_budget_is_brought_within_it),
         cmocka_unit_test(a_lookahead_jump_may_pass_a_node_that_is_not_resident),
-        cmocka_unit_test(a_chain_ends_before_its_first_level_that_is_not_resident),
+        EACH_SOLVER(a_chain_ends_before_its_first_level_that_is_not_resident),
         cmocka_unit_test(smooth_objects_not_resident_are_in_no_group),
         cmocka_unit_test(residency_flipped_at_random_never_draws_a_node_not_resident),
         cmocka_unit_test(residency_calls_refuse_bad_input_and_change_nothing),
-        cmocka_unit_test(residency_changed_from_a_callback_is_refused),
+        EACH_SOLVER(residency_changed_from_a_callback_is_refused),
         cmocka_unit_test(resident_bytes_follow_adds_removals_sizes_and_flips),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
