@@ -141,6 +141,7 @@
 
 #include "baselines.h"
 #include "bench_util.h"
+#include "task_pool.h"
 #include "thesis_scene.h"
 #include "world_scene.h"
 
@@ -172,6 +173,8 @@ typedef struct bench_row {
      * bytes when a select began (means), and the median ns per residency change (flips);
      * else 0 */
     double requests, evictions, resident_bytes, change_ns;
+    /* the host's workers the solve was split over (tclod_tasks): 1 but warm_parallel */
+    double workers;
 } bench_row;
 
 static const char *solver_name(tclod_solver s) {
@@ -479,6 +482,12 @@ static double floor_evaluate(const frontier_floor *fl, world_scene *w, const tcl
     return sum;
 }
 
+/* How run_config's library selector evaluates: with the world's batch callbacks
+ * (warm_batch, warm_parallel) and over this many workers of a task_pool (warm_parallel:
+ * 2; else 1). */
+static int config_batch;
+static uint32_t config_workers = 1u;
+
 /* Runs warm-up plus `frames` timed frames along the world's loop with one method: a
  * library solver (warm or cold) or a baseline over base. Returns 0 on success; a library
  * error or a library solver's budget violation is reported and returns 1 (baselines'
@@ -490,6 +499,7 @@ static int run_config(world_scene *w, bench_method method, int warm, double budg
     unsigned long f, total = frames + WARMUP_FRAMES;
     double sum_us = 0.0;
     int library = method <= METHOD_ROBIN_HOOD;
+    task_pool *pool = NULL;
 
     double floor_sum_us = 0.0, floor_sink = 0.0;
 
@@ -504,7 +514,7 @@ static int run_config(world_scene *w, bench_method method, int warm, double budg
         tclod_status st;
         tclod_selector_desc_default(&sd);
         sd.solver = method_solvers[method];
-        sd.callbacks = world_callbacks(w);
+        sd.callbacks = config_batch ? world_batch_callbacks(w) : world_callbacks(w);
         if (method == METHOD_MIXED) {
             /* the worlds have no smooth objects; the mixed solver requires the callbacks */
             sd.callbacks.smooth_benefit = bench_no_smooth;
@@ -513,8 +523,18 @@ static int run_config(world_scene *w, bench_method method, int warm, double budg
         sd.cold_start = !(warm);
         sd.greedy.lookahead = (uint32_t)opt_lookahead;
         sd.greedy.restarts = opt_restarts > 0 ? (int32_t)opt_restarts : TCLOD_OFF;
+        if (config_workers > 1u) {
+            pool = task_pool_create(config_workers);
+            if (!pool) {
+                fprintf(stderr, "tclod_bench: no threads for %u workers\n",
+                        (unsigned)config_workers);
+                return 1;
+            }
+            sd.tasks = task_pool_tasks(pool);
+        }
         st = tclod_selector_create(w->scene, &sd, NULL, &call.sel);
         if (st != TCLOD_OK) {
+            task_pool_destroy(pool);
             fprintf(stderr, "tclod_bench: creating a %s selector failed: %s\n",
                     solver_name(sd.solver), tclod_status_string(st));
             return 1;
@@ -551,6 +571,7 @@ static int run_config(world_scene *w, bench_method method, int warm, double budg
             if (st != TCLOD_OK) {
                 fprintf(stderr, "tclod_bench: tclod_select failed: %s\n", tclod_status_string(st));
                 tclod_selector_destroy(call.sel);
+                task_pool_destroy(pool);
                 return 1;
             }
             cost = world_sum_cost(w, ids, n);
@@ -558,6 +579,7 @@ static int run_config(world_scene *w, bench_method method, int warm, double budg
                 fprintf(stderr, "tclod_bench: budget exceeded: cost %.17g > budget %.17g\n", cost,
                         budget);
                 tclod_selector_destroy(call.sel);
+                task_pool_destroy(pool);
                 return 1;
             }
         } else {
@@ -597,6 +619,8 @@ static int run_config(world_scene *w, bench_method method, int warm, double budg
         row->refined += (double)refined_objects(w, ids, n);
     }
     tclod_selector_destroy(call.sel);
+    task_pool_destroy(pool);
+    row->workers = (double)config_workers;
     finish_row(row, times, frames, sum_us);
     if (floor_row) {
         finish_row(floor_row, fl->times, frames, floor_sum_us);
@@ -699,7 +723,7 @@ static void print_header(void) {
            "visible,cut,refined,evaluations,iterations,increments,decrements,frames,"
            "variables,line_searches,object_benefit,ns_per_evaluation,violations,"
            "max_cost_ratio,edits,edit_us,edit_p99_us,requests,evictions,resident_bytes,"
-           "change_ns\n");
+           "change_ns,workers\n");
 }
 
 static void print_row(const char *scene, const char *solver, const char *mode,
@@ -708,13 +732,13 @@ static void print_row(const char *scene, const char *solver, const char *mode,
     /* mean time over mean evaluations: the time per node the solve looked at */
     double ns_per_evaluation = r->evaluations > 0.0 ? r->mean_us * 1000.0 / r->evaluations : 0.0;
     printf("%s,%s,%s,%lu,%lu,%.2f,%.2f,%.6g,%.6g,%.6g,%.2f,%lu,%.0f,%.0f,%.0f,%.0f,%.0f,%.0f,%lu,"
-           "%.1f,%.1f,%.6g,%.1f,%lu,%.4f,%.0f,%.2f,%.2f,%.2f,%.2f,%.6g,%.2f\n",
+           "%.1f,%.1f,%.6g,%.1f,%lu,%.4f,%.0f,%.2f,%.2f,%.2f,%.2f,%.6g,%.2f,%.0f\n",
            scene, solver, mode, objects, nodes, r->median_us, r->p99_us, r->benefit, r->cost,
            budget, r->mean_us, visible, r->cut, r->refined, r->evaluations, r->iterations,
            r->increments, r->decrements, r->frames, r->variables, r->line_searches,
            r->object_benefit, ns_per_evaluation, r->violations, r->max_cost_ratio, r->edits,
            r->edit_median_us, r->edit_p99_us, r->requests, r->evictions, r->resident_bytes,
-           r->change_ns);
+           r->change_ns, r->workers > 0.0 ? r->workers : 1.0);
     fflush(stdout);
 }
 
@@ -734,7 +758,7 @@ static int bench_scene(const char *scene, world_scene *w, double budget, unsigne
     baseline_selector *base = NULL;
     tclod_callbacks cb = world_callbacks(w);
     size_t s;
-    int warm, rc = 0;
+    int variant, rc = 0;
     if (!times) {
         fprintf(stderr, "tclod_bench: out of memory\n");
         return 1;
@@ -751,13 +775,18 @@ static int bench_scene(const char *scene, world_scene *w, double budget, unsigne
         bench_method m = order[s];
         if (m == METHOD_FLAT && bs.object_count == 0)
             continue;
-        for (warm = 0; warm <= (m == METHOD_GREEDY) && rc == 0; ++warm) {
+        /* greedy: cold, warm (+ warm_floor), warm_batch, warm_parallel */
+        for (variant = 0; variant < (m == METHOD_GREEDY ? 4 : 1) && rc == 0; ++variant) {
+            static const char *const modes[] = {"cold", "warm", "warm_batch", "warm_parallel"};
             bench_row row, floor_row;
-            const char *mode = warm ? "warm" : "cold";
-            int with_floor = warm && row_wanted(method_names[m], "warm_floor");
+            const char *mode = modes[variant];
+            int warm = variant > 0;
+            int with_floor = variant == 1 && row_wanted(method_names[m], "warm_floor");
             frontier_floor fl;
             if (!row_wanted(method_names[m], mode) && !with_floor)
                 continue;
+            config_batch = variant >= 2;
+            config_workers = variant == 3 ? 2u : 1u;
             if (with_floor && floor_init(&fl, w, frames) != 0) {
                 fprintf(stderr, "tclod_bench: out of memory\n");
                 rc = 1;
@@ -766,6 +795,8 @@ static int bench_scene(const char *scene, world_scene *w, double budget, unsigne
             if (run_config(w, m, warm, budget, frames, times, base, &row, with_floor ? &fl : NULL,
                            with_floor ? &floor_row : NULL) != 0)
                 rc = 1;
+            config_batch = 0;
+            config_workers = 1u;
             if (rc == 0 && row_wanted(method_names[m], mode))
                 print_row(scene, method_names[m], mode, (unsigned long)w->object_count,
                           (unsigned long)w->node_count, budget, visible, &row);
@@ -2031,9 +2062,10 @@ int main(int argc, char **argv) {
                 return 2;
         } else if (strcmp(argv[i], "--solver") == 0 || strcmp(argv[i], "--mode") == 0) {
             static const char *const modes[] = {
-                "cold",      "warm",  "warm_floor",     "warm_noedit", "warm_edited",
-                "split",     "flat",  "split_gradient", "limited",     "step",
-                "scheduler", "flips", "warm_plain",     "warm_stream", "warm_resident_only"};
+                "cold",       "warm",         "warm_floor",     "warm_noedit", "warm_edited",
+                "split",      "flat",         "split_gradient", "limited",     "step",
+                "scheduler",  "flips",        "warm_plain",     "warm_stream", "warm_resident_only",
+                "warm_batch", "warm_parallel"};
             int is_solver = strcmp(argv[i], "--solver") == 0, known = 0, k2;
             if (i + 1 >= argc) {
                 fprintf(stderr, "tclod_bench: %s needs a value\n", argv[i]);

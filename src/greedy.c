@@ -163,6 +163,29 @@ static const tclod_id *children_of(const tclod_selector *sel, tclod_id n, uint32
     return *count ? s->children + s->child_first[n] : NULL;
 }
 
+/* Gathers the children of node n that increment_key will evaluate (those of
+ * a visible node), without lookahead, whose increments reach further down.
+ * Returns 0 or -1. */
+static int gather_children(tclod_selector *sel, tclod_id n) {
+    const tclod_scene *s = sel->scene;
+    uint32_t k, first = s->child_first[n], count = s->child_count[n];
+    if (count == 0 || sel->desc.greedy.lookahead > 0 || !greedy_counts(sel, n))
+        return 0;
+    for (k = 0; k < count; ++k)
+        if (tclod_batch_add(sel, s->children[first + k]) != 0)
+            return -1;
+    return 0;
+}
+
+/* gather_children for the m nodes ns[], evaluated in one batch. */
+static int gather_all_children(tclod_selector *sel, const tclod_id *ns, uint32_t m) {
+    uint32_t i;
+    for (i = 0; i < m; ++i)
+        if (gather_children(sel, ns[i]) != 0)
+            return -1;
+    return tclod_batch_flush(sel);
+}
+
 /* ---- increments and decrements ------------------------------------------------ */
 
 /* Evaluates the children of a visible cut node and computes its increment.
@@ -422,6 +445,8 @@ TCLOD_ALWAYS_INLINE int apply_increment_as(tclod_selector *sel, tclod_id n, int 
         if (tclod_greedy_apply_jump(sel, n, track_dec, &held, path_b, path_c) != 0)
             return -1;
     } else {
+        if (sel->batching && gather_all_children(sel, ch, count) != 0)
+            return -1;
         for (i = 0; i < count; ++i) {
             greedy_cut_add(sel, ch[i]);
             sel->path[2u * ch[i]] = path_b;
@@ -594,6 +619,11 @@ static int start_cold(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
     uint32_t i;
     clear_cut(sel);
+    for (i = 0; sel->batching && i < s->root_count; ++i)
+        if (tclod_batch_add(sel, s->roots[i]) != 0)
+            return -1;
+    if (tclod_batch_flush(sel) != 0)
+        return -1;
     for (i = 0; i < s->root_count; ++i) {
         tclod_id r = s->roots[i];
         if (evaluate(sel, r) != 0)
@@ -605,6 +635,8 @@ static int start_cold(tclod_selector *sel) {
         drop_roots(sel);
     if (sel->stats.over_budget)
         return 0; /* the roots over the budget, and nothing more */
+    if (sel->batching && gather_all_children(sel, sel->cut, sel->cut_count) != 0)
+        return -1;
     for (i = 0; i < sel->cut_count; ++i)
         if (queue_increment(sel, sel->cut[i], 1) != 0)
             return -1;
@@ -908,37 +940,76 @@ static TCLOD_NOINLINE int stream_repair(tclod_selector *sel) {
     return 0;
 }
 
+/* With batch evaluation, a warm start evaluates the cut and then its frontier
+ * in blocks of about this many nodes, each used while its records are in
+ * cache (and worth splitting over workers). */
+#define WARM_BLOCK 1024u
+
+/* Gathers the cut nodes from cut[i] on until about WARM_BLOCK nodes wait
+ * (`frontier`: their parents that decrements key, each from its first child
+ * as start_warm looks at them, and the children that increments key, rather
+ * than the cut nodes themselves), evaluates them and returns the end of the
+ * block; the whole cut without batch evaluation. -1 on a strict error. */
+static int64_t warm_block(tclod_selector *sel, uint32_t i, int frontier) {
+    const tclod_scene *s = sel->scene;
+    if (!sel->batching)
+        return sel->cut_count;
+    for (; i < sel->cut_count && sel->gather_count < WARM_BLOCK; ++i) {
+        tclod_id n = sel->cut[i], p = s->parent[n];
+        if (!frontier) {
+            if (tclod_batch_add(sel, n) != 0)
+                return -1;
+            continue;
+        }
+        if (p != TCLOD_NONE && s->children[s->child_first[p]] == n && collapsible(sel, p) &&
+            tclod_batch_add(sel, p) != 0)
+            return -1;
+        if (gather_children(sel, n) != 0)
+            return -1;
+    }
+    return tclod_batch_flush(sel) != 0 ? -1 : (int64_t)i;
+}
+
 /* Cut = the previous cut, re-evaluated; queues its increments and decrements. */
 static int start_warm(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
     uint32_t i, culled = 0;
+    int64_t end;
     if (s->node_count >= SORT_FROM_NODES)
         sort_cut(sel);
     sel->cost_sum = sel->cost_err = sel->benefit_sum = 0.0;
     sel->unaffordable = 0;
-    for (i = 0; i < sel->cut_count; ++i) {
-        tclod_id n = sel->cut[i];
-        sel->flags[n] = 0;
-        if (evaluate(sel, n) != 0)
+    for (i = 0; i < sel->cut_count;) {
+        if ((end = warm_block(sel, i, 0)) < 0)
             return -1;
-        account(sel, n, 1.0);
-        /* an additive node that stays drawn, invisible now */
-        if ((s->bounds[n].kind & TCLOD_BOUNDS_SELF) && !(sel->node[n].benefit > 0.0))
-            sel->scratch[culled++] = s->up[n];
+        for (; i < (uint32_t)end; ++i) {
+            tclod_id n = sel->cut[i];
+            sel->flags[n] = 0;
+            if (evaluate(sel, n) != 0)
+                return -1;
+            account(sel, n, 1.0);
+            /* an additive node that stays drawn, invisible now */
+            if ((s->bounds[n].kind & TCLOD_BOUNDS_SELF) && !(sel->node[n].benefit > 0.0))
+                sel->scratch[culled++] = s->up[n];
+        }
     }
     if (culled)
         cull_additive(sel, culled);
     if (TCLOD_UNLIKELY(s->absent_count != 0) && stream_repair(sel) != 0)
         return -1;
-    for (i = 0; i < sel->cut_count; ++i) {
-        tclod_id n = sel->cut[i];
-        tclod_id p = s->parent[n];
-        if (queue_increment(sel, n, 1) != 0)
+    for (i = 0; i < sel->cut_count;) {
+        if ((end = warm_block(sel, i, 1)) < 0)
             return -1;
-        /* each parent is looked at once: from its first child */
-        if (p != TCLOD_NONE && s->children[s->child_first[p]] == n &&
-            queue_decrement(sel, p, 1) != 0)
-            return -1;
+        for (; i < (uint32_t)end; ++i) {
+            tclod_id n = sel->cut[i];
+            tclod_id p = s->parent[n];
+            if (queue_increment(sel, n, 1) != 0)
+                return -1;
+            /* each parent is looked at once: from its first child */
+            if (p != TCLOD_NONE && s->children[s->child_first[p]] == n &&
+                queue_decrement(sel, p, 1) != 0)
+                return -1;
+        }
     }
     tclod_heap_build(&sel->greedy.inc);
     tclod_heap_build(&sel->greedy.dec);

@@ -750,6 +750,11 @@ tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_d
     inner.callbacks.smooth_cost = sd->callbacks.smooth_cost ? wrap_smooth_cost : NULL;
     inner.callbacks.complexity = sd->callbacks.complexity ? wrap_complexity : NULL;
     inner.callbacks.importance = sd->callbacks.importance ? wrap_importance : NULL;
+    /* the predicted views' values are the wrappers', asked one node at a time
+     * on this thread */
+    inner.callbacks.benefit_batch = NULL;
+    inner.callbacks.cost_batch = NULL;
+    memset(&inner.tasks, 0, sizeof inner.tasks);
     st = tclod_calib_create(&sch->desc.calib, &alloc, &sch->calib);
     if (st == TCLOD_OK)
         st = tclod_selector_create(s, &inner, &alloc, &sch->sel);

@@ -117,6 +117,10 @@ const char *tclod_selector_desc_check(const tclod_scene *s, const tclod_selector
     if (!(d->robin_hood.reference_area == 0.0 ||
           (d->robin_hood.reference_area > 0.0 && d->robin_hood.reference_area < HUGE_VAL)))
         return "desc.robin_hood.reference_area must be finite and > 0, or 0 (default)";
+    if (d->tasks.worker_count > TCLOD_MAX_WORKERS)
+        return "desc.tasks.worker_count must be at most TCLOD_MAX_WORKERS (64)";
+    if (d->tasks.worker_count > 1u && (!d->tasks.enqueue || !d->tasks.finish))
+        return "desc.tasks.enqueue and finish must be set when worker_count > 1";
     return NULL;
 }
 
@@ -177,8 +181,13 @@ tclod_status tclod_selector_create(const tclod_scene *s, const tclod_selector_de
     sel->alloc = alloc;
     sel->desc = selector_resolved(d);
     sel->holds = 1;
+    if (tclod_batch_create(sel) != TCLOD_OK) {
+        tclod_mem_free(&alloc, sel, sizeof *sel);
+        return TCLOD_ERR_NOMEM;
+    }
     if (tclod_scene_attach(sel->scene, &sel->user, d->solver == TCLOD_SOLVER_ROBIN_HOOD) !=
         TCLOD_OK) {
+        tclod_batch_destroy(sel);
         tclod_mem_free(&alloc, sel, sizeof *sel);
         return TCLOD_ERR_NOMEM;
     }
@@ -193,6 +202,7 @@ void tclod_selector_destroy(tclod_selector *sel) {
         return;
     alloc = sel->alloc;
     tclod_scene_detach(sel->scene, &sel->user, sel->desc.solver == TCLOD_SOLVER_ROBIN_HOOD);
+    tclod_batch_destroy(sel);
     tclod_arrays_free(&alloc, buffers, node_buffers(sel, buffers), sel->cap);
     tclod_arrays_free(&alloc, buffers, smooth_buffers(sel, buffers), sel->smooth_cap);
     tclod_arrays_free(&alloc, buffers, tclod_rh_buffers(&sel->rh, buffers), sel->rh.cap);

@@ -40,6 +40,27 @@ typedef struct tclod_node_state {
                              a child with the same bounds reuses them */
 } tclod_node_state;
 
+/* Batch evaluation (evaluate.c): nodes are gathered into a list of at most
+ * TCLOD_GATHER ids, which is evaluated when full or when the solver needs the
+ * values, in chunks of TCLOD_BATCH_CHUNK nodes, the ranges a task splits
+ * into. */
+#define TCLOD_GATHER 8192u
+#define TCLOD_BATCH_CHUNK 256u
+
+/* A worker's scratch for one chunk, and what it counts for the solve. */
+typedef struct tclod_batch_worker {
+    uint32_t invalid;     /* bad callback values seen */
+    uint32_t absent;      /* visible nodes seen not resident */
+    tclod_query query;    /* the per-node callbacks' query ... */
+    tclod_bounds qbounds; /* ... and its volume */
+    double px[TCLOD_BATCH_CHUNK], py[TCLOD_BATCH_CHUNK], pz[TCLOD_BATCH_CHUNK];
+    double pr[TCLOD_BATCH_CHUNK];
+    double benefit[TCLOD_BATCH_CHUNK], cost[TCLOD_BATCH_CHUNK];
+    float area[TCLOD_BATCH_CHUNK], dist[TCLOD_BATCH_CHUNK];
+    tclod_id vis[TCLOD_BATCH_CHUNK]; /* the visible ones, asked for their cost */
+    float varea[TCLOD_BATCH_CHUNK], vdist[TCLOD_BATCH_CHUNK];
+} tclod_batch_worker;
+
 /* Where a solve stands between two tclod_select_step calls: the state of the
  * solver's loops, so that a step resumes exactly where the last one paused.
  * Zeroed when a solve begins. */
@@ -88,7 +109,12 @@ struct tclod_selector {
      * scratch_key, by slot in the scene's children[] (-1: not visible); the
      * ring of its third cycle's candidates in scratch and path */
     tclod_rh_state rh;
-    tclod_stream_state stream; /* residency and the plan of loads (stream.c) */
+    tclod_stream_state stream;   /* residency and the plan of loads (stream.c) */
+    tclod_batch_worker *workers; /* batch evaluation (evaluate.c): one per worker */
+    tclod_id *gather;            /* the nodes gathered, TCLOD_GATHER room */
+    uint32_t gather_count;
+    int batching; /* batch callbacks or workers: the greedy gathers what it
+                     evaluates (else it asks node by node, as it needs them) */
 
     uint32_t cut_count, prev_count, result_count;
     uint32_t solve_id;
@@ -216,20 +242,49 @@ int tclod_stream_plan(tclod_selector *sel);
 /* Makes the planned lists current (with the commit of the solve). */
 void tclod_stream_commit(tclod_selector *sel);
 
-/* Puts node n's bounds (it has some) into the query's volume. */
-static inline const tclod_bounds *tclod_query_bounds(tclod_selector *sel, tclod_id n) {
-    const tclod_node_bounds *b = &sel->scene->bounds[n];
-    tclod_bounds *q = &sel->qbounds;
+/* Node n's bounds (it has some) into *q. */
+static inline void tclod_node_public_bounds(const tclod_scene *s, tclod_id n, tclod_bounds *q) {
+    const tclod_node_bounds *b = &s->bounds[n];
     if (b->box != TCLOD_NONE) {
-        tclod_scene_public_bounds(sel->scene, n, q);
-        return q;
+        tclod_scene_public_bounds(s, n, q);
+        return;
     }
     q->kind = TCLOD_BOUNDS_SPHERE; /* a self leaf is evaluated as its owner */
     q->center[0] = b->c[0];
     q->center[1] = b->c[1];
     q->center[2] = b->c[2];
     q->radius = b->r;
-    return q;
+}
+
+/* Puts node n's bounds (it has some) into the query's volume. */
+static inline const tclod_bounds *tclod_query_bounds(tclod_selector *sel, tclod_id n) {
+    tclod_node_public_bounds(sel->scene, n, &sel->qbounds);
+    return &sel->qbounds;
+}
+
+/* ---- evaluate.c ---------------------------------------------------------------- */
+
+/* Allocates and frees the batch workspace (sel->workers, sel->gather). */
+tclod_status tclod_batch_create(tclod_selector *sel);
+void tclod_batch_destroy(tclod_selector *sel);
+
+/* Evaluates the gathered nodes (over the host's workers when it gave them)
+ * and empties the list. Returns 0, or -1 when strict mode saw a bad value. */
+int tclod_batch_flush(tclod_selector *sel);
+
+/* Gathers node n unless it is evaluated or gathered in this solve already,
+ * or a self leaf (evaluated as its owner when asked for): it counts as
+ * evaluated from now on, so its values must not be read before the next
+ * tclod_batch_flush. No node may be gathered with its parent between two
+ * flushes (the measure takes a parent's figures). Returns as the flush. */
+static inline int tclod_batch_add(tclod_selector *sel, tclod_id n) {
+    if (sel->node[n].stamp == sel->solve_id || (sel->scene->bounds[n].kind & TCLOD_BOUNDS_SELF))
+        return 0;
+    sel->node[n].stamp = sel->solve_id;
+    TCLOD_PREFETCH(&sel->scene->bounds[n]); /* for the measure that follows */
+    TCLOD_PREFETCH(&sel->scene->parent[n]);
+    sel->gather[sel->gather_count++] = n;
+    return sel->gather_count == TCLOD_GATHER ? tclod_batch_flush(sel) : 0;
 }
 
 /* The callbacks of node n, not evaluated in this solve yet, with the screen

@@ -948,6 +948,26 @@ double world_cost(void *user, const tclod_query *q) {
     return (double)w->cost_ms[q->id];
 }
 
+void world_benefit_batch(void *user, const tclod_batch *b, double *out) {
+    const world_scene *w = (const world_scene *)user;
+    uint32_t i;
+    for (i = 0; i < b->count; ++i) {
+        float area = b->screen_area[i];
+        if (area < 0.0f) {
+            float r = w->bounds[4u * (size_t)b->ids[i] + 3u];
+            area = (float)WORLD_PI * r * r;
+        }
+        out[i] = (double)area * (double)w->weight[b->ids[i]];
+    }
+}
+
+void world_cost_batch(void *user, const tclod_batch *b, double *out) {
+    const world_scene *w = (const world_scene *)user;
+    uint32_t i;
+    for (i = 0; i < b->count; ++i)
+        out[i] = (double)w->cost_ms[b->ids[i]];
+}
+
 double world_importance(void *user, const tclod_query *q) {
     const world_scene *w = (const world_scene *)user;
     return (double)w->weight[q->id];
@@ -960,6 +980,13 @@ tclod_callbacks world_callbacks(world_scene *w) {
     cb.cost = world_cost;
     cb.importance = world_importance;
     cb.user = w;
+    return cb;
+}
+
+tclod_callbacks world_batch_callbacks(world_scene *w) {
+    tclod_callbacks cb = world_callbacks(w);
+    cb.benefit_batch = world_benefit_batch;
+    cb.cost_batch = world_cost_batch;
     return cb;
 }
 

@@ -188,6 +188,12 @@ double world_benefit(void *user, const tclod_query *q);
 double world_importance(void *user, const tclod_query *q);
 double world_cost(void *user, const tclod_query *q);
 
+/* world_callbacks with the batch forms of benefit and cost too: loops over
+ * the batch's arrays giving the per-node callbacks' values bit for bit. */
+tclod_callbacks world_batch_callbacks(world_scene *w);
+void world_benefit_batch(void *user, const tclod_batch *b, double *out);
+void world_cost_batch(void *user, const tclod_batch *b, double *out);
+
 /* Sum of cost_ms over ids, in the given order, in double: what the library's
  * budget guarantee is about, computed independently of it. */
 double world_sum_cost(const world_scene *w, const tclod_id *ids, size_t n);

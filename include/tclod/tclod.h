@@ -209,6 +209,18 @@ typedef struct tclod_query {
                                    bounds */
 } tclod_query;
 
+/* What a batch callback is asked about: count nodes, as arrays of count
+ * entries (docs/api.md, batch evaluation). Valid only during the call. */
+typedef struct tclod_batch {
+    uint32_t count;
+    const tclod_id *ids;      /* node ids, each once (an additive node's own drawing:
+                                 the additive node's id) */
+    const float *screen_area; /* as tclod_query.screen_area, per node */
+    const float *distance;    /* as tclod_query.distance, per node */
+    const tclod_view *view;   /* the frame's view; NULL when the frame has none */
+    uint32_t worker;          /* the worker that calls (tclod_tasks; 0 when serial) */
+} tclod_batch;
+
 /* The host's model of quality and render time (docs/api.md, callbacks). Each
  * is called at most once per node per select. Callbacks may read anything but
  * must not call into the selector that calls them nor edit the scene
@@ -247,6 +259,16 @@ typedef struct tclod_callbacks {
      * NULL: the scene's size. A bad value is counted and the node is not
      * requested (docs/streaming.md). */
     double (*bytes)(void *user, const tclod_query *q);
+    /* Optional batch forms of benefit and cost: out[i] is the value of node
+     * b->ids[i], as the per-node callback would return it for the same query
+     * (what is valid, sanitised and counted is the same). cost_batch is asked
+     * only of nodes whose benefit is > 0 and finite. The greedy solver gathers
+     * the nodes it evaluates together (a warm start's frontier, the children of
+     * what an increment adds) into batches; elsewhere, and when a form is NULL,
+     * the per-node callbacks are asked, which stay required. Selections are
+     * bit-identical either way (docs/api.md, batch evaluation). */
+    void (*benefit_batch)(void *user, const tclod_batch *b, double *out);
+    void (*cost_batch)(void *user, const tclod_batch *b, double *out);
 } tclod_callbacks;
 
 /* ------------------------------------------------------------------------- */
@@ -494,6 +516,32 @@ typedef struct tclod_robin_hood_desc {
                               callbacks.complexity is NULL, > 0. 0: default 10000 */
 } tclod_robin_hood_desc;
 
+/* A task of the library for the host's task system: items [start, end) of it,
+ * run by worker `worker` (< tclod_tasks.worker_count). */
+typedef void tclod_task_fn(uint32_t start, uint32_t end, uint32_t worker, void *task_ctx);
+
+/* The host's worker threads (docs/api.md, worker threads): the library never
+ * creates threads; it splits evaluation into tasks the host runs. A zeroed
+ * struct is serial. */
+typedef struct tclod_tasks {
+    uint32_t worker_count; /* workers, the calling thread's included, at most
+                              TCLOD_MAX_WORKERS; 0 or 1: serial (enqueue and finish
+                              not called) */
+    /* Runs task over items [0, item_count): calls it on ranges of at least
+     * min_range items (the last may be shorter) that cover each item once,
+     * at most worker_count at a time, each with a worker index no range
+     * running at the same time has. Returns a handle for finish, or NULL when
+     * every range has run before it returns. */
+    void *(*enqueue)(tclod_task_fn *task, uint32_t item_count, uint32_t min_range, void *task_ctx,
+                     void *user);
+    /* Returns once every range of the task enqueue returned `task` for ran. */
+    void (*finish)(void *task, void *user);
+    void *user; /* passed to enqueue and finish unchanged */
+} tclod_tasks;
+
+/* The largest tclod_tasks.worker_count. */
+#define TCLOD_MAX_WORKERS 64u
+
 /* How a selector solves. A zeroed desc with the benefit and cost callbacks set
  * is a working greedy selector: every field left 0 takes its default.
  * TCLOD_OFF asks for 0 (none, off) where the default is not 0. */
@@ -514,6 +562,11 @@ typedef struct tclod_selector_desc {
     tclod_greedy_desc greedy;         /* greedy and mixed solvers */
     tclod_mixed_desc mixed;           /* mixed solver */
     tclod_robin_hood_desc robin_hood; /* Robin Hood solver */
+    tclod_tasks tasks;                /* the host's worker threads; zeroed: serial. With
+                                         worker_count > 1, callbacks that evaluate nodes
+                                         (benefit, cost and their batch forms) are called
+                                         from the workers at the same time, on different
+                                         nodes */
 } tclod_selector_desc;
 
 /* Asks for 0 in a desc field whose 0 means "the default" (restarts,

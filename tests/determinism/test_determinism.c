@@ -49,6 +49,7 @@
 
 #include <tclod/tclod.h>
 
+#include "task_pool.h"
 #include "thesis_scene.h"
 #include "world_scene.h"
 
@@ -100,7 +101,15 @@ typedef struct config {
     int warm_start, split_smooth, scheduled;
     double budget_ms;
     uint64_t golden;
+    /* how nodes are evaluated: 0 the per-node callbacks; 1 the batch ones
+     * (world_batch_callbacks); 2 the batch ones over two workers of a
+     * task_pool. The selections must not change: the golden hash of a batch
+     * configuration is its per-node twin's */
+    int batch;
 } config;
+
+/* The pool of configurations with batch 2. */
+static task_pool *pool;
 
 /* The world's callbacks have no smooth part; the mixed solver requires one,
  * and over a scene without smooth objects it is never called. */
@@ -119,8 +128,11 @@ static const tclod_scene *describe(const config *c, tclod_selector_desc *d) {
     d->solver = c->solver;
     d->cold_start = !(c->warm_start);
     d->mixed.split_smooth = c->split_smooth;
+    if (c->batch == 2)
+        d->tasks = task_pool_tasks(pool);
     if (c->scene == FLYOVER) {
-        d->callbacks = world_callbacks(&shared.flyover);
+        d->callbacks =
+            c->batch ? world_batch_callbacks(&shared.flyover) : world_callbacks(&shared.flyover);
         d->callbacks.smooth_benefit = no_smooth;
         d->callbacks.smooth_cost = no_smooth;
         return shared.flyover.scene;
@@ -247,6 +259,9 @@ static int build_scenes(void **state) {
     thesis_desc_default(&td);
     td.side = 24000.0f;
     td.terrain_depth = 4;
+    pool = task_pool_create(2);
+    if (!pool)
+        return -1;
     if (world_build_flyover(&wd, &shared.flyover) != TCLOD_OK)
         return -1;
     if (thesis_build(&td, &shared.thesis) != TCLOD_OK) {
@@ -260,6 +275,7 @@ static int free_scenes(void **state) {
     (void)state;
     thesis_scene_free(&shared.thesis);
     world_scene_free(&shared.flyover);
+    task_pool_destroy(pool);
     return 0;
 }
 
@@ -270,16 +286,21 @@ static int free_scenes(void **state) {
  * its benefits, which count the screen area a second time: other shares, other
  * selections, another hash. */
 static config configs[] = {
-    {FLYOVER, TCLOD_SOLVER_GREEDY, 1, 0, 0, 2.0, 0xc439831b7353f655ull},
-    {FLYOVER, TCLOD_SOLVER_GREEDY, 0, 0, 0, 2.0, 0x06746d86a0a5600cull},
-    {FLYOVER, TCLOD_SOLVER_MIXED, 0, 0, 0, 2.0, 0x06746d86a0a5600cull},
-    {FLYOVER, TCLOD_SOLVER_ROBIN_HOOD, 0, 0, 0, 2.0, 0x91f576ead21266ccull},
-    {THESIS, TCLOD_SOLVER_GREEDY, 1, 0, 0, 2.0, 0x8642485f87b8f76cull},
-    {THESIS, TCLOD_SOLVER_MIXED, 0, 0, 0, 40.0, 0x0b5eaaf2f8200ee9ull},
-    {THESIS, TCLOD_SOLVER_MIXED, 0, 1, 0, 40.0, 0x0d1835629c645db3ull},
-    {THESIS, TCLOD_SOLVER_ROBIN_HOOD, 0, 0, 0, 40.0, 0x7eb75f54bb322d35ull},
-    {FLYOVER, TCLOD_SOLVER_GREEDY, 1, 0, 1, 2.0, 0xc17e206dd2d3d628ull},
-    {THESIS, TCLOD_SOLVER_MIXED, 0, 1, 1, 40.0, 0xeb7379cf290334b1ull},
+    {FLYOVER, TCLOD_SOLVER_GREEDY, 1, 0, 0, 2.0, 0xc439831b7353f655ull, 0},
+    {FLYOVER, TCLOD_SOLVER_GREEDY, 0, 0, 0, 2.0, 0x06746d86a0a5600cull, 0},
+    {FLYOVER, TCLOD_SOLVER_MIXED, 0, 0, 0, 2.0, 0x06746d86a0a5600cull, 0},
+    {FLYOVER, TCLOD_SOLVER_ROBIN_HOOD, 0, 0, 0, 2.0, 0x91f576ead21266ccull, 0},
+    {THESIS, TCLOD_SOLVER_GREEDY, 1, 0, 0, 2.0, 0x8642485f87b8f76cull, 0},
+    {THESIS, TCLOD_SOLVER_MIXED, 0, 0, 0, 40.0, 0x0b5eaaf2f8200ee9ull, 0},
+    {THESIS, TCLOD_SOLVER_MIXED, 0, 1, 0, 40.0, 0x0d1835629c645db3ull, 0},
+    {THESIS, TCLOD_SOLVER_ROBIN_HOOD, 0, 0, 0, 40.0, 0x7eb75f54bb322d35ull, 0},
+    {FLYOVER, TCLOD_SOLVER_GREEDY, 1, 0, 1, 2.0, 0xc17e206dd2d3d628ull, 0},
+    {THESIS, TCLOD_SOLVER_MIXED, 0, 1, 1, 40.0, 0xeb7379cf290334b1ull, 0},
+    {FLYOVER, TCLOD_SOLVER_GREEDY, 1, 0, 0, 2.0, 0xc439831b7353f655ull, 1},
+    {FLYOVER, TCLOD_SOLVER_GREEDY, 1, 0, 0, 2.0, 0xc439831b7353f655ull, 2},
+    {FLYOVER, TCLOD_SOLVER_GREEDY, 0, 0, 0, 2.0, 0x06746d86a0a5600cull, 2},
+    {FLYOVER, TCLOD_SOLVER_MIXED, 0, 0, 0, 2.0, 0x06746d86a0a5600cull, 1},
+    {FLYOVER, TCLOD_SOLVER_GREEDY, 1, 0, 1, 2.0, 0xc17e206dd2d3d628ull, 2},
 };
 
 static const char *const config_names[] = {
@@ -293,6 +314,11 @@ static const char *const config_names[] = {
     "robin_hood_thesis_selections_match_the_golden_hash",
     "scheduled_greedy_flyover_draws_match_the_golden_hash",
     "scheduled_mixed_split_thesis_draws_match_the_golden_hash",
+    "greedy_warm_flyover_batch_callbacks_select_as_per_node",
+    "greedy_warm_flyover_two_workers_select_as_per_node",
+    "greedy_cold_flyover_two_workers_select_as_per_node",
+    "mixed_flyover_batch_callbacks_select_as_per_node",
+    "scheduled_greedy_flyover_two_workers_draw_as_per_node",
 };
 
 #define CONFIGS (sizeof configs / sizeof configs[0])
