@@ -75,6 +75,7 @@ int model_init(tiles_model *m, const tileset *ts) {
     memset(m, 0, sizeof(*m));
     m->ts = ts;
     m->vol = (model_volume *)malloc(n * sizeof(model_volume));
+    m->link = (model_link *)malloc(n * sizeof(model_link));
     m->area_stamp = (uint32_t *)calloc(n, sizeof(uint32_t));
     m->share_stamp = (uint32_t *)calloc(n, sizeof(uint32_t));
     m->sum_stamp = (uint32_t *)calloc(n, sizeof(uint32_t));
@@ -85,17 +86,25 @@ int model_init(tiles_model *m, const tileset *ts) {
     m->distance = (double *)malloc(n * sizeof(double));
     m->path = (uint32_t *)malloc(((size_t)ts->counts.max_depth + 1) * sizeof(uint32_t));
     if (!m->area_stamp || !m->share_stamp || !m->sum_stamp || !m->distance_stamp || !m->area ||
-        !m->share || !m->child_sum || !m->distance || !m->path || !m->vol) {
+        !m->share || !m->child_sum || !m->distance || !m->path || !m->vol || !m->link) {
         model_free(m);
         return 1;
     }
-    for (t = 0; t < ts->count; ++t)
-        prepare_volume(&ts->tiles[t].bounds, &m->vol[t]);
+    for (t = 0; t < ts->count; ++t) {
+        const tile *x = &ts->tiles[t];
+        prepare_volume(&x->bounds, &m->vol[t]);
+        m->link[t].geometric_error = x->geometric_error;
+        m->link[t].parent = x->parent;
+        m->link[t].add_anchor = x->add_anchor;
+        m->link[t].first_child = x->first_child;
+        m->link[t].child_count = x->child_count;
+    }
     return 0;
 }
 
 void model_free(tiles_model *m) {
     free(m->vol);
+    free(m->link);
     free(m->area_stamp);
     free(m->share_stamp);
     free(m->sum_stamp);
@@ -299,7 +308,7 @@ double model_area(tiles_model *m, uint32_t t) {
 /* The children's projected areas summed: what a parent's share is split by. */
 static double children_area(tiles_model *m, uint32_t p) {
     if (m->sum_stamp[p] != m->stamp) {
-        const tile *x = &m->ts->tiles[p];
+        const model_link *x = &m->link[p];
         double sum = 0.0;
         uint32_t i;
         for (i = 0; i < x->child_count; ++i)
@@ -317,13 +326,13 @@ static double share_of(tiles_model *m, uint32_t t) {
     uint32_t n = 0, x = t;
     while (x != TILE_NONE && m->share_stamp[x] != m->stamp) {
         m->path[n++] = x;
-        x = m->ts->tiles[x].parent;
+        x = m->link[x].parent;
     }
     while (n > 0) {
         uint32_t p;
         double s;
         x = m->path[--n];
-        p = m->ts->tiles[x].parent;
+        p = m->link[x].parent;
         if (p == TILE_NONE) {
             s = model_area(m, x);
         } else {
@@ -338,7 +347,7 @@ static double share_of(tiles_model *m, uint32_t t) {
 
 double model_sse(const tiles_model *m, uint32_t t, double distance) {
     double d = distance > MODEL_MIN_DISTANCE ? distance : MODEL_MIN_DISTANCE;
-    return m->ts->tiles[t].geometric_error * m->sse_factor / d;
+    return m->link[t].geometric_error * m->sse_factor / d;
 }
 
 static double quality(double sse) {
@@ -346,7 +355,7 @@ static double quality(double sse) {
 }
 
 double model_benefit(tiles_model *m, uint32_t t, double distance) {
-    uint32_t anchor = m->ts->tiles[t].add_anchor;
+    uint32_t anchor = m->link[t].add_anchor;
     double a = share_of(m, t), q = quality(model_sse(m, t, distance)), b;
     if (a < MIN_SHARE)
         a = MIN_SHARE;

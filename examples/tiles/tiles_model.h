@@ -57,11 +57,18 @@ typedef struct model_eye {
     double plane[4][3]; /* top, bottom, right, left */
 } model_eye;
 
+/* What the benefit reads of a tile, packed: the tiles themselves are large. */
+typedef struct model_link {
+    double geometric_error;
+    uint32_t parent, add_anchor, first_child, child_count;
+} model_link;
+
 typedef struct tiles_model {
     const tileset *ts;
     tclod_view view;   /* the frame's */
     model_eye eye;     /* the same, prepared */
     model_volume *vol; /* per tile */
+    model_link *link;  /* per tile */
     double sse_factor; /* viewport_height / (2 tan(fov_y / 2)) */
     uint32_t stamp;    /* this view's number: memo entries of another are stale */
     /* per tile, measured once per view when first needed */
