@@ -102,7 +102,10 @@ typedef struct host {
     uint32_t id_count;
     double *cost_ms; /* per tile */
     tiles_model model;
-    /* checks of the library's queries against this program's measures */
+    /* the queries of the current select (tile, screen_area, distance), checked
+     * after it against this program's measures (check_queries) */
+    uint32_t *query_tile, query_count;
+    float *query_area, *query_distance;
     unsigned long unknown_ids, distance_errors, area_errors;
     double worst_distance_error;
     /* checks of the selections against 3D Tiles' rules (check_cut) */
@@ -427,6 +430,11 @@ static int build_scene(host *h, double ms_per_mb) {
     if (st == TCLOD_OK &&
         !(h->rule_list = (uint32_t *)malloc((h->ts.count ? h->ts.count : 1) * sizeof(uint32_t))))
         st = TCLOD_ERR_NOMEM;
+    h->query_tile = (uint32_t *)malloc((h->ts.count ? 3u * h->ts.count : 1) * sizeof(uint32_t));
+    h->query_area = (float *)malloc((h->ts.count ? 3u * h->ts.count : 1) * sizeof(float));
+    h->query_distance = (float *)malloc((h->ts.count ? 3u * h->ts.count : 1) * sizeof(float));
+    if (st == TCLOD_OK && (!h->query_tile || !h->query_area || !h->query_distance))
+        st = TCLOD_ERR_NOMEM;
     if (st != TCLOD_OK) {
         fprintf(stderr, "tclod_tiles: building the scene failed: %s\n", tclod_status_string(st));
         return 1;
@@ -441,6 +449,9 @@ static int build_scene(host *h, double ms_per_mb) {
 static void free_host(host *h) {
     cut_check_free(&h->rules);
     free(h->rule_list);
+    free(h->query_tile);
+    free(h->query_area);
+    free(h->query_distance);
     model_free(&h->model);
     tclod_scene_destroy(h->scene);
     tclod_scene_destroy(h->copy[0]);
@@ -469,22 +480,44 @@ static uint32_t queried_tile(host *h, tclod_id id) {
 static double benefit_cb(void *user, const tclod_query *q) {
     host *h = (host *)user;
     uint32_t t = queried_tile(h, q->id);
-    double mine, reference;
-    if (t == TILE_NONE || !(q->screen_area > 0.0f) || !q->view)
-        return 0.0; /* outside the frustum */
-    /* the query's measures, checked against this program's: the distance
-     * computed apart from the library (exact up to rounding), the area through
-     * the library's own function (q->screen_area is a float) */
-    reference = model_reference_distance(&h->ts.tiles[t].bounds, q->view->eye);
-    if (fabs(q->distance - reference) > 1e-6 * (1.0 + reference)) {
-        ++h->distance_errors;
-        if (fabs(q->distance - reference) > h->worst_distance_error)
-            h->worst_distance_error = fabs(q->distance - reference);
+    if (t == TILE_NONE || !q->view)
+        return 0.0;
+    /* kept for check_queries, after the select: each node is asked once per
+     * select, and at most three selects (--stream: ours, then the copies')
+     * run between two checks */
+    if (h->query_count < 3u * h->ts.count) {
+        h->query_tile[h->query_count] = t;
+        h->query_area[h->query_count] = q->screen_area;
+        h->query_distance[h->query_count++] = q->distance;
     }
-    mine = model_area(&h->model, t);
-    if (fabs((double)q->screen_area - mine) > 1e-5 * (1.0 + mine))
-        ++h->area_errors;
+    if (!(q->screen_area > 0.0f))
+        return 0.0; /* outside the frustum */
     return model_benefit(&h->model, t, q->distance);
+}
+
+/* The measures of the last select's queries against this program's: the
+ * distance computed apart from the library (exact up to rounding), the area
+ * against the library's own functions (q->screen_area is a float) and against
+ * this program's, which the shares are made of. */
+static void check_queries(host *h) {
+    const tclod_view *v = &h->model.view;
+    uint32_t i;
+    for (i = 0; i < h->query_count; ++i) {
+        uint32_t t = h->query_tile[i];
+        const tclod_bounds *b = &h->ts.tiles[t].bounds;
+        double reference = model_reference_distance(b, v->eye);
+        double d = (double)h->query_distance[i], a = (double)h->query_area[i];
+        double lib = tclod_view_bounds_visible(v, b) ? tclod_view_bounds_area(v, b) : 0.0;
+        double mine = model_area(&h->model, t);
+        if (fabs(d - reference) > 1e-6 * (1.0 + reference)) {
+            ++h->distance_errors;
+            if (fabs(d - reference) > h->worst_distance_error)
+                h->worst_distance_error = fabs(d - reference);
+        }
+        if (fabs(a - lib) > 1e-5 * (1.0 + lib) || fabs(mine - lib) > 1e-9 * (1.0 + lib))
+            ++h->area_errors;
+    }
+    h->query_count = 0;
 }
 
 static double cost_cb(void *user, const tclod_query *q) {
@@ -875,7 +908,6 @@ static int run_tclod(host *h, const options *o, const flight *f, const double *b
         frame_result *r = &mine[frame];
 
         camera_at(f, frame, &view, &distance);
-        model_set_view(&h->model, &view);
         memset(&fr, 0, sizeof(fr));
         fr.view = &view;
         fr.budget = budget;
@@ -883,9 +915,13 @@ static int run_tclod(host *h, const options *o, const flight *f, const double *b
             tclod_selector_destroy(sel);
             return 1;
         }
+        /* the callbacks' view is prepared within the timing: it is the
+         * selection's work */
         t0 = now_us();
+        model_set_view(&h->model, &view);
         st = tclod_select(sel, &fr, &stats);
         t1 = now_us();
+        check_queries(h);
         if (st == TCLOD_OK)
             st = tclod_selector_cut(sel, &ids, &n);
         if (st != TCLOD_OK) {
@@ -927,6 +963,7 @@ static int run_tclod(host *h, const options *o, const flight *f, const double *b
             tclod_selector_destroy(sel);
             return 1;
         }
+        check_queries(h); /* those of the copies' selects (--stream) */
         print_row(stdout, 0, frame, budget, r, &base[frame], distance, ss);
         if (csv)
             print_row(csv, 1, frame, budget, r, &base[frame], distance, ss);

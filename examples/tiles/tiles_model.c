@@ -13,10 +13,69 @@
 #define MIN_SHARE 1e-3
 #define MIN_GAIN 1e-6
 
+static double dot(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void cross_product(const double a[3], const double b[3], double out[3]) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* v / |v| (unchanged when 0); returns |v|. */
+static double unit(double v[3]) {
+    double len = sqrt(dot(v, v));
+    if (len > 0.0) {
+        v[0] /= len;
+        v[1] /= len;
+        v[2] /= len;
+    }
+    return len;
+}
+
+/* A tile's volume, prepared as the library prepares valid bounds. Boxes with
+ * two or three zero axes (a segment, a point) are left to the library's
+ * functions (r = -2), as are volumes without bounds. */
+static void prepare_volume(const tclod_bounds *b, model_volume *v) {
+    int i, zero = 0;
+    memset(v, 0, sizeof(*v));
+    for (i = 0; i < 3; ++i)
+        v->c[i] = b->center[i];
+    v->r = -2.0;
+    if (b->kind == TCLOD_BOUNDS_SPHERE) {
+        v->r = b->radius;
+        return;
+    }
+    if (b->kind != TCLOD_BOUNDS_AABB && b->kind != TCLOD_BOUNDS_OBB)
+        return;
+    for (i = 0; i < 3; ++i) {
+        if (b->kind == TCLOD_BOUNDS_AABB) {
+            v->u[i][i] = 1.0;
+            v->h[i] = b->half_extents[i];
+        } else {
+            memcpy(v->u[i], b->half_axes[i], sizeof(v->u[i]));
+            v->h[i] = unit(v->u[i]);
+        }
+        zero += v->h[i] == 0.0;
+    }
+    if (zero > 1)
+        return;
+    for (i = 0; i < 3 && zero; ++i)
+        if (v->h[i] == 0.0) { /* a flat box: its normal completes the frame */
+            cross_product(v->u[(i + 1) % 3], v->u[(i + 2) % 3], v->u[i]);
+            unit(v->u[i]);
+        }
+    v->r = -1.0;
+}
+
 int model_init(tiles_model *m, const tileset *ts) {
     size_t n = ts->count ? ts->count : 1;
+    uint32_t t;
     memset(m, 0, sizeof(*m));
     m->ts = ts;
+    m->vol = (model_volume *)malloc(n * sizeof(model_volume));
+    m->link = (model_link *)malloc(n * sizeof(model_link));
     m->area_stamp = (uint32_t *)calloc(n, sizeof(uint32_t));
     m->share_stamp = (uint32_t *)calloc(n, sizeof(uint32_t));
     m->sum_stamp = (uint32_t *)calloc(n, sizeof(uint32_t));
@@ -27,14 +86,25 @@ int model_init(tiles_model *m, const tileset *ts) {
     m->distance = (double *)malloc(n * sizeof(double));
     m->path = (uint32_t *)malloc(((size_t)ts->counts.max_depth + 1) * sizeof(uint32_t));
     if (!m->area_stamp || !m->share_stamp || !m->sum_stamp || !m->distance_stamp || !m->area ||
-        !m->share || !m->child_sum || !m->distance || !m->path) {
+        !m->share || !m->child_sum || !m->distance || !m->path || !m->vol || !m->link) {
         model_free(m);
         return 1;
+    }
+    for (t = 0; t < ts->count; ++t) {
+        const tile *x = &ts->tiles[t];
+        prepare_volume(&x->bounds, &m->vol[t]);
+        m->link[t].geometric_error = x->geometric_error;
+        m->link[t].parent = x->parent;
+        m->link[t].add_anchor = x->add_anchor;
+        m->link[t].first_child = x->first_child;
+        m->link[t].child_count = x->child_count;
     }
     return 0;
 }
 
 void model_free(tiles_model *m) {
+    free(m->vol);
+    free(m->link);
     free(m->area_stamp);
     free(m->share_stamp);
     free(m->sum_stamp);
@@ -47,8 +117,41 @@ void model_free(tiles_model *m) {
     memset(m, 0, sizeof(*m));
 }
 
+/* The view as the library orthonormalises it (view.c), so that the frustum
+ * tests below give its answers. */
+static void prepare_eye(const tclod_view *v, model_eye *e) {
+    double half_y = 0.5 * (double)v->fov_y;
+    double half_x = atan((double)v->aspect * tan(half_y));
+    int i;
+    for (i = 0; i < 3; ++i) {
+        e->eye[i] = v->eye[i];
+        e->forward[i] = (double)v->forward[i];
+        e->up[i] = (double)v->up[i];
+    }
+    unit(e->forward);
+    cross_product(e->forward, e->up, e->right);
+    unit(e->right);
+    cross_product(e->right, e->forward, e->up);
+    e->cos_y = cos(half_y);
+    e->sin_y = sin(half_y);
+    e->cos_x = cos(half_x);
+    e->sin_x = sin(half_x);
+    e->near_z = (double)v->near_z;
+    e->far_z = (double)v->far_z;
+    e->focal = 0.5 * (double)v->viewport_height / tan(half_y);
+    e->pi_focal2 = 3.14159265358979323846 * e->focal * e->focal;
+    e->viewport_area = (double)v->viewport_height * (double)v->viewport_height * (double)v->aspect;
+    for (i = 0; i < 3; ++i) {
+        e->plane[0][i] = e->up[i] * e->cos_y - e->forward[i] * e->sin_y;
+        e->plane[1][i] = -e->up[i] * e->cos_y - e->forward[i] * e->sin_y;
+        e->plane[2][i] = e->right[i] * e->cos_x - e->forward[i] * e->sin_x;
+        e->plane[3][i] = -e->right[i] * e->cos_x - e->forward[i] * e->sin_x;
+    }
+}
+
 void model_set_view(tiles_model *m, const tclod_view *v) {
     m->view = *v;
+    prepare_eye(v, &m->eye);
     m->sse_factor = (double)v->viewport_height / (2.0 * tan(0.5 * (double)v->fov_y));
     /* stamp 0 is what calloc left: never a view's */
     if (++m->stamp == 0) {
@@ -61,9 +164,129 @@ void model_set_view(tiles_model *m, const tclod_view *v) {
     }
 }
 
+/* The eye's coordinates in a box's frame, p its centre relative to the eye. */
+static void box_frame(const model_volume *v, const double p[3], double t[3]) {
+    int i;
+    for (i = 0; i < 3; ++i)
+        t[i] = -dot(p, v->u[i]);
+}
+
+static double volume_distance(const model_eye *e, const model_volume *v) {
+    double p[3], t[3], d2 = 0.0;
+    int i;
+    for (i = 0; i < 3; ++i)
+        p[i] = v->c[i] - e->eye[i];
+    if (v->r >= 0.0) {
+        double d = sqrt(dot(p, p)) - v->r;
+        return d > 0.0 ? d : 0.0;
+    }
+    box_frame(v, p, t);
+    for (i = 0; i < 3; ++i) {
+        double x = fabs(t[i]) - v->h[i];
+        if (x > 0.0)
+            d2 += x * x;
+    }
+    return sqrt(d2);
+}
+
+/* The projected area of a box, 0 outside the frustum; -1 when it reaches
+ * through the near plane, where faces are clipped. The frustum test is the
+ * library's (view.c): the box is outside a plane when its centre's signed
+ * distance exceeds its reach along the normal, sum h_i |u_i . n|, here with
+ * the centre and the half axes in view coordinates, where the side planes'
+ * normals have two components. The area is that of the faces turned towards
+ * the eye (they do not overlap), each the shoelace area of its four projected
+ * corners. */
+static double box_area_here(const model_eye *e, const model_volume *v, const double p[3]) {
+    double c[3], a[3][3], t[3], r[5] = {0.0, 0.0, 0.0, 0.0, 0.0}, b0[2][3], b1[4][3], px[8], py[8],
+                                area = 0.0;
+    int i, k;
+    c[0] = dot(p, e->right);
+    c[1] = dot(p, e->up);
+    c[2] = dot(p, e->forward);
+    for (i = 0; i < 3; ++i) {
+        a[i][0] = v->h[i] * dot(v->u[i], e->right);
+        a[i][1] = v->h[i] * dot(v->u[i], e->up);
+        a[i][2] = v->h[i] * dot(v->u[i], e->forward);
+        r[0] += fabs(a[i][2]);
+        r[1] += fabs(a[i][1] * e->cos_y - a[i][2] * e->sin_y);
+        r[2] += fabs(a[i][1] * e->cos_y + a[i][2] * e->sin_y);
+        r[3] += fabs(a[i][0] * e->cos_x - a[i][2] * e->sin_x);
+        r[4] += fabs(a[i][0] * e->cos_x + a[i][2] * e->sin_x);
+    }
+    if (e->near_z - c[2] > r[0] || c[2] - e->far_z > r[0] ||
+        c[1] * e->cos_y - c[2] * e->sin_y > r[1] || -c[1] * e->cos_y - c[2] * e->sin_y > r[2] ||
+        c[0] * e->cos_x - c[2] * e->sin_x > r[3] || -c[0] * e->cos_x - c[2] * e->sin_x > r[4])
+        return 0.0;
+    for (i = 0; i < 3; ++i)
+        t[i] = -dot(p, v->u[i]);
+    if (fabs(t[0]) <= v->h[0] && fabs(t[1]) <= v->h[1] && fabs(t[2]) <= v->h[2])
+        return e->viewport_area; /* the eye inside */
+    if (!(c[2] - r[0] - 1e-9 * (fabs(c[2]) + v->h[0] + v->h[1] + v->h[2]) > e->near_z))
+        return -1.0;
+    /* corner k: +a[i] where bit i of k is set, -a[i] where not */
+    for (i = 0; i < 3; ++i) {
+        b0[0][i] = c[i] - a[0][i];
+        b0[1][i] = c[i] + a[0][i];
+    }
+    for (k = 0; k < 4; ++k)
+        for (i = 0; i < 3; ++i)
+            b1[k][i] = b0[k & 1][i] + ((k & 2) ? a[1][i] : -a[1][i]);
+    for (k = 0; k < 8; ++k) {
+        const double *q = b1[k & 3];
+        double s = (k & 4) ? 1.0 : -1.0, w = e->focal / (q[2] + s * a[2][2]);
+        px[k] = (q[0] + s * a[2][0]) * w;
+        py[k] = (q[1] + s * a[2][1]) * w;
+    }
+    for (i = 0; i < 3; ++i) {
+        int bj = 1 << ((i + 1) % 3), bl = 1 << ((i + 2) % 3), side;
+        for (side = 0; side < 2; ++side) {
+            int base = side ? 1 << i : 0, q0, q1, q2, q3;
+            if (!((side ? t[i] : -t[i]) > v->h[i]))
+                continue; /* turned away */
+            /* around the face: (+j, +l), (-j, +l), (-j, -l), (+j, -l); the
+             * quadrilateral's area is half the cross product of its diagonals */
+            q0 = base | bj | bl;
+            q1 = base | bl;
+            q2 = base;
+            q3 = base | bj;
+            area += 0.5 * fabs((px[q2] - px[q0]) * (py[q3] - py[q1]) -
+                               (py[q2] - py[q0]) * (px[q3] - px[q1]));
+        }
+    }
+    return area < e->viewport_area ? area : e->viewport_area;
+}
+
+/* The projected area of a volume, 0 outside the frustum; -1: ask the
+ * library. */
+static double volume_area(const model_eye *e, const model_volume *v) {
+    double p[3], d2, r2, area, z;
+    int i;
+    for (i = 0; i < 3; ++i)
+        p[i] = v->c[i] - e->eye[i];
+    if (v->r < -1.5)
+        return -1.0;
+    if (v->r < 0.0)
+        return box_area_here(e, v, p);
+    /* a sphere: the library's frustum test, then pi f² r² / (d² - r²) */
+    z = dot(p, e->forward);
+    if (z < e->near_z - v->r || z > e->far_z + v->r ||
+        fabs(dot(p, e->up)) * e->cos_y - z * e->sin_y > v->r ||
+        fabs(dot(p, e->right)) * e->cos_x - z * e->sin_x > v->r)
+        return 0.0;
+    d2 = dot(p, p);
+    r2 = v->r * v->r;
+    if (d2 <= r2)
+        return e->viewport_area;
+    area = e->pi_focal2 * r2 / (d2 - r2);
+    return area < e->viewport_area ? area : e->viewport_area;
+}
+
 double model_distance(tiles_model *m, uint32_t t) {
     if (m->distance_stamp[t] != m->stamp) {
-        m->distance[t] = tclod_view_bounds_distance(&m->view, &m->ts->tiles[t].bounds);
+        m->distance[t] = m->vol[t].r < -1.5
+                             ? tclod_view_bounds_distance(&m->view, &m->ts->tiles[t].bounds)
+                             : volume_distance(&m->eye, &m->vol[t]);
         m->distance_stamp[t] = m->stamp;
     }
     return m->distance[t];
@@ -71,9 +294,12 @@ double model_distance(tiles_model *m, uint32_t t) {
 
 double model_area(tiles_model *m, uint32_t t) {
     if (m->area_stamp[t] != m->stamp) {
-        const tclod_bounds *b = &m->ts->tiles[t].bounds;
-        m->area[t] =
-            tclod_view_bounds_visible(&m->view, b) ? tclod_view_bounds_area(&m->view, b) : 0.0;
+        double a = volume_area(&m->eye, &m->vol[t]);
+        if (a < 0.0) {
+            const tclod_bounds *b = &m->ts->tiles[t].bounds;
+            a = tclod_view_bounds_visible(&m->view, b) ? tclod_view_bounds_area(&m->view, b) : 0.0;
+        }
+        m->area[t] = a;
         m->area_stamp[t] = m->stamp;
     }
     return m->area[t];
@@ -82,7 +308,7 @@ double model_area(tiles_model *m, uint32_t t) {
 /* The children's projected areas summed: what a parent's share is split by. */
 static double children_area(tiles_model *m, uint32_t p) {
     if (m->sum_stamp[p] != m->stamp) {
-        const tile *x = &m->ts->tiles[p];
+        const model_link *x = &m->link[p];
         double sum = 0.0;
         uint32_t i;
         for (i = 0; i < x->child_count; ++i)
@@ -100,13 +326,13 @@ static double share_of(tiles_model *m, uint32_t t) {
     uint32_t n = 0, x = t;
     while (x != TILE_NONE && m->share_stamp[x] != m->stamp) {
         m->path[n++] = x;
-        x = m->ts->tiles[x].parent;
+        x = m->link[x].parent;
     }
     while (n > 0) {
         uint32_t p;
         double s;
         x = m->path[--n];
-        p = m->ts->tiles[x].parent;
+        p = m->link[x].parent;
         if (p == TILE_NONE) {
             s = model_area(m, x);
         } else {
@@ -121,7 +347,7 @@ static double share_of(tiles_model *m, uint32_t t) {
 
 double model_sse(const tiles_model *m, uint32_t t, double distance) {
     double d = distance > MODEL_MIN_DISTANCE ? distance : MODEL_MIN_DISTANCE;
-    return m->ts->tiles[t].geometric_error * m->sse_factor / d;
+    return m->link[t].geometric_error * m->sse_factor / d;
 }
 
 static double quality(double sse) {
@@ -129,7 +355,7 @@ static double quality(double sse) {
 }
 
 double model_benefit(tiles_model *m, uint32_t t, double distance) {
-    uint32_t anchor = m->ts->tiles[t].add_anchor;
+    uint32_t anchor = m->link[t].add_anchor;
     double a = share_of(m, t), q = quality(model_sse(m, t, distance)), b;
     if (a < MIN_SHARE)
         a = MIN_SHARE;

@@ -39,9 +39,36 @@
  * instead (CesiumMath.EPSILON7). */
 #define MODEL_MIN_DISTANCE 1e-7
 
+/* A tile's bounding volume as this program measures it, prepared once: a
+ * sphere, or a box with its unit axes (a flat box's missing axis completed by
+ * a cross product) and half lengths. */
+typedef struct model_volume {
+    double c[3]; /* centre, world */
+    double r;    /* sphere: radius; box: -1; no bounds: -2 */
+    double u[3][3], h[3];
+} model_volume;
+
+/* The frame's view, orthonormalised as the library does (tclod_view_bounds_*):
+ * the side planes' outward normals pass through the eye. */
+typedef struct model_eye {
+    double eye[3], right[3], up[3], forward[3];
+    double cos_y, sin_y, cos_x, sin_x, near_z, far_z;
+    double focal, pi_focal2, viewport_area;
+    double plane[4][3]; /* top, bottom, right, left */
+} model_eye;
+
+/* What the benefit reads of a tile, packed: the tiles themselves are large. */
+typedef struct model_link {
+    double geometric_error;
+    uint32_t parent, add_anchor, first_child, child_count;
+} model_link;
+
 typedef struct tiles_model {
     const tileset *ts;
     tclod_view view;   /* the frame's */
+    model_eye eye;     /* the same, prepared */
+    model_volume *vol; /* per tile */
+    model_link *link;  /* per tile */
     double sse_factor; /* viewport_height / (2 tan(fov_y / 2)) */
     uint32_t stamp;    /* this view's number: memo entries of another are stale */
     /* per tile, measured once per view when first needed */
@@ -61,7 +88,11 @@ void model_free(tiles_model *m);
 void model_set_view(tiles_model *m, const tclod_view *v);
 
 /* tile t's distance to the eye (tclod_view_bounds_distance) and projected area
- * (tclod_view_bounds_area, 0 outside the frustum). */
+ * (tclod_view_bounds_area, 0 outside the frustum as tclod_view_bounds_visible
+ * says), computed here from the volumes prepared by model_init and the view
+ * prepared by model_set_view: the library's definitions, without its checks
+ * and its preparation of bounds and view on every call. A box reaching
+ * through the near plane takes the library's functions. */
 double model_distance(tiles_model *m, uint32_t t);
 double model_area(tiles_model *m, uint32_t t);
 

@@ -465,6 +465,74 @@ static void reference_distance_matches_the_library(void **state) {
     assert_close(model_reference_distance(&b[4], v.eye), 0.0, 0.0);
 }
 
+/* The model measures volumes itself, with the library's definitions: its
+ * areas (0 outside the frustum) and distances against tclod_view_bounds_area,
+ * _visible and _distance for every kind of volume, from views along and
+ * across the axes: a sphere, boxes turned, flat, axis-aligned, far and near,
+ * one with the eye inside, one reaching through the near plane (which the
+ * model hands to the library), one outside the frustum. */
+static void model_measures_match_the_library(void **state) {
+    static const double c[3] = {3.0, -4.0, -50.0}, near_c[3] = {0.0, 0.0, -1.0};
+    static const double off[3] = {400.0, 0.0, -50.0}, ext[3] = {1.0, 2.0, 3.0};
+    const double s = sqrt(0.5);
+    const double turned[9] = {2.0 * s, 2.0 * s, 0.0, -s, s, 0.0, 0.0, 0.0, 5.0};
+    const double tilted[9] = {3.0, 0.0, 0.0, 0.0, 2.0 * s, 2.0 * s, 0.0, -s, s};
+    const double flat[9] = {10.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 10.0};
+    const double big[9] = {4.0, 0.0, 0.0, 0.0, 4.0, 0.0, 0.0, 0.0, 4.0};
+    tile tiles[9];
+    tileset ts;
+    tiles_model m;
+    tclod_view views[3];
+    int i, k;
+    (void)state;
+    memset(tiles, 0, sizeof(tiles));
+    memset(&ts, 0, sizeof(ts));
+    tiles[0].bounds = tclod_bounds_sphere(c[0], c[1], c[2], 7.0);
+    tiles[1].bounds = tclod_bounds_obb(c, turned);
+    tiles[2].bounds = tclod_bounds_obb(c, tilted);
+    tiles[3].bounds = tclod_bounds_obb(c, flat);
+    tiles[4].bounds = tclod_bounds_aabb(c, ext);
+    tiles[5].bounds = tclod_bounds_obb(near_c, big);  /* the eye inside */
+    tiles[6].bounds = tclod_bounds_aabb(near_c, ext); /* through the near plane */
+    tiles[7].bounds = tclod_bounds_aabb(off, ext);    /* outside the frustum */
+    tiles[8].bounds = tclod_bounds_obb(off, tilted);
+    for (i = 0; i < 9; ++i)
+        tiles[i].parent = TILE_NONE;
+    ts.tiles = tiles;
+    ts.count = 9;
+    views[0] = view_down_z();
+    views[1] = view_down_z(); /* from the side, looking across the boxes */
+    views[1].eye[0] = -60.0;
+    views[1].eye[2] = -45.0;
+    views[1].forward[0] = 1.0f;
+    views[1].forward[2] = 0.1f;
+    views[2] = view_down_z(); /* turned about the view axis, from above */
+    views[2].eye[1] = 20.0;
+    views[2].up[0] = 0.6f;
+    views[2].up[1] = 0.8f;
+    assert_int_equal(model_init(&m, &ts), 0);
+    for (k = 0; k < 3; ++k) {
+        assert_int_equal(tclod_view_validate(&views[k]), TCLOD_OK);
+        model_set_view(&m, &views[k]);
+        for (i = 0; i < 9; ++i) {
+            const tclod_bounds *b = &tiles[i].bounds;
+            double want = tclod_view_bounds_visible(&views[k], b)
+                              ? tclod_view_bounds_area(&views[k], b)
+                              : 0.0;
+            double d = tclod_view_bounds_distance(&views[k], b);
+            assert_close(model_area(&m, (uint32_t)i), want, 1e-9 * (1.0 + want));
+            assert_close(model_distance(&m, (uint32_t)i), d, 1e-9 * (1.0 + d));
+        }
+    }
+    /* the cases the views were chosen for */
+    model_set_view(&m, &views[0]);
+    assert_true(model_area(&m, 1) > 0.0);
+    assert_close(model_area(&m, 5), 600.0 * 600.0 * 1.5, 1e-6);
+    assert_true(model_area(&m, 6) > 0.0);
+    assert_true(model_area(&m, 7) == 0.0);
+    model_free(&m);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(region_box_encloses_the_region),
@@ -474,6 +542,7 @@ int main(void) {
         cmocka_unit_test(refuses_external_tilesets_nested_too_deep),
         cmocka_unit_test(benefits_telescope_to_the_parents_share),
         cmocka_unit_test(reference_distance_matches_the_library),
+        cmocka_unit_test(model_measures_match_the_library),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
