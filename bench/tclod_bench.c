@@ -1701,6 +1701,194 @@ static int bench_thesis(int quick, unsigned long frames, double theta) {
     return rc;
 }
 
+/* ---- drift: benefits that change under a still camera ---------------------------- */
+
+/* The drift scene: DRIFT_OBJECTS chains (default) of DRIFT_LEVELS levels without
+ * bounds, selected with no view, whose every node's benefit takes a random step of
+ * up to +-5 % per frame (a walk kept within [1/4, 4] of where it began). Level k of
+ * chain i is worth v_i (1 - 2^-(k+1)) at first (diminishing returns) and costs
+ * c_i 2^k; the budget buys every chain's level 1. Cold and warm (and warm_batch)
+ * selectors solve the same frames. */
+#define DRIFT_OBJECTS 1000u
+#define DRIFT_LEVELS 4u
+#define DRIFT_SEED 0x6472696674ull
+#define DRIFT_STEP 0.05
+
+typedef struct drift_scene {
+    tclod_scene *scene;
+    uint32_t nodes;
+    double *base, *factor, *cost;
+    uint64_t rng;
+} drift_scene;
+
+static double drift_benefit(void *user, const tclod_query *q) {
+    const drift_scene *d = (const drift_scene *)user;
+    return d->base[q->id] * d->factor[q->id];
+}
+
+static double drift_cost(void *user, const tclod_query *q) {
+    return ((const drift_scene *)user)->cost[q->id];
+}
+
+static void drift_benefit_batch(void *user, const tclod_batch *b, double *out) {
+    const drift_scene *d = (const drift_scene *)user;
+    uint32_t i;
+    for (i = 0; i < b->count; ++i)
+        out[i] = d->base[b->ids[i]] * d->factor[b->ids[i]];
+}
+
+static void drift_cost_batch(void *user, const tclod_batch *b, double *out) {
+    const drift_scene *d = (const drift_scene *)user;
+    uint32_t i;
+    for (i = 0; i < b->count; ++i)
+        out[i] = d->cost[b->ids[i]];
+}
+
+static void drift_free(drift_scene *d) {
+    tclod_scene_destroy(d->scene);
+    free(d->base);
+    free(d->factor);
+    free(d->cost);
+    memset(d, 0, sizeof(*d));
+}
+
+/* Builds the chains; returns their budget, or -1 (out of memory). */
+static double drift_build(drift_scene *d, uint32_t objects) {
+    uint32_t i, k, n = objects * DRIFT_LEVELS;
+    double budget = 0.0;
+    memset(d, 0, sizeof(*d));
+    d->rng = DRIFT_SEED;
+    d->base = (double *)malloc(n * sizeof(double));
+    d->factor = (double *)malloc(n * sizeof(double));
+    d->cost = (double *)malloc(n * sizeof(double));
+    if (!d->base || !d->factor || !d->cost || tclod_scene_create(NULL, &d->scene) != TCLOD_OK) {
+        drift_free(d);
+        return -1.0;
+    }
+    for (i = 0; i < objects; ++i) {
+        double v = 1.0 + 9.0 * (double)(churn_next(&d->rng) >> 11) / 9007199254740992.0;
+        double c = 0.01 + 0.09 * (double)(churn_next(&d->rng) >> 11) / 9007199254740992.0;
+        tclod_id parent = TCLOD_NONE, id;
+        for (k = 0; k < DRIFT_LEVELS; ++k) {
+            if (tclod_scene_add_node(d->scene, parent, NULL, &id) != TCLOD_OK) {
+                drift_free(d);
+                return -1.0;
+            }
+            d->base[id] = v * (1.0 - ldexp(1.0, -(int)k - 1));
+            d->factor[id] = 1.0;
+            d->cost[id] = c * ldexp(1.0, (int)k);
+            if (k == 1)
+                budget += d->cost[id];
+            parent = id;
+        }
+    }
+    d->nodes = n;
+    return budget;
+}
+
+/* One frame's drift: every node's factor takes a step in [-5 %, +5 %]. */
+static void drift_step(drift_scene *d) {
+    uint32_t i;
+    for (i = 0; i < d->nodes; ++i) {
+        double u = (double)(churn_next(&d->rng) >> 11) / 9007199254740992.0;
+        double f = d->factor[i] * (1.0 + DRIFT_STEP * (2.0 * u - 1.0));
+        d->factor[i] = f < 0.25 ? 0.25 : (f > 4.0 ? 4.0 : f);
+    }
+}
+
+enum { DRIFT_COLD, DRIFT_WARM, DRIFT_BATCH, DRIFT_MODES };
+static const char *const drift_modes[DRIFT_MODES] = {"cold", "warm", "warm_batch"};
+
+static int bench_drift(uint32_t objects, unsigned long frames) {
+    drift_scene d;
+    tclod_selector *sel[DRIFT_MODES] = {NULL, NULL, NULL};
+    bench_row rows[DRIFT_MODES];
+    double *times[DRIFT_MODES], sum_us[DRIFT_MODES], budget, ratio_sum = 0.0, ratio_min = 1e300;
+    unsigned long f, total = frames + WARMUP_FRAMES, fallbacks = 0;
+    int k, rc = 0;
+    budget = drift_build(&d, objects);
+    memset(rows, 0, sizeof rows);
+    memset(sum_us, 0, sizeof sum_us);
+    for (k = 0; k < DRIFT_MODES; ++k)
+        times[k] = (double *)malloc(frames * sizeof(double));
+    for (k = 0; k < DRIFT_MODES && budget >= 0.0; ++k) {
+        tclod_selector_desc sd;
+        tclod_selector_desc_default(&sd);
+        sd.callbacks.benefit = drift_benefit;
+        sd.callbacks.cost = drift_cost;
+        if (k == DRIFT_BATCH) {
+            sd.callbacks.benefit_batch = drift_benefit_batch;
+            sd.callbacks.cost_batch = drift_cost_batch;
+        }
+        sd.callbacks.user = &d;
+        sd.cold_start = k == DRIFT_COLD;
+        if (!times[k] || tclod_selector_create(d.scene, &sd, NULL, &sel[k]) != TCLOD_OK)
+            budget = -1.0;
+    }
+    if (budget < 0.0) {
+        fprintf(stderr, "tclod_bench: out of memory\n");
+        rc = 1;
+    }
+    for (f = 0; f < total && rc == 0; ++f) {
+        double benefit[DRIFT_MODES];
+        drift_step(&d);
+        for (k = 0; k < DRIFT_MODES && rc == 0; ++k) {
+            solve_call call;
+            double t0, t1;
+            memset(&call, 0, sizeof(call));
+            call.method = METHOD_GREEDY;
+            call.sel = sel[k];
+            call.frame.budget = budget;
+            t0 = bench_now_us();
+            if (f < WARMUP_FRAMES)
+                solve_once(&call);
+            else
+                bench_solve(&call);
+            t1 = bench_now_us();
+            if (call.status != TCLOD_OK || call.stats.cost > budget) {
+                fprintf(stderr, "tclod_bench: drift: %s select failed or over budget\n",
+                        drift_modes[k]);
+                rc = 1;
+                break;
+            }
+            benefit[k] = call.stats.benefit;
+            if (f < WARMUP_FRAMES)
+                continue;
+            times[k][f - WARMUP_FRAMES] = t1 - t0;
+            sum_us[k] += t1 - t0;
+            add_stats(&rows[k], &call.stats, 0);
+            if (k == DRIFT_WARM)
+                fallbacks += (call.stats.notes & TCLOD_NOTE_COLD_FALLBACK) != 0;
+        }
+        if (rc == 0 && f >= WARMUP_FRAMES) {
+            double r = benefit[DRIFT_WARM] / benefit[DRIFT_COLD];
+            ratio_sum += r;
+            if (r < ratio_min)
+                ratio_min = r;
+        }
+    }
+    for (k = 0; k < DRIFT_MODES && rc == 0; ++k) {
+        finish_row(&rows[k], times[k], frames, sum_us[k]);
+        if (row_wanted("greedy", drift_modes[k]))
+            print_row("drift", "greedy", drift_modes[k], (unsigned long)objects,
+                      (unsigned long)d.nodes, budget, (unsigned long)objects, &rows[k]);
+    }
+    if (rc == 0)
+        fprintf(stderr,
+                "summary: scene=drift objects=%u cold_us_median=%.2f warm_us_median=%.2f "
+                "time_ratio=%.3f benefit_ratio=%.5f benefit_ratio_min=%.5f "
+                "warm_batch_us_median=%.2f cold_fallbacks=%lu\n",
+                (unsigned)objects, rows[DRIFT_COLD].median_us, rows[DRIFT_WARM].median_us,
+                rows[DRIFT_WARM].median_us / rows[DRIFT_COLD].median_us, ratio_sum / (double)frames,
+                ratio_min, rows[DRIFT_BATCH].median_us, fallbacks);
+    for (k = 0; k < DRIFT_MODES; ++k) {
+        tclod_selector_destroy(sel[k]);
+        free(times[k]);
+    }
+    drift_free(&d);
+    return rc;
+}
+
 /* ---- absorb: costs a running sum absorbs ------------------------------------------- */
 
 /* The absorb scene's objects (--objects N overrides), frames per row (--quick: fewer) and
@@ -1966,7 +2154,8 @@ static void usage(FILE *out) {
             "  --quick       10^3, 10^4 and 10^5 objects only (10^5 with a quarter of the\n"
             "                frames), fewer thesis frames (under a minute), churn: at most\n"
             "                50 frames, stream: at most 50 frames\n"
-            "  --scene NAME  one scene only: random, flyover, churn, absorb, stream or thesis\n"
+            "  --scene NAME  one scene only: random, flyover, churn, absorb, stream, drift or\n"
+            "                thesis\n"
             "  --theta X     thesis rows: split_threshold X (default: the library's)\n"
             "  --objects N   one random world of N objects (and the other scenes) instead;\n"
             "                churn and stream: their world's objects (default 10^4); absorb:\n"
@@ -2042,7 +2231,8 @@ int main(int argc, char **argv) {
             only_scene = argv[++i];
             if (strcmp(only_scene, "random") != 0 && strcmp(only_scene, "flyover") != 0 &&
                 strcmp(only_scene, "churn") != 0 && strcmp(only_scene, "thesis") != 0 &&
-                strcmp(only_scene, "absorb") != 0 && strcmp(only_scene, "stream") != 0) {
+                strcmp(only_scene, "absorb") != 0 && strcmp(only_scene, "stream") != 0 &&
+                strcmp(only_scene, "drift") != 0) {
                 fprintf(stderr,
                         "tclod_bench: unknown scene '%s' (scenes: random, flyover, churn, "
                         "absorb, stream, thesis)\n",
@@ -2207,6 +2397,12 @@ int main(int argc, char **argv) {
         if (bench_stream(objects, n_frames) != 0)
             return 1;
     }
+
+    if ((!only_scene || strcmp(only_scene, "drift") == 0) &&
+        (!only_solver || strcmp(only_solver, "greedy") == 0) &&
+        bench_drift(only_objects ? only_objects : DRIFT_OBJECTS,
+                    quick && frames > CHURN_QUICK_FRAMES ? CHURN_QUICK_FRAMES : frames) != 0)
+        return 1;
 
     if ((!only_scene || strcmp(only_scene, "absorb") == 0) &&
         bench_absorb(only_objects ? only_objects : ABSORB_OBJECTS,

@@ -1381,6 +1381,11 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
 static int greedy_start(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     R->greedy.warm = !sel->desc.cold_start && sel->has_cut;
+    R->greedy.fell_back = R->greedy.warm && sel->greedy.fallback.left > 0;
+    if (R->greedy.fell_back) {
+        R->greedy.warm = 0;
+        sel->stats.notes |= TCLOD_NOTE_COLD_FALLBACK;
+    }
     R->skipped = 0;
     if (R->greedy.warm && sel->node_version != sel->scene->node_version) {
         /* the edits since the cut was made, from the log while it holds them */
@@ -1407,6 +1412,37 @@ static int greedy_start(tclod_selector *sel) {
     R->greedy.picks = R->greedy.best_picks = R->greedy.left_out = R->greedy.tries = 0;
     R->greedy.searching = 0;
     return 0;
+}
+
+/* After a solve: whether the next one starts warm (docs/greedy.md, falling
+ * back). Warm solves keep a running mean of their work (weight 1/8 for the
+ * newest); once it exceeds the last cold solve's by TCLOD_FALLBACK_MARGIN,
+ * the next span of solves (1, doubling up to TCLOD_FALLBACK_SPAN_MAX while
+ * warm starts keep losing) starts from the roots and the mean starts again
+ * after them. A mean within the margin resets the span. Not with
+ * tclod_greedy_desc.fallback TCLOD_OFF. */
+static void weigh_start(tclod_selector *sel) {
+    tclod_fallback *fb = &sel->greedy.fallback;
+    const tclod_resume *R = &sel->resume;
+    double work = (double)sel->stats.evaluations + (double)sel->stats.iterations;
+    if (!R->greedy.warm) {
+        fb->cold_work = work;
+        if (R->greedy.fell_back && fb->left > 0)
+            fb->left--;
+        return;
+    }
+    fb->warm_work = fb->warm_work > 0.0 ? fb->warm_work + (work - fb->warm_work) / 8.0 : work;
+    if (fb->cold_work > 0.0 && fb->warm_work > TCLOD_FALLBACK_MARGIN * fb->cold_work &&
+        sel->desc.greedy.fallback != TCLOD_OFF) {
+        fb->span = fb->span == 0
+                       ? 1u
+                       : (fb->span < TCLOD_FALLBACK_SPAN_MAX / 2u ? 2u * fb->span
+                                                                  : TCLOD_FALLBACK_SPAN_MAX);
+        fb->left = fb->span;
+        fb->warm_work = 0.0;
+    } else {
+        fb->span = 0;
+    }
 }
 
 tclod_status tclod_greedy_solve(tclod_selector *sel) {
@@ -1449,6 +1485,8 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
         default:
             rc = enforce_budget(sel, R->greedy.warm);
             clear_heaps(sel);
+            if (rc == 0)
+                weigh_start(sel);
             return rc == 0 ? TCLOD_OK : TCLOD_ERR_CALLBACK;
         }
     }

@@ -17,6 +17,20 @@ typedef struct tclod_delta {
     double delta_b, delta_c;
 } tclod_delta;
 
+/* Whether warm starts pay (docs/greedy.md, falling back): the work of the
+ * last cold solve and the running mean of warm ones' (evaluations plus
+ * iterations: counts, so that the choice is deterministic), the cold solves
+ * left before a warm start is tried again, and how many that was. */
+typedef struct tclod_fallback {
+    double cold_work, warm_work;
+    uint32_t left, span;
+} tclod_fallback;
+
+/* The most cold solves in a row before a warm start is tried again, and by
+ * how much warm solves' mean work must exceed a cold one's to send them. */
+#define TCLOD_FALLBACK_SPAN_MAX 64u
+#define TCLOD_FALLBACK_MARGIN 1.25
+
 /* What the greedy keeps between solves (tclod_selector.greedy). The arrays
  * are per-node buffers of the selector (tclod_greedy_buffers). */
 typedef struct tclod_greedy_state {
@@ -30,6 +44,7 @@ typedef struct tclod_greedy_state {
     tclod_heap_entry *inc_block, *cheap_block, *dec_block; /* the heaps' entries start
                                   inside these, where a slot's four children share
                                   one cache line (cap >= nodes + 3) */
+    tclod_fallback fallback;
     double closure_hint; /* the key of the last plain cold pass's first misfit:
                             DBL_MIN when it had none, 0 before the first */
 } tclod_greedy_state;
@@ -43,7 +58,8 @@ void tclod_greedy_bind(tclod_greedy_state *g);
 
 /* Where a greedy solve stands (tclod_resume.greedy). */
 typedef struct tclod_greedy_resume {
-    int warm; /* the solve started from the previous cut */
+    int warm;      /* the solve started from the previous cut */
+    int fell_back; /* a warm start was due, and it started from the roots */
     /* cold start: the skipped increment whose T(n) (the increment with the
      * increments above it) fits and gives the most benefit */
     tclod_id alt_node;

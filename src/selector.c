@@ -100,6 +100,8 @@ const char *tclod_selector_desc_check(const tclod_scene *s, const tclod_selector
         (d->greedy.restarts < 0 || d->greedy.restarts > TCLOD_MAX_RESTARTS))
         return "desc.greedy.restarts must be 0 (default), TCLOD_OFF or 1 .. "
                "TCLOD_MAX_RESTARTS (256)";
+    if (d->greedy.fallback != 0 && d->greedy.fallback != 1 && d->greedy.fallback != TCLOD_OFF)
+        return "desc.greedy.fallback must be 0 (default), 1 or TCLOD_OFF";
     if (!flag(d->mixed.split_smooth))
         return "desc.mixed.split_smooth must be 0 or 1";
     if (!defaulted(d->mixed.split_threshold, 0.0, HUGE_VAL))
@@ -302,6 +304,7 @@ void tclod_selector_keep(tclod_selector *sel, tclod_selector_saved *keep) {
         return;
     keep->valid = 0;
     keep->closure_hint = sel->greedy.closure_hint; /* a solve writes it before its commit */
+    keep->fallback = sel->greedy.fallback;
 }
 
 /* Copies the committed state into sel->keep, once, before a commit replaces
@@ -363,6 +366,7 @@ static void roll_back(tclod_selector *sel) {
 void tclod_selector_restore(tclod_selector *sel, const tclod_selector_saved *k) {
     assert(!sel->pending && !sel->busy);
     sel->greedy.closure_hint = k->closure_hint;
+    sel->greedy.fallback = k->fallback;
     if (!k->valid)
         return; /* nothing was committed since */
     if (k->cut_count)
@@ -543,7 +547,9 @@ static void note(tclod_selector *sel) {
     if (sel->result_count == 0 && sel->group_count == 0 &&
         (s->live_nodes > 0 || s->smooth_live > 0))
         notes |= TCLOD_NOTE_NOTHING_DRAWN;
-    sel->stats.notes = notes | (sel->stats.notes & TCLOD_NOTE_MEMORY_SHORT); /* the plan's */
+    /* the plan's, and the greedy's */
+    sel->stats.notes =
+        notes | (sel->stats.notes & (TCLOD_NOTE_MEMORY_SHORT | TCLOD_NOTE_COLD_FALLBACK));
 }
 
 /* Runs the begun solve until it finishes or the slice (slice_end on the

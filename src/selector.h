@@ -182,9 +182,10 @@ typedef struct tclod_selector_saved {
     uint32_t synced;   /* the selector's tclod_scene_user.synced ... */
     uint64_t log_seen; /* ... and log_seen */
     int has_cut;
-    double closure_hint; /* as it was when the keeping began */
-    int valid;           /* a commit has happened since: the fields above hold
-                            the state before it */
+    double closure_hint;     /* as it was when the keeping began */
+    tclod_fallback fallback; /* the same */
+    int valid;               /* a commit has happened since: the fields above hold
+                                the state before it */
 } tclod_selector_saved;
 
 /* Begins keeping (k not NULL) or stops (NULL): from now on the first commit

@@ -51,6 +51,9 @@ static tclod_selector *tuned_selector(const tclod_scene *s, table_model *m, int 
     d.cold_start = !(warm_start);
     d.greedy.lookahead = lookahead;
     d.greedy.restarts = restarts > 0 ? (int32_t)restarts : TCLOD_OFF;
+    /* warm selectors stay warm: what a fallback to cold solves does is
+     * tested on its own */
+    d.greedy.fallback = TCLOD_OFF;
     assert_int_equal(tclod_selector_create(s, &d, NULL, &sel), TCLOD_OK);
     return sel;
 }
@@ -1589,6 +1592,98 @@ static void more_restarts_never_give_less(void **state) {
 #define FIXTURE_TEST(name) \
     cmocka_unit_test_setup_teardown(name, helper_fixture_setup, helper_fixture_teardown)
 
+/* Falling back (docs/greedy.md): 200 chains of a root and three levels, each
+ * level costing 1 more than the one before it, whose favoured half swaps
+ * every frame: the budget refines 100 chains to their last level, and which
+ * 100 changes, so a warm start must undo 300 increments and take 300 others
+ * (about 2.5 times a cold solve's evaluations and iterations). Its mean work
+ * then exceeds 1.25 times the cold solves': the next solves start from the
+ * roots and say so, and select exactly what a cold selector selects. With
+ * fallback TCLOD_OFF every solve starts warm; on frames that do not change,
+ * warm starts pay and no solve falls back. */
+#define SWAP_CHAINS 200u
+static void swap_halves(table_model *m, const tclod_id *root, uint32_t frame) {
+    uint32_t i, k;
+    for (i = 0; i < SWAP_CHAINS; ++i) {
+        tclod_id n = root[i];
+        int favoured = (i < SWAP_CHAINS / 2u) == (frame % 2u == 0u);
+        for (k = 0; k < 4u; ++k, ++n)
+            m->benefit[n] = (double)(k + 1u) * (favoured ? 10.0 : 1.0) + 0.001 * (double)i;
+    }
+}
+
+static void warm_starts_that_work_more_than_cold_fall_back(void **state) {
+    tclod_scene *s = NULL;
+    table_model m;
+    tclod_id root[SWAP_CHAINS];
+    tclod_selector *sel[3];
+    uint32_t i, k, frame, fell = 0, still = 0;
+    /* budget: every root (cost 1) and 100 chains at level 3 (cost 4) */
+    double budget = SWAP_CHAINS + 100.0 * 3.0;
+    (void)state;
+    table_init(&m);
+    assert_int_equal(tclod_scene_create(NULL, &s), TCLOD_OK);
+    for (i = 0; i < SWAP_CHAINS; ++i) {
+        tclod_id parent = TCLOD_NONE, id;
+        for (k = 0; k < 4u; ++k) {
+            assert_int_equal(table_add_node(&m, s, parent, NULL, 1.0, (double)(k + 1u), &id),
+                             TCLOD_OK);
+            if (k == 0)
+                root[i] = id;
+            parent = id;
+        }
+        assert_int_equal(root[i] + 3u, id); /* a chain's ids are consecutive */
+    }
+    for (k = 0; k < 3; ++k) { /* cold, warm with fallback, warm without */
+        tclod_selector_desc d;
+        tclod_selector_desc_default(&d);
+        table_callbacks(&m, &d.callbacks);
+        d.cold_start = k == 0;
+        d.greedy.restarts = TCLOD_OFF;
+        d.greedy.fallback = k == 2 ? TCLOD_OFF : 0;
+        assert_int_equal(tclod_selector_create(s, &d, NULL, &sel[k]), TCLOD_OK);
+    }
+    for (frame = 0; frame < 40; ++frame) {
+        tclod_stats st[3];
+        tclod_id a[SWAP_CHAINS], b[SWAP_CHAINS];
+        swap_halves(&m, root, frame);
+        for (k = 0; k < 3; ++k)
+            select_frame(sel[k], budget, 0, &st[k]);
+        assert_int_equal(st[0].notes & TCLOD_NOTE_COLD_FALLBACK, 0);
+        assert_int_equal(st[2].notes & TCLOD_NOTE_COLD_FALLBACK, 0);
+        if (!(st[1].notes & TCLOD_NOTE_COLD_FALLBACK))
+            continue;
+        fell++;
+        assert_int_equal(helper_sorted_cut(sel[0], a, SWAP_CHAINS),
+                         helper_sorted_cut(sel[1], b, SWAP_CHAINS));
+        assert_memory_equal(a, b, sizeof a);
+        assert_true(st[1].benefit == st[0].benefit);
+        assert_int_equal(st[1].evaluations, st[0].evaluations);
+    }
+    /* after the first warm solve (1400 against 900), spans of 1, 2, 4, 8, 16
+     * ... cold solves with one warm probe between them: frames 2, 4-5, 7-10,
+     * 12-19 and 21-36 fall back, 38 on */
+    assert_true(fell >= 33);
+    /* still frames: once the span is over, warm solves do less work than
+     * cold ones and none falls back again */
+    for (;;) {
+        tclod_stats st;
+        select_frame(sel[1], budget, 0, &st);
+        if (!(st.notes & TCLOD_NOTE_COLD_FALLBACK))
+            break;
+        assert_true(++still <= 64u); /* TCLOD_FALLBACK_SPAN_MAX */
+    }
+    for (frame = 0; frame < 20; ++frame) {
+        tclod_stats st;
+        select_frame(sel[1], budget, 0, &st);
+        assert_int_equal(st.notes & TCLOD_NOTE_COLD_FALLBACK, 0);
+    }
+    for (k = 0; k < 3; ++k)
+        tclod_selector_destroy(sel[k]);
+    tclod_scene_destroy(s);
+    table_free(&m);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         FIXTURE_TEST(increments_follow_the_hand_worked_order),
@@ -1613,6 +1708,7 @@ int main(void) {
         cmocka_unit_test(tree_lookahead_takes_the_best_ratio_of_every_cut_below),
         cmocka_unit_test(tree_lookahead_is_within_half_of_the_optimum_without_diminishing_returns),
         cmocka_unit_test(tree_lookahead_changes_nothing_under_diminishing_returns),
+        cmocka_unit_test(warm_starts_that_work_more_than_cold_fall_back),
         FIXTURE_TEST(restarts_try_skipped_increments_and_keep_the_best),
         FIXTURE_TEST(the_search_finds_the_pair_a_cheaper_increment_blocks),
         cmocka_unit_test(more_restarts_never_give_less),
