@@ -28,8 +28,17 @@
 #include <math.h>
 #include <string.h>
 
+/* A per-node or per-object capacity after cap: half as much again (a
+ * multiple of 64, which the free-id bitsets' words need), so that the slack
+ * of a grown scene averages about a fifth of what it holds. */
 static uint32_t grown_capacity(uint32_t cap) {
-    return cap < 64u ? 64u : (cap > UINT32_MAX / 2u ? UINT32_MAX - 1u : cap * 2u);
+    uint32_t more;
+    if (cap < 64u)
+        return 64u;
+    if (cap > (UINT32_MAX - 64u) / 3u * 2u)
+        return UINT32_MAX - 1u;
+    more = cap + cap / 2u;
+    return (more + 63u) & ~63u;
 }
 
 tclod_status tclod_scene_create(const tclod_allocator *a, tclod_scene **out) {
@@ -44,6 +53,7 @@ tclod_status tclod_scene_create(const tclod_allocator *a, tclod_scene **out) {
     s->alloc = alloc;
     s->version = s->node_version = s->smooth_version = 1;
     s->epoch = 1;
+    s->retired_head = s->retired_tail = TCLOD_NONE;
     *out = s;
     return TCLOD_OK;
 }
@@ -62,15 +72,13 @@ static size_t node_arrays(tclod_scene *s, tclod_array out[TCLOD_MAX_ARRAYS]) {
     /* bitsets: a byte per node is more room than they need */
     out[n++] = (tclod_array){(void **)&s->free_map, sizeof(uint8_t), 0};
     out[n++] = (tclod_array){(void **)&s->free_summary, sizeof(uint8_t), 0};
-    out[n++] = (tclod_array){(void **)&s->retired.id, sizeof(tclod_id), -1};
-    out[n++] = (tclod_array){(void **)&s->retired.epoch, sizeof(uint32_t), -1};
     out[n++] = (tclod_array){(void **)&s->parent, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&s->child_first, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&s->child_count, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&s->child_cap, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&s->roots, sizeof(tclod_id), -1};
-    out[n++] = (tclod_array){(void **)&s->order, sizeof(tclod_id), -1};
-    out[n++] = (tclod_array){(void **)&s->log, sizeof(tclod_edit), -1};
+    /* tclod_scene_log_cap(cap) entries: bytes per node as its share */
+    out[n++] = (tclod_array){(void **)&s->log, sizeof(tclod_edit) / 4u, -1};
     out[n++] = (tclod_array){(void **)&s->bytes, sizeof(float), 0};
     out[n++] = (tclod_array){(void **)&s->res_pos, sizeof(uint32_t), -1};
     out[n++] = (tclod_array){(void **)&s->res_list, sizeof(tclod_id), -1};
@@ -124,6 +132,7 @@ tclod_status tclod_scene_destroy(tclod_scene *s) {
     tclod_arrays_free(&alloc, arrays, smooth_arrays(s, arrays), s->smooth_cap);
     tclod_arrays_free(&alloc, arrays, box_arrays(s, arrays), s->box_cap);
     tclod_mem_free(&alloc, s->children, sizeof(tclod_id) * s->children_cap);
+    tclod_mem_free(&alloc, s->order, sizeof(tclod_id) * s->order_cap);
     x.smooth_cap = s->smooth_index_cap;
     x.smooth_order = s->smooth_order;
     x.smooth_pos = s->smooth_pos;
@@ -213,9 +222,10 @@ static void trim_log(tclod_scene *s) {
 }
 
 static void log_edit(tclod_scene *s, tclod_id node, uint32_t kind) {
-    if (s->log_count == s->node_cap)
+    uint32_t cap = tclod_scene_log_cap(s->node_cap);
+    if (s->log_count == cap)
         trim_log(s);
-    if (s->log_count == s->node_cap) { /* full: users behind look at their selections */
+    if (s->log_count == cap) { /* full: users behind look at their selections */
         s->log_base += s->log_count;
         s->log_count = 0;
     }
@@ -335,13 +345,29 @@ static void unwrap(tclod_retired *r, uint32_t old_cap) {
     }
 }
 
+/* Puts the removed node id at the end of the retired queue, removed in
+ * epoch (its record's self and child_first are free for the queue). */
+static void retire_node(tclod_scene *s, tclod_id id, uint32_t epoch) {
+    s->self[id] = TCLOD_NONE;
+    s->child_first[id] = epoch;
+    if (s->retired_tail == TCLOD_NONE)
+        s->retired_head = id;
+    else
+        s->self[s->retired_tail] = id;
+    s->retired_tail = id;
+    s->retired_count++;
+}
+
 /* Makes the retired ids every user has solved since free again. */
 static void release_nodes(tclod_scene *s) {
-    uint32_t oldest = s->retired.count ? oldest_synced(s) : 0u;
-    while (s->retired.count > 0 && s->retired.epoch[s->retired.head] <= oldest) {
-        free_id(s, s->retired.id[s->retired.head]);
-        s->retired.head = s->retired.head + 1u == s->node_cap ? 0u : s->retired.head + 1u;
-        s->retired.count--;
+    uint32_t oldest = s->retired_count ? oldest_synced(s) : 0u;
+    while (s->retired_count > 0 && s->child_first[s->retired_head] <= oldest) {
+        tclod_id id = s->retired_head;
+        s->retired_head = s->self[id];
+        s->self[id] = TCLOD_NONE;
+        free_id(s, id);
+        if (--s->retired_count == 0)
+            s->retired_tail = TCLOD_NONE;
     }
 }
 
@@ -436,7 +462,6 @@ static void slab_rebuild(tclod_scene *s, tclod_id *fresh, uint32_t cap) {
 static void room_commit(tclod_scene *s, room *r) {
     if (r->node_cap) {
         tclod_arrays_commit(&s->alloc, r->node, r->node_n, s->node_cap, r->node_cap, r->node_fresh);
-        unwrap(&s->retired, s->node_cap);
         s->node_cap = r->node_cap;
     }
     if (r->box_cap) {
@@ -794,11 +819,11 @@ static void drop_node(tclod_scene *s, tclod_id n) {
     s->children_garbage += s->child_cap[n];
     s->child_count[n] = s->child_cap[n] = 0;
     s->flags[n] = 0;
-    retire(&s->retired, s->node_cap, n, s->epoch);
+    retire_node(s, n, s->epoch);
     s->live_nodes--;
     if (self != TCLOD_NONE) {
         s->flags[self] = 0;
-        retire(&s->retired, s->node_cap, self, s->epoch);
+        retire_node(s, self, s->epoch);
         s->self_count--;
     }
 }
@@ -1218,8 +1243,19 @@ tclod_status tclod_scene_prepare(tclod_scene *s) {
     tclod_status st;
     if (!s)
         return TCLOD_ERR_ARG;
-    if (s->order_users > 0 && s->order_version != s->node_version + 1u)
+    if (s->order_users > 0 && s->order_version != s->node_version + 1u) {
+        if (s->order_cap < s->node_count) { /* made again, not copied */
+            tclod_id *order =
+                (tclod_id *)tclod_mem_alloc(&s->alloc, sizeof(tclod_id) * s->node_cap);
+            if (!order)
+                return tclod_fail(s->error, TCLOD_ERR_NOMEM, "tclod_scene_prepare",
+                                  "no memory for the node order");
+            tclod_mem_free(&s->alloc, s->order, sizeof(tclod_id) * s->order_cap);
+            s->order = order;
+            s->order_cap = s->node_cap;
+        }
         build_order(s);
+    }
     if (s->qt_version == s->smooth_version)
         return TCLOD_OK;
     /* the quadtree's build-time cells, taken first so no failure comes after

@@ -21,11 +21,11 @@ typedef struct tclod_smooth_node {
 
 /* Per-node flags of a scene (tclod_scene.flags). */
 enum {
-    TCLOD_NODE_LIVE = 1u,    /* added by the host and not removed */
-    TCLOD_NODE_ADD = 2u,     /* additive refinement */
-    TCLOD_NODE_EMPTY = 4u,   /* nothing to draw */
-    TCLOD_NODE_SELF = 8u,    /* the drawing of an additive node among its children (its
-                                "self leaf"): an id no call returns */
+    TCLOD_NODE_LIVE = 1u,     /* added by the host and not removed */
+    TCLOD_NODE_ADD = 2u,      /* additive refinement */
+    TCLOD_NODE_EMPTY = 4u,    /* nothing to draw */
+    TCLOD_NODE_SELF = 8u,     /* the drawing of an additive node among its children (its
+                                 "self leaf"): an id no call returns */
     TCLOD_NODE_INDEXED = 16u, /* in the child index (the tree the solvers see) */
     TCLOD_NODE_ABSENT = 32u   /* live and not resident (also in smooth_flags) */
 };
@@ -79,8 +79,12 @@ struct tclod_scene {
                                   first node_cap / 8 bytes) ... */
     uint8_t *free_summary;     /* ... and a bit per word of it that has any */
     uint32_t free_count;
-    tclod_retired retired; /* ids not to give again yet */
-    uint32_t self_count;   /* self leaves in use */
+    /* ids not to give again yet, oldest first: a queue linked through the
+     * removed nodes' own records, which they no longer use (self[id]: the
+     * next one; child_first[id]: the epoch of its removal) */
+    tclod_id retired_head, retired_tail;
+    uint32_t retired_count;
+    uint32_t self_count; /* self leaves in use */
 
     /* boxes, by slot; free slots on a stack */
     uint32_t box_count, box_cap, box_free_count;
@@ -113,15 +117,16 @@ struct tclod_scene {
     tclod_id *roots; /* ascending ids */
     uint32_t root_count;
     tclod_id *order; /* the indexed nodes, parents before children: made by
-                        tclod_scene_prepare while a user reads it */
-    uint32_t order_count;
+                        tclod_scene_prepare while a user reads it (order_cap
+                        entries, allocated then) */
+    uint32_t order_count, order_cap;
     uint32_t order_version; /* node_version order describes, + 1; 0: none */
     uint32_t order_users;   /* users that read order (Robin Hood selectors,
                                schedulers) */
     /* the edit log: entry i has the sequence number log_base + i; entries
      * every user has seen are let go, and all of them when it is full (a user
      * that had not seen them then looks at its whole selection instead) */
-    tclod_edit *log; /* node_cap entries */
+    tclod_edit *log; /* tclod_scene_log_cap(node_cap) entries */
     uint32_t log_count;
     uint64_t log_base;
 
@@ -156,6 +161,13 @@ struct tclod_scene {
     uint32_t smooth_version; /* bumped when smooth objects are added, removed or moved */
     uint32_t qt_version;     /* smooth_version the quadtree describes */
 };
+
+/* The edit log's entries for a node capacity: one per 4 nodes. Edits beyond
+ * that many between two solves are as many as a warm start's look at its
+ * whole selection costs anyway. */
+static inline uint32_t tclod_scene_log_cap(uint32_t node_cap) {
+    return node_cap / 4u;
+}
 
 /* Registers u as a user of s (holding no id yet, not busy, not holding the
  * scene); `reads_order`: it reads tclod_scene.order, which tclod_scene_prepare
