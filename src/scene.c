@@ -80,8 +80,10 @@ static size_t node_arrays(tclod_scene *s, tclod_array out[TCLOD_MAX_ARRAYS]) {
     /* tclod_scene_log_cap(cap) entries: bytes per node as its share */
     out[n++] = (tclod_array){(void **)&s->log, sizeof(tclod_edit) / 4u, -1};
     out[n++] = (tclod_array){(void **)&s->bytes, sizeof(float), 0};
-    out[n++] = (tclod_array){(void **)&s->res_pos, sizeof(uint32_t), -1};
-    out[n++] = (tclod_array){(void **)&s->res_list, sizeof(tclod_id), -1};
+    if (s->res_listed) {
+        out[n++] = (tclod_array){(void **)&s->res_pos, sizeof(uint32_t), -1};
+        out[n++] = (tclod_array){(void **)&s->res_list, sizeof(tclod_id), -1};
+    }
     return n;
 }
 
@@ -629,21 +631,27 @@ static int bytes_valid(double b) {
     return b >= 0.0 && b <= (double)FLT_MAX;
 }
 
-/* Puts live node n on the resident list and counts its size. */
+/* Counts live node n resident (on the list, when kept) with its size. */
 static void resident_add(tclod_scene *s, tclod_id n) {
-    s->res_pos[n] = s->res_count;
-    s->res_list[s->res_count++] = n;
+    if (s->res_listed) {
+        s->res_pos[n] = s->res_count;
+        s->res_list[s->res_count] = n;
+    }
+    s->res_count++;
     s->resident_bytes += (double)s->bytes[n];
     s->residency_version++;
 }
 
-/* Takes resident node n off the list and its size off the total. */
+/* Takes resident node n off the count (and list) and its size off the total. */
 static void resident_remove(tclod_scene *s, tclod_id n) {
-    uint32_t slot = s->res_pos[n];
-    tclod_id last = s->res_list[--s->res_count];
-    s->res_list[slot] = last;
-    s->res_pos[last] = slot;
-    s->res_pos[n] = TCLOD_NONE;
+    s->res_count--;
+    if (s->res_listed) {
+        uint32_t slot = s->res_pos[n];
+        tclod_id last = s->res_list[s->res_count];
+        s->res_list[slot] = last;
+        s->res_pos[last] = slot;
+        s->res_pos[n] = TCLOD_NONE;
+    }
     s->resident_bytes -= (double)s->bytes[n];
     if (s->res_count == 0 && s->smooth_live == s->smooth_absent_count)
         s->resident_bytes = 0.0; /* let go of what rounding left */
@@ -750,7 +758,9 @@ static tclod_status add_node(tclod_scene *s, const tclod_node_desc *d, tclod_id 
                   (d->empty ? TCLOD_NODE_EMPTY : 0u));
     s->child_count[id] = s->child_cap[id] = 0;
     s->bytes[id] = (float)d->bytes;
-    s->res_pos[id] = TCLOD_NONE;
+    s->res_wanted |= d->bytes > 0.0;
+    if (s->res_listed)
+        s->res_pos[id] = TCLOD_NONE;
     if (d->not_resident)
         s->flags[id] |= TCLOD_NODE_ABSENT;
     if (!d->empty) {
@@ -769,7 +779,8 @@ static tclod_status add_node(tclod_scene *s, const tclod_node_desc *d, tclod_id 
         s->flags[self] = TCLOD_NODE_SELF;
         s->child_count[self] = s->child_cap[self] = 0;
         s->bytes[self] = 0.0f;
-        s->res_pos[self] = TCLOD_NONE;
+        if (s->res_listed)
+            s->res_pos[self] = TCLOD_NONE;
         s->self_count++;
     }
     s->self[id] = self;
@@ -1237,12 +1248,35 @@ static void build_smooth_quadtree(tclod_scene *s, qt_cell *cells) {
     }
 }
 
+/* Makes the list of the resident nodes, kept from then on. */
+static tclod_status list_resident(tclod_scene *s) {
+    tclod_array arrays[2];
+    uint32_t n, k = 0;
+    arrays[0] = (tclod_array){(void **)&s->res_pos, sizeof(uint32_t), -1};
+    arrays[1] = (tclod_array){(void **)&s->res_list, sizeof(tclod_id), -1};
+    if (s->node_cap && tclod_arrays_grow(&s->alloc, arrays, 2, 0, s->node_cap) != TCLOD_OK)
+        return TCLOD_ERR_NOMEM;
+    for (n = 0; n < s->node_count; ++n) {
+        s->res_pos[n] = TCLOD_NONE;
+        if (tclod_scene_resident(s, n)) {
+            s->res_pos[n] = k;
+            s->res_list[k++] = n;
+        }
+    }
+    assert(k == s->res_count);
+    s->res_listed = 1;
+    return TCLOD_OK;
+}
+
 tclod_status tclod_scene_prepare(tclod_scene *s) {
     size_t cells_size = 0;
     qt_cell *cells = NULL;
     tclod_status st;
     if (!s)
         return TCLOD_ERR_ARG;
+    if (s->res_wanted && !s->res_listed && list_resident(s) != TCLOD_OK)
+        return tclod_fail(s->error, TCLOD_ERR_NOMEM, "tclod_scene_prepare",
+                          "no memory for the list of resident nodes");
     if (s->order_users > 0 && s->order_version != s->node_version + 1u) {
         if (s->order_cap < s->node_count) { /* made again, not copied */
             tclod_id *order =
@@ -1390,6 +1424,8 @@ static tclod_status set_bytes(tclod_scene *s, tclod_id id, double b, int smooth,
     if (!(*flags & (TCLOD_NODE_ABSENT | TCLOD_NODE_EMPTY)))
         s->resident_bytes += (double)(float)b - (double)*bytes;
     *bytes = (float)b;
+    if (!smooth)
+        s->res_wanted |= b > 0.0; /* the next prepare lists the resident nodes */
     s->residency_version++;
     return TCLOD_OK;
 }

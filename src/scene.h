@@ -137,15 +137,19 @@ struct tclod_scene {
     tclod_smooth_node *qt;  /* 2 * smooth_index_cap nodes; qt[0] is the root */
     uint32_t qt_count;
 
-    /* streaming (docs/streaming.md): sizes, and the live resident nodes in a
-     * list (each node's slot in it, TCLOD_NONE when not in it) so that
-     * evictions are planned over them alone. Empty nodes have nothing to
-     * load: their flag is kept, but they are in no count, list or sum */
+    /* streaming (docs/streaming.md): sizes, and the live resident nodes
+     * counted (res_count) and, once a node has been given a size (only
+     * those are evicted), in a list (each node's slot in it, TCLOD_NONE when
+     * not in it) so that evictions are planned over them alone: made by
+     * tclod_scene_prepare (res_listed), kept up to date from then on. Empty
+     * nodes have nothing to load: their flag is kept, but they are in no
+     * count, list or sum */
     float *bytes;
     uint32_t *res_pos;
     tclod_id *res_list;
     uint32_t res_count;
-    uint32_t absent_count; /* live nodes not resident */
+    int res_wanted, res_listed; /* a node was given a size; the list is kept */
+    uint32_t absent_count;      /* live nodes not resident */
     float *smooth_bytes;
     uint32_t smooth_absent_count;
     double resident_bytes;      /* the sizes of the resident nodes and smooth objects */
@@ -189,6 +193,13 @@ static inline tclod_id tclod_scene_owner(const tclod_scene *s, tclod_id n) {
 /* Whether the selectors must look at residency at all. */
 static inline int tclod_scene_streams(const tclod_scene *s) {
     return (s->absent_count | s->smooth_absent_count) != 0;
+}
+
+/* Whether node n is live, draws something and is resident: on the resident
+ * list (when the scene keeps it). */
+static inline int tclod_scene_resident(const tclod_scene *s, tclod_id n) {
+    return (s->flags[n] & (TCLOD_NODE_LIVE | TCLOD_NODE_EMPTY | TCLOD_NODE_ABSENT |
+                           TCLOD_NODE_SELF)) == TCLOD_NODE_LIVE;
 }
 
 /* Whether node n (a self leaf: its owner) is not resident. */
