@@ -421,14 +421,15 @@ static tclod_status room_alloc(tclod_scene *s, room *r, uint32_t ids, int box, u
         r->box_cap = cap;
     }
     if (s->children_used > UINT32_MAX - slab || s->children_used + slab > s->children_cap) {
-        /* the slab is made again, twice as large as what it holds */
-        uint32_t live = s->children_used - s->children_garbage, cap = 64u;
+        /* the slab is made again, half as large again as what it holds:
+         * blocks that move use the room left until the next time */
+        uint32_t live = s->children_used - s->children_garbage, cap;
         if (live > UINT32_MAX / 4u - slab) {
             room_discard(s, r);
             return TCLOD_ERR_NOMEM;
         }
-        while (cap < 2u * (live + slab))
-            cap *= 2u;
+        cap = live + slab;
+        cap = (cap + cap / 2u + 63u) & ~63u;
         r->slab = (tclod_id *)tclod_mem_alloc(&s->alloc, sizeof(tclod_id) * cap);
         if (!r->slab) {
             room_discard(s, r);

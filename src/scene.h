@@ -104,7 +104,8 @@ struct tclod_scene {
      * their children hang from their parent, or are roots), and below every
      * additive node with children its self leaf. A node's children lie in a
      * block of children[], ascending ids; a block that fills up moves to the
-     * end, and the slab is compacted when half of it is left behind. */
+     * end, and the slab is compacted (made again, half as large again as
+     * what it holds) when a block finds no room left. */
     tclod_id *parent;      /* the index's parent of an indexed node (TCLOD_NONE: a
                               root); for an empty node, the parent its children
                               hang from */
