@@ -76,7 +76,6 @@ static size_t node_arrays(tclod_scene *s, tclod_array out[TCLOD_MAX_ARRAYS]) {
     out[n++] = (tclod_array){(void **)&s->child_first, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&s->child_count, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&s->child_cap, sizeof(uint32_t), 0};
-    out[n++] = (tclod_array){(void **)&s->roots, sizeof(tclod_id), -1};
     /* tclod_scene_log_cap(cap) entries: bytes per node as its share */
     out[n++] = (tclod_array){(void **)&s->log, sizeof(tclod_edit) / 4u, -1};
     out[n++] = (tclod_array){(void **)&s->bytes, sizeof(float), 0};
@@ -444,7 +443,11 @@ static tclod_status room_alloc(tclod_scene *s, room *r, uint32_t ids, int box, u
  * id order, each as large as what it holds; what moved blocks left behind
  * goes. */
 static void slab_rebuild(tclod_scene *s, tclod_id *fresh, uint32_t cap) {
-    uint32_t n, at = 0;
+    uint32_t n, at = s->root_count;
+    if (s->root_count) /* the roots first */
+        memcpy(fresh, s->roots, sizeof(tclod_id) * s->root_count);
+    s->root_first = 0;
+    s->root_cap = s->root_count;
     for (n = 0; n < s->node_count; ++n) {
         if (s->child_cap[n] == 0u)
             continue;
@@ -460,6 +463,7 @@ static void slab_rebuild(tclod_scene *s, tclod_id *fresh, uint32_t cap) {
     s->children_cap = cap;
     s->children_used = at;
     s->children_garbage = 0;
+    s->roots = fresh;
 }
 
 static void room_commit(tclod_scene *s, room *r) {
@@ -497,10 +501,24 @@ static void free_box(tclod_scene *s, uint32_t slot) {
 
 /* ---- the child index --------------------------------------------------------------- */
 
-/* The slab room that attaching a child to p may need: p's block moved to the
- * end at twice its size, and room for a self leaf. */
+/* The slab room that attaching a child to p may need: p's block (the roots'
+ * for TCLOD_NONE) moved to the end at twice its size, and room for a self
+ * leaf. */
 static uint32_t attach_room(const tclod_scene *s, tclod_id p) {
-    return p == TCLOD_NONE ? 0u : 2u * s->child_cap[p] + 4u;
+    return 2u * (p == TCLOD_NONE ? s->root_cap : s->child_cap[p]) + 4u;
+}
+
+/* A full block of children (*first, *cap, holding count) moves to the end of
+ * the slab at twice its size (there is room: attach_room). */
+static void move_block(tclod_scene *s, uint32_t *first, uint32_t *cap, uint32_t count) {
+    uint32_t grown = *cap ? 2u * *cap : 2u;
+    assert(s->children_used + grown <= s->children_cap);
+    if (count)
+        memcpy(s->children + s->children_used, s->children + *first, sizeof(tclod_id) * count);
+    s->children_garbage += *cap;
+    *first = s->children_used;
+    *cap = grown;
+    s->children_used += grown;
 }
 
 /* Where x goes in (or is in) the ascending ids a[0..n). */
@@ -525,20 +543,15 @@ static void attach(tclod_scene *s, tclod_id x, tclod_id p) {
     s->flags[x] |= TCLOD_NODE_INDEXED;
     log_edit(s, x, TCLOD_EDIT_ADDED);
     if (p == TCLOD_NONE) {
+        if (s->root_count == s->root_cap) {
+            move_block(s, &s->root_first, &s->root_cap, s->root_count);
+            s->roots = s->children + s->root_first;
+        }
         list = s->roots;
         count = s->root_count++;
     } else {
-        if (s->child_count[p] == s->child_cap[p]) { /* the block moves to the end */
-            uint32_t cap = s->child_cap[p] ? 2u * s->child_cap[p] : 2u;
-            assert(s->children_used + cap <= s->children_cap);
-            if (s->child_count[p])
-                memcpy(s->children + s->children_used, s->children + s->child_first[p],
-                       sizeof(tclod_id) * s->child_count[p]);
-            s->children_garbage += s->child_cap[p];
-            s->child_first[p] = s->children_used;
-            s->child_cap[p] = cap;
-            s->children_used += cap;
-        }
+        if (s->child_count[p] == s->child_cap[p])
+            move_block(s, &s->child_first[p], &s->child_cap[p], s->child_count[p]);
         list = s->children + s->child_first[p];
         count = s->child_count[p]++;
     }

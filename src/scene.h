@@ -115,8 +115,9 @@ struct tclod_scene {
     uint32_t *child_cap; /* the size of n's block */
     tclod_id *children;
     uint32_t children_cap, children_used, children_garbage;
-    tclod_id *roots; /* ascending ids */
-    uint32_t root_count;
+    tclod_id *roots; /* ascending ids: a block of children[] too (children +
+                        root_first, root_cap entries) */
+    uint32_t root_count, root_first, root_cap;
     tclod_id *order; /* the indexed nodes, parents before children: made by
                         tclod_scene_prepare while a user reads it (order_cap
                         entries, allocated then) */
