@@ -69,9 +69,6 @@ static size_t node_arrays(tclod_scene *s, tclod_array out[TCLOD_MAX_ARRAYS]) {
     out[n++] = (tclod_array){(void **)&s->self, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&s->bounds, sizeof(tclod_node_bounds), -1};
     out[n++] = (tclod_array){(void **)&s->flags, sizeof(uint8_t), 0};
-    /* bitsets: a byte per node is more room than they need */
-    out[n++] = (tclod_array){(void **)&s->free_map, sizeof(uint8_t), 0};
-    out[n++] = (tclod_array){(void **)&s->free_summary, sizeof(uint8_t), 0};
     out[n++] = (tclod_array){(void **)&s->parent, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&s->child_first, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&s->child_count, sizeof(uint32_t), 0};
@@ -104,6 +101,20 @@ static size_t box_arrays(tclod_scene *s, tclod_array out[TCLOD_MAX_ARRAYS]) {
     return n;
 }
 
+/* 64-bit words of the bitset of cap ids, and of its summary. */
+static size_t free_map_words(uint32_t cap) {
+    return (size_t)cap / 64u + (cap % 64u != 0);
+}
+
+static size_t free_summary_size(uint32_t cap) {
+    return (free_map_words(cap) + 63u) / 64u;
+}
+
+/* The bytes of free_bits for cap ids. */
+static size_t free_bits_size(uint32_t cap) {
+    return sizeof(uint64_t) * (free_map_words(cap) + free_summary_size(cap));
+}
+
 /* The smooth quadtree's arrays, allocated together so that a failure changes
  * nothing. */
 typedef struct quadtree_arrays {
@@ -130,6 +141,7 @@ tclod_status tclod_scene_destroy(tclod_scene *s) {
                           "a selector or scheduler still uses the scene; destroy them first");
     alloc = s->alloc;
     tclod_arrays_free(&alloc, arrays, node_arrays(s, arrays), s->node_cap);
+    tclod_mem_free(&alloc, s->free_bits, free_bits_size(s->node_cap));
     tclod_arrays_free(&alloc, arrays, smooth_arrays(s, arrays), s->smooth_cap);
     tclod_arrays_free(&alloc, arrays, box_arrays(s, arrays), s->box_cap);
     tclod_mem_free(&alloc, s->children, sizeof(tclod_id) * s->children_cap);
@@ -271,11 +283,25 @@ static void release(const tclod_scene *s, tclod_retired *r, uint32_t cap, tclod_
  * in fewer cache lines. A bit per id, and a bit per 64 ids that has any. */
 
 static uint64_t *free_words(const tclod_scene *s) {
-    return (uint64_t *)(void *)s->free_map;
+    return s->free_bits;
 }
 
 static uint64_t *free_summary_words(const tclod_scene *s) {
-    return (uint64_t *)(void *)s->free_summary;
+    return s->free_bits + free_map_words(s->node_cap);
+}
+
+/* The free ids' bits of the current capacity copied into fresh, sized for
+ * cap ids, the rest clear; the old ones freed. */
+static void free_bits_move(tclod_scene *s, uint64_t *fresh, uint32_t cap) {
+    size_t old_words = free_map_words(s->node_cap), words = free_map_words(cap);
+    size_t old_summary = free_summary_size(s->node_cap);
+    memset(fresh, 0, free_bits_size(cap));
+    if (s->free_bits) {
+        memcpy(fresh, s->free_bits, sizeof(uint64_t) * old_words);
+        memcpy(fresh + words, s->free_bits + old_words, sizeof(uint64_t) * old_summary);
+    }
+    tclod_mem_free(&s->alloc, s->free_bits, free_bits_size(s->node_cap));
+    s->free_bits = fresh;
 }
 
 /* The lowest set bit's position; w != 0. */
@@ -382,11 +408,14 @@ typedef struct room {
     size_t node_n, box_n;
     uint32_t node_cap, box_cap, slab_cap; /* 0: no growth */
     tclod_id *slab;
+    uint64_t *bits; /* free_bits for node_cap */
 } room;
 
 static void room_discard(tclod_scene *s, room *r) {
-    if (r->node_cap)
+    if (r->node_cap) {
         tclod_arrays_discard(&s->alloc, r->node, r->node_n, r->node_cap, r->node_fresh);
+        tclod_mem_free(&s->alloc, r->bits, free_bits_size(r->node_cap));
+    }
     if (r->box_cap)
         tclod_arrays_discard(&s->alloc, r->box, r->box_n, r->box_cap, r->box_fresh);
     tclod_mem_free(&s->alloc, r->slab, sizeof(tclod_id) * r->slab_cap);
@@ -407,6 +436,11 @@ static tclod_status room_alloc(tclod_scene *s, room *r, uint32_t ids, int box, u
             r->node_n = node_arrays(s, r->node);
             if (tclod_arrays_alloc(&s->alloc, r->node, r->node_n, cap, r->node_fresh) != TCLOD_OK)
                 return TCLOD_ERR_NOMEM;
+            r->bits = (uint64_t *)tclod_mem_alloc(&s->alloc, free_bits_size(cap));
+            if (!r->bits) {
+                tclod_arrays_discard(&s->alloc, r->node, r->node_n, cap, r->node_fresh);
+                return TCLOD_ERR_NOMEM;
+            }
             r->node_cap = cap;
         }
     }
@@ -469,6 +503,7 @@ static void slab_rebuild(tclod_scene *s, tclod_id *fresh, uint32_t cap) {
 static void room_commit(tclod_scene *s, room *r) {
     if (r->node_cap) {
         tclod_arrays_commit(&s->alloc, r->node, r->node_n, s->node_cap, r->node_cap, r->node_fresh);
+        free_bits_move(s, r->bits, r->node_cap);
         s->node_cap = r->node_cap;
     }
     if (r->box_cap) {

@@ -75,9 +75,8 @@ struct tclod_scene {
     tclod_id *self;            /* a non-empty additive node's self leaf, or TCLOD_NONE */
     tclod_node_bounds *bounds; /* a self leaf has its owner's */
     uint8_t *flags;            /* TCLOD_NODE_* */
-    uint8_t *free_map;         /* ids to give again: a bitset (64-bit words in the
-                                  first node_cap / 8 bytes) ... */
-    uint8_t *free_summary;     /* ... and a bit per word of it that has any */
+    uint64_t *free_bits;       /* ids to give again: a bit per id (node_cap bits), then a bit
+                                  per 64-bit word of those that has any (scene.c) */
     uint32_t free_count;
     /* ids not to give again yet, oldest first: a queue linked through the
      * removed nodes' own records, which they no longer use (self[id]: the
