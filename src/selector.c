@@ -207,13 +207,14 @@ void tclod_selector_destroy(tclod_selector *sel) {
     tclod_mem_free(&alloc, sel, sizeof *sel);
 }
 
-/* The capacity a block grows to from cap for need elements (need > cap): just
- * need the first time (a selector sized to its scene keeps that size), else
- * half as much again, so that a scene that keeps growing costs amortised
- * constant copying. */
+/* The capacity a block grows to from cap for need elements (need > cap): the
+ * first time need and a 32nd more (a scene edited between frames takes a few
+ * new ids before the removed ones are given again), else half as much again,
+ * so that a scene that keeps growing costs amortised constant copying. */
 static uint32_t grown(uint32_t cap, uint32_t need) {
-    uint32_t more = cap > UINT32_MAX - cap / 2u ? UINT32_MAX : cap + cap / 2u;
-    return cap == 0 || more < need ? need : more;
+    uint32_t base = cap == 0 ? need : cap, more = cap == 0 ? need / 32u : cap / 2u;
+    more = base > UINT32_MAX - more ? UINT32_MAX : base + more;
+    return more < need ? need : more;
 }
 
 /* One block of buffers that may have to grow. */
