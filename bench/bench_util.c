@@ -7,6 +7,56 @@
 #include <stdlib.h>
 #include <time.h>
 
+#if defined(__unix__) || defined(__APPLE__)
+#include <sys/resource.h>
+#endif
+
+static void *bench_counted_alloc(size_t size, void *ctx) {
+    bench_counter *c = (bench_counter *)ctx;
+    void *p = malloc(size);
+    if (p) {
+        c->held += size;
+        c->allocs++;
+        if (c->held > c->peak)
+            c->peak = c->held;
+    }
+    return p;
+}
+
+static void bench_counted_free(void *ptr, size_t size, void *ctx) {
+    bench_counter *c = (bench_counter *)ctx;
+    c->held -= size;
+    c->frees++;
+    free(ptr);
+}
+
+tclod_allocator bench_counting_allocator(bench_counter *c) {
+    tclod_allocator a;
+    a.alloc = bench_counted_alloc;
+    a.free = bench_counted_free;
+    a.ctx = c;
+    return a;
+}
+
+void bench_counter_reset_peak(bench_counter *c) {
+    c->peak = c->held;
+}
+
+double bench_peak_rss_mb(void) {
+#if defined(__unix__) || defined(__APPLE__)
+    struct rusage ru;
+    if (getrusage(RUSAGE_SELF, &ru) != 0)
+        return 0.0;
+#if defined(__APPLE__)
+    return (double)ru.ru_maxrss / (1024.0 * 1024.0); /* bytes */
+#else
+    return (double)ru.ru_maxrss / 1024.0; /* KiB */
+#endif
+#else
+    return 0.0;
+#endif
+}
+
 double bench_now_us(void) {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);

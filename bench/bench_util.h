@@ -15,6 +15,22 @@
 extern "C" {
 #endif
 
+/* What a counting allocator (bench_counting_allocator) holds: bytes now, the
+ * most it held since its peak was last reset, and the calls. */
+typedef struct bench_counter {
+    size_t held, peak;
+    unsigned long allocs, frees;
+} bench_counter;
+
+/* A tclod_allocator over malloc/free that counts into c (zeroed by the caller). */
+tclod_allocator bench_counting_allocator(bench_counter *c);
+
+/* Starts a new peak: the most held from now on. */
+void bench_counter_reset_peak(bench_counter *c);
+
+/* The process's peak resident set size in MiB (getrusage), 0 when unknown. */
+double bench_peak_rss_mb(void);
+
 /* Microseconds of CLOCK_MONOTONIC. */
 double bench_now_us(void);
 

@@ -120,7 +120,18 @@
  * at), violations (timed frames whose selection cost more than the budget) and
  * max_cost_ratio (the largest cost / budget of a timed frame), then edits, edit_us and
  * edit_p99_us (churn rows with edits; else 0), then requests, evictions, resident_bytes
- * and change_ns (stream rows; else 0). Every frame's selection
+ * and change_ns (stream rows; else 0), then selector_bytes_per_node and
+ * scene_bytes_per_node: the most bytes the row's selector (absorb scheduler rows: the
+ * scheduler, its selector included) and the scene held while the row ran, counted by
+ * the counting allocator they are created with (bench_counting_allocator), over the
+ * nodes column (0 for rows without a selector: baselines, warm_floor, flips; the scene
+ * is built before the row, so its growth while building is not in it). After each
+ * random world's rows, on stderr, the line "summary: scene=random objects=N nodes=M
+ * peak_rss_mb=X selector_bytes_per_node=S scene_bytes_per_node=T": the process's peak
+ * resident set (getrusage: the world's own arrays and every earlier world included), the
+ * largest selector figure of the world's rows and the scene's bytes then. The baselines'
+ * data is made only when a baseline row runs (--solver greedy leaves it out). Every
+ * frame's selection
  * is checked against the budget by summing its nodes' (and smooth groups') costs with
  * the callbacks' formulas: a library solver that exceeds it stops the program with an
  * error; a baseline's violations are counted (only threshold_fixed, which ignores the
@@ -175,7 +186,27 @@ typedef struct bench_row {
     double requests, evictions, resident_bytes, change_ns;
     /* the host's workers the solve was split over (tclod_tasks): 1 but warm_parallel */
     double workers;
+    /* bytes the row's selectors (or scheduler) held at most while it ran, and the scene
+     * (built before it) held at most then: counted by their allocators */
+    double selector_bytes, scene_bytes;
 } bench_row;
+
+/* The counting allocators every scene and every selector or scheduler of the bench is
+ * created with (memory columns, docs/benchmarks.md, Memory). */
+static bench_counter scene_mem, selector_mem;
+static tclod_allocator scene_alloc, selector_alloc;
+
+/* A row begins: the peaks count from here. */
+static void mem_row_begin(void) {
+    bench_counter_reset_peak(&scene_mem);
+    bench_counter_reset_peak(&selector_mem);
+}
+
+/* A row ends: the peaks since mem_row_begin into row. */
+static void mem_row_end(bench_row *row) {
+    row->selector_bytes = (double)selector_mem.peak;
+    row->scene_bytes = (double)scene_mem.peak;
+}
 
 static const char *solver_name(tclod_solver s) {
     switch (s) {
@@ -506,6 +537,7 @@ static int run_config(world_scene *w, bench_method method, int warm, double budg
     memset(row, 0, sizeof(*row));
     if (floor_row)
         memset(floor_row, 0, sizeof(*floor_row));
+    mem_row_begin();
     memset(&call, 0, sizeof(call));
     call.method = method;
     call.base = base;
@@ -532,7 +564,7 @@ static int run_config(world_scene *w, bench_method method, int warm, double budg
             }
             sd.tasks = task_pool_tasks(pool);
         }
-        st = tclod_selector_create(w->scene, &sd, NULL, &call.sel);
+        st = tclod_selector_create(w->scene, &sd, &selector_alloc, &call.sel);
         if (st != TCLOD_OK) {
             task_pool_destroy(pool);
             fprintf(stderr, "tclod_bench: creating a %s selector failed: %s\n",
@@ -621,8 +653,10 @@ static int run_config(world_scene *w, bench_method method, int warm, double budg
     tclod_selector_destroy(call.sel);
     task_pool_destroy(pool);
     row->workers = (double)config_workers;
+    mem_row_end(row);
     finish_row(row, times, frames, sum_us);
     if (floor_row) {
+        floor_row->scene_bytes = row->scene_bytes; /* it holds no selector */
         finish_row(floor_row, fl->times, frames, floor_sum_us);
         floor_row->refined = floor_sink > 0.0 ? row->refined : 0.0; /* keeps the sum alive */
     }
@@ -642,6 +676,7 @@ static int run_thesis(thesis_scene *t, int split, int precondition, double theta
     double sum_us = 0.0;
 
     memset(row, 0, sizeof(*row));
+    mem_row_begin();
     tclod_selector_desc_default(&sd);
     sd.solver = TCLOD_SOLVER_MIXED;
     sd.callbacks = thesis_callbacks(t);
@@ -650,7 +685,7 @@ static int run_thesis(thesis_scene *t, int split, int precondition, double theta
     sd.mixed.plain_gradient = !(precondition);
     if (theta >= 0.0)
         sd.mixed.split_threshold = theta;
-    st = tclod_selector_create(t->scene, &sd, NULL, &sel);
+    st = tclod_selector_create(t->scene, &sd, &selector_alloc, &sel);
     if (st != TCLOD_OK) {
         fprintf(stderr, "tclod_bench: creating a mixed selector failed: %s\n",
                 tclod_status_string(st));
@@ -714,6 +749,7 @@ static int run_thesis(thesis_scene *t, int split, int precondition, double theta
         row->object_benefit += thesis_selection_benefit(t, &view, ids, n, groups, group_count);
     }
     tclod_selector_destroy(sel);
+    mem_row_end(row);
     finish_row(row, times, frames, sum_us);
     return 0;
 }
@@ -723,7 +759,7 @@ static void print_header(void) {
            "visible,cut,refined,evaluations,iterations,increments,decrements,frames,"
            "variables,line_searches,object_benefit,ns_per_evaluation,violations,"
            "max_cost_ratio,edits,edit_us,edit_p99_us,requests,evictions,resident_bytes,"
-           "change_ns,workers\n");
+           "change_ns,workers,selector_bytes_per_node,scene_bytes_per_node\n");
 }
 
 static void print_row(const char *scene, const char *solver, const char *mode,
@@ -731,14 +767,16 @@ static void print_row(const char *scene, const char *solver, const char *mode,
                       unsigned long visible, const bench_row *r) {
     /* mean time over mean evaluations: the time per node the solve looked at */
     double ns_per_evaluation = r->evaluations > 0.0 ? r->mean_us * 1000.0 / r->evaluations : 0.0;
+    double per_node = nodes > 0 ? 1.0 / (double)nodes : 0.0;
     printf("%s,%s,%s,%lu,%lu,%.2f,%.2f,%.6g,%.6g,%.6g,%.2f,%lu,%.0f,%.0f,%.0f,%.0f,%.0f,%.0f,%lu,"
-           "%.1f,%.1f,%.6g,%.1f,%lu,%.4f,%.0f,%.2f,%.2f,%.2f,%.2f,%.6g,%.2f,%.0f\n",
+           "%.1f,%.1f,%.6g,%.1f,%lu,%.4f,%.0f,%.2f,%.2f,%.2f,%.2f,%.6g,%.2f,%.0f,%.1f,%.1f\n",
            scene, solver, mode, objects, nodes, r->median_us, r->p99_us, r->benefit, r->cost,
            budget, r->mean_us, visible, r->cut, r->refined, r->evaluations, r->iterations,
            r->increments, r->decrements, r->frames, r->variables, r->line_searches,
            r->object_benefit, ns_per_evaluation, r->violations, r->max_cost_ratio, r->edits,
            r->edit_median_us, r->edit_p99_us, r->requests, r->evictions, r->resident_bytes,
-           r->change_ns, r->workers > 0.0 ? r->workers : 1.0);
+           r->change_ns, r->workers > 0.0 ? r->workers : 1.0, r->selector_bytes * per_node,
+           r->scene_bytes * per_node);
     fflush(stdout);
 }
 
@@ -747,9 +785,11 @@ static void print_row(const char *scene, const char *solver, const char *mode,
  * the mixed solver and the baselines on the same frames and budget. The mixed and Robin
  * Hood solvers keep nothing from frame to frame (the warm start is the greedy's) and
  * the baselines recompute every frame: one row each. flat needs objects that are chains
- * (objects may be NULL: no flat row). */
+ * (objects may be NULL: no flat row). The baselines' data is made only when one of their
+ * rows runs. *selector_bytes: the most bytes a row's selector held. */
 static int bench_scene(const char *scene, world_scene *w, double budget, unsigned long visible,
-                       unsigned long frames, const tclod_id *objects, uint32_t object_count) {
+                       unsigned long frames, const tclod_id *objects, uint32_t object_count,
+                       double *selector_bytes) {
     static const bench_method order[] = {
         METHOD_GREEDY,          METHOD_ROBIN_HOOD, METHOD_MIXED, METHOD_THRESHOLD_TUNED,
         METHOD_THRESHOLD_FIXED, METHOD_PQ_STOP,    METHOD_FLAT};
@@ -758,14 +798,18 @@ static int bench_scene(const char *scene, world_scene *w, double budget, unsigne
     baseline_selector *base = NULL;
     tclod_callbacks cb = world_callbacks(w);
     size_t s;
-    int variant, rc = 0;
+    int variant, rc = 0, baselines = 0;
+    *selector_bytes = 0.0;
     if (!times) {
         fprintf(stderr, "tclod_bench: out of memory\n");
         return 1;
     }
-    if (baseline_scene_init(&bs, w->scene, w->bounds, w->triangles, objects, object_count) !=
-            TCLOD_OK ||
-        baseline_create(&bs, &cb, &base) != TCLOD_OK) {
+    for (s = 0; s < sizeof(order) / sizeof(order[0]); ++s)
+        baselines |= order[s] > METHOD_ROBIN_HOOD && row_wanted(method_names[order[s]], "cold");
+    memset(&bs, 0, sizeof(bs));
+    if (baselines && (baseline_scene_init(&bs, w->scene, w->bounds, w->triangles, objects,
+                                          object_count) != TCLOD_OK ||
+                      baseline_create(&bs, &cb, &base) != TCLOD_OK)) {
         fprintf(stderr, "tclod_bench: out of memory\n");
         baseline_scene_free(&bs);
         free(times);
@@ -773,6 +817,8 @@ static int bench_scene(const char *scene, world_scene *w, double budget, unsigne
     }
     for (s = 0; s < sizeof(order) / sizeof(order[0]) && rc == 0; ++s) {
         bench_method m = order[s];
+        if (m > METHOD_ROBIN_HOOD && !baselines)
+            continue;
         if (m == METHOD_FLAT && bs.object_count == 0)
             continue;
         /* greedy: cold, warm (+ warm_floor), warm_batch, warm_parallel */
@@ -797,6 +843,8 @@ static int bench_scene(const char *scene, world_scene *w, double budget, unsigne
                 rc = 1;
             config_batch = 0;
             config_workers = 1u;
+            if (row.selector_bytes > *selector_bytes)
+                *selector_bytes = row.selector_bytes;
             if (rc == 0 && row_wanted(method_names[m], mode))
                 print_row(scene, method_names[m], mode, (unsigned long)w->object_count,
                           (unsigned long)w->node_count, budget, visible, &row);
@@ -974,7 +1022,7 @@ static tclod_status warm_greedy(world_scene *w, solve_call *call) {
     sd.cold_start = 0;
     sd.greedy.lookahead = (uint32_t)opt_lookahead;
     sd.greedy.restarts = opt_restarts > 0 ? (int32_t)opt_restarts : TCLOD_OFF;
-    return tclod_selector_create(w->scene, &sd, NULL, &call->sel);
+    return tclod_selector_create(w->scene, &sd, &selector_alloc, &call->sel);
 }
 
 /* Frame f of w's camera path within budget: solved once in the warm-up,
@@ -1010,6 +1058,7 @@ static int run_churn(world_scene *w, churn_plan *plan, double budget, unsigned l
     double sum_us = 0.0, edits = 0.0;
 
     memset(row, 0, sizeof(*row));
+    mem_row_begin();
     st = warm_greedy(w, &call);
     if (st != TCLOD_OK) {
         fprintf(stderr, "tclod_bench: creating a greedy selector failed: %s\n",
@@ -1067,6 +1116,7 @@ static int run_churn(world_scene *w, churn_plan *plan, double budget, unsigned l
         row->refined += (double)refined_objects(w, ids, n);
     }
     tclod_selector_destroy(call.sel);
+    mem_row_end(row);
     finish_row(row, times, frames, sum_us);
     row->edits = edits / (double)frames;
     if (plan) {
@@ -1106,6 +1156,7 @@ static int bench_churn(uint32_t objects, unsigned long frames) {
     }
     world_random_desc_default(&d);
     d.objects = objects;
+    d.alloc = &scene_alloc;
     st = world_build_random(&d, &w);
     if (st != TCLOD_OK) {
         fprintf(stderr, "tclod_bench: building %u objects failed: %s\n", objects,
@@ -1336,6 +1387,7 @@ static int run_stream(world_scene *w, int mode, const tclod_stream_desc *desc, d
     size_t replayed = 0;
 
     memset(row, 0, sizeof(*row));
+    mem_row_begin();
     st = warm_greedy(w, &call);
     if (st == TCLOD_OK && mode == STREAM_STREAM)
         st = tclod_selector_set_stream(call.sel, desc);
@@ -1443,6 +1495,7 @@ static int run_stream(world_scene *w, int mode, const tclod_stream_desc *desc, d
         row->refined += (double)refined_objects(w, ids, n);
     }
     tclod_selector_destroy(call.sel);
+    mem_row_end(row);
     if (differ > 0)
         fprintf(stderr,
                 "tclod_bench: stream: warning: warm_resident_only selected otherwise than "
@@ -1488,6 +1541,7 @@ static int run_flips(world_scene *w, bench_row *row) {
     uint64_t rng = STREAM_SEED;
     unsigned long b, failed = 0;
     memset(row, 0, sizeof(*row));
+    mem_row_begin();
     if (!ids || !state || w->node_count == 0) {
         fprintf(stderr, "tclod_bench: stream: out of memory\n");
         free(ids);
@@ -1513,6 +1567,7 @@ static int run_flips(world_scene *w, bench_row *row) {
                 STREAM_FLIP_CALLS);
         return 1;
     }
+    mem_row_end(row);
     finish_row(row, times, STREAM_FLIP_BATCHES, sum_us);
     bench_sort(per_change, STREAM_FLIP_BATCHES);
     row->change_ns = bench_median(per_change, STREAM_FLIP_BATCHES);
@@ -1552,6 +1607,7 @@ static int bench_stream(uint32_t objects, unsigned long frames) {
     }
     world_random_desc_default(&d);
     d.objects = objects;
+    d.alloc = &scene_alloc;
     st = world_build_random(&d, &w);
     if (st != TCLOD_OK) {
         fprintf(stderr, "tclod_bench: building %u objects failed: %s\n", objects,
@@ -1667,6 +1723,7 @@ static int bench_thesis(int quick, unsigned long frames, double theta) {
         return 1;
     }
     thesis_desc_default(&d);
+    d.alloc = &scene_alloc;
     st = thesis_build(&d, &t);
     if (st != TCLOD_OK) {
         fprintf(stderr, "tclod_bench: building the thesis scene failed: %s\n",
@@ -1761,7 +1818,8 @@ static double drift_build(drift_scene *d, uint32_t objects) {
     d->base = (double *)malloc(n * sizeof(double));
     d->factor = (double *)malloc(n * sizeof(double));
     d->cost = (double *)malloc(n * sizeof(double));
-    if (!d->base || !d->factor || !d->cost || tclod_scene_create(NULL, &d->scene) != TCLOD_OK) {
+    if (!d->base || !d->factor || !d->cost ||
+        tclod_scene_create(&scene_alloc, &d->scene) != TCLOD_OK) {
         drift_free(d);
         return -1.0;
     }
@@ -1807,6 +1865,7 @@ static int bench_drift(uint32_t objects, unsigned long frames) {
     unsigned long f, total = frames + WARMUP_FRAMES, fallbacks = 0;
     int k, rc = 0;
     budget = drift_build(&d, objects);
+    mem_row_begin();
     memset(rows, 0, sizeof rows);
     memset(sum_us, 0, sizeof sum_us);
     for (k = 0; k < DRIFT_MODES; ++k)
@@ -1822,7 +1881,7 @@ static int bench_drift(uint32_t objects, unsigned long frames) {
         }
         sd.callbacks.user = &d;
         sd.cold_start = k == DRIFT_COLD;
-        if (!times[k] || tclod_selector_create(d.scene, &sd, NULL, &sel[k]) != TCLOD_OK)
+        if (!times[k] || tclod_selector_create(d.scene, &sd, &selector_alloc, &sel[k]) != TCLOD_OK)
             budget = -1.0;
     }
     if (budget < 0.0) {
@@ -1868,6 +1927,8 @@ static int bench_drift(uint32_t objects, unsigned long frames) {
         }
     }
     for (k = 0; k < DRIFT_MODES && rc == 0; ++k) {
+        mem_row_end(&rows[k]);
+        rows[k].selector_bytes /= DRIFT_MODES; /* the three selectors lived together */
         finish_row(&rows[k], times[k], frames, sum_us[k]);
         if (row_wanted("greedy", drift_modes[k]))
             print_row("drift", "greedy", drift_modes[k], (unsigned long)objects,
@@ -1935,7 +1996,7 @@ static tclod_status absorb_build(absorb_scene *a, uint32_t objects) {
     a->cost = (double *)malloc(a->nodes * sizeof(double));
     if (!a->benefit || !a->cost)
         return TCLOD_ERR_NOMEM;
-    st = tclod_scene_create(NULL, &a->scene);
+    st = tclod_scene_create(&scene_alloc, &a->scene);
     for (i = 0; i < a->nodes && st == TCLOD_OK; ++i) {
         /* ids 1, 3, 5 ... are the small roots, 2, 4, 6 ... their children */
         tclod_id parent = i == 0 || i % 2u == 1u ? TCLOD_NONE : i - 1u, id;
@@ -2063,6 +2124,7 @@ static int bench_absorb(uint32_t objects, unsigned long frames) {
             if (!row_wanted(solver_name(method_solvers[k]), modes[mode]))
                 continue;
             memset(&row, 0, sizeof(row));
+            mem_row_begin();
             tclod_selector_desc_default(&sd);
             sd.solver = method_solvers[k];
             sd.cold_start = 1; /* every frame the cold solve */
@@ -2072,8 +2134,8 @@ static int bench_absorb(uint32_t objects, unsigned long frames) {
             sd.callbacks.smooth_cost = bench_no_smooth;
             sd.callbacks.user = &a;
             tclod_scheduler_desc_default(&dd);
-            st = mode == 2 ? tclod_scheduler_create(a.scene, &sd, &dd, NULL, &sch)
-                           : tclod_selector_create(a.scene, &sd, NULL, &sel);
+            st = mode == 2 ? tclod_scheduler_create(a.scene, &sd, &dd, &selector_alloc, &sch)
+                           : tclod_selector_create(a.scene, &sd, &selector_alloc, &sel);
             if (st != TCLOD_OK) {
                 fprintf(stderr, "tclod_bench: absorb: creating a %s failed: %s\n",
                         mode == 2 ? "scheduler" : "selector", tclod_status_string(st));
@@ -2097,6 +2159,7 @@ static int bench_absorb(uint32_t objects, unsigned long frames) {
             tclod_scheduler_destroy(sch);
             if (rc != 0)
                 break;
+            mem_row_end(&row);
             finish_row(&row, times, frames, sum_us);
             print_row("absorb", solver_name(method_solvers[k]), modes[mode], (unsigned long)objects,
                       (unsigned long)a.nodes, ldexp(1.0, 53), (unsigned long)objects + 1u, &row);
@@ -2214,6 +2277,8 @@ int main(int argc, char **argv) {
     double t_start = bench_now_us();
     tclod_selector_desc defaults;
 
+    scene_alloc = bench_counting_allocator(&scene_mem);
+    selector_alloc = bench_counting_allocator(&selector_mem);
     tclod_selector_desc_default(&defaults);
     opt_lookahead = defaults.greedy.lookahead;
     opt_restarts = (unsigned long)defaults.greedy.restarts;
@@ -2322,7 +2387,7 @@ int main(int argc, char **argv) {
         /* the largest worlds get a quarter of the frames: 10^6 objects, and 10^5 with --quick */
         unsigned long visible,
             n_frames = objects >= 1000000u || (quick && objects >= 100000u) ? frames / 4 : frames;
-        double budget, t0 = bench_now_us();
+        double budget, selector_bytes = 0.0, t0 = bench_now_us();
         if (only_scene && strcmp(only_scene, "random") != 0)
             break;
         if (only_objects && k > 0)
@@ -2331,6 +2396,7 @@ int main(int argc, char **argv) {
             break;
         world_random_desc_default(&d);
         d.objects = objects;
+        d.alloc = &scene_alloc;
         st = world_build_random(&d, &w);
         if (st != TCLOD_OK) {
             fprintf(stderr, "tclod_bench: building %u objects failed: %s\n", objects,
@@ -2344,11 +2410,19 @@ int main(int argc, char **argv) {
                 "%lu objects in view, budget %.3f ms\n",
                 objects, w.node_count, w.group_count, (bench_now_us() - t0) / 1000.0, visible,
                 budget);
-        if (bench_scene("random", &w, budget, visible, n_frames, w.object_root, w.object_count) !=
-            0) {
+        if (bench_scene("random", &w, budget, visible, n_frames, w.object_root, w.object_count,
+                        &selector_bytes) != 0) {
             world_scene_free(&w);
             return 1;
         }
+        /* the process's peak, the world's own arrays included; the library's part
+         * in the last two figures */
+        fprintf(stderr,
+                "summary: scene=random objects=%u nodes=%u peak_rss_mb=%.1f "
+                "selector_bytes_per_node=%.1f scene_bytes_per_node=%.1f\n",
+                objects, w.node_count, bench_peak_rss_mb(),
+                w.node_count ? selector_bytes / (double)w.node_count : 0.0,
+                w.node_count ? (double)scene_mem.held / (double)w.node_count : 0.0);
         world_scene_free(&w);
     }
 
@@ -2357,7 +2431,9 @@ int main(int argc, char **argv) {
         world_scene w;
         tclod_status st;
         unsigned long visible;
+        double selector_bytes = 0.0;
         world_flyover_desc_default(&d);
+        d.alloc = &scene_alloc;
         st = world_build_flyover(&d, &w);
         if (st != TCLOD_OK) {
             fprintf(stderr, "tclod_bench: building the flyover failed: %s\n",
@@ -2365,7 +2441,8 @@ int main(int argc, char **argv) {
             return 1;
         }
         visible = bench_world_visible(&w);
-        if (bench_scene("flyover", &w, FLYOVER_BUDGET_MS, visible, frames, NULL, 0) != 0) {
+        if (bench_scene("flyover", &w, FLYOVER_BUDGET_MS, visible, frames, NULL, 0,
+                        &selector_bytes) != 0) {
             world_scene_free(&w);
             return 1;
         }

@@ -28,8 +28,17 @@
 #include <math.h>
 #include <string.h>
 
+/* A per-node or per-object capacity after cap: half as much again (a
+ * multiple of 64, which the free-id bitsets' words need), so that the slack
+ * of a grown scene averages about a fifth of what it holds. */
 static uint32_t grown_capacity(uint32_t cap) {
-    return cap < 64u ? 64u : (cap > UINT32_MAX / 2u ? UINT32_MAX - 1u : cap * 2u);
+    uint32_t more;
+    if (cap < 64u)
+        return 64u;
+    if (cap > (UINT32_MAX - 64u) / 3u * 2u)
+        return UINT32_MAX - 1u;
+    more = cap + cap / 2u;
+    return (more + 63u) & ~63u;
 }
 
 tclod_status tclod_scene_create(const tclod_allocator *a, tclod_scene **out) {
@@ -44,6 +53,7 @@ tclod_status tclod_scene_create(const tclod_allocator *a, tclod_scene **out) {
     s->alloc = alloc;
     s->version = s->node_version = s->smooth_version = 1;
     s->epoch = 1;
+    s->retired_head = s->retired_tail = TCLOD_NONE;
     *out = s;
     return TCLOD_OK;
 }
@@ -59,21 +69,17 @@ static size_t node_arrays(tclod_scene *s, tclod_array out[TCLOD_MAX_ARRAYS]) {
     out[n++] = (tclod_array){(void **)&s->self, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&s->bounds, sizeof(tclod_node_bounds), -1};
     out[n++] = (tclod_array){(void **)&s->flags, sizeof(uint8_t), 0};
-    /* bitsets: a byte per node is more room than they need */
-    out[n++] = (tclod_array){(void **)&s->free_map, sizeof(uint8_t), 0};
-    out[n++] = (tclod_array){(void **)&s->free_summary, sizeof(uint8_t), 0};
-    out[n++] = (tclod_array){(void **)&s->retired.id, sizeof(tclod_id), -1};
-    out[n++] = (tclod_array){(void **)&s->retired.epoch, sizeof(uint32_t), -1};
     out[n++] = (tclod_array){(void **)&s->parent, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&s->child_first, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&s->child_count, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&s->child_cap, sizeof(uint32_t), 0};
-    out[n++] = (tclod_array){(void **)&s->roots, sizeof(tclod_id), -1};
-    out[n++] = (tclod_array){(void **)&s->order, sizeof(tclod_id), -1};
-    out[n++] = (tclod_array){(void **)&s->log, sizeof(tclod_edit), -1};
+    /* tclod_scene_log_cap(cap) entries: bytes per node as its share */
+    out[n++] = (tclod_array){(void **)&s->log, sizeof(tclod_edit) / 4u, -1};
     out[n++] = (tclod_array){(void **)&s->bytes, sizeof(float), 0};
-    out[n++] = (tclod_array){(void **)&s->res_pos, sizeof(uint32_t), -1};
-    out[n++] = (tclod_array){(void **)&s->res_list, sizeof(tclod_id), -1};
+    if (s->res_listed) {
+        out[n++] = (tclod_array){(void **)&s->res_pos, sizeof(uint32_t), -1};
+        out[n++] = (tclod_array){(void **)&s->res_list, sizeof(tclod_id), -1};
+    }
     return n;
 }
 
@@ -93,6 +99,20 @@ static size_t box_arrays(tclod_scene *s, tclod_array out[TCLOD_MAX_ARRAYS]) {
     out[n++] = (tclod_array){(void **)&s->boxes, sizeof(tclod_box), -1};
     out[n++] = (tclod_array){(void **)&s->box_free, sizeof(uint32_t), -1};
     return n;
+}
+
+/* 64-bit words of the bitset of cap ids, and of its summary. */
+static size_t free_map_words(uint32_t cap) {
+    return (size_t)cap / 64u + (cap % 64u != 0);
+}
+
+static size_t free_summary_size(uint32_t cap) {
+    return (free_map_words(cap) + 63u) / 64u;
+}
+
+/* The bytes of free_bits for cap ids. */
+static size_t free_bits_size(uint32_t cap) {
+    return sizeof(uint64_t) * (free_map_words(cap) + free_summary_size(cap));
 }
 
 /* The smooth quadtree's arrays, allocated together so that a failure changes
@@ -121,9 +141,11 @@ tclod_status tclod_scene_destroy(tclod_scene *s) {
                           "a selector or scheduler still uses the scene; destroy them first");
     alloc = s->alloc;
     tclod_arrays_free(&alloc, arrays, node_arrays(s, arrays), s->node_cap);
+    tclod_mem_free(&alloc, s->free_bits, free_bits_size(s->node_cap));
     tclod_arrays_free(&alloc, arrays, smooth_arrays(s, arrays), s->smooth_cap);
     tclod_arrays_free(&alloc, arrays, box_arrays(s, arrays), s->box_cap);
     tclod_mem_free(&alloc, s->children, sizeof(tclod_id) * s->children_cap);
+    tclod_mem_free(&alloc, s->order, sizeof(tclod_id) * s->order_cap);
     x.smooth_cap = s->smooth_index_cap;
     x.smooth_order = s->smooth_order;
     x.smooth_pos = s->smooth_pos;
@@ -213,9 +235,10 @@ static void trim_log(tclod_scene *s) {
 }
 
 static void log_edit(tclod_scene *s, tclod_id node, uint32_t kind) {
-    if (s->log_count == s->node_cap)
+    uint32_t cap = tclod_scene_log_cap(s->node_cap);
+    if (s->log_count == cap)
         trim_log(s);
-    if (s->log_count == s->node_cap) { /* full: users behind look at their selections */
+    if (s->log_count == cap) { /* full: users behind look at their selections */
         s->log_base += s->log_count;
         s->log_count = 0;
     }
@@ -260,11 +283,25 @@ static void release(const tclod_scene *s, tclod_retired *r, uint32_t cap, tclod_
  * in fewer cache lines. A bit per id, and a bit per 64 ids that has any. */
 
 static uint64_t *free_words(const tclod_scene *s) {
-    return (uint64_t *)(void *)s->free_map;
+    return s->free_bits;
 }
 
 static uint64_t *free_summary_words(const tclod_scene *s) {
-    return (uint64_t *)(void *)s->free_summary;
+    return s->free_bits + free_map_words(s->node_cap);
+}
+
+/* The free ids' bits of the current capacity copied into fresh, sized for
+ * cap ids, the rest clear; the old ones freed. */
+static void free_bits_move(tclod_scene *s, uint64_t *fresh, uint32_t cap) {
+    size_t old_words = free_map_words(s->node_cap), words = free_map_words(cap);
+    size_t old_summary = free_summary_size(s->node_cap);
+    memset(fresh, 0, free_bits_size(cap));
+    if (s->free_bits) {
+        memcpy(fresh, s->free_bits, sizeof(uint64_t) * old_words);
+        memcpy(fresh + words, s->free_bits + old_words, sizeof(uint64_t) * old_summary);
+    }
+    tclod_mem_free(&s->alloc, s->free_bits, free_bits_size(s->node_cap));
+    s->free_bits = fresh;
 }
 
 /* The lowest set bit's position; w != 0. */
@@ -335,13 +372,29 @@ static void unwrap(tclod_retired *r, uint32_t old_cap) {
     }
 }
 
+/* Puts the removed node id at the end of the retired queue, removed in
+ * epoch (its record's self and child_first are free for the queue). */
+static void retire_node(tclod_scene *s, tclod_id id, uint32_t epoch) {
+    s->self[id] = TCLOD_NONE;
+    s->child_first[id] = epoch;
+    if (s->retired_tail == TCLOD_NONE)
+        s->retired_head = id;
+    else
+        s->self[s->retired_tail] = id;
+    s->retired_tail = id;
+    s->retired_count++;
+}
+
 /* Makes the retired ids every user has solved since free again. */
 static void release_nodes(tclod_scene *s) {
-    uint32_t oldest = s->retired.count ? oldest_synced(s) : 0u;
-    while (s->retired.count > 0 && s->retired.epoch[s->retired.head] <= oldest) {
-        free_id(s, s->retired.id[s->retired.head]);
-        s->retired.head = s->retired.head + 1u == s->node_cap ? 0u : s->retired.head + 1u;
-        s->retired.count--;
+    uint32_t oldest = s->retired_count ? oldest_synced(s) : 0u;
+    while (s->retired_count > 0 && s->child_first[s->retired_head] <= oldest) {
+        tclod_id id = s->retired_head;
+        s->retired_head = s->self[id];
+        s->self[id] = TCLOD_NONE;
+        free_id(s, id);
+        if (--s->retired_count == 0)
+            s->retired_tail = TCLOD_NONE;
     }
 }
 
@@ -355,11 +408,14 @@ typedef struct room {
     size_t node_n, box_n;
     uint32_t node_cap, box_cap, slab_cap; /* 0: no growth */
     tclod_id *slab;
+    uint64_t *bits; /* free_bits for node_cap */
 } room;
 
 static void room_discard(tclod_scene *s, room *r) {
-    if (r->node_cap)
+    if (r->node_cap) {
         tclod_arrays_discard(&s->alloc, r->node, r->node_n, r->node_cap, r->node_fresh);
+        tclod_mem_free(&s->alloc, r->bits, free_bits_size(r->node_cap));
+    }
     if (r->box_cap)
         tclod_arrays_discard(&s->alloc, r->box, r->box_n, r->box_cap, r->box_fresh);
     tclod_mem_free(&s->alloc, r->slab, sizeof(tclod_id) * r->slab_cap);
@@ -380,6 +436,11 @@ static tclod_status room_alloc(tclod_scene *s, room *r, uint32_t ids, int box, u
             r->node_n = node_arrays(s, r->node);
             if (tclod_arrays_alloc(&s->alloc, r->node, r->node_n, cap, r->node_fresh) != TCLOD_OK)
                 return TCLOD_ERR_NOMEM;
+            r->bits = (uint64_t *)tclod_mem_alloc(&s->alloc, free_bits_size(cap));
+            if (!r->bits) {
+                tclod_arrays_discard(&s->alloc, r->node, r->node_n, cap, r->node_fresh);
+                return TCLOD_ERR_NOMEM;
+            }
             r->node_cap = cap;
         }
     }
@@ -393,14 +454,15 @@ static tclod_status room_alloc(tclod_scene *s, room *r, uint32_t ids, int box, u
         r->box_cap = cap;
     }
     if (s->children_used > UINT32_MAX - slab || s->children_used + slab > s->children_cap) {
-        /* the slab is made again, twice as large as what it holds */
-        uint32_t live = s->children_used - s->children_garbage, cap = 64u;
+        /* the slab is made again, half as large again as what it holds:
+         * blocks that move use the room left until the next time */
+        uint32_t live = s->children_used - s->children_garbage, cap;
         if (live > UINT32_MAX / 4u - slab) {
             room_discard(s, r);
             return TCLOD_ERR_NOMEM;
         }
-        while (cap < 2u * (live + slab))
-            cap *= 2u;
+        cap = live + slab;
+        cap = (cap + cap / 2u + 63u) & ~63u;
         r->slab = (tclod_id *)tclod_mem_alloc(&s->alloc, sizeof(tclod_id) * cap);
         if (!r->slab) {
             room_discard(s, r);
@@ -415,7 +477,11 @@ static tclod_status room_alloc(tclod_scene *s, room *r, uint32_t ids, int box, u
  * id order, each as large as what it holds; what moved blocks left behind
  * goes. */
 static void slab_rebuild(tclod_scene *s, tclod_id *fresh, uint32_t cap) {
-    uint32_t n, at = 0;
+    uint32_t n, at = s->root_count;
+    if (s->root_count) /* the roots first */
+        memcpy(fresh, s->roots, sizeof(tclod_id) * s->root_count);
+    s->root_first = 0;
+    s->root_cap = s->root_count;
     for (n = 0; n < s->node_count; ++n) {
         if (s->child_cap[n] == 0u)
             continue;
@@ -431,12 +497,13 @@ static void slab_rebuild(tclod_scene *s, tclod_id *fresh, uint32_t cap) {
     s->children_cap = cap;
     s->children_used = at;
     s->children_garbage = 0;
+    s->roots = fresh;
 }
 
 static void room_commit(tclod_scene *s, room *r) {
     if (r->node_cap) {
         tclod_arrays_commit(&s->alloc, r->node, r->node_n, s->node_cap, r->node_cap, r->node_fresh);
-        unwrap(&s->retired, s->node_cap);
+        free_bits_move(s, r->bits, r->node_cap);
         s->node_cap = r->node_cap;
     }
     if (r->box_cap) {
@@ -469,10 +536,24 @@ static void free_box(tclod_scene *s, uint32_t slot) {
 
 /* ---- the child index --------------------------------------------------------------- */
 
-/* The slab room that attaching a child to p may need: p's block moved to the
- * end at twice its size, and room for a self leaf. */
+/* The slab room that attaching a child to p may need: p's block (the roots'
+ * for TCLOD_NONE) moved to the end at twice its size, and room for a self
+ * leaf. */
 static uint32_t attach_room(const tclod_scene *s, tclod_id p) {
-    return p == TCLOD_NONE ? 0u : 2u * s->child_cap[p] + 4u;
+    return 2u * (p == TCLOD_NONE ? s->root_cap : s->child_cap[p]) + 4u;
+}
+
+/* A full block of children (*first, *cap, holding count) moves to the end of
+ * the slab at twice its size (there is room: attach_room). */
+static void move_block(tclod_scene *s, uint32_t *first, uint32_t *cap, uint32_t count) {
+    uint32_t grown = *cap ? 2u * *cap : 2u;
+    assert(s->children_used + grown <= s->children_cap);
+    if (count)
+        memcpy(s->children + s->children_used, s->children + *first, sizeof(tclod_id) * count);
+    s->children_garbage += *cap;
+    *first = s->children_used;
+    *cap = grown;
+    s->children_used += grown;
 }
 
 /* Where x goes in (or is in) the ascending ids a[0..n). */
@@ -497,20 +578,15 @@ static void attach(tclod_scene *s, tclod_id x, tclod_id p) {
     s->flags[x] |= TCLOD_NODE_INDEXED;
     log_edit(s, x, TCLOD_EDIT_ADDED);
     if (p == TCLOD_NONE) {
+        if (s->root_count == s->root_cap) {
+            move_block(s, &s->root_first, &s->root_cap, s->root_count);
+            s->roots = s->children + s->root_first;
+        }
         list = s->roots;
         count = s->root_count++;
     } else {
-        if (s->child_count[p] == s->child_cap[p]) { /* the block moves to the end */
-            uint32_t cap = s->child_cap[p] ? 2u * s->child_cap[p] : 2u;
-            assert(s->children_used + cap <= s->children_cap);
-            if (s->child_count[p])
-                memcpy(s->children + s->children_used, s->children + s->child_first[p],
-                       sizeof(tclod_id) * s->child_count[p]);
-            s->children_garbage += s->child_cap[p];
-            s->child_first[p] = s->children_used;
-            s->child_cap[p] = cap;
-            s->children_used += cap;
-        }
+        if (s->child_count[p] == s->child_cap[p])
+            move_block(s, &s->child_first[p], &s->child_cap[p], s->child_count[p]);
         list = s->children + s->child_first[p];
         count = s->child_count[p]++;
     }
@@ -604,21 +680,27 @@ static int bytes_valid(double b) {
     return b >= 0.0 && b <= (double)FLT_MAX;
 }
 
-/* Puts live node n on the resident list and counts its size. */
+/* Counts live node n resident (on the list, when kept) with its size. */
 static void resident_add(tclod_scene *s, tclod_id n) {
-    s->res_pos[n] = s->res_count;
-    s->res_list[s->res_count++] = n;
+    if (s->res_listed) {
+        s->res_pos[n] = s->res_count;
+        s->res_list[s->res_count] = n;
+    }
+    s->res_count++;
     s->resident_bytes += (double)s->bytes[n];
     s->residency_version++;
 }
 
-/* Takes resident node n off the list and its size off the total. */
+/* Takes resident node n off the count (and list) and its size off the total. */
 static void resident_remove(tclod_scene *s, tclod_id n) {
-    uint32_t slot = s->res_pos[n];
-    tclod_id last = s->res_list[--s->res_count];
-    s->res_list[slot] = last;
-    s->res_pos[last] = slot;
-    s->res_pos[n] = TCLOD_NONE;
+    s->res_count--;
+    if (s->res_listed) {
+        uint32_t slot = s->res_pos[n];
+        tclod_id last = s->res_list[s->res_count];
+        s->res_list[slot] = last;
+        s->res_pos[last] = slot;
+        s->res_pos[n] = TCLOD_NONE;
+    }
     s->resident_bytes -= (double)s->bytes[n];
     if (s->res_count == 0 && s->smooth_live == s->smooth_absent_count)
         s->resident_bytes = 0.0; /* let go of what rounding left */
@@ -725,7 +807,9 @@ static tclod_status add_node(tclod_scene *s, const tclod_node_desc *d, tclod_id 
                   (d->empty ? TCLOD_NODE_EMPTY : 0u));
     s->child_count[id] = s->child_cap[id] = 0;
     s->bytes[id] = (float)d->bytes;
-    s->res_pos[id] = TCLOD_NONE;
+    s->res_wanted |= d->bytes > 0.0;
+    if (s->res_listed)
+        s->res_pos[id] = TCLOD_NONE;
     if (d->not_resident)
         s->flags[id] |= TCLOD_NODE_ABSENT;
     if (!d->empty) {
@@ -744,7 +828,8 @@ static tclod_status add_node(tclod_scene *s, const tclod_node_desc *d, tclod_id 
         s->flags[self] = TCLOD_NODE_SELF;
         s->child_count[self] = s->child_cap[self] = 0;
         s->bytes[self] = 0.0f;
-        s->res_pos[self] = TCLOD_NONE;
+        if (s->res_listed)
+            s->res_pos[self] = TCLOD_NONE;
         s->self_count++;
     }
     s->self[id] = self;
@@ -794,11 +879,11 @@ static void drop_node(tclod_scene *s, tclod_id n) {
     s->children_garbage += s->child_cap[n];
     s->child_count[n] = s->child_cap[n] = 0;
     s->flags[n] = 0;
-    retire(&s->retired, s->node_cap, n, s->epoch);
+    retire_node(s, n, s->epoch);
     s->live_nodes--;
     if (self != TCLOD_NONE) {
         s->flags[self] = 0;
-        retire(&s->retired, s->node_cap, self, s->epoch);
+        retire_node(s, self, s->epoch);
         s->self_count--;
     }
 }
@@ -1212,14 +1297,48 @@ static void build_smooth_quadtree(tclod_scene *s, qt_cell *cells) {
     }
 }
 
+/* Makes the list of the resident nodes, kept from then on. */
+static tclod_status list_resident(tclod_scene *s) {
+    tclod_array arrays[2];
+    uint32_t n, k = 0;
+    arrays[0] = (tclod_array){(void **)&s->res_pos, sizeof(uint32_t), -1};
+    arrays[1] = (tclod_array){(void **)&s->res_list, sizeof(tclod_id), -1};
+    if (s->node_cap && tclod_arrays_grow(&s->alloc, arrays, 2, 0, s->node_cap) != TCLOD_OK)
+        return TCLOD_ERR_NOMEM;
+    for (n = 0; n < s->node_count; ++n) {
+        s->res_pos[n] = TCLOD_NONE;
+        if (tclod_scene_resident(s, n)) {
+            s->res_pos[n] = k;
+            s->res_list[k++] = n;
+        }
+    }
+    assert(k == s->res_count);
+    s->res_listed = 1;
+    return TCLOD_OK;
+}
+
 tclod_status tclod_scene_prepare(tclod_scene *s) {
     size_t cells_size = 0;
     qt_cell *cells = NULL;
     tclod_status st;
     if (!s)
         return TCLOD_ERR_ARG;
-    if (s->order_users > 0 && s->order_version != s->node_version + 1u)
+    if (s->res_wanted && !s->res_listed && list_resident(s) != TCLOD_OK)
+        return tclod_fail(s->error, TCLOD_ERR_NOMEM, "tclod_scene_prepare",
+                          "no memory for the list of resident nodes");
+    if (s->order_users > 0 && s->order_version != s->node_version + 1u) {
+        if (s->order_cap < s->node_count) { /* made again, not copied */
+            tclod_id *order =
+                (tclod_id *)tclod_mem_alloc(&s->alloc, sizeof(tclod_id) * s->node_cap);
+            if (!order)
+                return tclod_fail(s->error, TCLOD_ERR_NOMEM, "tclod_scene_prepare",
+                                  "no memory for the node order");
+            tclod_mem_free(&s->alloc, s->order, sizeof(tclod_id) * s->order_cap);
+            s->order = order;
+            s->order_cap = s->node_cap;
+        }
         build_order(s);
+    }
     if (s->qt_version == s->smooth_version)
         return TCLOD_OK;
     /* the quadtree's build-time cells, taken first so no failure comes after
@@ -1354,6 +1473,8 @@ static tclod_status set_bytes(tclod_scene *s, tclod_id id, double b, int smooth,
     if (!(*flags & (TCLOD_NODE_ABSENT | TCLOD_NODE_EMPTY)))
         s->resident_bytes += (double)(float)b - (double)*bytes;
     *bytes = (float)b;
+    if (!smooth)
+        s->res_wanted |= b > 0.0; /* the next prepare lists the resident nodes */
     s->residency_version++;
     return TCLOD_OK;
 }

@@ -21,11 +21,11 @@ typedef struct tclod_smooth_node {
 
 /* Per-node flags of a scene (tclod_scene.flags). */
 enum {
-    TCLOD_NODE_LIVE = 1u,    /* added by the host and not removed */
-    TCLOD_NODE_ADD = 2u,     /* additive refinement */
-    TCLOD_NODE_EMPTY = 4u,   /* nothing to draw */
-    TCLOD_NODE_SELF = 8u,    /* the drawing of an additive node among its children (its
-                                "self leaf"): an id no call returns */
+    TCLOD_NODE_LIVE = 1u,     /* added by the host and not removed */
+    TCLOD_NODE_ADD = 2u,      /* additive refinement */
+    TCLOD_NODE_EMPTY = 4u,    /* nothing to draw */
+    TCLOD_NODE_SELF = 8u,     /* the drawing of an additive node among its children (its
+                                 "self leaf"): an id no call returns */
     TCLOD_NODE_INDEXED = 16u, /* in the child index (the tree the solvers see) */
     TCLOD_NODE_ABSENT = 32u   /* live and not resident (also in smooth_flags) */
 };
@@ -75,12 +75,15 @@ struct tclod_scene {
     tclod_id *self;            /* a non-empty additive node's self leaf, or TCLOD_NONE */
     tclod_node_bounds *bounds; /* a self leaf has its owner's */
     uint8_t *flags;            /* TCLOD_NODE_* */
-    uint8_t *free_map;         /* ids to give again: a bitset (64-bit words in the
-                                  first node_cap / 8 bytes) ... */
-    uint8_t *free_summary;     /* ... and a bit per word of it that has any */
+    uint64_t *free_bits;       /* ids to give again: a bit per id (node_cap bits), then a bit
+                                  per 64-bit word of those that has any (scene.c) */
     uint32_t free_count;
-    tclod_retired retired; /* ids not to give again yet */
-    uint32_t self_count;   /* self leaves in use */
+    /* ids not to give again yet, oldest first: a queue linked through the
+     * removed nodes' own records, which they no longer use (self[id]: the
+     * next one; child_first[id]: the epoch of its removal) */
+    tclod_id retired_head, retired_tail;
+    uint32_t retired_count;
+    uint32_t self_count; /* self leaves in use */
 
     /* boxes, by slot; free slots on a stack */
     uint32_t box_count, box_cap, box_free_count;
@@ -100,7 +103,8 @@ struct tclod_scene {
      * their children hang from their parent, or are roots), and below every
      * additive node with children its self leaf. A node's children lie in a
      * block of children[], ascending ids; a block that fills up moves to the
-     * end, and the slab is compacted when half of it is left behind. */
+     * end, and the slab is compacted (made again, half as large again as
+     * what it holds) when a block finds no room left. */
     tclod_id *parent;      /* the index's parent of an indexed node (TCLOD_NONE: a
                               root); for an empty node, the parent its children
                               hang from */
@@ -110,18 +114,20 @@ struct tclod_scene {
     uint32_t *child_cap; /* the size of n's block */
     tclod_id *children;
     uint32_t children_cap, children_used, children_garbage;
-    tclod_id *roots; /* ascending ids */
-    uint32_t root_count;
+    tclod_id *roots; /* ascending ids: a block of children[] too (children +
+                        root_first, root_cap entries) */
+    uint32_t root_count, root_first, root_cap;
     tclod_id *order; /* the indexed nodes, parents before children: made by
-                        tclod_scene_prepare while a user reads it */
-    uint32_t order_count;
+                        tclod_scene_prepare while a user reads it (order_cap
+                        entries, allocated then) */
+    uint32_t order_count, order_cap;
     uint32_t order_version; /* node_version order describes, + 1; 0: none */
     uint32_t order_users;   /* users that read order (Robin Hood selectors,
                                schedulers) */
     /* the edit log: entry i has the sequence number log_base + i; entries
      * every user has seen are let go, and all of them when it is full (a user
      * that had not seen them then looks at its whole selection instead) */
-    tclod_edit *log; /* node_cap entries */
+    tclod_edit *log; /* tclod_scene_log_cap(node_cap) entries */
     uint32_t log_count;
     uint64_t log_base;
 
@@ -132,15 +138,19 @@ struct tclod_scene {
     tclod_smooth_node *qt;  /* 2 * smooth_index_cap nodes; qt[0] is the root */
     uint32_t qt_count;
 
-    /* streaming (docs/streaming.md): sizes, and the live resident nodes in a
-     * list (each node's slot in it, TCLOD_NONE when not in it) so that
-     * evictions are planned over them alone. Empty nodes have nothing to
-     * load: their flag is kept, but they are in no count, list or sum */
+    /* streaming (docs/streaming.md): sizes, and the live resident nodes
+     * counted (res_count) and, once a node has been given a size (only
+     * those are evicted), in a list (each node's slot in it, TCLOD_NONE when
+     * not in it) so that evictions are planned over them alone: made by
+     * tclod_scene_prepare (res_listed), kept up to date from then on. Empty
+     * nodes have nothing to load: their flag is kept, but they are in no
+     * count, list or sum */
     float *bytes;
     uint32_t *res_pos;
     tclod_id *res_list;
     uint32_t res_count;
-    uint32_t absent_count; /* live nodes not resident */
+    int res_wanted, res_listed; /* a node was given a size; the list is kept */
+    uint32_t absent_count;      /* live nodes not resident */
     float *smooth_bytes;
     uint32_t smooth_absent_count;
     double resident_bytes;      /* the sizes of the resident nodes and smooth objects */
@@ -156,6 +166,13 @@ struct tclod_scene {
     uint32_t smooth_version; /* bumped when smooth objects are added, removed or moved */
     uint32_t qt_version;     /* smooth_version the quadtree describes */
 };
+
+/* The edit log's entries for a node capacity: one per 4 nodes. Edits beyond
+ * that many between two solves are as many as a warm start's look at its
+ * whole selection costs anyway. */
+static inline uint32_t tclod_scene_log_cap(uint32_t node_cap) {
+    return node_cap / 4u;
+}
 
 /* Registers u as a user of s (holding no id yet, not busy, not holding the
  * scene); `reads_order`: it reads tclod_scene.order, which tclod_scene_prepare
@@ -177,6 +194,13 @@ static inline tclod_id tclod_scene_owner(const tclod_scene *s, tclod_id n) {
 /* Whether the selectors must look at residency at all. */
 static inline int tclod_scene_streams(const tclod_scene *s) {
     return (s->absent_count | s->smooth_absent_count) != 0;
+}
+
+/* Whether node n is live, draws something and is resident: on the resident
+ * list (when the scene keeps it). */
+static inline int tclod_scene_resident(const tclod_scene *s, tclod_id n) {
+    return (s->flags[n] & (TCLOD_NODE_LIVE | TCLOD_NODE_EMPTY | TCLOD_NODE_ABSENT |
+                           TCLOD_NODE_SELF)) == TCLOD_NODE_LIVE;
 }
 
 /* Whether node n (a self leaf: its owner) is not resident. */

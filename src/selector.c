@@ -151,10 +151,15 @@ static size_t node_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS
     out[n++] = (tclod_array){(void **)&sel->cut, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->prev_cut, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->result, sizeof(tclod_id), -1};
-    out[n++] = (tclod_array){(void **)&sel->drawn, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->scratch, sizeof(tclod_id), -1};
     out[n++] = (tclod_array){(void **)&sel->scratch_key, sizeof(double), -1};
     return n + tclod_greedy_buffers(&sel->greedy, out + n);
+}
+
+/* The result as the host's ids: only while the scene has self leaves (or had). */
+static size_t drawn_buffers(tclod_selector *sel, tclod_array out[TCLOD_MAX_ARRAYS]) {
+    out[0] = (tclod_array){(void **)&sel->drawn, sizeof(tclod_id), -1};
+    return 1;
 }
 
 /* Every per-smooth-object buffer: the mixed solver's and the committed
@@ -206,6 +211,7 @@ void tclod_selector_destroy(tclod_selector *sel) {
     tclod_scene_detach(sel->scene, &sel->user, sel->desc.solver == TCLOD_SOLVER_ROBIN_HOOD);
     tclod_batch_destroy(sel);
     tclod_arrays_free(&alloc, buffers, node_buffers(sel, buffers), sel->cap);
+    tclod_arrays_free(&alloc, buffers, drawn_buffers(sel, buffers), sel->drawn_cap);
     tclod_arrays_free(&alloc, buffers, smooth_buffers(sel, buffers), sel->smooth_cap);
     tclod_arrays_free(&alloc, buffers, tclod_rh_buffers(&sel->rh, buffers), sel->rh.cap);
     tclod_arrays_free(&alloc, buffers, tclod_stream_buffers(&sel->stream, buffers),
@@ -213,10 +219,14 @@ void tclod_selector_destroy(tclod_selector *sel) {
     tclod_mem_free(&alloc, sel, sizeof *sel);
 }
 
+/* The capacity a block grows to from cap for need elements (need > cap): the
+ * first time need and a 32nd more (a scene edited between frames takes a few
+ * new ids before the removed ones are given again), else half as much again,
+ * so that a scene that keeps growing costs amortised constant copying. */
 static uint32_t grown(uint32_t cap, uint32_t need) {
-    while (cap < need)
-        cap = cap < 64u ? 64u : (cap > UINT32_MAX / 2u ? need : cap * 2u);
-    return cap;
+    uint32_t base = cap == 0 ? need : cap, more = cap == 0 ? need / 32u : cap / 2u;
+    more = base > UINT32_MAX - more ? UINT32_MAX : base + more;
+    return more < need ? need : more;
 }
 
 /* One block of buffers that may have to grow. */
@@ -231,7 +241,7 @@ typedef struct growth {
 /* Grows the per-node, per-smooth-object and Robin Hood buffers to the scene's
  * size, all or nothing. */
 static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth) {
-    growth g[4];
+    growth g[5];
     int uses_smooth = sel->desc.solver != TCLOD_SOLVER_GREEDY;
     int i, k;
     if (nodes + smooth < nodes || nodes > UINT32_MAX - 3u || smooth > (UINT32_MAX - 2u) / 2u ||
@@ -254,13 +264,19 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
     g[3].new_cap = tclod_stream_wanted(sel) && nodes + 2u * smooth + 2u > sel->stream.cap
                        ? grown(sel->stream.cap, nodes + 2u * smooth + 2u)
                        : sel->stream.cap;
+    g[4].cap = &sel->drawn_cap;
+    /* once the scene has self leaves: a result entry per node */
+    g[4].new_cap = (sel->drawn_cap > 0 || sel->scene->self_count > 0) && nodes > sel->drawn_cap
+                       ? grown(sel->drawn_cap, nodes)
+                       : sel->drawn_cap;
     /* the arrays of the blocks that grow */
     g[0].count = g[0].new_cap != sel->cap ? node_buffers(sel, g[0].arrays) : 0;
     g[1].count = g[1].new_cap != sel->smooth_cap ? smooth_buffers(sel, g[1].arrays) : 0;
     g[2].count = g[2].new_cap != sel->rh.cap ? tclod_rh_buffers(&sel->rh, g[2].arrays) : 0;
     g[3].count =
         g[3].new_cap != sel->stream.cap ? tclod_stream_buffers(&sel->stream, g[3].arrays) : 0;
-    for (i = 0; i < 4; ++i) {
+    g[4].count = g[4].new_cap != sel->drawn_cap ? drawn_buffers(sel, g[4].arrays) : 0;
+    for (i = 0; i < 5; ++i) {
         if (g[i].new_cap == *g[i].cap)
             continue;
         if (tclod_arrays_alloc(&sel->alloc, g[i].arrays, g[i].count, g[i].new_cap, g[i].fresh) !=
@@ -272,7 +288,7 @@ static tclod_status reserve(tclod_selector *sel, uint32_t nodes, uint32_t smooth
             return TCLOD_ERR_NOMEM;
         }
     }
-    for (i = 0; i < 4; ++i) {
+    for (i = 0; i < 5; ++i) {
         if (g[i].new_cap == *g[i].cap)
             continue;
         tclod_arrays_commit(&sel->alloc, g[i].arrays, g[i].count, *g[i].cap, g[i].new_cap,

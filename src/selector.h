@@ -94,7 +94,9 @@ struct tclod_selector {
     uint8_t *flags;
     tclod_id *cut, *prev_cut, *result, *scratch;
     tclod_id *drawn; /* the result as tclod_selector_cut lists it: self leaves as
-                        their additive nodes (result itself when it has none) */
+                        their additive nodes (result itself when it has none); drawn_cap
+                        elements, allocated once the scene has self leaves */
+    uint32_t drawn_cap;
     int drawn_is_result;
     double *scratch_key;
 

@@ -534,6 +534,20 @@ static void keep_all(tclod_selector *sel) {
             keep_path(sel, S->keep[i]);
 }
 
+/* The resident node after position *i (0 first) in the scene's list, or
+ * when it keeps none (no node was given a size before the solve began) in
+ * id order; TCLOD_NONE after the last. */
+static tclod_id stream_next_resident(const tclod_scene *s, uint32_t *i) {
+    if (s->res_listed)
+        return *i < s->res_count ? s->res_list[(*i)++] : TCLOD_NONE;
+    while (*i < s->node_count) {
+        tclod_id n = (*i)++;
+        if (tclod_scene_resident(s, n))
+            return n;
+    }
+    return TCLOD_NONE;
+}
+
 /* Queues every resident node and smooth object not kept (of nonzero size)
  * as an eviction candidate, least valuable first. A node's value is the
  * benefit per byte it gave when a solve last saw it visible (this one, if it
@@ -547,22 +561,21 @@ static void eviction_candidates(tclod_selector *sel) {
     tclod_stream_state *S = &sel->stream;
     double *value = S->cap_value; /* free once the target is made */
     uint32_t i;
-    for (i = 0; i < s->res_count; ++i) {
-        tclod_id n = s->res_list[i];
+    tclod_id n;
+    for (i = 0; (n = stream_next_resident(s, &i)) != TCLOD_NONE;) {
         remember(sel, n);
         if (S->seen_value[n] > 0.0)
             value[n] = S->seen_value[n];
         else
             value[n] = -1.0 - (double)(S->plans - S->used[n]);
     }
-    for (i = 0; i < s->res_count; ++i) {
-        tclod_id n = s->res_list[i], a;
-        for (a = s->up[n]; a != TCLOD_NONE && s->res_pos[a] != TCLOD_NONE && value[a] <= value[n];
+    for (i = 0; (n = stream_next_resident(s, &i)) != TCLOD_NONE;) {
+        tclod_id a;
+        for (a = s->up[n]; a != TCLOD_NONE && tclod_scene_resident(s, a) && value[a] <= value[n];
              n = a, a = s->up[a])
             value[a] = nextafter(value[n], HUGE_VAL);
     }
-    for (i = 0; i < s->res_count; ++i) {
-        tclod_id n = s->res_list[i];
+    for (i = 0; (n = stream_next_resident(s, &i)) != TCLOD_NONE;) {
         if (!(S->mark[n] & STREAM_KEEP) && s->bytes[n] > 0.0f)
             tclod_heap_append(&S->heap, n, -value[n]); /* a max-heap: the least valuable first */
     }

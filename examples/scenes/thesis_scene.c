@@ -628,7 +628,7 @@ tclod_status thesis_build(const thesis_desc *d, thesis_scene *out) {
     out->c_splat_ms = d->c_splat_ms;
     out->c_tree_ms = d->c_tree_ms;
     out->c_vertex_ms = d->c_vertex_ms;
-    st = tclod_scene_create(NULL, &out->scene);
+    st = tclod_scene_create(d->alloc, &out->scene);
     if (st == TCLOD_OK)
         st = build_terrain(d, out);
     if (st == TCLOD_OK)

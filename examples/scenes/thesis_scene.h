@@ -92,6 +92,8 @@ typedef struct thesis_desc {
     int keep_trees;         /* 1: also keep every tree (thesis_scene.tree_xyzh, 16 bytes a
                                tree) for hosts that draw them; 0: only the groups, as the
                                selection needs; default 0 */
+    /* the scene's allocator; default NULL (malloc) */
+    const tclod_allocator *alloc;
 } thesis_desc;
 
 /* Fills d with the defaults above (the thesis's scene and constants). */

@@ -261,7 +261,8 @@ static void builder_finish(world_builder *b) {
 }
 
 static tclod_status world_begin(world_scene *out, world_builder *b, uint32_t objects,
-                                uint32_t levels, const world_cost_model *cost) {
+                                uint32_t levels, const world_cost_model *cost,
+                                const tclod_allocator *alloc) {
     tclod_status st;
     memset(out, 0, sizeof(*out));
     memset(b, 0, sizeof(*b));
@@ -274,7 +275,7 @@ static tclod_status world_begin(world_scene *out, world_builder *b, uint32_t obj
     out->object_bounds = (float *)calloc((size_t)(objects ? objects : 1u) * 4u, sizeof(float));
     if (!out->object_root || !out->object_bounds)
         return TCLOD_ERR_NOMEM;
-    st = tclod_scene_create(NULL, &out->scene);
+    st = tclod_scene_create(alloc, &out->scene);
     return st;
 }
 
@@ -391,7 +392,7 @@ static tclod_status build_random(const world_random_desc *d, world_scene *out, w
     uint32_t i;
     float side = d->spacing * sqrtf((float)d->objects);
 
-    st = world_begin(out, b, d->objects, d->levels, &d->cost);
+    st = world_begin(out, b, d->objects, d->levels, &d->cost, d->alloc);
     if (st != TCLOD_OK)
         return st;
     out->side = side;
@@ -666,7 +667,7 @@ static tclod_status build_flyover(const world_flyover_desc *d, world_scene *out,
     world_rng rng;
     uint32_t i;
     float margin = 0.02f * d->side;
-    tclod_status st = world_begin(out, b, d->objects, d->levels, &d->cost);
+    tclod_status st = world_begin(out, b, d->objects, d->levels, &d->cost, d->alloc);
     if (st != TCLOD_OK)
         return st;
     out->side = d->side;

@@ -110,6 +110,7 @@ typedef struct world_random_desc {
     float spacing; /* mean distance between objects, m; side = spacing·sqrt(N); default 25 */
     uint64_t seed; /* default 1 */
     world_cost_model cost;
+    const tclod_allocator *alloc; /* the scene's allocator; default NULL (malloc) */
 } world_random_desc;
 
 /* The flyover world of the example. */
@@ -122,6 +123,7 @@ typedef struct world_flyover_desc {
     uint32_t levels;          /* levels per object, in [1, 8]; default 6 */
     uint64_t seed;            /* default 7 */
     world_cost_model cost;
+    const tclod_allocator *alloc; /* the scene's allocator; default NULL (malloc) */
 } world_flyover_desc;
 
 void world_cost_model_default(world_cost_model *m);
