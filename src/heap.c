@@ -96,7 +96,7 @@ static void sift_down(tclod_heap *h, uint32_t slot) {
 
 void tclod_heap_append(tclod_heap *h, tclod_id id, double key) {
     tclod_heap_entry *e = &h->items[h->count];
-    assert(*slot_of(h, id) == TCLOD_NONE);
+    assert(!tclod_heap_contains(h, id));
     assert(key == key); /* never NaN */
     e->key = key;
     e->id = id;
@@ -112,7 +112,7 @@ void tclod_heap_build(tclod_heap *h) {
 
 void tclod_heap_push(tclod_heap *h, tclod_id id, double key) {
     tclod_heap_entry e;
-    assert(*slot_of(h, id) == TCLOD_NONE);
+    assert(!tclod_heap_contains(h, id));
     assert(key == key); /* never NaN */
     e.key = key;
     e.id = id;
@@ -172,8 +172,8 @@ tclod_id tclod_heap_pop(tclod_heap *h) {
 void tclod_heap_replace(tclod_heap *h, tclod_id old_id, tclod_id id, double key) {
     uint32_t slot = *slot_of(h, old_id);
     tclod_heap_entry e;
-    assert(slot != TCLOD_NONE);
-    assert(old_id == id || *slot_of(h, id) == TCLOD_NONE);
+    assert(tclod_heap_contains(h, old_id));
+    assert(old_id == id || !tclod_heap_contains(h, id));
     assert(key == key); /* never NaN */
     *slot_of(h, old_id) = TCLOD_NONE;
     e.key = key;
@@ -185,19 +185,12 @@ void tclod_heap_replace(tclod_heap *h, tclod_id old_id, tclod_id id, double key)
 void tclod_heap_remove(tclod_heap *h, tclod_id id) {
     uint32_t slot = *slot_of(h, id);
     tclod_heap_entry e;
-    assert(slot != TCLOD_NONE);
+    assert(tclod_heap_contains(h, id));
     *slot_of(h, id) = TCLOD_NONE;
     if (slot == --h->count)
         return;
     e = h->items[h->count];
     settle(h, slot, &e);
-}
-
-void tclod_heap_clear(tclod_heap *h) {
-    uint32_t i;
-    for (i = 0; i < h->count; ++i)
-        *slot_of(h, h->items[i].id) = TCLOD_NONE;
-    h->count = 0;
 }
 
 /* Sift-down for the sort: a max-heap in "after" order, so that popping the

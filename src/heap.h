@@ -15,8 +15,10 @@ typedef struct tclod_heap_entry {
 } tclod_heap_entry;
 
 /* Orders ids by key, largest first; equal keys by smaller id first. The slot of
- * id i is pos[i] (TCLOD_NONE when absent), so an entry can be removed or
- * replaced in O(log n). */
+ * id i is pos[i], so an entry can be removed or replaced in O(log n). An id is
+ * in the heap when its slot is below count and holds it (a sparse set): a
+ * slot left behind by an id that is gone is never trusted, so emptying the
+ * heap costs nothing. pos[] starts filled with TCLOD_NONE. */
 typedef struct tclod_heap {
     tclod_heap_entry *items;
     uint32_t *pos;
@@ -35,11 +37,14 @@ void tclod_heap_remove(tclod_heap *h, tclod_id id);
  * restores order: the same heap as removing old_id and pushing id, for the
  * cost of one of the two. */
 void tclod_heap_replace(tclod_heap *h, tclod_id old_id, tclod_id id, double key);
-/* Empties the heap, resetting the slots of its entries. */
-void tclod_heap_clear(tclod_heap *h);
+/* Empties the heap. */
+static inline void tclod_heap_clear(tclod_heap *h) {
+    h->count = 0;
+}
 
 static inline int tclod_heap_contains(const tclod_heap *h, tclod_id id) {
-    return h->pos[id] != TCLOD_NONE;
+    uint32_t slot = h->pos[id];
+    return slot < h->count && h->items[slot].id == id;
 }
 
 /* Sorts ids[0..n) in heap order (largest key first, ties by smaller id),
