@@ -281,7 +281,7 @@ int tclod_batch_flush(tclod_selector *sel);
  * tclod_batch_flush. No node may be gathered with its parent between two
  * flushes (the measure takes a parent's figures). Returns as the flush. */
 static inline int tclod_batch_add(tclod_selector *sel, tclod_id n) {
-    if (sel->node[n].stamp == sel->solve_id || (sel->scene->bounds[n].kind & TCLOD_BOUNDS_SELF))
+    if (sel->node[n].stamp == sel->solve_id || (sel->scene->flags[n] & TCLOD_NODE_SELF))
         return 0;
     sel->node[n].stamp = sel->solve_id;
     TCLOD_PREFETCH(&sel->scene->bounds[n]); /* for the measure that follows */
