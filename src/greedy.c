@@ -267,7 +267,7 @@ static inline int queue_plain(tclod_selector *sel, tclod_id n, int append) {
 /* Queues n's increment if it is a candidate (append: heap order restored by
  * the caller; otherwise pushed). The by-cost heap exists only once the fill
  * has begun (see increment_may_fit). */
-static int queue_increment(tclod_selector *sel, tclod_id n, int append) {
+TCLOD_ALWAYS_INLINE int queue_increment(tclod_selector *sel, tclod_id n, int append) {
     return sel->desc.greedy.lookahead > 0 ? tclod_greedy_queue_looking(sel, n, append)
                                           : queue_plain(sel, n, append);
 }

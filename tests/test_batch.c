@@ -332,12 +332,14 @@ static void strict_mode_fails_on_a_bad_batch_value_as_per_node(void **state) {
  * indices go round its three workers, which the workspace must serve). */
 static void an_inline_task_system_is_not_asked_to_finish(void **state) {
     (void)state;
-    H.enqueues = H.finishes = H.ranges = H.covered = 0;
+    H.enqueues = H.finishes = H.ranges = H.covered = H.inline_enqueues = 0;
     check_ways(1, 0, 40.0);
-    assert_true(H.enqueues > 0);
+    assert_true(H.inline_enqueues > 0);
     /* the pool's finishes only: one per enqueue of the pool's, which
      * returns a task; the inline system's enqueues returned NULL */
-    assert_true(H.finishes < H.enqueues);
+    assert_int_equal(H.finishes, H.enqueues - H.inline_enqueues);
+    /* its ranges tiled what it was given: at least two chunks each */
+    assert_true(H.covered >= 2u * 256u * H.inline_enqueues);
 }
 
 static void the_scheduler_asks_node_by_node(void **state) {
