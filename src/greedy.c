@@ -144,6 +144,7 @@ static void greedy_cut_add(tclod_selector *sel, tclod_id n) {
     assert(sel->node[n].cut_pos == TCLOD_NONE);
     sel->node[n].cut_pos = sel->cut_count;
     sel->cut[sel->cut_count++] = n;
+    sel->flags[n] |= TCLOD_FLAG_MOVED;
     account(sel, n, 1.0);
 }
 
@@ -153,6 +154,7 @@ static void greedy_cut_remove(tclod_selector *sel, tclod_id n) {
     account(sel, n, -1.0);
     sel->cut[slot] = last;
     sel->node[last].cut_pos = slot;
+    sel->flags[last] |= TCLOD_FLAG_MOVED;
     sel->node[n].cut_pos = TCLOD_NONE;
 }
 
@@ -648,14 +650,12 @@ static int start_cold(tclod_selector *sel) {
  * per-node records (about 150 bytes a node) outgrow a core's own caches. */
 #define SORT_FROM_NODES 16384u
 
-/* Sorts the cut by id (least significant digit radix sort, 8 bits a pass,
- * through scratch), so that the warm start visits the per-node records in
- * memory order rather than in the order taking and removing nodes left
- * (docs/greedy.md: at 10^5 objects this halves a warm solve). One reading
- * counts every digit; a digit all ids share needs no pass. */
-static void sort_cut(tclod_selector *sel) {
-    uint32_t count[4][256], n = sel->cut_count, i, d;
-    tclod_id *a = sel->cut, *b = sel->scratch;
+/* Sorts ids a[0..n) through b[0..n) (least significant digit radix sort, 8
+ * bits a pass): one reading counts every digit, a digit all ids share needs no
+ * pass. The result is in a. */
+static void radix_ids(tclod_id *a, tclod_id *b, uint32_t n) {
+    uint32_t count[4][256], i, d;
+    tclod_id *src = a, *dst = b;
     if (n < 2u)
         return;
     memset(count, 0, sizeof count);
@@ -669,7 +669,7 @@ static void sort_cut(tclod_selector *sel) {
     for (d = 0; d < 4u; ++d) {
         uint32_t shift = 8u * d, *at = count[d], sum = 0, k;
         tclod_id *t;
-        if (at[(a[0] >> shift) & 255u] == n)
+        if (at[(src[0] >> shift) & 255u] == n)
             continue;
         for (k = 0; k < 256u; ++k) {
             uint32_t c = at[k];
@@ -677,24 +677,64 @@ static void sort_cut(tclod_selector *sel) {
             sum += c;
         }
         for (i = 0; i < n; ++i) {
-            tclod_id v = a[i];
-            b[at[(v >> shift) & 255u]++] = v;
+            tclod_id v = src[i];
+            dst[at[(v >> shift) & 255u]++] = v;
         }
-        t = a;
-        a = b;
-        b = t;
+        t = src;
+        src = dst;
+        dst = t;
     }
-    if (a != sel->cut)
-        memcpy(sel->cut, a, sizeof(tclod_id) * n);
+    if (src != a)
+        memcpy(a, src, sizeof(tclod_id) * n);
+}
+
+/* Sorts the cut by id, so that the warm start visits the per-node records in
+ * memory order rather than in the order taking and removing nodes left
+ * (docs/greedy.md: at 10^5 objects this halves a warm solve). The previous
+ * warm solve sorted it; the nodes it put in since (appended, or moved into a
+ * hole) carry TCLOD_FLAG_MOVED, and the others are still in order. Those are
+ * kept in place, the moved ones are radix sorted through scratch and merged
+ * in from the end. The pass that then records the slots checks the order,
+ * and a cut that is not in order after all (one put back after a failed
+ * solve) is radix sorted whole. Returns with the flags of the cut cleared. */
+static void sort_cut(tclod_selector *sel) {
+    uint32_t n = sel->cut_count, i, k = 0, m = 0;
+    tclod_id *a = sel->cut, *b = sel->scratch;
+    uint8_t *flags = sel->flags;
+    int sorted = 1;
+    for (i = 0; i < n; ++i) {
+        tclod_id v = a[i];
+        if (flags[v] & TCLOD_FLAG_MOVED)
+            b[m++] = v;
+        else
+            a[k++] = v;
+    }
+    if (2u * m <= sel->cap) {
+        uint32_t w = n;
+        radix_ids(b, b + m, m);
+        while (m > 0) /* the larger of the two last ones goes last */
+            a[--w] = k > 0 && a[k - 1u] > b[m - 1u] ? a[--k] : b[--m];
+    } else {
+        memcpy(a + k, b, sizeof(tclod_id) * m);
+        radix_ids(a, b, n);
+    }
+    for (i = 0; i < n; ++i) {
+        sorted &= i == 0 || a[i - 1u] < a[i];
+        sel->node[a[i]].cut_pos = i;
+        flags[a[i]] = 0;
+    }
+    if (sorted)
+        return;
+    radix_ids(a, b, n);
     for (i = 0; i < n; ++i)
-        sel->node[sel->cut[i]].cut_pos = i;
+        sel->node[a[i]].cut_pos = i;
 }
 
 /* Puts n into the cut as a node of the previous selection would be (the warm
  * start evaluates and counts it). */
 static void cut_append(tclod_selector *sel, tclod_id n) {
     sel->node[n].cut_pos = sel->cut_count;
-    sel->flags[n] = 0;
+    sel->flags[n] = TCLOD_FLAG_MOVED;
     sel->cut[sel->cut_count++] = n;
 }
 
@@ -778,6 +818,7 @@ static void repair_from_log(tclod_selector *sel, uint32_t from) {
         last = sel->cut[--sel->cut_count];
         sel->cut[slot] = last;
         node[last].cut_pos = slot;
+        sel->flags[last] |= TCLOD_FLAG_MOVED;
         node[n].cut_pos = TCLOD_NONE;
         sel->flags[n] = 0;
     }

@@ -125,7 +125,7 @@ static TCLOD_NOINLINE double lookahead_key(tclod_selector *sel, tclod_id n, int 
     uint32_t first = s->child_first[n], end = first + s->child_count[n], i, it;
     double key = tclod_greedy_increment_key(sel, n, failed), best, lambda, at = 0.0, b, c, q;
     int deep = 0, rc;
-    sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED; /* no jump */
+    sel->flags[n] &= (uint8_t)(TCLOD_FLAG_DROPPED | TCLOD_FLAG_MOVED); /* no jump */
     if (*failed || first == end || !greedy_counts(sel, n) || key == HUGE_VAL ||
         !isfinite(sel->greedy.delta[n].delta_c))
         return key;
@@ -275,7 +275,7 @@ TCLOD_NOINLINE int tclod_greedy_apply_jump(tclod_selector *sel, tclod_id n, int 
     uint32_t top = 0;
     if (sel->flags[n] & TCLOD_FLAG_REFIT)
         path_c = HUGE_VAL;
-    sel->flags[n] &= (uint8_t)TCLOD_FLAG_DROPPED;
+    sel->flags[n] &= (uint8_t)(TCLOD_FLAG_DROPPED | TCLOD_FLAG_MOVED);
     st[0].id = n;
     st[0].next = s->child_first[n];
     st[0].end = st[0].next + s->child_count[n];

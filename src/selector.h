@@ -24,6 +24,9 @@ enum {
     TCLOD_FLAG_REFIT = 8u,
     TCLOD_FLAG_ABOVE = 16u, /* while a warm start repairs its cut after the scene
                                changed: a node above the cut */
+    TCLOD_FLAG_MOVED = 64u, /* a cut node put where the cut's order by id may not hold
+                               (appended, or moved into a hole) since a warm start
+                               sorted it (sort_cut) */
     TCLOD_FLAG_CULL = 32u   /* while a warm start repairs its cut against residency:
                                a node above the cut whose subtree leaves it */
 };
