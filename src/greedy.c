@@ -237,6 +237,12 @@ static int closes(const tclod_selector *sel, double key) {
     return sel->resume.greedy.closing && key >= sel->resume.greedy.closure_key;
 }
 
+/* sel->greedy.cheap_live: the by-cost heap is not kept (none), holds every
+ * queued increment in heap order (live), or holds them all, order not yet
+ * restored (pending: a warm start queues them there while their Δc is at
+ * hand, and the first misfit heaps them). */
+enum { CHEAP_NONE = 0, CHEAP_LIVE = 1, CHEAP_PENDING = 2 };
+
 /* Queues n's increment of key `key` (NaN: no candidate), pushed, or appended
  * (heap order restored by the caller); `look` as cheap_key. */
 static inline void enqueue_as(tclod_selector *sel, tclod_id n, double key, int append, int look) {
@@ -247,8 +253,10 @@ static inline void enqueue_as(tclod_selector *sel, tclod_id n, double key, int a
             tclod_heap_append(&sel->greedy.inc, n, key);
         else
             tclod_heap_push(&sel->greedy.inc, n, key);
-        if (sel->greedy.cheap_live)
+        if (sel->greedy.cheap_live == CHEAP_LIVE)
             tclod_heap_push(&sel->greedy.cheap, n, cheap_key(sel, n, look));
+        else if (sel->greedy.cheap_live == CHEAP_PENDING)
+            tclod_heap_append(&sel->greedy.cheap, n, cheap_key(sel, n, look));
     }
 }
 
@@ -322,7 +330,7 @@ static void clear_heaps(tclod_selector *sel) {
     tclod_heap_clear(&sel->greedy.inc);
     tclod_heap_clear(&sel->greedy.cheap);
     tclod_heap_clear(&sel->greedy.dec);
-    sel->greedy.cheap_live = 0;
+    sel->greedy.cheap_live = CHEAP_NONE;
 }
 
 static tclod_id pop_increment(tclod_selector *sel) {
@@ -342,8 +350,10 @@ static void skip_misfit(tclod_selector *sel, tclod_id n) {
     key = tclod_greedy_refit_jump(sel, n);
     if (key == key) {
         tclod_heap_push(&sel->greedy.inc, n, key);
-        if (sel->greedy.cheap_live)
+        if (sel->greedy.cheap_live == CHEAP_LIVE)
             tclod_heap_push(&sel->greedy.cheap, n, cheap_key(sel, n, 1));
+        else if (sel->greedy.cheap_live == CHEAP_PENDING)
+            tclod_heap_append(&sel->greedy.cheap, n, cheap_key(sel, n, 1));
     }
 }
 
@@ -352,7 +362,10 @@ static void skip_misfit(tclod_selector *sel, tclod_id n) {
  * The increments ordered by cost are needed only from the first misfit on, so
  * they are heaped then, in O(n), and kept up to date after that. */
 static int increment_may_fit(tclod_selector *sel) {
-    if (!sel->greedy.cheap_live) {
+    if (sel->greedy.cheap_live == CHEAP_PENDING) {
+        tclod_heap_build(&sel->greedy.cheap);
+        sel->greedy.cheap_live = CHEAP_LIVE;
+    } else if (sel->greedy.cheap_live == CHEAP_NONE) {
         uint32_t i;
         if (sel->desc.greedy.lookahead > 0) {
             for (i = 0; i < sel->greedy.inc.count; ++i) {
@@ -366,7 +379,7 @@ static int increment_may_fit(tclod_selector *sel) {
             }
         }
         tclod_heap_build(&sel->greedy.cheap);
-        sel->greedy.cheap_live = 1;
+        sel->greedy.cheap_live = CHEAP_LIVE;
     }
     return sel->greedy.cheap.count > 0 && sel->unaffordable == 0 &&
            tclod_within(sel, sel->cost_sum - sel->greedy.cheap.items[0].key,
@@ -1038,6 +1051,8 @@ static int start_warm(tclod_selector *sel) {
         cull_additive(sel, culled);
     if (TCLOD_UNLIKELY(s->absent_count != 0) && stream_repair(sel) != 0)
         return -1;
+    if (sel->desc.greedy.lookahead == 0)
+        sel->greedy.cheap_live = CHEAP_PENDING;
     for (i = 0; i < sel->cut_count;) {
         if ((end = warm_block(sel, i, 1)) < 0)
             return -1;
