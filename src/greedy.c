@@ -1307,9 +1307,12 @@ static double result_total(const tclod_selector *sel) {
     const tclod_id *cut = sel->cut;
     double sum = 0.0;
     uint32_t i, count = sel->cut_count;
-    for (i = 0; i < count; ++i)
+    for (i = 0; i < count; ++i) {
+        if (i + TCLOD_CUT_AHEAD < count) /* as the commit reads them */
+            TCLOD_PREFETCH(&sel->node[cut[i + TCLOD_CUT_AHEAD]]);
         if (greedy_counts(sel, cut[i]))
             sum += sel->node[cut[i]].cost;
+    }
     return sum;
 }
 
