@@ -23,7 +23,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 build="${1:-build}"
 shift || true
 sets=("$@")
-[ ${#sets[@]} -gt 0 ] || sets=(bench targets churn stream thesis theta quality callgrind
+[ ${#sets[@]} -gt 0 ] || sets=(bench targets cost churn stream thesis theta quality callgrind
     churn_callgrind restarts_callgrind flyover scheduler)
 bench="$build/bench/tclod_bench"
 quality="$build/bench/tclod_quality"
@@ -112,6 +112,21 @@ run_targets() {
             # shellcheck disable=SC2086
             "$bench" $c 2>/dev/null | prefixed "$r" run "$out/$(name tclod_bench $c)"
         done
+    done
+}
+
+# Selection cost against the frontier, and warm against cold on every family: one run of
+# each.
+run_cost() {
+    local configs=(
+        "--scene random --objects 10000 --solver greedy --frames 200"
+        "--scene random --objects 100000 --solver greedy --frames 100"
+        "--scene flyover --solver greedy"
+        "--scene drift"
+    ) c
+    for c in "${configs[@]}"; do
+        # shellcheck disable=SC2086 # c is a list of words
+        "$bench" $c >"$out/$(name tclod_bench $c)" 2>/dev/null
     done
 }
 
@@ -300,7 +315,7 @@ run_scheduler() {
 
 for set in "${sets[@]}"; do
     case "$set" in
-    bench | targets | churn | stream | thesis | theta | quality | callgrind \
+    bench | targets | cost | churn | stream | thesis | theta | quality | callgrind \
         | churn_callgrind | restarts_callgrind | flyover | scheduler)
         echo "results.sh: $set" >&2
         "run_$set"

@@ -85,6 +85,10 @@
  * solve must spend under the callback contract, the time to project and ask the
  * callbacks of the frontier of the warm row's selection (its nodes, their children,
  * the parents all of whose children are selected) with nothing else (frontier_floor).
+ * Then greedy warm_batch (world_batch_callbacks: the same values through the batch
+ * callbacks) and warm_parallel (those over the 2 workers of a task_pool; column workers).
+ * drift (bench_drift) times cold, warm and warm_batch selectors on the same frames of
+ * chains whose benefits drift, and sums up warm against cold on stderr.
  * thesis runs the mixed solver cold, in three modes: split (split_smooth 1: quadtree
  * variable splitting lets nearby smooth objects share a variable), flat
  * (split_smooth 0: one variable per visible smooth object, up to about two thousand),
@@ -2181,7 +2185,19 @@ static void usage(FILE *out) {
             "variable splitting, and prints CSV on stdout (progress on stderr). The random and\n"
             "flyover rows also time the baselines engines use (threshold LOD with a tuned or a\n"
             "fixed bias, a priority queue that stops at the first misfit, a flat per-object\n"
-            "greedy) on the same frames and budgets.\n"
+            "greedy) on the same frames and budgets. The greedy's random and flyover rows\n"
+            "come cold, warm, warm_floor (the frontier's evaluation alone), warm_batch (the\n"
+            "batch callbacks) and warm_parallel (the batch callbacks over 2 workers of a\n"
+            "task_pool; column workers).\n"
+            "\n"
+            "The drift scene (10^3 chains of 4 levels without bounds, no view, every\n"
+            "benefit a random step of up to +-5%% a frame) times cold, warm and warm_batch\n"
+            "selectors on the same frames and prints\n"
+            "  summary: scene=drift objects=N cold_us_median=A warm_us_median=B\n"
+            "           time_ratio=B/A benefit_ratio=R benefit_ratio_min=M\n"
+            "           warm_batch_us_median=C cold_fallbacks=F\n"
+            "on stderr (R, M: the mean and the least over the frames of warm's benefit over\n"
+            "cold's; F: warm solves that fell back to cold ones).\n"
             "\n"
             "The churn scene edits a random world of 10^4 objects between frames (every\n"
             "frame 1%% of the objects move a few metres, 0.1%% are removed and 0.1%% added,\n"
@@ -2216,7 +2232,7 @@ static void usage(FILE *out) {
     fprintf(out,
             "  --quick       10^3, 10^4 and 10^5 objects only (10^5 with a quarter of the\n"
             "                frames), fewer thesis frames (under a minute), churn: at most\n"
-            "                50 frames, stream: at most 50 frames\n"
+            "                50 frames, stream and drift: at most 50 frames\n"
             "  --scene NAME  one scene only: random, flyover, churn, absorb, stream, drift or\n"
             "                thesis\n"
             "  --theta X     thesis rows: split_threshold X (default: the library's)\n"
@@ -2229,7 +2245,8 @@ static void usage(FILE *out) {
             "                cycles through them, at most 40 frames with --quick)\n"
             "  --solver NAME only the rows of one solver or baseline: greedy, mixed,\n"
             "                robin_hood, threshold_tuned, threshold_fixed, pq_stop, flat\n"
-            "  --mode NAME   only the rows of one mode: cold, warm, warm_floor (thesis:\n"
+            "  --mode NAME   only the rows of one mode: cold, warm, warm_floor,\n"
+            "                warm_batch, warm_parallel (drift: cold, warm, warm_batch; thesis:\n"
             "                split, flat, split_gradient; churn: warm, warm_noedit,\n"
             "                warm_edited; the summary needs warm and warm_noedit; absorb:\n"
             "                limited, step, scheduler; stream: flips, warm_plain,\n"

@@ -30,7 +30,7 @@
 #include <stdint.h>
 
 #define TCLOD_VERSION_MAJOR 0
-#define TCLOD_VERSION_MINOR 4
+#define TCLOD_VERSION_MINOR 5
 #define TCLOD_VERSION_PATCH 0
 /* MAJOR * 10000 + MINOR * 100 + PATCH, what tclod_version() returns. */
 #define TCLOD_VERSION_NUMBER \
