@@ -302,6 +302,17 @@ void bench_solve(solve_call *c) {
     solve_once(c);
 }
 
+/* Frame f's solve: untimed by callgrind in the warm-up frames, through bench_solve
+ * after them. Returns its wall-clock time in us. */
+static double solve_frame(solve_call *c, unsigned long f) {
+    double t0 = bench_now_us();
+    if (f < WARMUP_FRAMES)
+        solve_once(c);
+    else
+        bench_solve(c);
+    return bench_now_us() - t0;
+}
+
 /* Objects drawn finer than their level 0, out of the n cut nodes ids. */
 static unsigned long refined_objects(const world_scene *w, const tclod_id *ids, size_t n) {
     unsigned long count = 0;
@@ -580,7 +591,7 @@ static int run_config(world_scene *w, bench_method method, int warm, double budg
         tclod_view view;
         const tclod_id *ids;
         size_t n;
-        double t0, t1, cost;
+        double us, cost;
 
         world_camera_at(&w->path, (double)f / (double)FRAMES_PER_LOOP, &view);
         memset(&call.frame, 0, sizeof(call.frame));
@@ -591,15 +602,7 @@ static int run_config(world_scene *w, bench_method method, int warm, double budg
             baseline_threshold_tuned(base, &view, budget, &call.result);
             call.bias = call.result.bias;
         }
-        if (f < WARMUP_FRAMES) {
-            t0 = bench_now_us();
-            solve_once(&call);
-            t1 = bench_now_us();
-        } else {
-            t0 = bench_now_us();
-            bench_solve(&call);
-            t1 = bench_now_us();
-        }
+        us = solve_frame(&call, f);
         if (library) {
             tclod_status st = call.status;
             if (st == TCLOD_OK)
@@ -625,8 +628,8 @@ static int run_config(world_scene *w, bench_method method, int warm, double budg
         }
         if (f < WARMUP_FRAMES)
             continue;
-        times[f - WARMUP_FRAMES] = t1 - t0;
-        sum_us += t1 - t0;
+        times[f - WARMUP_FRAMES] = us;
+        sum_us += us;
         if (floor_row) { /* this selection's frontier, which the next warm solve evaluates */
             size_t m = floor_frontier(fl, (uint32_t)f + 1u, ids, n);
             double t2 = bench_now_us(), t3;
@@ -702,7 +705,7 @@ static int run_thesis(thesis_scene *t, int split, int precondition, double theta
         const tclod_id *ids;
         const tclod_smooth_group *groups;
         size_t n, group_count, g;
-        double t0, t1, own_cost;
+        double us, own_cost;
 
         thesis_camera_at(
             t, (double)((f < WARMUP_FRAMES ? f : f - WARMUP_FRAMES) % views) / (double)views,
@@ -716,12 +719,7 @@ static int run_thesis(thesis_scene *t, int split, int precondition, double theta
             call.method = METHOD_MIXED;
             call.sel = sel;
             call.frame = fr;
-            t0 = bench_now_us();
-            if (f < WARMUP_FRAMES)
-                solve_once(&call);
-            else
-                bench_solve(&call);
-            t1 = bench_now_us();
+            us = solve_frame(&call, f);
             st = call.status;
             stats = call.stats;
         }
@@ -743,8 +741,8 @@ static int run_thesis(thesis_scene *t, int split, int precondition, double theta
         }
         if (f < WARMUP_FRAMES)
             continue;
-        times[f - WARMUP_FRAMES] = t1 - t0;
-        sum_us += t1 - t0;
+        times[f - WARMUP_FRAMES] = us;
+        sum_us += us;
         add_stats(row, &stats, n);
         if (budget > 0.0 && own_cost / budget > row->max_cost_ratio)
             row->max_cost_ratio = own_cost / budget;
@@ -1034,17 +1032,12 @@ static tclod_status warm_greedy(world_scene *w, solve_call *call) {
 static tclod_status path_frame(solve_call *call, const world_scene *w, unsigned long f,
                                double budget, tclod_view *view, double *us, const tclod_id **ids,
                                size_t *n) {
-    double t0;
+
     world_camera_at(&w->path, (double)f / (double)FRAMES_PER_LOOP, view);
     memset(&call->frame, 0, sizeof(call->frame));
     call->frame.view = view;
     call->frame.budget = budget;
-    t0 = bench_now_us();
-    if (f < WARMUP_FRAMES)
-        solve_once(call);
-    else
-        bench_solve(call);
-    *us = bench_now_us() - t0;
+    *us = solve_frame(call, f);
     return call->status == TCLOD_OK ? tclod_selector_cut(call->sel, ids, n) : call->status;
 }
 
@@ -1897,17 +1890,12 @@ static int bench_drift(uint32_t objects, unsigned long frames) {
         drift_step(&d);
         for (k = 0; k < DRIFT_MODES && rc == 0; ++k) {
             solve_call call;
-            double t0, t1;
+            double us;
             memset(&call, 0, sizeof(call));
             call.method = METHOD_GREEDY;
             call.sel = sel[k];
             call.frame.budget = budget;
-            t0 = bench_now_us();
-            if (f < WARMUP_FRAMES)
-                solve_once(&call);
-            else
-                bench_solve(&call);
-            t1 = bench_now_us();
+            us = solve_frame(&call, f);
             if (call.status != TCLOD_OK || call.stats.cost > budget) {
                 fprintf(stderr, "tclod_bench: drift: %s select failed or over budget\n",
                         drift_modes[k]);
@@ -1917,8 +1905,8 @@ static int bench_drift(uint32_t objects, unsigned long frames) {
             benefit[k] = call.stats.benefit;
             if (f < WARMUP_FRAMES)
                 continue;
-            times[k][f - WARMUP_FRAMES] = t1 - t0;
-            sum_us[k] += t1 - t0;
+            times[k][f - WARMUP_FRAMES] = us;
+            sum_us[k] += us;
             add_stats(&rows[k], &call.stats, 0);
             if (k == DRIFT_WARM)
                 fallbacks += (call.stats.notes & TCLOD_NOTE_COLD_FALLBACK) != 0;

@@ -175,16 +175,6 @@ void task_pool_destroy(task_pool *p) {
     free(p);
 }
 
-tclod_tasks task_pool_tasks(task_pool *p) {
-    tclod_tasks t;
-    memset(&t, 0, sizeof t);
-    t.worker_count = p->workers;
-    t.enqueue = pool_enqueue;
-    t.finish = pool_finish;
-    t.user = p;
-    return t;
-}
-
 #else /* no threads: every task runs on the calling thread */
 
 struct task_pool {
@@ -218,6 +208,8 @@ void task_pool_destroy(task_pool *p) {
     free(p);
 }
 
+#endif
+
 tclod_tasks task_pool_tasks(task_pool *p) {
     tclod_tasks t;
     memset(&t, 0, sizeof t);
@@ -227,5 +219,3 @@ tclod_tasks task_pool_tasks(task_pool *p) {
     t.user = p;
     return t;
 }
-
-#endif
