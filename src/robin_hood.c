@@ -209,69 +209,19 @@ TCLOD_ALWAYS_INLINE int evaluate_head(tclod_selector *sel, tclod_id n, int insid
 }
 
 /* Node n, a finer level of the instance starting at head (evaluated in this
- * solve) whose bounds record is byte for byte the head's, not evaluated in
- * this solve yet: tclod_evaluate_measured with the head's screen area and
- * distance, reading the head's record (just read, in the cache) instead of
- * n's, which would be a cache miss of its own for the same bytes. Returns -1
- * on a strict error. */
-TCLOD_ALWAYS_INLINE int evaluate_as_head(tclod_selector *sel, tclod_id n, tclod_id head) {
-    const tclod_callbacks *cb = &sel->desc.callbacks;
-    const tclod_node_bounds *b = &sel->scene->bounds[head];
-    tclod_node_state *st = &sel->node[n];
-    const tclod_node_state *hs = &sel->node[head];
-    tclod_query *q = &sel->query; /* view, count and members set for the solve */
-    double bv, c;
-    float area = hs->area, distance = hs->distance;
-    if (b->kind & TCLOD_BOUNDS_SELF)
-        return tclod_evaluate_self(sel, n) < 0 ? -1 : 0;
-    st->stamp = sel->solve_id;
-    st->area = area;
-    st->distance = distance;
-    q->id = n;
-    q->screen_area = area;
-    q->distance = distance;
-    if (b->r >= 0.0) {
-        tclod_bounds *qb = &sel->qbounds;
-        if (b->box != TCLOD_NONE) {
-            tclod_scene_public_bounds(sel->scene, n, qb);
-        } else {
-            qb->kind = TCLOD_BOUNDS_SPHERE;
-            qb->center[0] = b->c[0];
-            qb->center[1] = b->c[1];
-            qb->center[2] = b->c[2];
-            qb->radius = b->r;
-        }
-        q->bounds = qb;
-    } else {
-        q->bounds = NULL;
-    }
-    sel->stats.evaluations++;
-    bv = cb->benefit(cb->user, q);
-    if (tclod_bits(bv) - 1u >= TCLOD_BITS_MAX)
-        return tclod_evaluate_invisible(sel, st, bv) < 0 ? -1 : 0;
-    c = cb->cost(cb->user, q);
-    st->benefit = bv;
-    if (tclod_bits(c) > TCLOD_BITS_MAX)
-        return tclod_evaluate_bad_cost(sel, st, c) < 0 ? -1 : 0;
-    st->cost = c;
-    if (TCLOD_UNLIKELY(tclod_scene_streams(sel->scene)) &&
-        (sel->scene->flags[n] & TCLOD_NODE_ABSENT))
-        return tclod_evaluate_absent(sel, n) < 0 ? -1 : 0;
-    return 0;
-}
-
-/* Node n, a finer level of the instance starting at head (evaluated in this
  * solve), not evaluated in this solve yet. A level with the head's bounds
  * (`shared`: all of the chain's levels have them) takes its screen area and
  * distance. Returns -1 on a strict error. */
 static inline int evaluate_level(tclod_selector *sel, tclod_id n, tclod_id head, int shared) {
     const tclod_scene *s = sel->scene;
-    float area = -1.0f;
-    double distance = -1.0;
-    if (shared || memcmp(&s->bounds[n], &s->bounds[head], sizeof(tclod_node_bounds)) == 0)
-        return evaluate_as_head(sel, n, head);
-    if (sel->has_view && s->bounds[n].r >= 0.0)
-        tclod_view_measure_bounds(&sel->view, &s->bounds[n], s->boxes, &area, &distance);
+    float area = sel->node[head].area;
+    double distance = (double)sel->node[head].distance;
+    if (!shared && memcmp(&s->bounds[n], &s->bounds[head], sizeof(tclod_node_bounds)) != 0) {
+        area = -1.0f;
+        distance = -1.0;
+        if (sel->has_view && s->bounds[n].r >= 0.0)
+            tclod_view_measure_bounds(&sel->view, &s->bounds[n], s->boxes, &area, &distance);
+    }
     return tclod_evaluate_measured(sel, n, area, distance);
 }
 
@@ -662,55 +612,6 @@ static void cut_clear(tclod_selector *sel) {
     sel->cut_count = 0;
 }
 
-/* A node of the last cut that the solve has not put into its own cut yet
- * (cut_start, cut_settle): a flag of this file's own, above those of
- * selector.h. */
-#define RH_FLAG_STALE 0x80u
-typedef char rh_stale_flag_is_free[TCLOD_FLAG_CULL < RH_FLAG_STALE ? 1 : -1];
-
-/* Empties the cut at the start of a solve. Clearing the records of the last
- * cut's nodes (cut_clear) would miss the cache on every one of them, as they
- * lie anywhere in the node array. When the committed copy of the cut
- * (prev_cut) still lists it, only their flags, a byte per node, are marked
- * RH_FLAG_STALE instead (rh.stale): cut_put overwrites the mark of every
- * node the solve puts back, and cut_settle clears, at the end, the records
- * of the few that did not come back. Until then a node of the last cut that
- * is not in the working cut may keep its slot; the solve reads the slots and
- * flags of its own cut's nodes only. */
-static void cut_start(tclod_selector *sel) {
-    const tclod_id *cut = sel->cut;
-    uint8_t *flags = sel->flags;
-    uint32_t i, count = sel->cut_count;
-    if (count == 0u || count != sel->prev_count ||
-        memcmp(cut, sel->prev_cut, sizeof(tclod_id) * count) != 0) {
-        cut_clear(sel);
-        return;
-    }
-    for (i = 0; i < count; ++i)
-        flags[cut[i]] = (uint8_t)RH_FLAG_STALE;
-    sel->cut_count = 0;
-    sel->resume.rh.stale = 1;
-}
-
-/* Ends what cut_start began: the nodes of the last cut (prev_cut) still
- * marked get no slot and no flags, as cut_clear would have left them. Runs
- * before the solve returns, paused or not, so that between calls every node
- * outside the working cut has neither. */
-static void cut_settle(tclod_selector *sel) {
-    const tclod_id *old = sel->prev_cut;
-    tclod_node_state *node = sel->node;
-    uint8_t *flags = sel->flags;
-    uint32_t i, count = sel->prev_count;
-    for (i = 0; i < count; ++i) {
-        tclod_id n = old[i];
-        if (flags[n] & RH_FLAG_STALE) {
-            node[n].cut_pos = TCLOD_NONE;
-            flags[n] = 0;
-        }
-    }
-    sel->resume.rh.stale = 0;
-}
-
 /* ---- candidates of the second cycle --------------------------------------------------- */
 
 /* The node instances that can still refine, in the order they were placed: a
@@ -760,30 +661,12 @@ static inline tclod_id chain_node(const tclod_selector *sel, tclod_id head,
     return ch->flags & TCLOD_RH_CONSECUTIVE ? head + k : sel->rh.chain[ch->at + k];
 }
 
-/* chain_node where `kind` is the chain's TCLOD_RH_CONSECUTIVE | TCLOD_RH_SHARED
- * bits when both are set (a constant where it is inlined: level k is then
- * head + k), else 0. */
-TCLOD_ALWAYS_INLINE tclod_id chain_level(const tclod_selector *sel, tclod_id head,
-                                         const tclod_rh_chain *ch, uint32_t k, uint32_t kind) {
-    return kind ? head + k : chain_node(sel, head, ch, k);
-}
-
 /* 1 when node n, a level of the chain ch starting at head, costs at most
  * `time`, 0 when not, -1 on a strict error. */
 TCLOD_ALWAYS_INLINE int fits(tclod_selector *sel, tclod_id n, tclod_id head,
                              const tclod_rh_chain *ch, double time) {
     if (sel->node[n].stamp != sel->solve_id &&
         evaluate_level(sel, n, head, (ch->flags & TCLOD_RH_SHARED) != 0) != 0)
-        return -1;
-    return sel->node[n].cost <= time;
-}
-
-/* fits, with the chain's kind as chain_level has it. */
-TCLOD_ALWAYS_INLINE int fits_as(tclod_selector *sel, tclod_id n, tclod_id head,
-                                const tclod_rh_chain *ch, double time, uint32_t kind) {
-    if (!kind)
-        return fits(sel, n, head, ch, time);
-    if (sel->node[n].stamp != sel->solve_id && evaluate_as_head(sel, n, head) != 0)
         return -1;
     return sel->node[n].cost <= time;
 }
@@ -811,9 +694,8 @@ static TCLOD_NOINLINE uint32_t resident_levels(const tclod_selector *sel, tclod_
  * end of the chain), about 2 log2 of the distance when it has. *step is what
  * the next level adds to the cost (HUGE_VAL at the chain's end). Returns -1
  * on a strict error. */
-TCLOD_ALWAYS_INLINE int finest_level_as(tclod_selector *sel, tclod_id head,
-                                        const tclod_rh_chain *ch, double time, tclod_id *out,
-                                        double *step, uint32_t kind) {
+TCLOD_ALWAYS_INLINE int finest_level(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch,
+                                     double time, tclod_id *out, double *step) {
     uint32_t len = ch->len, lo = 0, hi, d = 1, guess;
     tclod_id lo_node;
     int f;
@@ -830,7 +712,7 @@ TCLOD_ALWAYS_INLINE int finest_level_as(tclod_selector *sel, tclod_id head,
     /* from here on level lo fits; level hi does not, or is past the end */
     guess = last_level(sel, head, len);
     if (guess > 0u) {
-        if ((f = fits_as(sel, chain_level(sel, head, ch, guess, kind), head, ch, time, kind)) < 0)
+        if ((f = fits(sel, chain_node(sel, head, ch, guess), head, ch, time)) < 0)
             return -1;
         if (f)
             lo = guess;
@@ -839,8 +721,7 @@ TCLOD_ALWAYS_INLINE int finest_level_as(tclod_selector *sel, tclod_id head,
     }
     if (hi == len) { /* up from lo */
         for (; d < hi - lo; d *= 2u) {
-            if ((f = fits_as(sel, chain_level(sel, head, ch, lo + d, kind), head, ch, time, kind)) <
-                0)
+            if ((f = fits(sel, chain_node(sel, head, ch, lo + d), head, ch, time)) < 0)
                 return -1;
             if (!f) {
                 hi = lo + d;
@@ -850,8 +731,7 @@ TCLOD_ALWAYS_INLINE int finest_level_as(tclod_selector *sel, tclod_id head,
         }
     } else { /* down from hi */
         for (; d < hi - lo; d *= 2u) {
-            if ((f = fits_as(sel, chain_level(sel, head, ch, hi - d, kind), head, ch, time, kind)) <
-                0)
+            if ((f = fits(sel, chain_node(sel, head, ch, hi - d), head, ch, time)) < 0)
                 return -1;
             if (f) {
                 lo = hi - d;
@@ -862,30 +742,19 @@ TCLOD_ALWAYS_INLINE int finest_level_as(tclod_selector *sel, tclod_id head,
     }
     while (hi - lo > 1u) {
         uint32_t mid = lo + (hi - lo) / 2u;
-        if ((f = fits_as(sel, chain_level(sel, head, ch, mid, kind), head, ch, time, kind)) < 0)
+        if ((f = fits(sel, chain_node(sel, head, ch, mid), head, ch, time)) < 0)
             return -1;
         if (f)
             lo = mid;
         else
             hi = mid;
     }
-    lo_node = chain_level(sel, head, ch, lo, kind);
+    lo_node = chain_node(sel, head, ch, lo);
     *out = lo_node;
     set_last_level(sel, head, lo);
-    *step = hi < len
-                ? sel->node[chain_level(sel, head, ch, hi, kind)].cost - sel->node[lo_node].cost
-                : HUGE_VAL;
+    *step = hi < len ? sel->node[chain_node(sel, head, ch, hi)].cost - sel->node[lo_node].cost
+                     : HUGE_VAL;
     return 0;
-}
-
-/* finest_level_as, in a copy of its own for the chains whose levels are
- * consecutive ids with the head's bounds (an object's levels). */
-TCLOD_ALWAYS_INLINE int finest_level(tclod_selector *sel, tclod_id head, const tclod_rh_chain *ch,
-                                     double time, tclod_id *out, double *step) {
-    const uint32_t both = TCLOD_RH_CONSECUTIVE | TCLOD_RH_SHARED;
-    if ((ch->flags & both) == both)
-        return finest_level_as(sel, head, ch, time, out, step, both);
-    return finest_level_as(sel, head, ch, time, out, step, 0u);
 }
 
 /* Whether the sphere of radius reach around branching node b, which holds
@@ -1378,7 +1247,7 @@ static int robin_hood_start(tclod_selector *sel) {
         sel->rh.version = 0; /* strict: ask again next time */
         return -1;
     }
-    cut_start(sel);
+    cut_clear(sel);
     empty_variables(sel);
     sel->reserved = 0.0;
     if ((prepared ? values_prepared(sel, &total) : values(sel, &total)) != 0)
@@ -1701,8 +1570,6 @@ tclod_status tclod_robin_hood_solve(tclod_selector *sel) {
     }
     if (rc == 0 && R->phase == 2 && !sel->paused)
         rc = refill(sel);
-    if (R->rh.stale)
-        cut_settle(sel);
     if (rc == 0 && sel->paused)
         return TCLOD_OK;
     if (rc == 0)

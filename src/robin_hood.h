@@ -85,7 +85,6 @@ typedef struct tclod_rh_resume {
     int overflowing;
     int plain;   /* the solve's heads take the common path (plain_heads) */
     int streams; /* the scene has nodes that are not resident (resident_levels) */
-    int stale;   /* records of the last cut wait for cut_settle (robin_hood.c) */
     /* the third cycle: the candidates' ring (robin_hood.c), the value in it
      * and the smallest step it holds (or a lower bound) ... */
     uint32_t ring_first, ring_count;

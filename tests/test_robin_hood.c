@@ -933,69 +933,6 @@ static void the_worlds_give_their_weight_as_importance(void **state) {
     world_scene_free(&w);
 }
 
-/* The cut of sel and of twin list the same nodes in the same order. */
-static void assert_same_cut(tclod_selector *sel, tclod_selector *twin) {
-    const tclod_id *a, *b;
-    size_t na, nb, i;
-    assert_int_equal(tclod_selector_cut(sel, &a, &na), TCLOD_OK);
-    assert_int_equal(tclod_selector_cut(twin, &b, &nb), TCLOD_OK);
-    assert_int_equal(na, nb);
-    for (i = 0; i < na; ++i)
-        assert_int_equal(a[i], b[i]);
-}
-
-/* A solve empties the last frame's cut as it goes (robin_hood.c, cut_start):
- * whether it runs in one call, in slices of one iteration, or is paused and
- * cancelled before the next one, each frame's selection is the one a twin
- * selector makes in single calls, on a world of objects under group
- * impostors (branches) whose cut changes from frame to frame. */
-static void interrupted_solves_leave_the_same_selections(void **state) {
-    world_random_desc rd;
-    world_scene w;
-    tclod_selector_desc d;
-    tclod_selector *sel, *twin;
-    int frame;
-    (void)state;
-    world_random_desc_default(&rd);
-    rd.objects = 400;
-    assert_int_equal(world_build_random(&rd, &w), TCLOD_OK);
-    tclod_selector_desc_default(&d);
-    d.solver = TCLOD_SOLVER_ROBIN_HOOD;
-    d.callbacks = world_callbacks(&w);
-    assert_int_equal(tclod_selector_create(w.scene, &d, NULL, &sel), TCLOD_OK);
-    assert_int_equal(tclod_selector_create(w.scene, &d, NULL, &twin), TCLOD_OK);
-    for (frame = 0; frame < 12; ++frame) {
-        tclod_view view;
-        tclod_frame fr;
-        tclod_stats a, b;
-        int done = 0;
-        world_camera_at(&w.path, 0.02 * frame, &view);
-        /* budgets from a tenth to twice what a level 0 of every object costs */
-        fr = helper_frame(&view, (frame % 4 == 3 ? 2.0 : 0.1 + 0.3 * (frame % 4)) * 0.5e-3 *
-                                     (double)rd.objects);
-        assert_int_equal(tclod_select(twin, &fr, &a), TCLOD_OK);
-        if (frame % 3 == 1) { /* paused after one iteration, then cancelled */
-            assert_int_equal(tclod_select_begin(sel, &fr), TCLOD_OK);
-            assert_int_equal(tclod_select_step(sel, 0.0, 1, &done, NULL), TCLOD_OK);
-            assert_int_equal(tclod_select_cancel(sel), TCLOD_OK);
-        }
-        if (frame % 3 == 2) { /* in slices of one iteration */
-            assert_int_equal(tclod_select_begin(sel, &fr), TCLOD_OK);
-            while (!done)
-                assert_int_equal(tclod_select_step(sel, 0.0, 1, &done, &b), TCLOD_OK);
-        } else {
-            assert_int_equal(tclod_select(sel, &fr, &b), TCLOD_OK);
-        }
-        assert_same_cut(sel, twin);
-        assert_true(a.cost == b.cost);
-        assert_true(a.cost <= fr.budget);
-        assert_int_equal(a.dropped_roots, b.dropped_roots);
-    }
-    tclod_selector_destroy(sel);
-    tclod_selector_destroy(twin);
-    world_scene_free(&w);
-}
-
 /* ---- the budget ------------------------------------------------------------------- */
 
 static void budget_holds_on_random_scenes(void **state) {
@@ -1090,7 +1027,6 @@ int main(void) {
         FIXTURE_TEST(a_bad_importance_is_counted_and_gives_no_share),
         FIXTURE_TEST(the_importance_of_a_smooth_object_comes_from_the_callback),
         cmocka_unit_test(the_worlds_give_their_weight_as_importance),
-        cmocka_unit_test(interrupted_solves_leave_the_same_selections),
         cmocka_unit_test(budget_holds_on_random_scenes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
