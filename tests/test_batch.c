@@ -18,6 +18,7 @@
 
 #include <tclod/tclod.h>
 
+#include "helpers.h"
 #include "task_pool.h"
 #include "world_scene.h"
 
@@ -400,6 +401,152 @@ static void streaming_selections_are_the_per_node_ones(void **state) {
         assert_int_equal(tclod_scene_set_resident(H.w.scene, i, 1), TCLOD_OK);
 }
 
+/* ---- boxes, nodes without bounds, frames without a view, additive nodes ----- */
+
+/* A scene of every kind of volume: 240 roots, boxes (axis-aligned and
+ * oriented, some reaching through the near plane) or spheres, each with four
+ * children: one with its parent's volume, one sphere, one without bounds, one
+ * empty node with a child; every eighth root refines additively. Benefit:
+ * its weight times the screen area (its radius squared without a view or
+ * bounds), cost its own. */
+typedef struct mixed_host {
+    tclod_scene *s;
+    double *weight, *cost;
+    uint32_t n;
+} mixed_host;
+
+static double mixed_value(const mixed_host *m, tclod_id id, float area) {
+    return m->weight[id] * (area >= 0.0f ? (double)area : 4.0);
+}
+
+static double mixed_benefit(void *user, const tclod_query *q) {
+    const mixed_host *m = (const mixed_host *)user;
+    return mixed_value(m, q->id, q->screen_area);
+}
+
+static double mixed_cost(void *user, const tclod_query *q) {
+    return ((const mixed_host *)user)->cost[q->id];
+}
+
+static void mixed_benefits(void *user, const tclod_batch *b, double *out) {
+    const mixed_host *m = (const mixed_host *)user;
+    uint32_t i;
+    for (i = 0; i < b->count; ++i)
+        out[i] = mixed_value(m, b->ids[i], b->screen_area[i]);
+}
+
+static void mixed_costs(void *user, const tclod_batch *b, double *out) {
+    const mixed_host *m = (const mixed_host *)user;
+    uint32_t i;
+    for (i = 0; i < b->count; ++i)
+        out[i] = m->cost[b->ids[i]];
+}
+
+static tclod_id mixed_add(mixed_host *m, const tclod_node_desc *d, double weight, double cost) {
+    tclod_id id;
+    assert_int_equal(tclod_scene_add_node_desc(m->s, d, &id), TCLOD_OK);
+    assert_true(id < m->n);
+    m->weight[id] = weight;
+    m->cost[id] = cost;
+    return id;
+}
+
+static void build_mixed(mixed_host *m) {
+    uint32_t i;
+    m->n = 240u * 8u;
+    m->weight = (double *)calloc(m->n, sizeof(double));
+    m->cost = (double *)calloc(m->n, sizeof(double));
+    assert_non_null(m->weight);
+    assert_non_null(m->cost);
+    assert_int_equal(tclod_scene_create(NULL, &m->s), TCLOD_OK);
+    for (i = 0; i < 240u; ++i) {
+        tclod_node_desc d, c;
+        double x = (double)(i % 16u) * 6.0 - 45.0, z = -(double)(i / 16u) * 6.0 - 0.5;
+        double center[3], half[3] = {1.0, 0.5 + 0.1 * (double)(i % 5u), 1.5};
+        double axes[9] = {0.8, 0.6, 0.0, -0.6, 0.8, 0.0, 0.0, 0.0, 1.2};
+        tclod_id root, mid;
+        center[0] = x;
+        center[1] = 0.0;
+        center[2] = z;
+        memset(&d, 0, sizeof d);
+        d.parent = TCLOD_NONE;
+        d.refine = i % 8u == 7u ? TCLOD_REFINE_ADD : TCLOD_REFINE_REPLACE;
+        d.bounds = i % 3u == 0u   ? tclod_bounds_aabb(center, half)
+                   : i % 3u == 1u ? tclod_bounds_obb(center, axes)
+                                  : tclod_bounds_sphere(x, 0.0, z, 1.2);
+        root = mixed_add(m, &d, 1.0 + 0.01 * (double)i, 0.5);
+        c = d;
+        c.parent = root;
+        c.refine = TCLOD_REFINE_REPLACE;
+        mixed_add(m, &c, 1.6, 1.0); /* its parent's volume */
+        c.bounds = tclod_bounds_sphere(x + 0.5, 0.2, z, 0.6);
+        mixed_add(m, &c, 1.5 + 0.02 * (double)(i % 7u), 0.8);
+        c.bounds.kind = TCLOD_BOUNDS_NONE; /* no bounds */
+        mixed_add(m, &c, 0.4, 0.6);
+        c.bounds = tclod_bounds_sphere(x - 0.5, 0.1, z, 0.7);
+        c.empty = 1;
+        mid = mixed_add(m, &c, 0.0, 0.0);
+        c.empty = 0;
+        c.parent = mid;
+        mixed_add(m, &c, 1.3, 0.7);
+    }
+}
+
+/* Per node, batch, and batch over the pool select the same on frames with
+ * and without a view, warm and cold. */
+static void every_kind_of_volume_selects_as_per_node(void **state) {
+    mixed_host m;
+    tclod_selector *sel[3];
+    tclod_view view;
+    uint32_t f;
+    int k, warm;
+    (void)state;
+    build_mixed(&m);
+    helper_view(&view);
+    for (warm = 0; warm < 2; ++warm) {
+        for (k = 0; k < 3; ++k) {
+            tclod_selector_desc d;
+            tclod_selector_desc_default(&d);
+            d.cold_start = !warm;
+            d.callbacks.benefit = mixed_benefit;
+            d.callbacks.cost = mixed_cost;
+            d.callbacks.user = &m;
+            if (k > 0) {
+                d.callbacks.benefit_batch = mixed_benefits;
+                d.callbacks.cost_batch = mixed_costs;
+            }
+            if (k == 2)
+                d.tasks = task_pool_tasks(H.pool);
+            assert_int_equal(tclod_selector_create(m.s, &d, NULL, &sel[k]), TCLOD_OK);
+        }
+        for (f = 0; f < 12; ++f) {
+            tclod_frame fr = helper_frame(f % 4u == 3u ? NULL : &view, 60.0 + 25.0 * (f % 3u));
+            tclod_stats st[3];
+            const tclod_id *ids0, *ids;
+            size_t n0, n;
+            view.eye[0] = -20.0 + 3.0 * (double)f;
+            view.eye[2] = 2.0 - 4.0 * (double)f;
+            for (k = 0; k < 3; ++k)
+                assert_int_equal(tclod_select(sel[k], &fr, &st[k]), TCLOD_OK);
+            assert_int_equal(tclod_selector_cut(sel[0], &ids0, &n0), TCLOD_OK);
+            assert_true(n0 > 0);
+            for (k = 1; k < 3; ++k) {
+                assert_memory_equal(&st[k].benefit, &st[0].benefit, sizeof(double));
+                assert_memory_equal(&st[k].cost, &st[0].cost, sizeof(double));
+                assert_int_equal(st[k].evaluations, st[0].evaluations);
+                assert_int_equal(tclod_selector_cut(sel[k], &ids, &n), TCLOD_OK);
+                assert_int_equal(n, n0);
+                assert_memory_equal(ids, ids0, n * sizeof(tclod_id));
+            }
+        }
+        for (k = 0; k < 3; ++k)
+            tclod_selector_destroy(sel[k]);
+    }
+    tclod_scene_destroy(m.s);
+    free(m.weight);
+    free(m.cost);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(warm_selections_are_the_per_node_ones),
@@ -411,6 +558,7 @@ int main(void) {
         cmocka_unit_test(the_scheduler_asks_node_by_node),
         cmocka_unit_test(task_descs_are_checked),
         cmocka_unit_test(streaming_selections_are_the_per_node_ones),
+        cmocka_unit_test(every_kind_of_volume_selects_as_per_node),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
