@@ -281,6 +281,42 @@ double host_benefit(void *user, const tclod_query *q) {
     return v;
 }
 
+/* The batch forms: each node asked through the per-node callbacks with the
+ * query the batch describes (the node's own volume), so that every check of
+ * a query holds for the batch's areas and distances too. */
+static void batch_query(const probe *p, const tclod_batch *b, uint32_t i, tclod_query *q) {
+    const tclod_bounds *v = &p->m->bounds[b->ids[i]];
+    memset(q, 0, sizeof *q);
+    q->id = b->ids[i];
+    q->count = 1;
+    q->view = b->view;
+    q->screen_area = b->screen_area[i];
+    q->distance = b->distance[i];
+    q->bounds = v->kind == TCLOD_BOUNDS_NONE ? NULL : v;
+}
+
+void host_benefit_batch(void *user, const tclod_batch *b, double *out) {
+    uint32_t i;
+    FUZZ_CHECK(b->worker == 0 && b->count > 0, "a serial batch of %u from worker %u",
+               (unsigned)b->count, (unsigned)b->worker);
+    for (i = 0; i < b->count; ++i) {
+        tclod_query q;
+        batch_query((const probe *)user, b, i, &q);
+        out[i] = host_benefit(user, &q);
+    }
+}
+
+void host_cost_batch(void *user, const tclod_batch *b, double *out) {
+    uint32_t i;
+    FUZZ_CHECK(b->worker == 0 && b->count > 0, "a serial batch of %u from worker %u",
+               (unsigned)b->count, (unsigned)b->worker);
+    for (i = 0; i < b->count; ++i) {
+        tclod_query q;
+        batch_query((const probe *)user, b, i, &q);
+        out[i] = host_cost(user, &q);
+    }
+}
+
 double host_cost(void *user, const tclod_query *q) {
     probe *p = (probe *)user;
     double v;

@@ -159,6 +159,9 @@ void check_node_query(const probe *p, const tclod_query *q);
  * only after a benefit > 0 in the same select. The first call of a select
  * tries the probe's held edit, which the scene must refuse. */
 double host_benefit(void *user, const tclod_query *q);
+/* benefit and cost's batch forms, through them */
+void host_benefit_batch(void *user, const tclod_batch *b, double *out);
+void host_cost_batch(void *user, const tclod_batch *b, double *out);
 double host_cost(void *user, const tclod_query *q);
 double host_complexity(void *user, const tclod_query *q);
 double host_importance(void *user, const tclod_query *q);

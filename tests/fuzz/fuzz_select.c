@@ -457,6 +457,12 @@ static void run(fuzz_reader *in) {
         sel[i] = sentinel;
         state.probes[i].m = m;
         d.callbacks.user = &state.probes[i];
+        /* the second selector is asked in batches where the greedy gathers
+         * nodes: it must select what the first selects, bit for bit */
+        if (i == 1 && d.callbacks.benefit && d.callbacks.cost) {
+            d.callbacks.benefit_batch = host_benefit_batch;
+            d.callbacks.cost_batch = host_cost_batch;
+        }
         st = tclod_selector_create(s, &d, NULL, &sel[i]);
         if (invalid) {
             FUZZ_CHECK(st == TCLOD_ERR_ARG && sel[i] == sentinel,
