@@ -24,15 +24,18 @@ static size_t batch_bytes(const tclod_selector *sel) {
 }
 
 tclod_status tclod_batch_create(tclod_selector *sel) {
-    unsigned char *mem = (unsigned char *)tclod_mem_alloc(&sel->alloc, batch_bytes(sel));
+    unsigned char *mem;
     uint32_t i;
+    sel->gather_count = 0;
+    sel->batching = sel->desc.callbacks.benefit_batch || sel->desc.callbacks.cost_batch ||
+                    sel->desc.tasks.worker_count > 1u;
+    if (!sel->batching) /* the greedy gathers nothing: no workspace */
+        return TCLOD_OK;
+    mem = (unsigned char *)tclod_mem_alloc(&sel->alloc, batch_bytes(sel));
     if (!mem)
         return TCLOD_ERR_NOMEM;
     sel->workers = (tclod_batch_worker *)(void *)mem;
     sel->gather = (tclod_id *)(void *)(mem + sizeof(tclod_batch_worker) * batch_slots(sel));
-    sel->gather_count = 0;
-    sel->batching = sel->desc.callbacks.benefit_batch || sel->desc.callbacks.cost_batch ||
-                    sel->desc.tasks.worker_count > 1u;
     for (i = 0; i < batch_slots(sel); ++i) {
         memset(&sel->workers[i].query, 0, sizeof sel->workers[i].query);
         sel->workers[i].query.count = 1;
@@ -245,7 +248,7 @@ static void batch_task(uint32_t start, uint32_t end, uint32_t worker, void *ctx)
 int tclod_batch_flush(tclod_selector *sel) {
     const tclod_tasks *T = &sel->desc.tasks;
     uint32_t n = sel->gather_count, slots = batch_slots(sel), i, invalid = 0, absent = 0;
-    if (n == 0)
+    if (n == 0) /* also every flush of a selector without the workspace */
         return 0;
     for (i = 0; i < slots; ++i)
         sel->workers[i].invalid = sel->workers[i].absent = 0;

@@ -115,7 +115,8 @@ struct tclod_selector {
      * ring of its third cycle's candidates in scratch and path */
     tclod_rh_state rh;
     tclod_stream_state stream;   /* residency and the plan of loads (stream.c) */
-    tclod_batch_worker *workers; /* batch evaluation (evaluate.c): one per worker */
+    tclod_batch_worker *workers; /* batch evaluation (evaluate.c): one per worker;
+                                    NULL without batching */
     tclod_id *gather;            /* the nodes gathered, TCLOD_GATHER room */
     uint32_t gather_count;
     int batching; /* batch callbacks or workers: the greedy gathers what it
@@ -270,7 +271,8 @@ static inline const tclod_bounds *tclod_query_bounds(tclod_selector *sel, tclod_
 
 /* ---- evaluate.c ---------------------------------------------------------------- */
 
-/* Allocates and frees the batch workspace (sel->workers, sel->gather). */
+/* Sets sel->batching and, when it is set, allocates the batch workspace
+ * (sel->workers, sel->gather); frees it. */
 tclod_status tclod_batch_create(tclod_selector *sel);
 void tclod_batch_destroy(tclod_selector *sel);
 
