@@ -295,26 +295,25 @@ static void batch_query(const probe *p, const tclod_batch *b, uint32_t i, tclod_
     q->bounds = v->kind == TCLOD_BOUNDS_NONE ? NULL : v;
 }
 
-void host_benefit_batch(void *user, const tclod_batch *b, double *out) {
+/* Asks one() of every node of batch b, as its own query, into out[]. */
+static void batch_through(void *user, const tclod_batch *b, double *out,
+                          double (*one)(void *, const tclod_query *)) {
     uint32_t i;
     FUZZ_CHECK(b->worker == 0 && b->count > 0, "a serial batch of %u from worker %u",
                (unsigned)b->count, (unsigned)b->worker);
     for (i = 0; i < b->count; ++i) {
         tclod_query q;
         batch_query((const probe *)user, b, i, &q);
-        out[i] = host_benefit(user, &q);
+        out[i] = one(user, &q);
     }
 }
 
+void host_benefit_batch(void *user, const tclod_batch *b, double *out) {
+    batch_through(user, b, out, host_benefit);
+}
+
 void host_cost_batch(void *user, const tclod_batch *b, double *out) {
-    uint32_t i;
-    FUZZ_CHECK(b->worker == 0 && b->count > 0, "a serial batch of %u from worker %u",
-               (unsigned)b->count, (unsigned)b->worker);
-    for (i = 0; i < b->count; ++i) {
-        tclod_query q;
-        batch_query((const probe *)user, b, i, &q);
-        out[i] = host_cost(user, &q);
-    }
+    batch_through(user, b, out, host_cost);
 }
 
 double host_cost(void *user, const tclod_query *q) {
