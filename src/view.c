@@ -288,22 +288,47 @@ tclod_status tclod_bounds_validate(const tclod_bounds *b) {
 
 /* ---- boxes ------------------------------------------------------------------ */
 
-/* Whether the box with centre p (relative to the eye) meets the frustum. */
-static int box_visible(const tclod_view_cache *c, const double p[3], const tclod_box *b) {
-    double z = dot3(p, c->forward), reach = 0.0;
-    int k, i;
-    for (i = 0; i < 3; ++i)
-        reach += b->h[i] * fabs(dot3(b->u[i], c->forward));
-    if (c->near_z - z > reach || z - c->far_z > reach)
-        return 0;
-    for (k = 0; k < 4; ++k) {
-        reach = 0.0;
-        for (i = 0; i < 3; ++i)
-            reach += b->h[i] * fabs(dot3(b->u[i], c->plane[k]));
-        if (dot3(p, c->plane[k]) > reach)
-            return 0;
+/* The box with centre p (relative to the eye) in view coordinates (x right,
+ * y up, z forward): its centre ctr and its half axes a[i] = h_i u_i. The
+ * frustum test and the silhouette both start from them. */
+static void box_in_view(const tclod_view_cache *c, const double p[3], const tclod_box *b,
+                        double ctr[3], double a[3][3]) {
+    int i;
+    ctr[0] = dot3(p, c->right);
+    ctr[1] = dot3(p, c->up);
+    ctr[2] = dot3(p, c->forward);
+    for (i = 0; i < 3; ++i) {
+        a[i][0] = b->h[i] * dot3(b->u[i], c->right);
+        a[i][1] = b->h[i] * dot3(b->u[i], c->up);
+        a[i][2] = b->h[i] * dot3(b->u[i], c->forward);
     }
-    return 1;
+}
+
+/* Whether the box (box_in_view) meets the frustum: it is outside a plane when
+ * its centre's signed distance exceeds its reach along the plane's normal,
+ * sum |a_i . n|. In view coordinates the near and far normals are -z and +z
+ * and the side planes' (tclod_view_cache_init) have two components. */
+static int box_seen(const tclod_view_cache *c, const double ctr[3], const double a[3][3]) {
+    double r[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
+    int i;
+    for (i = 0; i < 3; ++i) {
+        r[0] += fabs(a[i][2]);
+        r[1] += fabs(a[i][1] * c->cos_y - a[i][2] * c->sin_y);
+        r[2] += fabs(a[i][1] * c->cos_y + a[i][2] * c->sin_y);
+        r[3] += fabs(a[i][0] * c->cos_x - a[i][2] * c->sin_x);
+        r[4] += fabs(a[i][0] * c->cos_x + a[i][2] * c->sin_x);
+    }
+    return !(c->near_z - ctr[2] > r[0] || ctr[2] - c->far_z > r[0] ||
+             ctr[1] * c->cos_y - ctr[2] * c->sin_y > r[1] ||
+             -ctr[1] * c->cos_y - ctr[2] * c->sin_y > r[2] ||
+             ctr[0] * c->cos_x - ctr[2] * c->sin_x > r[3] ||
+             -ctr[0] * c->cos_x - ctr[2] * c->sin_x > r[4]);
+}
+
+static int box_visible(const tclod_view_cache *c, const double p[3], const tclod_box *b) {
+    double ctr[3], a[3][3];
+    box_in_view(c, p, b, ctr, a);
+    return box_seen(c, ctr, (const double(*)[3])a);
 }
 
 /* The eye's coordinates in the frame of a box whose centre is p (relative to
@@ -452,28 +477,19 @@ static double box_area_unclipped(const tclod_view_cache *c, const double ctr[3],
 }
 
 /* The area of the silhouette of the box with centre p (relative to the eye),
- * and whether the eye is inside. */
+ * ctr and ax its box_in_view, t the eye in its frame. */
 static double box_area(const tclod_view_cache *c, const double p[3], const tclod_box *b,
-                       const double t[3]) {
-    double area = 0.0, ctr[3], ax[3][3], zlo;
+                       const double t[3], const double ctr[3], const double ax[3][3]) {
+    double area = 0.0, zlo = ctr[2];
     int i, k;
     if (fabs(t[0]) <= b->h[0] && fabs(t[1]) <= b->h[1] && fabs(t[2]) <= b->h[2])
         return c->viewport_area;
-    /* the box in view coordinates; wholly beyond the near plane (its nearest
-     * corner, less a margin for the rounding of the corners' sums), no face is
-     * clipped and there is no cap */
-    ctr[0] = dot3(p, c->right);
-    ctr[1] = dot3(p, c->up);
-    ctr[2] = dot3(p, c->forward);
-    zlo = ctr[2];
-    for (i = 0; i < 3; ++i) {
-        ax[i][0] = b->h[i] * dot3(b->u[i], c->right);
-        ax[i][1] = b->h[i] * dot3(b->u[i], c->up);
-        ax[i][2] = b->h[i] * dot3(b->u[i], c->forward);
+    /* wholly beyond the near plane (its nearest corner, less a margin for the
+     * rounding of the corners' sums), no face is clipped and there is no cap */
+    for (i = 0; i < 3; ++i)
         zlo -= fabs(ax[i][2]);
-    }
     if (zlo - 1e-9 * (fabs(ctr[2]) + b->h[0] + b->h[1] + b->h[2]) > c->near_z) {
-        area = box_area_unclipped(c, ctr, (const double(*)[3])ax, b, t);
+        area = box_area_unclipped(c, ctr, ax, b, t);
         return area < c->viewport_area ? area : c->viewport_area;
     }
     for (i = 0; i < 3; ++i) {
@@ -512,10 +528,13 @@ static double box_distance(const tclod_box *b, const double t[3]) {
 
 void tclod_view_cache_measure_box(const tclod_view_cache *c, const double p[3],
                                   const tclod_box *box, float *area, double *distance) {
-    double t[3];
+    double t[3], ctr[3], ax[3][3];
     box_coordinates(p, box, t);
     *distance = box_distance(box, t);
-    *area = box_visible(c, p, box) ? (float)box_area(c, p, box, t) : 0.0f;
+    box_in_view(c, p, box, ctr, ax);
+    *area = box_seen(c, ctr, (const double(*)[3])ax)
+                ? (float)box_area(c, p, box, t, ctr, (const double(*)[3])ax)
+                : 0.0f;
 }
 
 void tclod_view_cache_measure(const tclod_view_cache *c, const float bounds[4], float *area,
@@ -567,13 +586,14 @@ double tclod_view_bounds_area(const tclod_view *view, const tclod_bounds *b) {
     tclod_view_cache c;
     tclod_node_bounds nb;
     tclod_box box;
-    double p[3], t[3];
+    double p[3], t[3], ctr[3], ax[3][3];
     if (!prepare_bounds(view, b, &c, &nb, &box, p))
         return -1.0;
     if (nb.kind == TCLOD_BOUNDS_SPHERE)
         return tclod_view_cache_area(&c, dot3(p, p), nb.r);
     box_coordinates(p, &box, t);
-    return box_area(&c, p, &box, t);
+    box_in_view(&c, p, &box, ctr, ax);
+    return box_area(&c, p, &box, t, ctr, (const double(*)[3])ax);
 }
 
 double tclod_view_bounds_distance(const tclod_view *view, const tclod_bounds *b) {
