@@ -357,6 +357,28 @@ static void skip_misfit(tclod_selector *sel, tclod_id n) {
     }
 }
 
+/* Parks misfit n, which the warm fill skips (a plain increment, not a
+ * lookahead's jump or refit, still queued): the swaps that follow the fill
+ * want the best increments, and the fill skips the best that do not fit. */
+static void park_misfit(tclod_selector *sel, tclod_id n) {
+    uint32_t at = sel->cap - ++sel->resume.greedy.parked;
+    sel->scratch[at] = n;
+    sel->scratch_key[at] = sel->greedy.inc.items[0].key;
+    pop_increment(sel);
+    sel->stats.iterations++;
+}
+
+/* Queues the parked misfits again, those still in the cut and not queued. */
+static void unpark_misfits(tclod_selector *sel) {
+    uint32_t at;
+    for (at = sel->cap - sel->resume.greedy.parked; at < sel->cap; ++at) {
+        tclod_id n = sel->scratch[at];
+        if (sel->node[n].cut_pos != TCLOD_NONE && !tclod_heap_contains(&sel->greedy.inc, n))
+            enqueue_as(sel, n, sel->scratch_key[at], 0, sel->desc.greedy.lookahead > 0);
+    }
+    sel->resume.greedy.parked = 0;
+}
+
 /* 1 when some queued increment fits the remaining budget. Increments that do
  * not fit stay unfit while the search only adds cost, so this ends the fill.
  * The increments ordered by cost are needed only from the first misfit on, so
@@ -1237,12 +1259,20 @@ static int take_closure(tclod_selector *sel) {
     return 0;
 }
 
+/* A warm solve's phases in improve (sel->resume.greedy.phase): the fill,
+ * which parks the misfits it skips; the swaps, with every misfit queued again
+ * and no skipping (an increment that fits is taken, the best one that does
+ * not is swapped in or dropped); then a last fill for the room the swaps left,
+ * which drops what it skips. */
+enum { PHASE_FILL = 0, PHASE_SWAPS = 1, PHASE_LAST_FILL = 2 };
+
 /* Increments while any fits, best ratio first, skipping those that do not fit
  * (fill). Then a warm solve makes swaps while the best increment's ratio beats
  * the cheapest decrement's (Mason–Blake's balance), and a cold solve records
  * the skipped increments as alternatives. Warm solves also take free
  * collapses first. Stops early at a limit. */
 static int improve(tclod_selector *sel, int warm, int alt) {
+    tclod_greedy_resume *R = &sel->resume.greedy;
     int *skipped = &sel->resume.skipped, failed = 0;
     uint32_t i;
     for (;;) {
@@ -1250,7 +1280,7 @@ static int improve(tclod_selector *sel, int warm, int alt) {
         int swapped;
         if (tclod_out_of_time(sel))
             return 0;
-        if (sel->resume.greedy.closing) {
+        if (R->closing) {
             if (take_closure(sel) != 0)
                 return -1;
             continue;
@@ -1261,31 +1291,48 @@ static int improve(tclod_selector *sel, int warm, int alt) {
                 return -1;
             continue;
         }
-        if (sel->greedy.inc.count == 0)
+        if (sel->greedy.inc.count == 0 && R->parked == 0)
             break;
-        n = sel->greedy.inc.items[0].id;
-        if (sel->resume.greedy.left_out > 0 && greedy_left_out(&sel->resume, n)) {
-            pop_increment(sel);
-            continue;
-        }
-        if (greedy_increment_fits(sel, n)) { /* its entry goes in apply_increment */
-            sel->stats.iterations++;
-            if (apply_increment(sel, n, warm) != 0)
-                return -1;
-            continue;
-        }
-        if (!warm)
-            greedy_note_misfit(sel, n);
-        if (increment_may_fit(sel)) { /* fill: skip the misfit, try smaller ones */
+        if (sel->greedy.inc.count > 0) {
+            n = sel->greedy.inc.items[0].id;
+            if (R->left_out > 0 && greedy_left_out(&sel->resume, n)) {
+                pop_increment(sel);
+                continue;
+            }
+            if (greedy_increment_fits(sel, n)) { /* its entry goes in apply_increment */
+                sel->stats.iterations++;
+                if (apply_increment(sel, n, warm) != 0)
+                    return -1;
+                continue;
+            }
+            if (!warm)
+                greedy_note_misfit(sel, n);
+            if (R->phase != PHASE_SWAPS && increment_may_fit(sel)) {
+                /* fill: skip the misfit, try smaller ones */
+                *skipped = 1;
+                if (alt)
+                    greedy_consider_alternative(sel, n);
+                if (warm && R->phase == PHASE_FILL &&
+                    !(sel->flags[n] & (TCLOD_FLAG_JUMP | TCLOD_FLAG_REFIT)))
+                    park_misfit(sel, n);
+                else
+                    skip_misfit(sel, n);
+                continue;
+            }
             *skipped = 1;
-            if (alt)
-                greedy_consider_alternative(sel, n);
-            skip_misfit(sel, n);
+        }
+        if (R->parked > 0) { /* the fill ended: the swaps see every misfit */
+            unpark_misfits(sel);
+            R->phase = PHASE_SWAPS;
             continue;
         }
-        *skipped = 1;
-        if (!warm || !(sel->greedy.inc.items[0].key > min_loss_ratio(sel)))
-            break;
+        if (!warm || R->phase == PHASE_LAST_FILL ||
+            !(sel->greedy.inc.items[0].key > min_loss_ratio(sel))) {
+            if (R->phase != PHASE_SWAPS)
+                break;
+            R->phase = PHASE_LAST_FILL;
+            continue;
+        }
         n = pop_increment(sel);
         sel->stats.iterations++;
         swapped = try_swap(sel, n, &failed);

@@ -89,6 +89,11 @@ typedef struct tclod_greedy_resume {
      * positive Δc taken from the queue) fits */
     int closing;
     uint32_t closure_head, closure_tail;
+    /* a warm solve: the misfits its fill skipped, parked at the end of
+     * sel->scratch (scratch[cap - parked .. cap), their keys in scratch_key)
+     * until the fill ends and they are queued again for the swaps */
+    uint32_t parked;
+    int phase;                                     /* a warm solve's phase of improve (greedy.c) */
     double closure_key, closure_cost, closure_err; /* closure_err: closure_cost's
                                                       compensation, as cost_err */
 } tclod_greedy_resume;

@@ -652,6 +652,48 @@ static void warm_start_swaps_a_refinement_for_a_better_one_of_the_same_cost(void
     tclod_selector_destroy(sel);
 }
 
+static void warm_start_swaps_in_the_misfit_its_fill_skipped(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* Chains X: 0 (b 1, c 1) -> 1 (c 6), Y: 2 (b 1, c 1) -> 3 (c 2) and Z:
+     * 4 (b 1, c 1) -> 5 (b 5.75, c 5); budget 8. Frame 1: 1 and 3 are worth 1
+     * (no gain): the roots (3) and Z's increment (Δc 4): {0, 2, 5}, benefit
+     * 7.75, cost 7. Frame 2: 1 is worth 11 (Δb 10, Δc 5, ratio 2) and 3 is
+     * worth 2.5 (Δb 1.5, Δc 1, ratio 1.5). The warm fill finds X's increment
+     * too costly (7 + 5 > 8) and takes Y's, which fits: {0, 3, 5}, 9.25, cost
+     * 8. X's ratio 2 beats the cheapest decrement's loss ratio (Z: 4.75 / 4),
+     * so the swaps take X's increment back up, though the fill skipped it:
+     * they need 5, and collapsing Z (frees 4, loses 4.75) then Y (frees 1,
+     * loses 1.5) frees it for a loss of 6.25 < 10: {1, 2, 4}, benefit 13,
+     * cost 8. Y's increment (ratio 1.5) is then below X's loss ratio 2, and
+     * nothing fits the room left (0). A cold solve takes X first: the same. */
+    static const tclod_id first[] = {0, 2, 5}, best[] = {1, 2, 4};
+    tclod_selector *warm, *cold;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, 0, 1.0, 6.0);
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, 2, 1.0, 2.0);
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, 4, 5.75, 5.0);
+    warm = helper_selector(f->scene, &f->model, 1);
+    cold = helper_selector(f->scene, &f->model, 0);
+    select_frame(warm, 8.0, 0, &st);
+    helper_assert_cut(warm, first, 3);
+    assert_true(st.benefit == 7.75 && st.cost == 7.0);
+    f->model.benefit[1] = 11.0;
+    f->model.benefit[3] = 2.5;
+    select_frame(warm, 8.0, 0, &st);
+    helper_assert_cut(warm, best, 3);
+    assert_true(st.benefit == 13.0 && st.cost == 8.0);
+    assert_int_equal(st.increments, 2); /* Y's in the fill, then X's */
+    assert_int_equal(st.decrements, 2); /* Z's and Y's, for X's */
+    select_frame(cold, 8.0, 0, &st);
+    helper_assert_cut(cold, best, 3);
+    assert_true(st.benefit == 13.0 && st.cost == 8.0);
+    tclod_selector_destroy(warm);
+    tclod_selector_destroy(cold);
+}
+
 static void warm_starts_over_changing_models(helper_fixture *f, uint32_t lookahead) {
     tclod_selector *sel;
     table_rng rng;
@@ -1719,6 +1761,7 @@ int main(void) {
         FIXTURE_TEST(warm_starts_on_a_large_scene_keep_every_guarantee),
         FIXTURE_TEST(warm_start_after_a_budget_drop_uses_decrements),
         FIXTURE_TEST(warm_start_swaps_a_refinement_for_a_better_one_of_the_same_cost),
+        FIXTURE_TEST(warm_start_swaps_in_the_misfit_its_fill_skipped),
         FIXTURE_TEST(warm_start_after_model_changes_stays_feasible),
         FIXTURE_TEST(warm_start_with_lookahead_after_model_changes_stays_feasible),
         FIXTURE_TEST(warm_start_evaluates_the_frontier_not_the_path_from_the_roots),
