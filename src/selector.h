@@ -249,17 +249,25 @@ int tclod_stream_plan(tclod_selector *sel);
 /* Makes the planned lists current (with the commit of the solve). */
 void tclod_stream_commit(tclod_selector *sel);
 
-/* Node n's bounds (it has some) into *q. */
+/* Node n's bounds (it has some) into *q: its kind, centre and the fields of
+ * that kind; the others keep what they held (the kind says which are read). */
 static inline void tclod_node_public_bounds(const tclod_scene *s, tclod_id n, tclod_bounds *q) {
     const tclod_node_bounds *b = &s->bounds[n];
-    if (b->box != TCLOD_NONE) {
-        tclod_scene_public_bounds(s, n, q);
-        return;
-    }
-    q->kind = TCLOD_BOUNDS_SPHERE; /* a self leaf is evaluated as its owner */
     q->center[0] = b->c[0];
     q->center[1] = b->c[1];
     q->center[2] = b->c[2];
+    if (b->box != TCLOD_NONE) {
+        const tclod_box *x = &s->boxes[b->box];
+        if ((b->kind & ~TCLOD_BOUNDS_SELF) == TCLOD_BOUNDS_AABB) {
+            q->kind = TCLOD_BOUNDS_AABB;
+            memcpy(q->half_extents, x->h, sizeof q->half_extents);
+        } else {
+            q->kind = TCLOD_BOUNDS_OBB;
+            memcpy(q->half_axes, x->axes, sizeof q->half_axes);
+        }
+        return;
+    }
+    q->kind = TCLOD_BOUNDS_SPHERE; /* a self leaf is evaluated as its owner */
     q->radius = b->r;
 }
 
