@@ -123,6 +123,7 @@ run_cost() {
         "--scene random --objects 100000 --solver greedy --frames 100"
         "--scene flyover --solver greedy"
         "--scene drift"
+        "--solver greedy"
     ) c
     for c in "${configs[@]}"; do
         # shellcheck disable=SC2086 # c is a list of words

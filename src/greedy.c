@@ -1486,13 +1486,19 @@ static int enforce_budget(tclod_selector *sel, int dec_built) {
  * starts from the roots. Always completes. */
 static int greedy_start(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
-    R->greedy.warm = !sel->desc.cold_start && sel->has_cut;
+    R->greedy.warm = !sel->desc.cold_start && sel->has_cut && R->greedy.audit != 2;
     R->greedy.fell_back = R->greedy.warm && sel->greedy.fallback.left > 0;
     if (R->greedy.fell_back) {
         R->greedy.warm = 0;
         sel->stats.notes |= TCLOD_NOTE_COLD_FALLBACK;
     }
     R->skipped = 0;
+    if (R->greedy.warm && sel->greedy.fallback.since_audit >= TCLOD_AUDIT_PERIOD &&
+        sel->desc.solver == TCLOD_SOLVER_GREEDY && sel->desc.greedy.fallback != TCLOD_OFF &&
+        sel->frame->max_iterations == 0 && sel->frame->solve_seconds == 0.0) {
+        R->greedy.audit = 1;
+        sel->greedy.fallback.since_audit = 0;
+    }
     if (R->greedy.warm && sel->node_version != sel->scene->node_version) {
         /* the edits since the cut was made, from the log while it holds them */
         const tclod_scene *s = sel->scene;
@@ -1537,6 +1543,7 @@ static void weigh_start(tclod_selector *sel) {
             fb->left--;
         return;
     }
+    fb->since_audit++;
     fb->warm_work = fb->warm_work > 0.0 ? fb->warm_work + (work - fb->warm_work) / 8.0 : work;
     if (fb->cold_work > 0.0 && fb->warm_work > TCLOD_FALLBACK_MARGIN * fb->cold_work &&
         sel->desc.greedy.fallback != TCLOD_OFF) {
@@ -1549,6 +1556,54 @@ static void weigh_start(tclod_selector *sel) {
     } else {
         fb->span = 0;
     }
+}
+
+/* The audit (docs/greedy.md, warm start). A warm start improves the previous
+ * cut one increment, decrement or swap at a time, and can stay in a selection
+ * a cold solve beats: where the benefit of a node above the cut grew past what
+ * its refined subtree gives, no single decrement shows it. Every
+ * TCLOD_AUDIT_PERIOD warm solves without limits, the warm solve's cut is set
+ * aside and a cold solve follows; the cold one is kept (and the solve says it
+ * fell back) when it has more benefit, else the warm cut is put back. Audits
+ * thus bound how long a warm start stays behind. */
+
+/* After an audited warm solve: sets its cut aside and starts the cold one.
+ * Returns 0 when there is nothing to compare (roots dropped, over budget). */
+static int audit_begin(tclod_selector *sel) {
+    tclod_resume *R = &sel->resume;
+    if (sel->stats.dropped_roots || sel->stats.over_budget) {
+        R->greedy.audit = 0;
+        return 0;
+    }
+    memcpy(sel->greedy.audit_cut, sel->cut, sizeof(tclod_id) * sel->cut_count);
+    memset(&R->greedy, 0, sizeof R->greedy); /* the cold solve starts afresh */
+    R->greedy.audit_count = sel->cut_count;
+    R->greedy.audit_benefit = sel->benefit_sum;
+    R->greedy.audit_stop = sel->stats.stop_reason;
+    R->greedy.audit = 2;
+    R->skipped = 0;
+    R->phase = GREEDY_START;
+    return 1;
+}
+
+/* After the audit's cold solve: keeps the better cut. */
+static void audit_end(tclod_selector *sel) {
+    tclod_resume *R = &sel->resume;
+    uint32_t i;
+    if (!sel->stats.dropped_roots && !sel->stats.over_budget &&
+        !(sel->benefit_sum > R->greedy.audit_benefit)) { /* the warm cut stays */
+        clear_cut(sel);
+        sel->cut_count = R->greedy.audit_count;
+        memcpy(sel->cut, sel->greedy.audit_cut, sizeof(tclod_id) * sel->cut_count);
+        for (i = 0; i < sel->cut_count; ++i) {
+            sel->node[sel->cut[i]].cut_pos = i;
+            account(sel, sel->cut[i], 1.0);
+        }
+        sel->stats.stop_reason = R->greedy.audit_stop;
+    } else {
+        sel->stats.notes |= TCLOD_NOTE_COLD_FALLBACK;
+    }
+    R->greedy.audit = 0;
 }
 
 tclod_status tclod_greedy_solve(tclod_selector *sel) {
@@ -1591,9 +1646,16 @@ tclod_status tclod_greedy_solve(tclod_selector *sel) {
         default:
             rc = enforce_budget(sel, R->greedy.warm);
             clear_heaps(sel);
-            if (rc == 0)
-                weigh_start(sel);
-            return rc == 0 ? TCLOD_OK : TCLOD_ERR_CALLBACK;
+            if (rc != 0)
+                return TCLOD_ERR_CALLBACK;
+            if (R->greedy.audit == 2) {
+                audit_end(sel);
+                return TCLOD_OK;
+            }
+            weigh_start(sel);
+            if (R->greedy.audit == 1 && audit_begin(sel))
+                break;
+            return TCLOD_OK;
         }
     }
     if (rc == 0)
@@ -1614,6 +1676,7 @@ size_t tclod_greedy_buffers(tclod_greedy_state *g, tclod_array *out) {
     out[n++] = (tclod_array){(void **)&g->inc_block, sizeof(tclod_heap_entry), -1};
     out[n++] = (tclod_array){(void **)&g->cheap_block, sizeof(tclod_heap_entry), -1};
     out[n++] = (tclod_array){(void **)&g->dec_block, sizeof(tclod_heap_entry), -1};
+    out[n++] = (tclod_array){(void **)&g->audit_cut, sizeof(tclod_id), -1};
     return n;
 }
 

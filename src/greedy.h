@@ -24,7 +24,12 @@ typedef struct tclod_delta {
 typedef struct tclod_fallback {
     double cold_work, warm_work;
     uint32_t left, span;
+    uint32_t since_audit; /* warm solves since the last audit */
 } tclod_fallback;
+
+/* Every this many warm solves, the solve is audited: a cold solve follows the
+ * warm one and the better of the two is kept (greedy.c, docs/greedy.md). */
+#define TCLOD_AUDIT_PERIOD 32u
 
 /* The most cold solves in a row before a warm start is tried again, and by
  * how much warm solves' mean work must exceed a cold one's to send them. */
@@ -45,6 +50,7 @@ typedef struct tclod_greedy_state {
                                   inside these, where a slot's four children share
                                   one cache line (cap >= nodes + 3) */
     tclod_fallback fallback;
+    tclod_id *audit_cut; /* an audited solve's warm cut (tclod_greedy_resume.audit) */
     double closure_hint; /* the key of the last plain cold pass's first misfit:
                             DBL_MIN when it had none, 0 before the first */
 } tclod_greedy_state;
@@ -93,9 +99,17 @@ typedef struct tclod_greedy_resume {
      * sel->scratch (scratch[cap - parked .. cap), their keys in scratch_key)
      * until the fill ends and they are queued again for the swaps */
     uint32_t parked;
-    int phase;                                     /* a warm solve's phase of improve (greedy.c) */
     double closure_key, closure_cost, closure_err; /* closure_err: closure_cost's
                                                       compensation, as cost_err */
+    /* a warm solve's phase of improve (greedy.c) */
+    int phase;
+    /* an audited solve: 1 while its warm solve runs, 2 while its cold one does;
+     * the warm solve's cut is kept in tclod_greedy_state.audit_cut meanwhile,
+     * with its benefit and stop reason */
+    int audit;
+    uint32_t audit_count;
+    double audit_benefit;
+    tclod_stop_reason audit_stop;
 } tclod_greedy_resume;
 
 /* Runs TCLOD_SOLVER_GREEDY for sel->frame into the working cut, from where

@@ -470,10 +470,12 @@ static void warm_starts_survive_edits_with_work_in_proportion(void **state) {
             roots[root_count++] = i;
         }
     budget = table_roots_cost(&f->model) * 6.0;
-    warm = helper_selector(f->scene, &f->model, 1);
     tclod_selector_desc_default(&d);
-    d.cold_start = 1;
     table_callbacks(&f->model, &d.callbacks);
+    d.greedy.fallback = TCLOD_OFF; /* every solve warm: no audit adds a cold one's work */
+    assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &warm), TCLOD_OK);
+    d.greedy.fallback = 0;
+    d.cold_start = 1;
     assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &cold), TCLOD_OK);
     select_at(warm, budget);
     for (frame = 0; frame < frames; ++frame) {

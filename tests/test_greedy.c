@@ -1726,6 +1726,73 @@ static void warm_starts_that_work_more_than_cold_fall_back(void **state) {
     table_free(&m);
 }
 
+/* Selects `solves` frames of budget 10 with warm selector sel; asserts that
+ * none carries TCLOD_NOTE_COLD_FALLBACK and each has benefit `benefit`. */
+static void solves_stay(tclod_selector *sel, uint32_t solves, double benefit) {
+    tclod_stats st;
+    uint32_t i;
+    for (i = 0; i < solves; ++i) {
+        select_frame(sel, 10.0, 0, &st);
+        assert_int_equal(st.notes & TCLOD_NOTE_COLD_FALLBACK, 0);
+        assert_true(st.benefit == benefit);
+    }
+}
+
+static void an_audit_replaces_a_warm_cut_that_a_cold_solve_beats(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* R 0 (b 1, c 1) -> A 1 (b 2, c 2), B 2 (b 2, c 2); A -> A1 3, A2 4 (b 3,
+     * c 2 each); budget 10. The first solve (cold: no cut yet) refines R
+     * (Δb 3, Δc 3) and A (Δb 4, Δc 2): {2, 3, 4}, benefit 8, cost 6. Then R is
+     * worth 100 (an impostor the eye entered): a cold solve keeps R (its
+     * increment loses 96): {0}, 100. A warm start sees no increment and only
+     * A's decrement (loses 4); R is not collapsible while A is refined, so it
+     * stays at 8. The 32nd warm solve after the first is audited: the cold
+     * solve that follows it has more benefit, so it is kept and the solve says
+     * it fell back; the warm starts after it go on from {0}. */
+    static const tclod_id refined[] = {2, 3, 4}, top[] = {0};
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, 0, 2.0, 2.0);
+    helper_add(f, 0, 2.0, 2.0);
+    helper_add(f, 1, 3.0, 2.0);
+    helper_add(f, 1, 3.0, 2.0);
+    sel = helper_selector(f->scene, &f->model, 1);
+    solves_stay(sel, 1, 8.0);
+    helper_assert_cut(sel, refined, 3);
+    f->model.benefit[0] = 100.0;
+    solves_stay(sel, 32, 8.0); /* TCLOD_AUDIT_PERIOD warm solves */
+    helper_assert_cut(sel, refined, 3);
+    select_frame(sel, 10.0, 0, &st);
+    assert_true(st.notes & TCLOD_NOTE_COLD_FALLBACK);
+    assert_true(st.benefit == 100.0 && st.cost == 1.0);
+    helper_assert_cut(sel, top, 1);
+    solves_stay(sel, 3, 100.0);
+    helper_assert_cut(sel, top, 1);
+    tclod_selector_destroy(sel);
+}
+
+static void an_audit_keeps_a_warm_cut_that_beats_the_cold_solve(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* A chain P 0 (b 1, c 1) -> Q 1 (b 5, c 2) -> S 2 (b 10, c 3); budget 10.
+     * The first solve refines to S: {2}, benefit 10. Then Q is worth 0.5: a
+     * cold solve stops at P (Q's increment loses 0.5), benefit 1, while a warm
+     * start keeps S (collapsing S into Q would lose 9.5) and is worth 10. The
+     * audit's cold solve has less benefit: the warm cut stays, and no solve
+     * says it fell back. */
+    static const tclod_id finest[] = {2};
+    tclod_selector *sel;
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, 0, 5.0, 2.0);
+    helper_add(f, 1, 10.0, 3.0);
+    sel = helper_selector(f->scene, &f->model, 1);
+    solves_stay(sel, 1, 10.0);
+    f->model.benefit[1] = 0.5;
+    solves_stay(sel, 40, 10.0); /* an audit among them */
+    helper_assert_cut(sel, finest, 1);
+    tclod_selector_destroy(sel);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         FIXTURE_TEST(increments_follow_the_hand_worked_order),
@@ -1762,6 +1829,8 @@ int main(void) {
         FIXTURE_TEST(warm_start_after_a_budget_drop_uses_decrements),
         FIXTURE_TEST(warm_start_swaps_a_refinement_for_a_better_one_of_the_same_cost),
         FIXTURE_TEST(warm_start_swaps_in_the_misfit_its_fill_skipped),
+        FIXTURE_TEST(an_audit_replaces_a_warm_cut_that_a_cold_solve_beats),
+        FIXTURE_TEST(an_audit_keeps_a_warm_cut_that_beats_the_cold_solve),
         FIXTURE_TEST(warm_start_after_model_changes_stays_feasible),
         FIXTURE_TEST(warm_start_with_lookahead_after_model_changes_stays_feasible),
         FIXTURE_TEST(warm_start_evaluates_the_frontier_not_the_path_from_the_roots),

@@ -486,9 +486,11 @@ typedef struct tclod_greedy_desc {
                            TCLOD_MAX_RESTARTS. 0: default 32; TCLOD_OFF: none */
     int32_t fallback;   /* warm starts: 0 (default) or 1: while warm solves do more
                            work than cold ones, solves start from the roots for a
-                           while (TCLOD_NOTE_COLD_FALLBACK; docs/greedy.md, falling
-                           back). TCLOD_OFF: every solve after the first starts
-                           warm */
+                           while, and every 32nd warm solve without limits is
+                           followed by a cold one, which is kept when it has more
+                           benefit (TCLOD_NOTE_COLD_FALLBACK; docs/greedy.md,
+                           falling back). TCLOD_OFF: every solve after the first
+                           starts warm and stays so */
 } tclod_greedy_desc;
 
 /* Options of the mixed solver's smooth variables (docs/mixed.md). */
@@ -661,9 +663,10 @@ typedef struct tclod_stats {
 #define TCLOD_NOTE_MEMORY_SHORT                               \
     0x10u /* the memory budget is smaller than what must stay \
              resident: no load was requested (docs/streaming.md) */
-#define TCLOD_NOTE_COLD_FALLBACK                                 \
-    0x20u /* a warm start was due but the solve started from the \
-             roots: warm starts were not paying (docs/greedy.md) */
+#define TCLOD_NOTE_COLD_FALLBACK                                   \
+    0x20u /* a warm start was due but the selection is a cold      \
+             solve's: warm starts were not paying, or the audit of \
+             a warm solve found a better cold one (docs/greedy.md) */
 
 /* Per-view solver state and the current result. */
 typedef struct tclod_selector tclod_selector;
