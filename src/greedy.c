@@ -1495,7 +1495,8 @@ static int greedy_start(tclod_selector *sel) {
     R->skipped = 0;
     if (R->greedy.warm && sel->greedy.fallback.since_audit >= TCLOD_AUDIT_PERIOD &&
         sel->desc.solver == TCLOD_SOLVER_GREEDY && sel->desc.greedy.fallback != TCLOD_OFF &&
-        sel->frame->max_iterations == 0 && sel->frame->solve_seconds == 0.0) {
+        sel->desc.greedy.lookahead == 0 && sel->frame->max_iterations == 0 &&
+        sel->frame->solve_seconds == 0.0 && !tclod_scene_streams(sel->scene)) {
         R->greedy.audit = 1;
         sel->greedy.fallback.since_audit = 0;
     }
@@ -1590,7 +1591,7 @@ static int audit_begin(tclod_selector *sel) {
 static void audit_end(tclod_selector *sel) {
     tclod_resume *R = &sel->resume;
     uint32_t i;
-    if (!sel->stats.dropped_roots && !sel->stats.over_budget &&
+    if (sel->stats.dropped_roots || sel->stats.over_budget ||
         !(sel->benefit_sum > R->greedy.audit_benefit)) { /* the warm cut stays */
         clear_cut(sel);
         sel->cut_count = R->greedy.audit_count;
@@ -1600,6 +1601,8 @@ static void audit_end(tclod_selector *sel) {
             account(sel, sel->cut[i], 1.0);
         }
         sel->stats.stop_reason = R->greedy.audit_stop;
+        sel->stats.dropped_roots = 0; /* the warm solve's, as audit_begin found them */
+        sel->stats.over_budget = 0;
     } else {
         sel->stats.notes |= TCLOD_NOTE_COLD_FALLBACK;
     }

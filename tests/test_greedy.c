@@ -694,14 +694,25 @@ static void warm_start_swaps_in_the_misfit_its_fill_skipped(void **state) {
     tclod_selector_destroy(cold);
 }
 
-static void warm_starts_over_changing_models(helper_fixture *f, uint32_t lookahead) {
+/* Warm solves over models that change every frame; `audited`: with the
+ * default fallback and enough frames for audits (a cold solve after every
+ * 32nd warm one, the same nodes asked at most once in all), else warm only. */
+static void warm_starts_over_changing_models(helper_fixture *f, uint32_t lookahead, int audited) {
     tclod_selector *sel;
     table_rng rng;
-    int frame;
+    int frame, cold_kept = 0;
     random_scene(f, 99, 300, 8);
     table_rng_seed(&rng, 5);
-    sel = lookahead_selector(f->scene, &f->model, 1, lookahead);
-    for (frame = 0; frame < 30; ++frame) {
+    if (audited) {
+        tclod_selector_desc d;
+        tclod_selector_desc_default(&d);
+        table_callbacks(&f->model, &d.callbacks);
+        d.greedy.lookahead = lookahead;
+        assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+    } else {
+        sel = lookahead_selector(f->scene, &f->model, 1, lookahead);
+    }
+    for (frame = 0; frame < (audited ? 200 : 30); ++frame) {
         double lo = table_roots_cost(&f->model) * (1.0 + 1e-12);
         double hi = table_leaves_cost(&f->model);
         double budget = table_rng_uniform(&rng, lo, hi);
@@ -712,6 +723,7 @@ static void warm_starts_over_changing_models(helper_fixture *f, uint32_t lookahe
         helper_check_result(sel, &f->model, &st, budget, 0);
         assert_true(table_max_calls(&f->model) <= 1);
         assert_int_equal(st.evaluations, table_asked_nodes(&f->model));
+        cold_kept += (st.notes & TCLOD_NOTE_COLD_FALLBACK) != 0;
         /* Between frames: every value scaled by its own factor in [0.5, 2)
          * (diminishing returns no longer hold), some nodes turn invisible. */
         for (i = 0; i < f->model.count; ++i) {
@@ -723,17 +735,32 @@ static void warm_starts_over_changing_models(helper_fixture *f, uint32_t lookahe
                 f->model.benefit[i] = 1.0;
         }
     }
+    if (audited && lookahead == 0)
+        assert_true(cold_kept >= 1); /* here 1 of the 6 audits: both outcomes met */
+    else
+        assert_int_equal(cold_kept, 0); /* no audit with a lookahead */
     tclod_selector_destroy(sel);
 }
 
 static void warm_start_after_model_changes_stays_feasible(void **state) {
-    warm_starts_over_changing_models((helper_fixture *)*state, 0);
+    warm_starts_over_changing_models((helper_fixture *)*state, 0, 0);
+}
+
+/* The same with audits: every frame stays a valid selection within its
+ * budget whichever cut an audit keeps. */
+static void audited_warm_starts_after_model_changes_stay_feasible(void **state) {
+    warm_starts_over_changing_models((helper_fixture *)*state, 0, 1);
+}
+
+/* With a lookahead no solve is audited (docs/greedy.md). */
+static void warm_starts_with_lookahead_and_fallback_stay_feasible(void **state) {
+    warm_starts_over_changing_models((helper_fixture *)*state, 3, 1);
 }
 
 /* Decrements collapse a level reached by a lookahead increment into the level
  * above it, which the increment passed over. */
 static void warm_start_with_lookahead_after_model_changes_stays_feasible(void **state) {
-    warm_starts_over_changing_models((helper_fixture *)*state, 3);
+    warm_starts_over_changing_models((helper_fixture *)*state, 3, 0);
 }
 
 static void warm_start_evaluates_the_frontier_not_the_path_from_the_roots(void **state) {
@@ -1831,6 +1858,8 @@ int main(void) {
         FIXTURE_TEST(warm_start_swaps_in_the_misfit_its_fill_skipped),
         FIXTURE_TEST(an_audit_replaces_a_warm_cut_that_a_cold_solve_beats),
         FIXTURE_TEST(an_audit_keeps_a_warm_cut_that_beats_the_cold_solve),
+        FIXTURE_TEST(audited_warm_starts_after_model_changes_stay_feasible),
+        FIXTURE_TEST(warm_starts_with_lookahead_and_fallback_stay_feasible),
         FIXTURE_TEST(warm_start_after_model_changes_stays_feasible),
         FIXTURE_TEST(warm_start_with_lookahead_after_model_changes_stays_feasible),
         FIXTURE_TEST(warm_start_evaluates_the_frontier_not_the_path_from_the_roots),

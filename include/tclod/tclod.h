@@ -486,9 +486,9 @@ typedef struct tclod_greedy_desc {
                            TCLOD_MAX_RESTARTS. 0: default 32; TCLOD_OFF: none */
     int32_t fallback;   /* warm starts: 0 (default) or 1: while warm solves do more
                            work than cold ones, solves start from the roots for a
-                           while, and every 32nd warm solve without limits is
-                           followed by a cold one, which is kept when it has more
-                           benefit (TCLOD_NOTE_COLD_FALLBACK; docs/greedy.md,
+                           while, and every 32nd warm solve (no frame limits, no
+                           lookahead, no streaming) is followed by a cold one, which
+                           is kept when it has more benefit (TCLOD_NOTE_COLD_FALLBACK; docs/greedy.md,
                            falling back). TCLOD_OFF: every solve after the first
                            starts warm and stays so */
 } tclod_greedy_desc;
