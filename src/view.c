@@ -107,7 +107,6 @@ tclod_status tclod_view_validate(const tclod_view *v) {
 void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v) {
     double half_y = 0.5 * (double)v->fov_y;
     double half_x = atan((double)v->aspect * tan(half_y)), focal;
-    int k;
     copy3(v->eye, c->eye);
     load3(v->forward, c->forward);
     load3(v->up, c->up);
@@ -125,13 +124,6 @@ void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v) {
     c->focal = focal;
     c->pi_focal2 = 3.14159265358979323846 * focal * focal;
     c->viewport_area = (double)v->viewport_height * (double)v->viewport_height * (double)v->aspect;
-    /* top, bottom, right, left: |y| cos a - z sin a as p · n */
-    for (k = 0; k < 3; ++k) {
-        c->plane[0][k] = c->up[k] * c->cos_y - c->forward[k] * c->sin_y;
-        c->plane[1][k] = -c->up[k] * c->cos_y - c->forward[k] * c->sin_y;
-        c->plane[2][k] = c->right[k] * c->cos_x - c->forward[k] * c->sin_x;
-        c->plane[3][k] = -c->right[k] * c->cos_x - c->forward[k] * c->sin_x;
-    }
 }
 
 /* ---- bounds ------------------------------------------------------------------ */
@@ -306,8 +298,11 @@ static void box_in_view(const tclod_view_cache *c, const double p[3], const tclo
 
 /* Whether the box (box_in_view) meets the frustum: it is outside a plane when
  * its centre's signed distance exceeds its reach along the plane's normal,
- * sum |a_i . n|. In view coordinates the near and far normals are -z and +z
- * and the side planes' (tclod_view_cache_init) have two components. */
+ * sum |a_i . n|. In view coordinates the near and far normals are -z and +z;
+ * the top and bottom planes pass through the eye with outward normals
+ * (0, ±cos y, -sin y), the right and left ones (±cos x, 0, -sin x), y and x
+ * half the fields of view: a point is above the top plane when
+ * y cos y - z sin y > 0, as the sphere test (view.h) has it with |y|. */
 static int box_seen(const tclod_view_cache *c, const double ctr[3], const double a[3][3]) {
     double r[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
     int i;

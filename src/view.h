@@ -43,8 +43,6 @@ typedef struct tclod_view_cache {
     double focal;         /* f = (viewport_height / 2) / tan(fov_y / 2), pixels */
     double pi_focal2;     /* pi f² */
     double viewport_area; /* viewport_height² * aspect */
-    double plane[4][3];   /* outward unit normals of the top, bottom, right and left
-                             planes, which pass through the eye */
 } tclod_view_cache;
 
 /* Fills c from a view that passed tclod_view_validate. */
@@ -56,7 +54,7 @@ void tclod_view_cache_init(tclod_view_cache *c, const tclod_view *v);
 const char *tclod_bounds_convert(const tclod_bounds *b, tclod_node_bounds *nb, tclod_box *box);
 
 /* The sphere of radius r centred at p (relative to the eye) meets the frustum
- * (view.c explains the planes). */
+ * (box_seen in view.c explains the planes). */
 static inline int tclod_view_cache_visible(const tclod_view_cache *c, const double p[3], double r) {
     double z = p[0] * c->forward[0] + p[1] * c->forward[1] + p[2] * c->forward[2];
     if (z < c->near_z - r || z > c->far_z + r)

@@ -141,12 +141,6 @@ static void prepare_eye(const tclod_view *v, model_eye *e) {
     e->focal = 0.5 * (double)v->viewport_height / tan(half_y);
     e->pi_focal2 = 3.14159265358979323846 * e->focal * e->focal;
     e->viewport_area = (double)v->viewport_height * (double)v->viewport_height * (double)v->aspect;
-    for (i = 0; i < 3; ++i) {
-        e->plane[0][i] = e->up[i] * e->cos_y - e->forward[i] * e->sin_y;
-        e->plane[1][i] = -e->up[i] * e->cos_y - e->forward[i] * e->sin_y;
-        e->plane[2][i] = e->right[i] * e->cos_x - e->forward[i] * e->sin_x;
-        e->plane[3][i] = -e->right[i] * e->cos_x - e->forward[i] * e->sin_x;
-    }
 }
 
 void model_set_view(tiles_model *m, const tclod_view *v) {

@@ -54,7 +54,6 @@ typedef struct model_eye {
     double eye[3], right[3], up[3], forward[3];
     double cos_y, sin_y, cos_x, sin_x, near_z, far_z;
     double focal, pi_focal2, viewport_area;
-    double plane[4][3]; /* top, bottom, right, left */
 } model_eye;
 
 /* What the benefit reads of a tile, packed: the tiles themselves are large. */
