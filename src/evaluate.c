@@ -65,7 +65,7 @@ static void batch_measure(const tclod_selector *sel, tclod_batch_worker *w, cons
     double *px = w->px, *py = w->py, *pz = w->pz, *pr = w->pr;
     float *area = w->area, *dist = w->dist, *pa = w->varea, *pd = w->vdist;
     tclod_id *at = w->vis;
-    uint32_t i, k = 0, special = 0;
+    uint32_t i, k = 0, special = m;
     if (!sel->has_view) {
         for (i = 0; i < m; ++i)
             area[i] = dist[i] = -1.0f;
@@ -73,7 +73,9 @@ static void batch_measure(const tclod_selector *sel, tclod_batch_worker *w, cons
     }
     /* a node with its parent's bounds takes the parent's figures (the levels
      * of one object usually share their bounds): no gathered node's parent
-     * is gathered in the same flush, so a parent of this solve is measured */
+     * is gathered in the same flush, so a parent of this solve is measured.
+     * Spheres fill at[] from the front, boxes and nodes without bounds from
+     * the back */
     for (i = 0; i < m; ++i) {
         const tclod_node_bounds *b = &bounds[ids[i]];
         tclod_id p = s->parent[ids[i]];
@@ -83,12 +85,15 @@ static void batch_measure(const tclod_selector *sel, tclod_batch_worker *w, cons
             dist[i] = node[p].distance;
             continue;
         }
+        if (b->r < 0.0 || b->box != TCLOD_NONE) {
+            at[--special] = i;
+            continue;
+        }
         at[k] = i;
         px[k] = b->c[0] - c->eye[0];
         py[k] = b->c[1] - c->eye[1];
         pz[k] = b->c[2] - c->eye[2];
         pr[k] = b->r;
-        special |= (uint32_t)(b->r < 0.0) | (uint32_t)(b->box != TCLOD_NONE);
         ++k;
     }
     for (i = 0; i < k; ++i) {
@@ -110,15 +115,15 @@ static void batch_measure(const tclod_selector *sel, tclod_batch_worker *w, cons
         area[at[i]] = pa[i];
         dist[at[i]] = pd[i];
     }
-    for (i = 0; special && i < k; ++i) {
+    for (i = special; i < m; ++i) {
         const tclod_node_bounds *b = &bounds[ids[at[i]]];
         if (b->r < 0.0) {
             area[at[i]] = dist[at[i]] = -1.0f;
-        } else if (b->box != TCLOD_NONE) {
+        } else {
             double p[3], d;
-            p[0] = px[i];
-            p[1] = py[i];
-            p[2] = pz[i];
+            p[0] = b->c[0] - c->eye[0];
+            p[1] = b->c[1] - c->eye[1];
+            p[2] = b->c[2] - c->eye[2];
             tclod_view_cache_measure_box(c, p, &s->boxes[b->box], &area[at[i]], &d);
             dist[at[i]] = (float)d;
         }
