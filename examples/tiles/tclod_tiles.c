@@ -77,6 +77,7 @@ typedef struct options {
     int budget_given; /* 1: --budget-ms X; 2: --budget-ms sse16 */
     double ms_per_mb;
     int frames_given;
+    int per_node;              /* --per-node: no batch callbacks */
     stream_sim_options stream; /* --stream and its options */
 } options;
 
@@ -136,7 +137,7 @@ typedef struct flight {
 static void usage(FILE *out) {
     fprintf(out,
             "usage: tclod_tiles [--frames N] [--sizes FILE] [--csv FILE]\n"
-            "                   [--budget-ms X|sse16] [--ms-per-mb X]\n"
+            "                   [--budget-ms X|sse16] [--ms-per-mb X] [--per-node]\n"
             "                   [--stream [--latency-ms L] [--bandwidth-mbps W] [--memory-mb M]\n"
             "                   [--teleport-every N]] [--help] TILESET.json\n"
             "\n"
@@ -153,7 +154,10 @@ static void usage(FILE *out) {
             "                  sse16 traversal's per-frame cost over the flight); sse16:\n"
             "                  each frame's budget is the sse16 traversal's cost at that\n"
             "                  frame, to compare the two at equal cost\n"
-            "  --ms-per-mb X   render cost of content in ms per 10^6 bytes, X > 0 (default %g)\n",
+            "  --ms-per-mb X   render cost of content in ms per 10^6 bytes, X > 0 (default %g)\n"
+            "  --per-node      give libtclod only the per-node callbacks (default: the batch\n"
+            "                  forms too, which take the areas of a whole batch before they\n"
+            "                  split any share, so that the model measures fewer boxes itself)\n",
             DEFAULT_FRAMES, STREAM_SIM_DEFAULT_FRAMES, DEFAULT_MS_PER_MB);
     fputs(stream_sim_usage_options, out);
     fprintf(out,
@@ -248,6 +252,10 @@ static int parse_options(int argc, char **argv, options *o) {
         int taken;
         if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0)
             return 1;
+        if (strcmp(opt, "--per-node") == 0) {
+            o->per_node = 1;
+            continue;
+        }
         taken = stream_sim_parse_option(&o->stream, "tclod_tiles", argc, argv, &i);
         if (taken < 0)
             return 2;
@@ -468,13 +476,38 @@ static void free_host(host *h) {
 
 /* ---- callbacks ----------------------------------------------------------------- */
 
+/* The tile of node id, or TILE_NONE. */
+static uint32_t tile_of(const host *h, tclod_id id) {
+    return id < h->id_count ? h->tile_of_id[id] : TILE_NONE;
+}
+
 /* The tile of a queried node, or TILE_NONE (counted) for an id that is not one
  * the scene returned: the library promises never to ask about those. */
 static uint32_t queried_tile(host *h, tclod_id id) {
-    uint32_t t = id < h->id_count ? h->tile_of_id[id] : TILE_NONE;
+    uint32_t t = tile_of(h, id);
     if (t == TILE_NONE)
         ++h->unknown_ids;
     return t;
+}
+
+/* Keeps a query for check_queries, after the select: each node is asked once
+ * per select, and at most three selects (--stream: ours, then the copies') run
+ * between two checks. The library's area becomes the model's (model_note_area):
+ * the box is not measured twice. */
+static void take_query(host *h, uint32_t t, float area, float distance) {
+    if (h->query_count < 3u * h->ts.count) {
+        h->query_tile[h->query_count] = t;
+        h->query_area[h->query_count] = area;
+        h->query_distance[h->query_count++] = distance;
+    }
+    if (area >= 0.0f)
+        model_note_area(&h->model, t, (double)area);
+}
+
+static double tile_benefit(host *h, uint32_t t, float area, float distance) {
+    if (!(area > 0.0f))
+        return 0.0; /* outside the frustum */
+    return model_benefit(&h->model, t, (double)distance);
 }
 
 static double benefit_cb(void *user, const tclod_query *q) {
@@ -482,17 +515,25 @@ static double benefit_cb(void *user, const tclod_query *q) {
     uint32_t t = queried_tile(h, q->id);
     if (t == TILE_NONE || !q->view)
         return 0.0;
-    /* kept for check_queries, after the select: each node is asked once per
-     * select, and at most three selects (--stream: ours, then the copies')
-     * run between two checks */
-    if (h->query_count < 3u * h->ts.count) {
-        h->query_tile[h->query_count] = t;
-        h->query_area[h->query_count] = q->screen_area;
-        h->query_distance[h->query_count++] = q->distance;
+    take_query(h, t, q->screen_area, q->distance);
+    return tile_benefit(h, t, q->screen_area, q->distance);
+}
+
+/* The batch form: every area of the batch is taken first, so that a tile's
+ * share finds its siblings' areas measured (they come together). */
+static void benefit_batch_cb(void *user, const tclod_batch *b, double *out) {
+    host *h = (host *)user;
+    uint32_t i;
+    for (i = 0; i < b->count; ++i) {
+        uint32_t t = queried_tile(h, b->ids[i]);
+        if (t != TILE_NONE && b->view)
+            take_query(h, t, b->screen_area[i], b->distance[i]);
     }
-    if (!(q->screen_area > 0.0f))
-        return 0.0; /* outside the frustum */
-    return model_benefit(&h->model, t, q->distance);
+    for (i = 0; i < b->count; ++i) {
+        uint32_t t = tile_of(h, b->ids[i]); /* counted above */
+        out[i] = t == TILE_NONE || !b->view ? 0.0
+                                            : tile_benefit(h, t, b->screen_area[i], b->distance[i]);
+    }
 }
 
 /* The measures of the last select's queries against this program's: the
@@ -508,7 +549,7 @@ static void check_queries(host *h) {
         double reference = model_reference_distance(b, v->eye);
         double d = (double)h->query_distance[i], a = (double)h->query_area[i];
         double lib = tclod_view_bounds_visible(v, b) ? tclod_view_bounds_area(v, b) : 0.0;
-        double mine = model_area(&h->model, t);
+        double mine = model_measure_area(&h->model, t);
         if (fabs(d - reference) > 1e-6 * (1.0 + reference)) {
             ++h->distance_errors;
             if (fabs(d - reference) > h->worst_distance_error)
@@ -524,6 +565,15 @@ static double cost_cb(void *user, const tclod_query *q) {
     host *h = (host *)user;
     uint32_t t = queried_tile(h, q->id);
     return t == TILE_NONE ? 0.0 : h->cost_ms[t];
+}
+
+static void cost_batch_cb(void *user, const tclod_batch *b, double *out) {
+    host *h = (host *)user;
+    uint32_t i;
+    for (i = 0; i < b->count; ++i) {
+        uint32_t t = queried_tile(h, b->ids[i]);
+        out[i] = t == TILE_NONE ? 0.0 : h->cost_ms[t];
+    }
 }
 
 /* ---- the flight ------------------------------------------------------------------ */
@@ -880,6 +930,10 @@ static int run_tclod(host *h, const options *o, const flight *f, const double *b
     tclod_selector_desc_default(&sd);
     sd.callbacks.benefit = benefit_cb;
     sd.callbacks.cost = cost_cb;
+    if (!o->per_node) {
+        sd.callbacks.benefit_batch = benefit_batch_cb;
+        sd.callbacks.cost_batch = cost_batch_cb;
+    }
     sd.callbacks.user = h;
     st = tclod_selector_create(h->scene, &sd, NULL, &sel);
     if (st != TCLOD_OK) {
@@ -933,7 +987,7 @@ static int run_tclod(host *h, const options *o, const flight *f, const double *b
         /* the budget guarantee, checked from outside: this program's costs of
          * the listed tiles, summed in the listed order */
         for (i = 0; i < n; ++i) {
-            uint32_t t = ids[i] < h->id_count ? h->tile_of_id[ids[i]] : TILE_NONE;
+            uint32_t t = tile_of(h, ids[i]);
             if (t == TILE_NONE) {
                 fprintf(stderr, "tclod_tiles: frame %lu: the cut lists node %lu, no tile's\n",
                         frame, (unsigned long)ids[i]);

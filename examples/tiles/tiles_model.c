@@ -286,17 +286,28 @@ double model_distance(tiles_model *m, uint32_t t) {
     return m->distance[t];
 }
 
+double model_measure_area(const tiles_model *m, uint32_t t) {
+    double a = volume_area(&m->eye, &m->vol[t]);
+    if (a < 0.0) {
+        const tclod_bounds *b = &m->ts->tiles[t].bounds;
+        a = tclod_view_bounds_visible(&m->view, b) ? tclod_view_bounds_area(&m->view, b) : 0.0;
+    }
+    return a;
+}
+
 double model_area(tiles_model *m, uint32_t t) {
     if (m->area_stamp[t] != m->stamp) {
-        double a = volume_area(&m->eye, &m->vol[t]);
-        if (a < 0.0) {
-            const tclod_bounds *b = &m->ts->tiles[t].bounds;
-            a = tclod_view_bounds_visible(&m->view, b) ? tclod_view_bounds_area(&m->view, b) : 0.0;
-        }
-        m->area[t] = a;
+        m->area[t] = model_measure_area(m, t);
         m->area_stamp[t] = m->stamp;
     }
     return m->area[t];
+}
+
+void model_note_area(tiles_model *m, uint32_t t, double area) {
+    if (m->area_stamp[t] != m->stamp) {
+        m->area[t] = area;
+        m->area_stamp[t] = m->stamp;
+    }
 }
 
 /* The children's projected areas summed: what a parent's share is split by. */

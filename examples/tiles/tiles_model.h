@@ -95,6 +95,16 @@ void model_set_view(tiles_model *m, const tclod_view *v);
 double model_distance(tiles_model *m, uint32_t t);
 double model_area(tiles_model *m, uint32_t t);
 
+/* The same area measured again, past the memo: what model_area computes when
+ * nothing was noted (check_queries compares it with the library's). */
+double model_measure_area(const tiles_model *m, uint32_t t);
+
+/* Notes `area`, the library's measure of tile t in this view (a query's
+ * screen_area, >= 0), as t's projected area, unless t has one already: the
+ * callbacks take what the library measured instead of measuring the box
+ * again. */
+void model_note_area(tiles_model *m, uint32_t t, double area);
+
 /* The screen-space error of tile t seen from `distance`, in px. */
 double model_sse(const tiles_model *m, uint32_t t, double distance);
 

@@ -439,6 +439,47 @@ static void benefits_telescope_to_the_parents_share(void **state) {
     }
 }
 
+/* Areas the callbacks take from the queries (model_note_area) are the tiles'
+ * for the view: the shares are split by them, by hand 1000 x 300 / (300 + 100)
+ * = 750 and 1000 x 100 / 400 = 250 for the two error-free children (quality
+ * 1). A tile measured before keeps its own area, and the next view forgets
+ * the notes. */
+static void noted_areas_are_the_models_for_the_view(void **state) {
+    scratch *s = scratch_new();
+    tileset ts;
+    tiles_model m;
+    tclod_view v = view_down_z();
+    char err[512];
+    double measured;
+    (void)state;
+    scratch_write(s, "t.json",
+                  "{\"asset\":{\"version\":\"1.1\"},\"root\":{\"geometricError\":8,"
+                  "\"refine\":\"REPLACE\",\"boundingVolume\":{\"sphere\":[0,0,-100,12]},"
+                  "\"content\":{\"uri\":\"r.glb\"},\"children\":[{\"geometricError\":0,"
+                  "\"boundingVolume\":{\"sphere\":[-5,0,-100,5]},\"content\":{\"uri\":\"a.glb\"}},"
+                  "{\"geometricError\":0,\"boundingVolume\":{\"sphere\":[6,1,-100,4]},"
+                  "\"content\":{\"uri\":\"b.glb\"}}]}}",
+                  0);
+    if (load(s, "t.json", NULL, &ts, err, sizeof(err)))
+        fail_msg("%s", err);
+    assert_int_equal(model_init(&m, &ts), 0);
+    model_set_view(&m, &v);
+    model_note_area(&m, 0, 1000.0);
+    model_note_area(&m, 1, 300.0);
+    model_note_area(&m, 2, 100.0);
+    assert_true(model_area(&m, 1) == 300.0);
+    assert_close(model_benefit(&m, 1, model_distance(&m, 1)), 750.0, 1e-12);
+    assert_close(model_benefit(&m, 2, model_distance(&m, 2)), 250.0, 1e-12);
+    model_set_view(&m, &v);
+    measured = model_area(&m, 1);
+    assert_true(measured == model_measure_area(&m, 1) && measured != 300.0);
+    model_note_area(&m, 1, 5.0);
+    assert_true(model_area(&m, 1) == measured);
+    model_free(&m);
+    tileset_free(&ts);
+    scratch_free(s);
+}
+
 /* The host's own distance, which checks the library's queries, against the
  * library's tclod_view_bounds_distance for every kind of volume. */
 static void reference_distance_matches_the_library(void **state) {
@@ -541,6 +582,7 @@ int main(void) {
         cmocka_unit_test(refuses_bad_tilesets_saying_where),
         cmocka_unit_test(refuses_external_tilesets_nested_too_deep),
         cmocka_unit_test(benefits_telescope_to_the_parents_share),
+        cmocka_unit_test(noted_areas_are_the_models_for_the_view),
         cmocka_unit_test(reference_distance_matches_the_library),
         cmocka_unit_test(model_measures_match_the_library),
     };
