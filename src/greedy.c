@@ -729,9 +729,11 @@ static void radix_ids(tclod_id *a, tclod_id *b, uint32_t n) {
  * warm solve sorted it; the nodes it put in since (appended, or moved into a
  * hole) carry TCLOD_FLAG_MOVED, and the others are still in order. Those are
  * kept in place, the moved ones are radix sorted through scratch and merged
- * in from the end. The pass that then records the slots checks the order,
- * and a cut that is not in order after all (one put back after a failed
- * solve) is radix sorted whole. Returns with the flags of the cut cleared. */
+ * in from the end. A cut that is not in order after all (one put back after
+ * a failed solve) is radix sorted whole. The slots in the records
+ * (cut_pos) and the flags are left for the warm start's first pass over the
+ * cut to write, which reads those records anyway: until then cut_pos says
+ * only that a node is in the cut. */
 static void sort_cut(tclod_selector *sel) {
     uint32_t n = sel->cut_count, i, k = 0, m = 0;
     tclod_id *a = sel->cut, *b = sel->scratch;
@@ -753,16 +755,10 @@ static void sort_cut(tclod_selector *sel) {
         memcpy(a + k, b, sizeof(tclod_id) * m);
         radix_ids(a, b, n);
     }
-    for (i = 0; i < n; ++i) {
-        sorted &= i == 0 || a[i - 1u] < a[i];
-        sel->node[a[i]].cut_pos = i;
-        flags[a[i]] = 0;
-    }
-    if (sorted)
-        return;
-    radix_ids(a, b, n);
-    for (i = 0; i < n; ++i)
-        sel->node[a[i]].cut_pos = i;
+    for (i = 1; i < n; ++i)
+        sorted &= a[i - 1u] < a[i];
+    if (!sorted)
+        radix_ids(a, b, n);
 }
 
 /* Puts n into the cut as a node of the previous selection would be (the warm
@@ -1033,6 +1029,7 @@ static int64_t warm_block(tclod_selector *sel, uint32_t i, int frontier) {
     for (; i < sel->cut_count && sel->gather_count < WARM_BLOCK; ++i) {
         tclod_id n = sel->cut[i], p = s->parent[n];
         if (!frontier) {
+            sel->node[n].cut_pos = i; /* sort_cut leaves it to this pass */
             if (tclod_batch_add(sel, n) != 0)
                 return -1;
             continue;
@@ -1060,6 +1057,7 @@ static int start_warm(tclod_selector *sel) {
             return -1;
         for (; i < (uint32_t)end; ++i) {
             tclod_id n = sel->cut[i];
+            sel->node[n].cut_pos = i;
             sel->flags[n] = 0;
             if (evaluate(sel, n) != 0)
                 return -1;
