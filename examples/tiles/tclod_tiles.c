@@ -539,7 +539,8 @@ static void benefit_batch_cb(void *user, const tclod_batch *b, double *out) {
 /* The measures of the last select's queries against this program's: the
  * distance computed apart from the library (exact up to rounding), the area
  * against the library's own functions (q->screen_area is a float) and against
- * this program's, which the shares are made of. */
+ * this program's, which measures the tiles the shares need before a query
+ * brings their areas. */
 static void check_queries(host *h) {
     const tclod_view *v = &h->model.view;
     uint32_t i;
