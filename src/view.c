@@ -592,12 +592,16 @@ double tclod_view_bounds_area(const tclod_view *view, const tclod_bounds *b) {
 }
 
 double tclod_view_bounds_distance(const tclod_view *view, const tclod_bounds *b) {
-    tclod_view_cache c;
     tclod_node_bounds nb;
     tclod_box box;
     double p[3], t[3];
-    if (!prepare_bounds(view, b, &c, &nb, &box, p))
+    int k;
+    if (!view || !b || tclod_bounds_convert(b, &nb, &box) || nb.r < 0.0)
         return -1.0;
+    /* a distance needs only the eye: no frustum to prepare (prepare_bounds
+     * would take its angles' sines and tangents on every call) */
+    for (k = 0; k < 3; ++k)
+        p[k] = nb.c[k] - view->eye[k];
     if (nb.kind == TCLOD_BOUNDS_SPHERE)
         return tclod_sphere_distance(dot3(p, p), nb.r);
     box_coordinates(p, &box, t);
