@@ -20,7 +20,8 @@ static uint32_t batch_slots(const tclod_selector *sel) {
 }
 
 static size_t batch_bytes(const tclod_selector *sel) {
-    return sizeof(tclod_batch_worker) * batch_slots(sel) + sizeof(tclod_id) * TCLOD_GATHER;
+    return sizeof(tclod_batch_worker) * batch_slots(sel) + sizeof(tclod_id) * TCLOD_GATHER +
+           TCLOD_GATHER;
 }
 
 tclod_status tclod_batch_create(tclod_selector *sel) {
@@ -36,6 +37,7 @@ tclod_status tclod_batch_create(tclod_selector *sel) {
         return TCLOD_ERR_NOMEM;
     sel->workers = (tclod_batch_worker *)(void *)mem;
     sel->gather = (tclod_id *)(void *)(mem + sizeof(tclod_batch_worker) * batch_slots(sel));
+    sel->gathered_done = (unsigned char *)(sel->gather + TCLOD_GATHER);
     for (i = 0; i < batch_slots(sel); ++i) {
         memset(&sel->workers[i].query, 0, sizeof sel->workers[i].query);
         sel->workers[i].query.count = 1;
@@ -48,6 +50,7 @@ void tclod_batch_destroy(tclod_selector *sel) {
         tclod_mem_free(&sel->alloc, sel->workers, batch_bytes(sel));
     sel->workers = NULL;
     sel->gather = NULL;
+    sel->gathered_done = NULL;
 }
 
 /* ---- projection ---------------------------------------------------------------- */
@@ -239,15 +242,44 @@ static void batch_chunk(tclod_selector *sel, tclod_batch_worker *w, uint32_t wor
         batch_cost(sel, w, w->vis[i], w->cost[i]);
 }
 
-/* The task: gathered nodes [start, end) on worker `worker`. */
+/* The task: gathered nodes [start, end) on worker `worker`, each marked done
+ * once evaluated. A range with a worker index beyond the selector's workers
+ * (a task system that breaks its contract) is left undone: it has no scratch
+ * of its own, and the flush evaluates it after the task. */
 static void batch_task(uint32_t start, uint32_t end, uint32_t worker, void *ctx) {
     tclod_selector *sel = (tclod_selector *)ctx;
-    tclod_batch_worker *w = &sel->workers[worker < batch_slots(sel) ? worker : 0u];
+    tclod_batch_worker *w;
+    if (worker >= batch_slots(sel) || start >= end || end > sel->gather_count)
+        return;
+    w = &sel->workers[worker];
+    memset(sel->gathered_done + start, 1, end - start);
     while (start < end) {
         uint32_t m = end - start < TCLOD_BATCH_CHUNK ? end - start : TCLOD_BATCH_CHUNK;
         batch_chunk(sel, w, worker, sel->gather + start, m);
         start += m;
     }
+}
+
+/* After the host's task: the gathered nodes no range evaluated (a task
+ * system that skipped a range or gave a worker index out of range),
+ * evaluated here on the calling thread, as worker 0 (docs/api.md, worker
+ * threads). Returns how many there were. */
+static uint32_t batch_missed(tclod_selector *sel, uint32_t n) {
+    unsigned char *done = sel->gathered_done;
+    uint32_t i = 0, missed = 0;
+    while (i < n) {
+        const unsigned char *hole = (const unsigned char *)memchr(done + i, 0, n - i);
+        uint32_t end;
+        if (!hole)
+            break;
+        i = (uint32_t)(hole - done);
+        for (end = i; end < n && !done[end]; ++end) {
+        }
+        batch_task(i, end, 0u, sel);
+        missed += end - i;
+        i = end;
+    }
+    return missed;
 }
 
 int tclod_batch_flush(tclod_selector *sel) {
@@ -258,9 +290,13 @@ int tclod_batch_flush(tclod_selector *sel) {
     for (i = 0; i < slots; ++i)
         sel->workers[i].invalid = sel->workers[i].absent = 0;
     if (slots > 1u && n >= 2u * TCLOD_BATCH_CHUNK) {
-        void *task = T->enqueue(batch_task, n, TCLOD_BATCH_CHUNK, sel, T->user);
+        void *task;
+        memset(sel->gathered_done, 0, n);
+        task = T->enqueue(batch_task, n, TCLOD_BATCH_CHUNK, sel, T->user);
         if (task)
             T->finish(task, T->user);
+        if (batch_missed(sel, n) != 0)
+            sel->stats.notes |= TCLOD_NOTE_TASKS_MISSED;
     } else {
         batch_task(0, n, 0, sel);
     }

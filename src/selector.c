@@ -563,9 +563,10 @@ static void note(tclod_selector *sel) {
     if (sel->result_count == 0 && sel->group_count == 0 &&
         (s->live_nodes > 0 || s->smooth_live > 0))
         notes |= TCLOD_NOTE_NOTHING_DRAWN;
-    /* the plan's, and the greedy's */
+    /* the plan's, the greedy's and the batches' */
     sel->stats.notes =
-        notes | (sel->stats.notes & (TCLOD_NOTE_MEMORY_SHORT | TCLOD_NOTE_COLD_FALLBACK));
+        notes | (sel->stats.notes &
+                 (TCLOD_NOTE_MEMORY_SHORT | TCLOD_NOTE_COLD_FALLBACK | TCLOD_NOTE_TASKS_MISSED));
 }
 
 /* Runs the begun solve until it finishes or the slice (slice_end on the

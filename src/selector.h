@@ -114,10 +114,11 @@ struct tclod_selector {
      * scratch_key, by slot in the scene's children[] (-1: not visible); the
      * ring of its third cycle's candidates in scratch and path */
     tclod_rh_state rh;
-    tclod_stream_state stream;   /* residency and the plan of loads (stream.c) */
-    tclod_batch_worker *workers; /* batch evaluation (evaluate.c): one per worker;
-                                    NULL without batching */
-    tclod_id *gather;            /* the nodes gathered, TCLOD_GATHER room */
+    tclod_stream_state stream;    /* residency and the plan of loads (stream.c) */
+    tclod_batch_worker *workers;  /* batch evaluation (evaluate.c): one per worker;
+                                     NULL without batching */
+    tclod_id *gather;             /* the nodes gathered, TCLOD_GATHER room */
+    unsigned char *gathered_done; /* per gathered node: 1 once a task's range evaluated it */
     uint32_t gather_count;
     int batching; /* batch callbacks or workers: the greedy gathers what it
                      evaluates (else it asks node by node, as it needs them) */

@@ -41,7 +41,14 @@ typedef struct host {
     task_pool *pool;
     uint32_t enqueues, finishes, ranges, covered, inline_workers, inline_enqueues;
     int bad_range;
+    /* the inline system breaking its contract: FAULT_SKIP leaves every other
+     * range out, FAULT_WORKER gives every other range the index worker_count;
+     * the notes the inline way's selects returned */
+    int fault;
+    uint32_t inline_notes, other_notes;
 } host;
+
+enum { FAULT_NONE = 0, FAULT_SKIP = 1, FAULT_WORKER = 2 };
 
 static host H;
 
@@ -125,7 +132,12 @@ static void *inline_enqueue(tclod_task_fn *task, uint32_t count, uint32_t min_ra
         h->bad_range = 1;
     while (start < count) {
         uint32_t end = count - start > min_range ? start + min_range : count;
-        task(start, end, k++ % h->inline_workers, ctx);
+        uint32_t worker = k % h->inline_workers;
+        if (h->fault == FAULT_WORKER && k % 2u == 1u)
+            worker = h->inline_workers;
+        if (!(h->fault == FAULT_SKIP && k % 2u == 1u))
+            task(start, end, worker, ctx);
+        k++;
         h->ranges++;
         h->covered += end - start;
         start = end;
@@ -251,6 +263,12 @@ static void check_ways(int warm, int strict, double budget) {
         const tclod_id *ids0, *ids;
         size_t n0, n;
         select_all(sel, f, budget, st, status);
+        for (k = 0; k < WAYS; ++k) {
+            if (k == BATCH_INLINE)
+                H.inline_notes |= st[k].notes;
+            else
+                H.other_notes |= st[k].notes;
+        }
         for (k = 1; k < WAYS; ++k) {
             assert_int_equal(status[k], status[0]);
             if (status[0] != TCLOD_OK)
@@ -341,6 +359,27 @@ static void an_inline_task_system_is_not_asked_to_finish(void **state) {
     assert_int_equal(H.finishes, H.enqueues - H.inline_enqueues);
     /* its ranges tiled what it was given: at least two chunks each */
     assert_true(H.covered >= 2u * 256u * H.inline_enqueues);
+}
+
+/* A task system that breaks its contract, leaving ranges out or giving them a
+ * worker index out of range, still gets the per-node selections, each node
+ * asked once (select_all checks), and the note that says so; a sound one
+ * never gets it. */
+static void a_faulty_task_system_changes_nothing_but_the_notes(void **state) {
+    int fault;
+    (void)state;
+    H.inline_notes = H.other_notes = 0;
+    check_ways(1, 0, 40.0);
+    assert_false(H.inline_notes & TCLOD_NOTE_TASKS_MISSED);
+    for (fault = FAULT_SKIP; fault <= FAULT_WORKER; ++fault) {
+        H.fault = fault;
+        H.inline_notes = H.other_notes = 0;
+        check_ways(1, 0, 40.0);
+        check_ways(0, 0, 40.0);
+        assert_true(H.inline_notes & TCLOD_NOTE_TASKS_MISSED);
+        assert_false(H.other_notes & TCLOD_NOTE_TASKS_MISSED);
+    }
+    H.fault = FAULT_NONE;
 }
 
 static void the_scheduler_asks_node_by_node(void **state) {
@@ -555,6 +594,7 @@ int main(void) {
         cmocka_unit_test(bad_values_are_sanitised_and_counted_as_per_node),
         cmocka_unit_test(strict_mode_fails_on_a_bad_batch_value_as_per_node),
         cmocka_unit_test(an_inline_task_system_is_not_asked_to_finish),
+        cmocka_unit_test(a_faulty_task_system_changes_nothing_but_the_notes),
         cmocka_unit_test(the_scheduler_asks_node_by_node),
         cmocka_unit_test(task_descs_are_checked),
         cmocka_unit_test(streaming_selections_are_the_per_node_ones),

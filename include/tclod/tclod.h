@@ -538,7 +538,9 @@ typedef struct tclod_tasks {
      * min_range items (the last may be shorter) that cover each item once,
      * at most worker_count at a time, each with a worker index no range
      * running at the same time has. Returns a handle for finish, or NULL when
-     * every range has run before it returns. */
+     * every range has run before it returns. (Nodes of a range left out or
+     * run with an index >= worker_count are evaluated on the calling thread
+     * after finish: TCLOD_NOTE_TASKS_MISSED.) */
     void *(*enqueue)(tclod_task_fn *task, uint32_t item_count, uint32_t min_range, void *task_ctx,
                      void *user);
     /* Returns once every range of the task enqueue returned `task` for ran. */
@@ -667,6 +669,10 @@ typedef struct tclod_stats {
     0x20u /* a warm start was due but the selection is a cold      \
              solve's: warm starts were not paying, or the audit of \
              a warm solve found a better cold one (docs/greedy.md) */
+#define TCLOD_NOTE_TASKS_MISSED                                  \
+    0x40u /* the host's task system left nodes unevaluated (a    \
+             range not run, a worker index >= worker_count): the \
+             calling thread evaluated them (docs/api.md, threads) */
 
 /* Per-view solver state and the current result. */
 typedef struct tclod_selector tclod_selector;
