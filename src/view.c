@@ -429,46 +429,32 @@ static double near_cap(const tclod_view_cache *c, const double p[3], const tclod
     return 0.5 * fabs(area) * (c->focal / n) * (c->focal / n);
 }
 
-/* The silhouette's area of a box wholly beyond the near plane, its centre
- * ctr and its half axes a[i] in view coordinates (x right, y up, z forward),
- * t the eye in the box's frame: the eight corners are projected once, and
- * each face turned towards the eye adds the area of its four, half the cross
- * product of the diagonals of that convex quadrilateral. Nothing is clipped,
- * there is no cap: the faces of box_area, for a fraction of its work. */
+/* The silhouette's area of a box wholly beyond the near plane, its half axes
+ * a[i] in view coordinates (x right, y up, z forward), t the eye in the box's
+ * frame: the sum over the faces turned towards the eye of their projected
+ * areas, each in closed form (docs/scenes.md, bounding volumes). The face
+ * along axis i on the eye's side lies d = |t_i| - h_i from the eye; its
+ * centre is at depth z and its half axes j and l reach z_j and z_l in depth,
+ * so that its corners' depths pair up as z0 z2 = (z + z_j + z_l)(z - z_j - z_l)
+ * and z1 z3 = (z - z_j + z_l)(z + z_j - z_l), and it projects to
+ * 4 f² h_j h_l d z / (z0 z2 z1 z3): one division per face, no corner
+ * projected. */
 static double box_area_unclipped(const tclod_view_cache *c, const double ctr[3],
                                  const double a[3][3], const tclod_box *b, const double t[3]) {
-    /* corner k takes +a[i] where bit i of k is set, -a[i] where it is not */
-    double b0[2][3], b1[4][3], px[8], py[8], area = 0.0;
-    int k, i;
+    double area = 0.0;
+    int i;
     for (i = 0; i < 3; ++i) {
-        b0[0][i] = ctr[i] - a[0][i];
-        b0[1][i] = ctr[i] + a[0][i];
+        int j = (i + 1) % 3, l = (i + 2) % 3;
+        double d = fabs(t[i]) - b->h[i], z, zj, zl;
+        if (!(d > 0.0))
+            continue; /* both faces along axis i are turned away */
+        z = t[i] > 0.0 ? ctr[2] + a[i][2] : ctr[2] - a[i][2];
+        zj = a[j][2];
+        zl = a[l][2];
+        area += d * b->h[j] * b->h[l] * z /
+                (((z + zj + zl) * (z - zj - zl)) * ((z - zj + zl) * (z + zj - zl)));
     }
-    for (k = 0; k < 4; ++k)
-        for (i = 0; i < 3; ++i)
-            b1[k][i] = b0[k & 1][i] + ((k & 2) ? a[1][i] : -a[1][i]);
-    for (k = 0; k < 8; ++k) {
-        const double *q = b1[k & 3];
-        double s = (k & 4) ? 1.0 : -1.0, w = c->focal / (q[2] + s * a[2][2]);
-        px[k] = (q[0] + s * a[2][0]) * w;
-        py[k] = (q[1] + s * a[2][1]) * w;
-    }
-    for (i = 0; i < 3; ++i) {
-        int bj = 1 << ((i + 1) % 3), bl = 1 << ((i + 2) % 3), side;
-        for (side = 0; side < 2; ++side) {
-            int base = side ? 1 << i : 0, q0, q1, q2, q3;
-            if (!((side ? t[i] : -t[i]) > b->h[i]))
-                continue; /* the face is turned away */
-            /* around the face: (+j, +l), (-j, +l), (-j, -l), (+j, -l) */
-            q0 = base | bj | bl;
-            q1 = base | bl;
-            q2 = base;
-            q3 = base | bj;
-            area += 0.5 * fabs((px[q2] - px[q0]) * (py[q3] - py[q1]) -
-                               (py[q2] - py[q0]) * (px[q3] - px[q1]));
-        }
-    }
-    return area;
+    return 4.0 * c->focal * c->focal * area;
 }
 
 /* The area of the silhouette of the box with centre p (relative to the eye),
