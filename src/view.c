@@ -437,22 +437,24 @@ static double near_cap(const tclod_view_cache *c, const double p[3], const tclod
  * centre is at depth z and its half axes j and l reach z_j and z_l in depth,
  * so that its corners' depths pair up as z0 z2 = (z + z_j + z_l)(z - z_j - z_l)
  * and z1 z3 = (z - z_j + z_l)(z + z_j - z_l), and it projects to
- * 4 f² h_j h_l d z / (z0 z2 z1 z3): one division per face, no corner
- * projected. */
+ * 4 f² h_j h_l d z / (z0 z2 z1 z3), computed with every length in units of
+ * z so that no product of four depths overflows: two divisions per face, no
+ * corner projected. */
 static double box_area_unclipped(const tclod_view_cache *c, const double ctr[3],
                                  const double a[3][3], const tclod_box *b, const double t[3]) {
     double area = 0.0;
     int i;
     for (i = 0; i < 3; ++i) {
         int j = (i + 1) % 3, l = (i + 2) % 3;
-        double d = fabs(t[i]) - b->h[i], z, zj, zl;
+        double d = fabs(t[i]) - b->h[i], z, s, zj, zl;
         if (!(d > 0.0))
             continue; /* both faces along axis i are turned away */
         z = t[i] > 0.0 ? ctr[2] + a[i][2] : ctr[2] - a[i][2];
-        zj = a[j][2];
-        zl = a[l][2];
-        area += d * b->h[j] * b->h[l] * z /
-                (((z + zj + zl) * (z - zj - zl)) * ((z - zj + zl) * (z + zj - zl)));
+        s = 1.0 / z;
+        zj = a[j][2] * s;
+        zl = a[l][2] * s;
+        area += d * s * (b->h[j] * s) * (b->h[l] * s) /
+                (((1.0 + zj + zl) * (1.0 - zj - zl)) * ((1.0 - zj + zl) * (1.0 + zj - zl)));
     }
     return 4.0 * c->focal * c->focal * area;
 }

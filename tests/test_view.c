@@ -1181,7 +1181,9 @@ static void a_long_thin_box_beside_the_frustum_is_invisible_though_its_sphere_is
  * front face is turned to the eye. It projects to a rectangle f 4 / 10 by
  * f 2 / 10 pixels: f² 8 / 100, 20000 px² with f = 500. f is taken from the
  * float fov_y the view holds (tan(fov_y / 2) is 1 + 4e-8). A 6 x 3 face at 20
- * m: f² 18 / 400. */
+ * m: f² 18 / 400. A cube of half size 1e99 at 1e100 (its front face at
+ * 9e99, where the product of four corner depths would overflow a double):
+ * f² 4 / 81. */
 static void a_box_seen_face_on_projects_to_its_rectangle(void **state) {
     tclod_view v;
     tclod_bounds b;
@@ -1194,6 +1196,8 @@ static void a_box_seen_face_on_projects_to_its_rectangle(void **state) {
     check_close(tclod_view_bounds_area(&v, &b), f * f * 8.0 / 100.0, 1e-12, "4 x 2 at 10");
     b = aabb_of(0.0, 0.0, -23.0, 3.0, 1.5, 3.0);
     check_close(tclod_view_bounds_area(&v, &b), f * f * 18.0 / 400.0, 1e-12, "6 x 3 at 20");
+    b = aabb_of(0.0, 0.0, -1e100, 1e99, 1e99, 1e99);
+    check_close(tclod_view_bounds_area(&v, &b), f * f * 4.0 / 81.0, 1e-12, "2e99 at 9e99");
     /* a viewport twice as high doubles f */
     v.viewport_height = 2000.0f;
     b = aabb_of(0.0, 0.0, -10.5, 2.0, 1.0, 0.5);
