@@ -168,6 +168,8 @@ static void batch_ask(const tclod_selector *sel, tclod_batch_worker *w, uint32_t
         b.distance = dist;
         b.view = sel->query.view;
         b.worker = worker;
+        for (i = 0; i < m; ++i) /* what the callback leaves unwritten is a bad value */
+            out[i] = (double)NAN;
         batch(cb->user, &b, out);
         return;
     }

@@ -34,6 +34,8 @@ typedef struct host {
     uint32_t *benefit_asks, *cost_asks;
     double *given;
     int bad;         /* 1: some benefits NaN or inf, some costs negative or NaN */
+    int sparse;      /* 1: the batch forms leave some entries unwritten, the per-node
+                        ones return NaN for them (sparse_benefit, sparse_cost) */
     int twice;       /* a node asked twice in one select */
     int cost_unseen; /* a cost asked of a node whose benefit was not > 0 */
     uint32_t batch_calls;
@@ -52,7 +54,18 @@ enum { FAULT_NONE = 0, FAULT_SKIP = 1, FAULT_WORKER = 2 };
 
 static host H;
 
+/* The nodes whose values a sparse host's batch forms do not write. */
+static int sparse_benefit(const host *h, tclod_id id) {
+    return h->sparse && id % 7u == 2u;
+}
+
+static int sparse_cost(const host *h, tclod_id id) {
+    return h->sparse && id % 7u == 3u;
+}
+
 static double host_benefit_of(const host *h, tclod_id id, double value) {
+    if (sparse_benefit(h, id))
+        return (double)NAN;
     if (h->bad && id % 97u == 3u)
         return (double)NAN;
     if (h->bad && id % 89u == 5u)
@@ -61,6 +74,8 @@ static double host_benefit_of(const host *h, tclod_id id, double value) {
 }
 
 static double host_cost_of(const host *h, tclod_id id, double value) {
+    if (sparse_cost(h, id))
+        return (double)NAN;
     if (h->bad && id % 83u == 7u)
         return -1.0;
     if (h->bad && id % 79u == 11u)
@@ -99,23 +114,35 @@ static double one_cost(void *user, const tclod_query *q) {
  * of a node are written by one worker only. */
 static void many_benefits(void *user, const tclod_batch *b, double *out) {
     host *h = (host *)user;
+    double *before = (double *)malloc(b->count * sizeof(double) + 1u);
     uint32_t i;
+    assert_non_null(before);
+    memcpy(before, out, b->count * sizeof(double));
     world_benefit_batch(&h->w, b, out);
     for (i = 0; i < b->count; ++i) {
         out[i] = host_benefit_of(h, b->ids[i], out[i]);
         count_benefit(h, b->ids[i], out[i]);
+        if (sparse_benefit(h, b->ids[i]))
+            out[i] = before[i]; /* as if never written */
     }
+    free(before);
     __atomic_fetch_add(&h->batch_calls, 1u, __ATOMIC_RELAXED);
 }
 
 static void many_costs(void *user, const tclod_batch *b, double *out) {
     host *h = (host *)user;
+    double *before = (double *)malloc(b->count * sizeof(double) + 1u);
     uint32_t i;
+    assert_non_null(before);
+    memcpy(before, out, b->count * sizeof(double));
     world_cost_batch(&h->w, b, out);
     for (i = 0; i < b->count; ++i) {
         count_cost(h, b->ids[i]);
         out[i] = host_cost_of(h, b->ids[i], out[i]);
+        if (sparse_cost(h, b->ids[i]))
+            out[i] = before[i];
     }
+    free(before);
     __atomic_fetch_add(&h->batch_calls, 1u, __ATOMIC_RELAXED);
 }
 
@@ -318,6 +345,17 @@ static void bad_values_are_sanitised_and_counted_as_per_node(void **state) {
     check_ways(1, 0, 40.0);
     check_ways(0, 0, 40.0);
     H.bad = 0;
+}
+
+/* Entries a batch callback leaves unwritten count as bad values, as the NaN
+ * the per-node callbacks return for the same nodes: the same selections and
+ * counts, warm and cold. */
+static void unwritten_batch_entries_are_bad_values(void **state) {
+    (void)state;
+    H.sparse = 1;
+    check_ways(1, 0, 40.0);
+    check_ways(0, 0, 40.0);
+    H.sparse = 0;
 }
 
 static void strict_mode_fails_on_a_bad_batch_value_as_per_node(void **state) {
@@ -592,6 +630,7 @@ int main(void) {
         cmocka_unit_test(cold_selections_are_the_per_node_ones),
         cmocka_unit_test(tight_and_unlimited_budgets_select_as_per_node),
         cmocka_unit_test(bad_values_are_sanitised_and_counted_as_per_node),
+        cmocka_unit_test(unwritten_batch_entries_are_bad_values),
         cmocka_unit_test(strict_mode_fails_on_a_bad_batch_value_as_per_node),
         cmocka_unit_test(an_inline_task_system_is_not_asked_to_finish),
         cmocka_unit_test(a_faulty_task_system_changes_nothing_but_the_notes),

@@ -261,7 +261,8 @@ typedef struct tclod_callbacks {
     double (*bytes)(void *user, const tclod_query *q);
     /* Optional batch forms of benefit and cost: out[i] is the value of node
      * b->ids[i], as the per-node callback would return it for the same query
-     * (what is valid, sanitised and counted is the same). cost_batch is asked
+     * (what is valid, sanitised and counted is the same; out holds NaN on
+     * entry, so an entry left unwritten is a bad value). cost_batch is asked
      * only of nodes whose benefit is > 0 and finite. The greedy solver gathers
      * the nodes it evaluates together (a warm start's frontier, the children of
      * what an increment adds) into batches; elsewhere, and when a form is NULL,
