@@ -112,12 +112,22 @@ static double one_cost(void *user, const tclod_query *q) {
 /* The batch forms: the world's loops, then the same bad values and counts.
  * With workers they run at the same time on different nodes: the counters
  * of a node are written by one worker only. */
-static void many_benefits(void *user, const tclod_batch *b, double *out) {
-    host *h = (host *)user;
-    double *before = (double *)malloc(b->count * sizeof(double) + 1u);
-    uint32_t i;
+/* A sparse host's copy of out[] as the library filled it, so that the
+ * entries it must leave unwritten can be put back; NULL when not sparse. */
+static double *entries_before(const host *h, const tclod_batch *b, const double *out) {
+    double *before;
+    if (!h->sparse)
+        return NULL;
+    before = (double *)malloc(b->count * sizeof(double) + 1u);
     assert_non_null(before);
     memcpy(before, out, b->count * sizeof(double));
+    return before;
+}
+
+static void many_benefits(void *user, const tclod_batch *b, double *out) {
+    host *h = (host *)user;
+    double *before = entries_before(h, b, out);
+    uint32_t i;
     world_benefit_batch(&h->w, b, out);
     for (i = 0; i < b->count; ++i) {
         out[i] = host_benefit_of(h, b->ids[i], out[i]);
@@ -131,10 +141,8 @@ static void many_benefits(void *user, const tclod_batch *b, double *out) {
 
 static void many_costs(void *user, const tclod_batch *b, double *out) {
     host *h = (host *)user;
-    double *before = (double *)malloc(b->count * sizeof(double) + 1u);
+    double *before = entries_before(h, b, out);
     uint32_t i;
-    assert_non_null(before);
-    memcpy(before, out, b->count * sizeof(double));
     world_cost_batch(&h->w, b, out);
     for (i = 0; i < b->count; ++i) {
         count_cost(h, b->ids[i]);
