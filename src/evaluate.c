@@ -58,7 +58,8 @@ void tclod_batch_destroy(tclod_selector *sel) {
 /* Screen area and distance of the m nodes ids[] into area[] and dist[], as
  * tclod_view_measure_bounds gives them (-1 and -1 without bounds or view).
  * Spheres go through a loop over arrays with no branch, which compilers
- * vectorise; boxes and nodes without bounds are measured after it. */
+ * vectorise (GCC once -fno-trapping-math lets it compute both sides of the
+ * loop's selects); boxes and nodes without bounds are measured after it. */
 static void batch_measure(const tclod_selector *sel, tclod_batch_worker *w, const tclod_id *ids,
                           uint32_t m) {
     const tclod_view_cache *c = &sel->view;
@@ -99,6 +100,7 @@ static void batch_measure(const tclod_selector *sel, tclod_batch_worker *w, cons
         pr[k] = b->r;
         ++k;
     }
+    /* vectorised: CI checks that GCC and Clang at -O3 report this loop */
     for (i = 0; i < k; ++i) {
         double x = px[i], y = py[i], z0 = pz[i], r = pr[i];
         double d2 = x * x + y * y + z0 * z0, r2 = r * r;
