@@ -817,7 +817,10 @@ static double max_error(host *h, const uint32_t *list, size_t n) {
  * every visible tile reached and not refined. Tiles without content draw
  * nothing and are always refined through (libtclod's empty nodes too hand
  * their place to their children). Explicit stack; the drawn tiles go to
- * drawn[]. */
+ * drawn[]. As a 3D Tiles renderer does, it measures with the view prepared
+ * once per frame (its frustum's planes, within the timing) and the volumes
+ * prepared once (the model's, tiles_model.h), not with the library's public
+ * helpers, which prepare both on every call. */
 static void sse16_frame(host *h, unsigned long frame, const tclod_view *v, uint32_t *stack,
                         uint32_t *drawn, frame_result *out) {
     const tileset *ts = &h->ts;
@@ -826,18 +829,17 @@ static void sse16_frame(host *h, unsigned long frame, const tclod_view *v, uint3
     uint32_t n = 0, i;
     double cost = 0.0, benefit = 0.0, t0, t1;
 
-    model_set_view(m, v);
     t0 = now_us();
+    model_set_view(m, v);
     stack[top++] = 0;
     while (top > 0) {
         uint32_t t = stack[--top];
         const tile *x = &ts->tiles[t];
         int refine;
-        if (!tclod_view_bounds_visible(v, &x->bounds))
+        if (!model_visible(m, t))
             continue;
         refine = x->child_count > 0 &&
-                 (x->empty ||
-                  model_sse(m, t, tclod_view_bounds_distance(v, &x->bounds)) > MODEL_SSE_REF);
+                 (x->empty || model_sse(m, t, model_distance(m, t)) > MODEL_SSE_REF);
         if (!x->empty && (!refine || x->refine == TCLOD_REFINE_ADD)) {
             drawn[n++] = t;
             cost += h->cost_ms[t];

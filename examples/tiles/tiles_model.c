@@ -183,18 +183,15 @@ static double volume_distance(const model_eye *e, const model_volume *v) {
     return sqrt(d2);
 }
 
-/* The projected area of a box, 0 outside the frustum; -1 when it reaches
- * through the near plane, where faces are clipped. The frustum test is the
- * library's (view.c): the box is outside a plane when its centre's signed
- * distance exceeds its reach along the normal, sum h_i |u_i . n|, here with
- * the centre and the half axes in view coordinates, where the side planes'
- * normals have two components. The area is that of the faces turned towards
- * the eye (they do not overlap), each the shoelace area of its four projected
- * corners. */
-static double box_area_here(const model_eye *e, const model_volume *v, const double p[3]) {
-    double c[3], a[3][3], t[3], r[5] = {0.0, 0.0, 0.0, 0.0, 0.0}, b0[2][3], b1[4][3], px[8], py[8],
-                                area = 0.0;
-    int i, k;
+/* Whether a box meets the frustum, with its centre c and half axes a[i] in
+ * view coordinates: the library's test (view.c), outside a plane when the
+ * centre's signed distance exceeds its reach along the normal, sum h_i
+ * |u_i . n|; in view coordinates the side planes' normals have two
+ * components. p is the centre relative to the eye. */
+static int box_seen(const model_eye *e, const model_volume *v, const double p[3], double c[3],
+                    double a[3][3]) {
+    double r[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
+    int i;
     c[0] = dot(p, e->right);
     c[1] = dot(p, e->up);
     c[2] = dot(p, e->forward);
@@ -208,15 +205,35 @@ static double box_area_here(const model_eye *e, const model_volume *v, const dou
         r[3] += fabs(a[i][0] * e->cos_x - a[i][2] * e->sin_x);
         r[4] += fabs(a[i][0] * e->cos_x + a[i][2] * e->sin_x);
     }
-    if (e->near_z - c[2] > r[0] || c[2] - e->far_z > r[0] ||
-        c[1] * e->cos_y - c[2] * e->sin_y > r[1] || -c[1] * e->cos_y - c[2] * e->sin_y > r[2] ||
-        c[0] * e->cos_x - c[2] * e->sin_x > r[3] || -c[0] * e->cos_x - c[2] * e->sin_x > r[4])
-        return 0.0;
-    for (i = 0; i < 3; ++i)
+    return !(e->near_z - c[2] > r[0] || c[2] - e->far_z > r[0] ||
+             c[1] * e->cos_y - c[2] * e->sin_y > r[1] ||
+             -c[1] * e->cos_y - c[2] * e->sin_y > r[2] ||
+             c[0] * e->cos_x - c[2] * e->sin_x > r[3] || -c[0] * e->cos_x - c[2] * e->sin_x > r[4]);
+}
+
+/* Whether a sphere meets the frustum: the library's test; p as box_seen's. */
+static int sphere_seen(const model_eye *e, const model_volume *v, const double p[3]) {
+    double z = dot(p, e->forward);
+    return !(z < e->near_z - v->r || z > e->far_z + v->r ||
+             fabs(dot(p, e->up)) * e->cos_y - z * e->sin_y > v->r ||
+             fabs(dot(p, e->right)) * e->cos_x - z * e->sin_x > v->r);
+}
+
+/* The projected area of a box that meets the frustum (box_seen: c, a); -1
+ * when it reaches through the near plane, where faces are clipped. The area
+ * is that of the faces turned towards the eye (they do not overlap), each the
+ * shoelace area of its four projected corners. */
+static double box_area_here(const model_eye *e, const model_volume *v, const double p[3],
+                            const double c[3], const double a[3][3]) {
+    double t[3], b0[2][3], b1[4][3], px[8], py[8], area = 0.0, reach = 0.0;
+    int i, k;
+    for (i = 0; i < 3; ++i) {
         t[i] = -dot(p, v->u[i]);
+        reach += fabs(a[i][2]);
+    }
     if (fabs(t[0]) <= v->h[0] && fabs(t[1]) <= v->h[1] && fabs(t[2]) <= v->h[2])
         return e->viewport_area; /* the eye inside */
-    if (!(c[2] - r[0] - 1e-9 * (fabs(c[2]) + v->h[0] + v->h[1] + v->h[2]) > e->near_z))
+    if (!(c[2] - reach - 1e-9 * (fabs(c[2]) + v->h[0] + v->h[1] + v->h[2]) > e->near_z))
         return -1.0;
     /* corner k: +a[i] where bit i of k is set, -a[i] where not */
     for (i = 0; i < 3; ++i) {
@@ -254,19 +271,18 @@ static double box_area_here(const model_eye *e, const model_volume *v, const dou
 /* The projected area of a volume, 0 outside the frustum; -1: ask the
  * library. */
 static double volume_area(const model_eye *e, const model_volume *v) {
-    double p[3], d2, r2, area, z;
+    double p[3], c[3], a[3][3], d2, r2, area;
     int i;
     for (i = 0; i < 3; ++i)
         p[i] = v->c[i] - e->eye[i];
     if (v->r < -1.5)
         return -1.0;
     if (v->r < 0.0)
-        return box_area_here(e, v, p);
-    /* a sphere: the library's frustum test, then pi f² r² / (d² - r²) */
-    z = dot(p, e->forward);
-    if (z < e->near_z - v->r || z > e->far_z + v->r ||
-        fabs(dot(p, e->up)) * e->cos_y - z * e->sin_y > v->r ||
-        fabs(dot(p, e->right)) * e->cos_x - z * e->sin_x > v->r)
+        return box_seen(e, v, p, c, a)
+                   ? box_area_here(e, v, p, (const double *)c, (const double(*)[3])a)
+                   : 0.0;
+    /* a sphere: pi f² r² / (d² - r²) */
+    if (!sphere_seen(e, v, p))
         return 0.0;
     d2 = dot(p, p);
     r2 = v->r * v->r;
@@ -274,6 +290,17 @@ static double volume_area(const model_eye *e, const model_volume *v) {
         return e->viewport_area;
     area = e->pi_focal2 * r2 / (d2 - r2);
     return area < e->viewport_area ? area : e->viewport_area;
+}
+
+int model_visible(const tiles_model *m, uint32_t t) {
+    const model_volume *v = &m->vol[t];
+    double p[3], c[3], a[3][3];
+    int i;
+    if (v->r < -1.5)
+        return tclod_view_bounds_visible(&m->view, &m->ts->tiles[t].bounds);
+    for (i = 0; i < 3; ++i)
+        p[i] = v->c[i] - m->eye.eye[i];
+    return v->r < 0.0 ? box_seen(&m->eye, v, p, c, a) : sphere_seen(&m->eye, v, p);
 }
 
 double model_distance(tiles_model *m, uint32_t t) {

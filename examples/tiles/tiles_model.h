@@ -95,6 +95,10 @@ void model_set_view(tiles_model *m, const tclod_view *v);
 double model_distance(tiles_model *m, uint32_t t);
 double model_area(tiles_model *m, uint32_t t);
 
+/* Whether tile t meets the frustum (tclod_view_bounds_visible), from the
+ * prepared volume and view as above. */
+int model_visible(const tiles_model *m, uint32_t t);
+
 /* The same area measured again, past the memo: what model_area computes when
  * nothing was noted (check_queries compares it with the library's). */
 double model_measure_area(const tiles_model *m, uint32_t t);

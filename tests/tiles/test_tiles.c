@@ -507,8 +507,9 @@ static void reference_distance_matches_the_library(void **state) {
 }
 
 /* The model measures volumes itself, with the library's definitions: its
- * areas (0 outside the frustum) and distances against tclod_view_bounds_area,
- * _visible and _distance for every kind of volume, from views along and
+ * areas (0 outside the frustum), frustum tests and distances against
+ * tclod_view_bounds_area, _visible and _distance for every kind of volume,
+ * from views along and
  * across the axes: a sphere, boxes turned, flat, axis-aligned, far and near,
  * one with the eye inside, one reaching through the near plane (which the
  * model hands to the library), one outside the frustum. */
@@ -563,6 +564,8 @@ static void model_measures_match_the_library(void **state) {
             double d = tclod_view_bounds_distance(&views[k], b);
             assert_close(model_area(&m, (uint32_t)i), want, 1e-9 * (1.0 + want));
             assert_close(model_distance(&m, (uint32_t)i), d, 1e-9 * (1.0 + d));
+            assert_int_equal(model_visible(&m, (uint32_t)i),
+                             tclod_view_bounds_visible(&views[k], b));
         }
     }
     /* the cases the views were chosen for */
@@ -571,6 +574,7 @@ static void model_measures_match_the_library(void **state) {
     assert_close(model_area(&m, 5), 600.0 * 600.0 * 1.5, 1e-6);
     assert_true(model_area(&m, 6) > 0.0);
     assert_true(model_area(&m, 7) == 0.0);
+    assert_true(model_visible(&m, 0) && model_visible(&m, 6) && !model_visible(&m, 7));
     model_free(&m);
 }
 
