@@ -452,10 +452,9 @@ static double decrement_key(tclod_selector *sel, tclod_id p) {
 }
 
 /* Queues the decrement into p when p is collapsible. */
-static int queue_decrement(tclod_selector *sel, tclod_id p, int append) {
+/* Queues the decrement into p, known collapsible and not queued. */
+static int queue_collapsible(tclod_selector *sel, tclod_id p, int append) {
     double key;
-    if (p == TCLOD_NONE || tclod_heap_contains(&sel->greedy.dec, p) || !collapsible(sel, p))
-        return 0;
     if (evaluate(sel, p) != 0)
         return -1;
     key = decrement_key(sel, p);
@@ -464,6 +463,12 @@ static int queue_decrement(tclod_selector *sel, tclod_id p, int append) {
     else
         tclod_heap_push(&sel->greedy.dec, p, key);
     return 0;
+}
+
+static int queue_decrement(tclod_selector *sel, tclod_id p, int append) {
+    if (p == TCLOD_NONE || tclod_heap_contains(&sel->greedy.dec, p) || !collapsible(sel, p))
+        return 0;
+    return queue_collapsible(sel, p, append);
 }
 
 /* Replaces cut node n by its children (or, with lookahead, by the deeper cut
@@ -1034,9 +1039,11 @@ static int64_t warm_block(tclod_selector *sel, uint32_t i, int frontier) {
                 return -1;
             continue;
         }
-        if (p != TCLOD_NONE && s->children[s->child_first[p]] == n && collapsible(sel, p) &&
-            tclod_batch_add(sel, p) != 0)
-            return -1;
+        if (p != TCLOD_NONE && s->children[s->child_first[p]] == n && collapsible(sel, p)) {
+            sel->flags[n] |= TCLOD_FLAG_COLLAPSE;
+            if (tclod_batch_add(sel, p) != 0)
+                return -1;
+        }
         if (gather_children(sel, n) != 0)
             return -1;
     }
@@ -1081,10 +1088,16 @@ static int start_warm(tclod_selector *sel) {
             tclod_id p = s->parent[n];
             if (queue_increment(sel, n, 1) != 0)
                 return -1;
-            /* each parent is looked at once: from its first child */
-            if (p != TCLOD_NONE && s->children[s->child_first[p]] == n &&
-                queue_decrement(sel, p, 1) != 0)
+            /* each parent is looked at once: from its first child (which
+             * warm_block has done when batching) */
+            if (sel->batching) {
+                if ((sel->flags[n] & TCLOD_FLAG_COLLAPSE) && queue_collapsible(sel, p, 1) != 0)
+                    return -1;
+                sel->flags[n] &= (uint8_t)~TCLOD_FLAG_COLLAPSE;
+            } else if (p != TCLOD_NONE && s->children[s->child_first[p]] == n &&
+                       queue_decrement(sel, p, 1) != 0) {
                 return -1;
+            }
         }
     }
     tclod_heap_build(&sel->greedy.inc);

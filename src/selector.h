@@ -22,13 +22,16 @@ enum {
     TCLOD_FLAG_JUMP = 2u,
     TCLOD_FLAG_REFINE = 4u,
     TCLOD_FLAG_REFIT = 8u,
-    TCLOD_FLAG_ABOVE = 16u, /* while a warm start repairs its cut after the scene
-                               changed: a node above the cut */
-    TCLOD_FLAG_MOVED = 64u, /* a cut node put where the cut's order by id may not hold
-                               (appended, or moved into a hole) since a warm start
-                               sorted it (sort_cut) */
-    TCLOD_FLAG_CULL = 32u   /* while a warm start repairs its cut against residency:
-                               a node above the cut whose subtree leaves it */
+    TCLOD_FLAG_ABOVE = 16u,    /* while a warm start repairs its cut after the scene
+                                  changed: a node above the cut */
+    TCLOD_FLAG_MOVED = 64u,    /* a cut node put where the cut's order by id may not hold
+                                  (appended, or moved into a hole) since a warm start
+                                  sorted it (sort_cut) */
+    TCLOD_FLAG_CULL = 32u,     /* while a warm start repairs its cut against residency:
+                                  a node above the cut whose subtree leaves it */
+    TCLOD_FLAG_COLLAPSE = 128u /* while a batching warm start keys its frontier: a cut
+                                  node whose parent it found collapsible (from its
+                                  first child) and gathered */
 };
 
 /* What a selector knows of one node, packed in one record because the solvers
