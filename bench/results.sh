@@ -4,8 +4,8 @@
 #
 #   bench/results.sh [BUILD_DIR] [SET...]       (default: build; every set)
 #
-# SET is one of: bench targets churn stream thesis theta quality callgrind churn_callgrind
-# restarts_callgrind flyover scheduler.
+# SET is one of: bench targets cost dear churn stream thesis theta quality callgrind
+# churn_callgrind restarts_callgrind flyover scheduler.
 # A file is named after its command: the program, then each option without its dashes
 # and joined to its value by '-' (tclod_bench --scene churn --frames 2400 writes
 # tclod_bench_scene-churn_frames-2400.csv). Where a command is run several times its rows
@@ -23,7 +23,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 build="${1:-build}"
 shift || true
 sets=("$@")
-[ ${#sets[@]} -gt 0 ] || sets=(bench targets cost churn stream thesis theta quality callgrind
+[ ${#sets[@]} -gt 0 ] || sets=(bench targets cost dear churn stream thesis theta quality callgrind
     churn_callgrind restarts_callgrind flyover scheduler)
 bench="$build/bench/tclod_bench"
 quality="$build/bench/tclod_quality"
@@ -128,6 +128,21 @@ run_cost() {
     for c in "${configs[@]}"; do
         # shellcheck disable=SC2086 # c is a list of words
         "$bench" $c >"$out/$(name tclod_bench $c)" 2>/dev/null
+    done
+}
+
+# A dear host: the batch and worker modes at 10^5 objects as every benefit spends N rounds
+# of busy work (one run of each, prefixed by N).
+run_dear() {
+    local file n mode
+    file="$out/$(name tclod_bench --scene random --objects 100000 --solver greedy --frames 60 \
+        --benefit-work N)"
+    : >"$file"
+    for n in 0 25 50 100 200 400 800; do
+        for mode in warm_floor warm_batch warm_parallel; do
+            "$bench" --scene random --objects 100000 --solver greedy --frames 60 --mode "$mode" \
+                --benefit-work "$n" 2>/dev/null | prefixed "$n" benefit_work "$file"
+        done
     done
 }
 
@@ -316,7 +331,7 @@ run_scheduler() {
 
 for set in "${sets[@]}"; do
     case "$set" in
-    bench | targets | cost | churn | stream | thesis | theta | quality | callgrind \
+    bench | targets | cost | dear | churn | stream | thesis | theta | quality | callgrind \
         | churn_callgrind | restarts_callgrind | flyover | scheduler)
         echo "results.sh: $set" >&2
         "run_$set"

@@ -250,6 +250,8 @@ static const char *only_solver, *only_mode;
 static unsigned long opt_lookahead, opt_restarts;
 /* --memory: the stream scene's memory budget, as a fraction of all its nodes' bytes */
 static double opt_memory = 0.5;
+/* --benefit-work: world_scene.benefit_work of the random and flyover worlds */
+static unsigned long opt_benefit_work;
 
 static int row_wanted(const char *solver, const char *mode) {
     return (only_solver == NULL || strcmp(only_solver, solver) == 0) &&
@@ -2165,7 +2167,7 @@ static void usage(FILE *out) {
     fprintf(out,
             "usage: tclod_bench [--quick] [--scene NAME] [--theta X] [--objects N] [--frames N]\n"
             "                   [--solver NAME] [--mode NAME] [--lookahead N] [--restarts N]\n"
-            "                   [--memory F] [--help]\n"
+            "                   [--memory F] [--benefit-work N] [--help]\n"
             "\n"
             "Times tclod_select on random worlds of 10^3 ... 10^6 objects x 4 levels and on\n"
             "the flyover scene, cold (from the roots) and warm (from the previous frame), and\n"
@@ -2247,6 +2249,11 @@ static void usage(FILE *out) {
             "                tclod_selector_desc.greedy.restarts (default: the library's, 32)\n"
             "  --memory F    stream: the memory budget as a fraction F in (0, 1] of all the\n"
             "                nodes' bytes (default 0.5)\n"
+            "  --benefit-work N\n"
+            "                random and flyover rows: every benefit the callbacks compute\n"
+            "                first spends N rounds of a hash it throws away (a multiply\n"
+            "                and an add each), as a host whose evaluation is dear\n"
+            "                (default 0); the values and the selections are the same\n"
             "  --help        print this text and exit\n");
 }
 
@@ -2319,6 +2326,9 @@ int main(int argc, char **argv) {
                 return 2;
         } else if (strcmp(argv[i], "--restarts") == 0) {
             if (!parse_count(argc, argv, &i, 0ul, TCLOD_MAX_RESTARTS, &opt_restarts))
+                return 2;
+        } else if (strcmp(argv[i], "--benefit-work") == 0) {
+            if (!parse_count(argc, argv, &i, 0ul, 1000000ul, &opt_benefit_work))
                 return 2;
         } else if (strcmp(argv[i], "--solver") == 0 || strcmp(argv[i], "--mode") == 0) {
             static const char *const modes[] = {
@@ -2408,6 +2418,7 @@ int main(int argc, char **argv) {
                     tclod_status_string(st));
             return 1;
         }
+        w.benefit_work = (uint32_t)opt_benefit_work;
         visible = bench_world_visible(&w);
         budget = (double)visible * bench_world_level1_cost(&w);
         fprintf(stderr,
@@ -2445,6 +2456,7 @@ int main(int argc, char **argv) {
                     tclod_status_string(st));
             return 1;
         }
+        w.benefit_work = (uint32_t)opt_benefit_work;
         visible = bench_world_visible(&w);
         if (bench_scene("flyover", &w, FLYOVER_BUDGET_MS, visible, frames, NULL, 0,
                         &selector_bytes) != 0) {

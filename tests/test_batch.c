@@ -632,6 +632,44 @@ static void every_kind_of_volume_selects_as_per_node(void **state) {
     free(m.cost);
 }
 
+/* The benchmark's dear host (tclod_bench --benefit-work) spends its rounds
+ * and gives the world's values bit for bit, node by node and in batches. */
+static void busy_benefits_are_the_world_ones(void **state) {
+    enum { COUNT = 64 };
+    tclod_id ids[COUNT];
+    float area[COUNT], distance[COUNT];
+    double plain[COUNT], busy[COUNT], one;
+    tclod_batch b;
+    tclod_query q;
+    uint32_t i;
+    (void)state;
+    memset(&q, 0, sizeof q);
+    for (i = 0; i < COUNT; ++i) {
+        ids[i] = (tclod_id)((i * 7919u) % H.w.node_count);
+        area[i] = i % 5u == 0u ? -1.0f : (float)i * 3.5f; /* -1: no view */
+        distance[i] = (float)i;
+    }
+    memset(&b, 0, sizeof b);
+    b.count = COUNT;
+    b.ids = ids;
+    b.screen_area = area;
+    b.distance = distance;
+    H.w.benefit_work = 0;
+    world_benefit_batch(&H.w, &b, plain);
+    H.w.benefit_work = 300;
+    world_benefit_batch(&H.w, &b, busy);
+    for (i = 0; i < COUNT; ++i) {
+        q.id = ids[i];
+        q.screen_area = area[i];
+        q.distance = distance[i];
+        one = world_benefit(&H.w, &q);
+        assert_memory_equal(&busy[i], &plain[i], sizeof(double));
+        assert_memory_equal(&one, &plain[i], sizeof(double));
+        assert_true(plain[i] >= 0.0);
+    }
+    H.w.benefit_work = 0;
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(warm_selections_are_the_per_node_ones),
@@ -646,6 +684,7 @@ int main(void) {
         cmocka_unit_test(task_descs_are_checked),
         cmocka_unit_test(streaming_selections_are_the_per_node_ones),
         cmocka_unit_test(every_kind_of_volume_selects_as_per_node),
+        cmocka_unit_test(busy_benefits_are_the_world_ones),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -934,9 +934,22 @@ void world_camera_at(const world_path *p, double t, tclod_view *view) {
 /* Callbacks                                                                 */
 /* ------------------------------------------------------------------------- */
 
+/* benefit_work rounds of a hash of node id, kept in a volatile so that the
+ * compiler computes them: a dear evaluation that changes no value. */
+static void busy_work(uint32_t id, uint32_t rounds) {
+    volatile uint32_t kept;
+    uint32_t h = id, k;
+    for (k = 0; k < rounds; ++k)
+        h = h * 2654435761u + k;
+    kept = h;
+    (void)kept;
+}
+
 double world_benefit(void *user, const tclod_query *q) {
     const world_scene *w = (const world_scene *)user;
     float area = q->screen_area;
+    if (w->benefit_work)
+        busy_work(q->id, w->benefit_work);
     if (area < 0.0f) {
         float r = w->bounds[4u * (size_t)q->id + 3u];
         area = (float)WORLD_PI * r * r;
@@ -954,6 +967,8 @@ void world_benefit_batch(void *user, const tclod_batch *b, double *out) {
     uint32_t i;
     for (i = 0; i < b->count; ++i) {
         float area = b->screen_area[i];
+        if (w->benefit_work)
+            busy_work(b->ids[i], w->benefit_work);
         if (area < 0.0f) {
             float r = w->bounds[4u * (size_t)b->ids[i] + 3u];
             area = (float)WORLD_PI * r * r;

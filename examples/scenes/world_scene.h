@@ -100,6 +100,9 @@ typedef struct world_scene {
     tclod_id *object_nodes;   /* levels per object: the node ids of its levels 0 .. L-1;
                                  NULL until the first edit (as built, object i's level k
                                  is object_root[i] + k) */
+    uint32_t benefit_work;    /* rounds of a hash every benefit computes and throws away,
+                                 to play a host whose evaluation is dear; the values are
+                                 the same (0 as built) */
 } world_scene;
 
 /* The random world of the benchmark. */
@@ -177,7 +180,8 @@ tclod_status world_move_object(world_scene *w, uint32_t i, const float bounds[4]
 tclod_id world_object_level(const world_scene *w, uint32_t i, uint32_t k);
 
 /* The callbacks, with user = w (which must outlive the selectors using them).
- * benefit: screen_area × weight; screen_area 0 (outside the frustum) gives 0,
+ * benefit: screen_area × weight (after benefit_work rounds of busy work);
+ *          screen_area 0 (outside the frustum) gives 0,
  *          so the node is culled with its subtree; without a view (-1) a
  *          nominal area π·radius² stands in, which keeps the ordering sensible.
  * cost:    cost_ms of the node.
