@@ -246,21 +246,44 @@ static void batch_chunk(tclod_selector *sel, tclod_batch_worker *w, uint32_t wor
         batch_cost(sel, w, w->vis[i], w->cost[i]);
 }
 
-/* The task: gathered nodes [start, end) on worker `worker`, each marked done
- * once evaluated. A range with a worker index beyond the selector's workers
- * (a task system that breaks its contract) is left undone: it has no scratch
- * of its own, and the flush evaluates it after the task. */
-static void batch_task(uint32_t start, uint32_t end, uint32_t worker, void *ctx) {
-    tclod_selector *sel = (tclod_selector *)ctx;
-    tclod_batch_worker *w;
-    if (worker >= batch_slots(sel) || start >= end || end > sel->gather_count)
-        return;
-    w = &sel->workers[worker];
-    memset(sel->gathered_done + start, 1, end - start);
+/* Evaluates gathered nodes [start, end) on worker `worker`. */
+static void batch_range(tclod_selector *sel, uint32_t worker, uint32_t start, uint32_t end) {
+    tclod_batch_worker *w = &sel->workers[worker];
     while (start < end) {
         uint32_t m = end - start < TCLOD_BATCH_CHUNK ? end - start : TCLOD_BATCH_CHUNK;
         batch_chunk(sel, w, worker, sel->gather + start, m);
         start += m;
+    }
+}
+
+/* The first index in [i, end) whose mark is `mark` (0 or 1), or end. */
+static uint32_t next_mark(const unsigned char *done, uint32_t i, uint32_t end, int mark) {
+    const unsigned char *at = (const unsigned char *)memchr(done + i, mark, end - i);
+    return at ? (uint32_t)(at - done) : end;
+}
+
+/* The task: gathered nodes [start, end) on worker `worker`, each marked done
+ * as it is evaluated. A task system that breaks its contract changes nothing
+ * it can be seen to: nodes a range run before this one marked (a range run
+ * twice, or overlapping another, one after the other) are not evaluated
+ * again (counted in the worker's `repeated`); a range with a worker index
+ * beyond the selector's workers is left undone (it has no scratch of its
+ * own), and the flush evaluates it after the task. */
+static void batch_task(uint32_t start, uint32_t end, uint32_t worker, void *ctx) {
+    tclod_selector *sel = (tclod_selector *)ctx;
+    unsigned char *done = sel->gathered_done;
+    if (worker >= batch_slots(sel) || start >= end || end > sel->gather_count)
+        return;
+    while (start < end) {
+        uint32_t first = next_mark(done, start, end, 0), stop;
+        if (first != start) /* a sound task system never stores here */
+            sel->workers[worker].repeated += first - start;
+        if (first == end)
+            break;
+        stop = next_mark(done, first, end, 1);
+        memset(done + first, 1, stop - first);
+        batch_range(sel, worker, first, stop);
+        start = stop;
     }
 }
 
@@ -269,17 +292,10 @@ static void batch_task(uint32_t start, uint32_t end, uint32_t worker, void *ctx)
  * evaluated here on the calling thread, as worker 0 (docs/api.md, worker
  * threads). Returns how many there were. */
 static uint32_t batch_missed(tclod_selector *sel, uint32_t n) {
-    unsigned char *done = sel->gathered_done;
     uint32_t i = 0, missed = 0;
-    while (i < n) {
-        const unsigned char *hole = (const unsigned char *)memchr(done + i, 0, n - i);
-        uint32_t end;
-        if (!hole)
-            break;
-        i = (uint32_t)(hole - done);
-        for (end = i; end < n && !done[end]; ++end) {
-        }
-        batch_task(i, end, 0u, sel);
+    while ((i = next_mark(sel->gathered_done, i, n, 0)) < n) {
+        uint32_t end = next_mark(sel->gathered_done, i, n, 1);
+        batch_range(sel, 0u, i, end);
         missed += end - i;
         i = end;
     }
@@ -292,17 +308,22 @@ int tclod_batch_flush(tclod_selector *sel) {
     if (n == 0) /* also every flush of a selector without the workspace */
         return 0;
     for (i = 0; i < slots; ++i)
-        sel->workers[i].invalid = sel->workers[i].absent = 0;
+        sel->workers[i].invalid = sel->workers[i].absent = sel->workers[i].repeated = 0;
     if (slots > 1u && n >= 2u * TCLOD_BATCH_CHUNK) {
         void *task;
+        uint32_t repeated = 0;
         memset(sel->gathered_done, 0, n);
         task = T->enqueue(batch_task, n, TCLOD_BATCH_CHUNK, sel, T->user);
         if (task)
             T->finish(task, T->user);
         if (batch_missed(sel, n) != 0)
             sel->stats.notes |= TCLOD_NOTE_TASKS_MISSED;
+        for (i = 0; i < slots; ++i)
+            repeated += sel->workers[i].repeated;
+        if (repeated != 0)
+            sel->stats.notes |= TCLOD_NOTE_TASKS_REPEATED;
     } else {
-        batch_task(0, n, 0, sel);
+        batch_range(sel, 0u, 0u, n);
     }
     sel->gather_count = 0;
     sel->stats.evaluations += n;

@@ -565,8 +565,8 @@ static void note(tclod_selector *sel) {
         notes |= TCLOD_NOTE_NOTHING_DRAWN;
     /* the plan's, the greedy's and the batches' */
     sel->stats.notes =
-        notes | (sel->stats.notes &
-                 (TCLOD_NOTE_MEMORY_SHORT | TCLOD_NOTE_COLD_FALLBACK | TCLOD_NOTE_TASKS_MISSED));
+        notes | (sel->stats.notes & (TCLOD_NOTE_MEMORY_SHORT | TCLOD_NOTE_COLD_FALLBACK |
+                                     TCLOD_NOTE_TASKS_MISSED | TCLOD_NOTE_TASKS_REPEATED));
 }
 
 /* Runs the begun solve until it finishes or the slice (slice_end on the

@@ -57,6 +57,7 @@ typedef struct tclod_node_state {
 typedef struct tclod_batch_worker {
     uint32_t invalid;     /* bad callback values seen */
     uint32_t absent;      /* visible nodes seen not resident */
+    uint32_t repeated;    /* nodes of its ranges an earlier range had evaluated */
     tclod_query query;    /* the per-node callbacks' query ... */
     tclod_bounds qbounds; /* ... and its volume */
     double px[TCLOD_BATCH_CHUNK], py[TCLOD_BATCH_CHUNK], pz[TCLOD_BATCH_CHUNK];
@@ -121,7 +122,8 @@ struct tclod_selector {
     tclod_batch_worker *workers;  /* batch evaluation (evaluate.c): one per worker;
                                      NULL without batching */
     tclod_id *gather;             /* the nodes gathered, TCLOD_GATHER room */
-    unsigned char *gathered_done; /* per gathered node: 1 once a task's range evaluated it */
+    unsigned char *gathered_done; /* per gathered node, while a flush splits: 1 once a
+                                     task's range evaluated it */
     uint32_t gather_count;
     int batching; /* batch callbacks or workers: the greedy gathers what it
                      evaluates (else it asks node by node, as it needs them) */

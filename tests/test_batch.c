@@ -44,13 +44,15 @@ typedef struct host {
     uint32_t enqueues, finishes, ranges, covered, inline_workers, inline_enqueues;
     int bad_range;
     /* the inline system breaking its contract: FAULT_SKIP leaves every other
-     * range out, FAULT_WORKER gives every other range the index worker_count;
-     * the notes the inline way's selects returned */
+     * range out, FAULT_WORKER gives every other range the index worker_count,
+     * FAULT_REPEAT runs every other range twice, FAULT_OVERLAP makes every
+     * range reach half a range into the next; the notes the inline way's
+     * selects returned */
     int fault;
     uint32_t inline_notes, other_notes;
 } host;
 
-enum { FAULT_NONE = 0, FAULT_SKIP = 1, FAULT_WORKER = 2 };
+enum { FAULT_NONE = 0, FAULT_SKIP = 1, FAULT_WORKER = 2, FAULT_REPEAT = 3, FAULT_OVERLAP = 4 };
 
 static host H;
 
@@ -170,7 +172,11 @@ static void *inline_enqueue(tclod_task_fn *task, uint32_t count, uint32_t min_ra
         uint32_t worker = k % h->inline_workers;
         if (h->fault == FAULT_WORKER && k % 2u == 1u)
             worker = h->inline_workers;
-        if (!(h->fault == FAULT_SKIP && k % 2u == 1u))
+        if (h->fault == FAULT_OVERLAP)
+            task(start, end + min_range / 2u < count ? end + min_range / 2u : count, worker, ctx);
+        else if (!(h->fault == FAULT_SKIP && k % 2u == 1u))
+            task(start, end, worker, ctx);
+        if (h->fault == FAULT_REPEAT && k % 2u == 1u)
             task(start, end, worker, ctx);
         k++;
         h->ranges++;
@@ -407,23 +413,25 @@ static void an_inline_task_system_is_not_asked_to_finish(void **state) {
     assert_true(H.covered >= 2u * 256u * H.inline_enqueues);
 }
 
-/* A task system that breaks its contract, leaving ranges out or giving them a
- * worker index out of range, still gets the per-node selections, each node
- * asked once (select_all checks), and the note that says so; a sound one
- * never gets it. */
+/* A task system that breaks its contract, leaving ranges out, giving them a
+ * worker index out of range, running them twice or overlapping them, still
+ * gets the per-node selections, each node asked once (select_all checks),
+ * and the note that says which; a sound one never gets either. */
 static void a_faulty_task_system_changes_nothing_but_the_notes(void **state) {
+    const uint32_t faults = TCLOD_NOTE_TASKS_MISSED | TCLOD_NOTE_TASKS_REPEATED;
     int fault;
     (void)state;
     H.inline_notes = H.other_notes = 0;
     check_ways(1, 0, 40.0);
-    assert_false(H.inline_notes & TCLOD_NOTE_TASKS_MISSED);
-    for (fault = FAULT_SKIP; fault <= FAULT_WORKER; ++fault) {
+    assert_false(H.inline_notes & faults);
+    for (fault = FAULT_SKIP; fault <= FAULT_OVERLAP; ++fault) {
+        uint32_t note = fault <= FAULT_WORKER ? TCLOD_NOTE_TASKS_MISSED : TCLOD_NOTE_TASKS_REPEATED;
         H.fault = fault;
         H.inline_notes = H.other_notes = 0;
         check_ways(1, 0, 40.0);
         check_ways(0, 0, 40.0);
-        assert_true(H.inline_notes & TCLOD_NOTE_TASKS_MISSED);
-        assert_false(H.other_notes & TCLOD_NOTE_TASKS_MISSED);
+        assert_int_equal(H.inline_notes & faults, note);
+        assert_false(H.other_notes & faults);
     }
     H.fault = FAULT_NONE;
 }

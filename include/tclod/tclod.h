@@ -541,7 +541,8 @@ typedef struct tclod_tasks {
      * running at the same time has. Returns a handle for finish, or NULL when
      * every range has run before it returns. (Nodes of a range left out or
      * run with an index >= worker_count are evaluated on the calling thread
-     * after finish: TCLOD_NOTE_TASKS_MISSED.) */
+     * after finish: TCLOD_NOTE_TASKS_MISSED; nodes a range runs again after
+     * another ran them are not: TCLOD_NOTE_TASKS_REPEATED.) */
     void *(*enqueue)(tclod_task_fn *task, uint32_t item_count, uint32_t min_range, void *task_ctx,
                      void *user);
     /* Returns once every range of the task enqueue returned `task` for ran. */
@@ -674,6 +675,10 @@ typedef struct tclod_stats {
     0x40u /* the host's task system left nodes unevaluated (a    \
              range not run, a worker index >= worker_count): the \
              calling thread evaluated them (docs/api.md, threads) */
+#define TCLOD_NOTE_TASKS_REPEATED                                 \
+    0x80u /* the host's task system ran nodes twice (a range run  \
+             again, or ranges that overlap, one after the other): \
+             each was evaluated once (docs/api.md, threads) */
 
 /* Per-view solver state and the current result. */
 typedef struct tclod_selector tclod_selector;
