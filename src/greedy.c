@@ -451,7 +451,6 @@ static double decrement_key(tclod_selector *sel, tclod_id p) {
     return -HUGE_VAL;
 }
 
-/* Queues the decrement into p when p is collapsible. */
 /* Queues the decrement into p, known collapsible and not queued. */
 static int queue_collapsible(tclod_selector *sel, tclod_id p, int append) {
     double key;
@@ -465,6 +464,7 @@ static int queue_collapsible(tclod_selector *sel, tclod_id p, int append) {
     return 0;
 }
 
+/* Queues the decrement into p when p is collapsible. */
 static int queue_decrement(tclod_selector *sel, tclod_id p, int append) {
     if (p == TCLOD_NONE || tclod_heap_contains(&sel->greedy.dec, p) || !collapsible(sel, p))
         return 0;
