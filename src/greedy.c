@@ -1086,18 +1086,17 @@ static int start_warm(tclod_selector *sel) {
         for (; i < (uint32_t)end; ++i) {
             tclod_id n = sel->cut[i];
             tclod_id p = s->parent[n];
+            /* each parent is looked at once: from its first child (which
+             * warm_block has done when batching; the flag is taken before
+             * the increment, whose lookahead rewrites the flags) */
+            int collapse = sel->batching ? (sel->flags[n] & TCLOD_FLAG_COLLAPSE) != 0
+                                         : p != TCLOD_NONE && s->children[s->child_first[p]] == n;
+            sel->flags[n] &= (uint8_t)~TCLOD_FLAG_COLLAPSE;
             if (queue_increment(sel, n, 1) != 0)
                 return -1;
-            /* each parent is looked at once: from its first child (which
-             * warm_block has done when batching) */
-            if (sel->batching) {
-                if ((sel->flags[n] & TCLOD_FLAG_COLLAPSE) && queue_collapsible(sel, p, 1) != 0)
-                    return -1;
-                sel->flags[n] &= (uint8_t)~TCLOD_FLAG_COLLAPSE;
-            } else if (p != TCLOD_NONE && s->children[s->child_first[p]] == n &&
-                       queue_decrement(sel, p, 1) != 0) {
+            if (collapse &&
+                (sel->batching ? queue_collapsible(sel, p, 1) : queue_decrement(sel, p, 1)) != 0)
                 return -1;
-            }
         }
     }
     tclod_heap_build(&sel->greedy.inc);

@@ -50,6 +50,7 @@ typedef struct host {
      * selects returned */
     int fault;
     uint32_t inline_notes, other_notes;
+    uint32_t lookahead; /* tclod_greedy_desc.lookahead of every way */
 } host;
 
 enum { FAULT_NONE = 0, FAULT_SKIP = 1, FAULT_WORKER = 2, FAULT_REPEAT = 3, FAULT_OVERLAP = 4 };
@@ -215,6 +216,7 @@ static tclod_selector_desc desc_for(int way, int warm, int strict) {
     tclod_selector_desc_default(&d);
     d.cold_start = !warm;
     d.strict = strict;
+    d.greedy.lookahead = H.lookahead;
     d.callbacks.benefit = one_benefit;
     d.callbacks.cost = one_cost;
     d.callbacks.user = &H;
@@ -351,6 +353,22 @@ static void tight_and_unlimited_budgets_select_as_per_node(void **state) {
     (void)state;
     check_ways(1, 0, 0.5);
     check_ways(1, 0, HUGE_VAL);
+}
+
+/* With a lookahead, whose increments reach below a node's children and
+ * rewrite the cut nodes' flags as they are keyed. */
+static void lookahead_selections_are_the_per_node_ones(void **state) {
+    (void)state;
+    H.lookahead = 2;
+    check_ways(1, 0, 40.0);
+    check_ways(0, 0, 40.0);
+}
+
+/* The other tests' ways have no lookahead, also after a failed test. */
+static int no_lookahead(void **state) {
+    (void)state;
+    H.lookahead = 0;
+    return 0;
 }
 
 static void bad_values_are_sanitised_and_counted_as_per_node(void **state) {
@@ -683,6 +701,7 @@ int main(void) {
         cmocka_unit_test(warm_selections_are_the_per_node_ones),
         cmocka_unit_test(cold_selections_are_the_per_node_ones),
         cmocka_unit_test(tight_and_unlimited_budgets_select_as_per_node),
+        cmocka_unit_test_teardown(lookahead_selections_are_the_per_node_ones, no_lookahead),
         cmocka_unit_test(bad_values_are_sanitised_and_counted_as_per_node),
         cmocka_unit_test(unwritten_batch_entries_are_bad_values),
         cmocka_unit_test(strict_mode_fails_on_a_bad_batch_value_as_per_node),
