@@ -218,8 +218,9 @@ static int request_bytes(tclod_selector *sel, tclod_id n, double *bytes) {
 }
 
 /* The increment of target node n: its visible children in its place. Queues
- * it when it gains benefit and no child's cost is unaffordable. Returns 0 or
- * -1 (strict). */
+ * it when it gains benefit and no child's cost is unaffordable, nor their sum
+ * (costs near DBL_MAX overflow it: inf / inf would key the heap with NaN).
+ * Returns 0 or -1 (strict). */
 static int target_queue(tclod_selector *sel, tclod_id n, double b, double c) {
     const tclod_scene *s = sel->scene;
     uint32_t i = s->child_first[n], end = i + s->child_count[n];
@@ -239,7 +240,7 @@ static int target_queue(tclod_selector *sel, tclod_id n, double b, double c) {
     dc = sum_c - c;
     sel->stream.delta[2u * n] = db;
     sel->stream.delta[2u * n + 1u] = dc;
-    if (s->child_count[n] > 0 && db > 0.0) {
+    if (s->child_count[n] > 0 && db > 0.0 && isfinite(sum_c)) {
         double key = dc > 0.0 ? db / dc : HUGE_VAL;
         if (sel->stream.filling && key >= sel->stream.closure)
             sel->stream.queue[sel->stream.tail++] = n;

@@ -162,6 +162,31 @@ static void requests_stop_at_the_budget(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* A refinement whose children's costs sum past DBL_MAX (1e308 each: +inf) is
+ * never taken, even under an infinite budget, as the greedy never takes one:
+ *   R (b 1, c 1, resident): C1, C2 (b 1e308, c 1e308, 100 B each)
+ *   Q (b 1, c 1, resident): Q1 (b 2, c 1, 50 B)
+ * Only Q1 is requested, at (2 - 1) / 50 = 0.02. (Their benefits overflow
+ * too: inf / inf would have keyed R's increment with NaN.) */
+static void refinements_whose_costs_overflow_are_not_requested(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id r = add(f, TCLOD_NONE, TCLOD_REFINE_REPLACE, 1, 100, 1.0, 1.0), q, q1;
+    tclod_selector *sel;
+    const tclod_stream_item *items;
+    size_t n;
+    add(f, r, TCLOD_REFINE_REPLACE, 0, 100, 1e308, 1e308);
+    add(f, r, TCLOD_REFINE_REPLACE, 0, 100, 1e308, 1e308);
+    q = add(f, TCLOD_NONE, TCLOD_REFINE_REPLACE, 1, 100, 1.0, 1.0);
+    q1 = add(f, q, TCLOD_REFINE_REPLACE, 0, 50, 2.0, 1.0);
+    sel = helper_selector(f->scene, &f->model, 1);
+    set_stream(sel, 100, 0.0, 0.0, 0.0);
+    run(sel, HUGE_VAL);
+    assert_requests(sel, &q1, 1);
+    assert_int_equal(tclod_selector_requests(sel, &items, &n), TCLOD_OK);
+    assert_near(items[0].value, 0.02, 1e-15);
+    tclod_selector_destroy(sel);
+}
+
 /* The caps: 2 requests: S1, A. 250 bytes: S1 (10) and A (200) make 210, B
  * would make 410. 5 bytes: S1 alone, over the cap, because the first request
  * is always listed. No max_requests: nothing. */
@@ -677,6 +702,8 @@ int main(void) {
                                         helper_fixture_teardown),
         cmocka_unit_test_setup_teardown(requests_stop_at_the_budget, helper_fixture_setup,
                                         helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(refinements_whose_costs_overflow_are_not_requested,
+                                        helper_fixture_setup, helper_fixture_teardown),
         cmocka_unit_test_setup_teardown(requests_respect_the_caps, helper_fixture_setup,
                                         helper_fixture_teardown),
         cmocka_unit_test_setup_teardown(arrivals_move_the_requests_down, helper_fixture_setup,
