@@ -617,6 +617,7 @@ static void drop_roots(tclod_selector *sel) {
         double c;
         if (!greedy_counts(sel, r))
             continue;
+        assert(sel->scene->parent[r] == TCLOD_NONE); /* see drop_order */
         c = sel->node[r].cost;
         sel->scratch[n] = r;
         sel->scratch_key[n] =
@@ -1404,6 +1405,10 @@ static uint32_t drop_order(tclod_selector *sel) {
         double c;
         if (!greedy_counts(sel, r))
             continue;
+        /* with no decrement queued the cut holds roots only: below a refined
+         * node, its deepest refined descendant would be collapsible, and the
+         * decrement heap holds every collapsible parent of the cut */
+        assert(sel->scene->parent[r] == TCLOD_NONE);
         c = sel->node[r].cost;
         sel->scratch[n] = ~r;
         sel->scratch_key[n] = -(c > 0.0 ? sel->node[r].benefit / c : HUGE_VAL);
