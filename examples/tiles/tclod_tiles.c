@@ -1,7 +1,8 @@
 /*
  * tclod_tiles — a headless 3D Tiles host driving libtclod (docs/tiles.md).
  *
- * It reads a tileset.json (3D Tiles 1.0 or 1.1, external tilesets included),
+ * It reads a tileset.json (3D Tiles 1.0 or 1.1, external tilesets and implicit
+ * tiling included),
  * makes every tile a libtclod node with its bounding volume, refinement and
  * emptiness, and flies a camera down a spiral onto it. Every frame it selects
  * the tiles to draw twice:
@@ -189,7 +190,8 @@ static void usage(FILE *out) {
             "\n"
             "Summary line (last line of stdout):\n"
             "  frames                      frames flown\n"
-            "  tiles                       tiles loaded, external tilesets included\n"
+            "  tiles                       tiles loaded, external tilesets and implicit\n"
+            "                              tiling included\n"
             "  violations                  frames whose drawn cost exceeds the budget\n"
             "  mean_cost_ratio             mean over frames of cost_ms / budget_ms\n"
             "  sse16_cost_max_over_median  the sse16 traversal's largest cost over its median\n"
@@ -1036,10 +1038,12 @@ static void print_header(const options *o, const host *h, const flight *f, doubl
                                           "median; each frame's is the sse16 traversal's cost"};
     const tileset_counts *c = &h->ts.counts;
     printf("tileset %s: %lu tiles (%lu regions, %lu boxes, %lu spheres), %lu without "
-           "content, %lu refining by ADD, %lu external tilesets, depth %lu\n",
+           "content, %lu refining by ADD, %lu external tilesets, %lu implicit roots (%lu "
+           "subtrees), depth %lu\n",
            o->tileset_path, (unsigned long)h->ts.count, (unsigned long)c->regions,
            (unsigned long)c->boxes, (unsigned long)c->spheres, (unsigned long)c->empty,
-           (unsigned long)c->additive, (unsigned long)c->external, (unsigned long)c->max_depth);
+           (unsigned long)c->additive, (unsigned long)c->external, (unsigned long)c->implicit,
+           (unsigned long)c->subtrees, (unsigned long)c->max_depth);
     printf("box fallbacks: %lu boxes with axes that are not orthogonal are drawn as their "
            "enclosing sphere\n",
            (unsigned long)c->box_fallbacks);

@@ -14,6 +14,7 @@
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -504,6 +505,41 @@ static tclod_bounds box_sphere(const double c[3], const double a[9]) {
     return tclod_bounds_sphere(c[0], c[1], c[2], sqrt(r2));
 }
 
+/* An oriented box, or the sphere around it when libtclod cannot take it (axes
+ * not orthogonal), counted. */
+static tclod_bounds oriented_box(loader *l, const double c[3], const double a[9]) {
+    tclod_bounds b = tclod_bounds_obb(c, a);
+    if (tclod_bounds_validate(&b) != TCLOD_OK) {
+        b = box_sphere(c, a);
+        ++l->counts.box_fallbacks;
+    }
+    return b;
+}
+
+/* A box as 3D Tiles writes it (v: centre, then the x, y and z half axes) under
+ * the transform m: the centre as a point, the half axes as directions. 1 when
+ * the transform makes it overflow. */
+static int box_volume(loader *l, const double v[12], const double m[16], tclod_bounds *out) {
+    double c[3], a[9];
+    int i;
+    geo_mat4_point(m, v, c);
+    for (i = 0; i < 3; ++i)
+        geo_mat4_vector(m, v + 3 + 3 * i, a + 3 * i);
+    if (!all_finite(c, 3) || !all_finite(a, 9))
+        return 1;
+    *out = oriented_box(l, c, a);
+    ++l->counts.boxes;
+    return 0;
+}
+
+/* A valid region (geo_region_valid) as its oriented box. */
+static void region_volume(loader *l, const double v[6], tclod_bounds *out) {
+    double c[3], a[9];
+    geo_region_box(v, c, a);
+    *out = oriented_box(l, c, a);
+    ++l->counts.regions;
+}
+
 /* The tile's bounding volume in world coordinates. A box goes through the
  * composed transform whole (centre as a point, half axes as directions); a
  * sphere's radius grows by the transform's largest scale (CesiumJS does the
@@ -515,8 +551,7 @@ static int read_bounds(loader *l, const pending *p, const cJSON *bv, const doubl
     const cJSON *box = cJSON_GetObjectItemCaseSensitive(bv, "box");
     const cJSON *region = cJSON_GetObjectItemCaseSensitive(bv, "region");
     const cJSON *sphere = cJSON_GetObjectItemCaseSensitive(bv, "sphere");
-    double v[12], c[3], a[9];
-    int i;
+    double v[12], c[3];
     if (!cJSON_IsObject(bv)) {
         fail_tile(l, p, "no \"boundingVolume\" object");
         return 1;
@@ -528,19 +563,10 @@ static int read_bounds(loader *l, const pending *p, const cJSON *bv, const doubl
                       "and z half axes)");
             return 1;
         }
-        geo_mat4_point(m, v, c);
-        for (i = 0; i < 3; ++i)
-            geo_mat4_vector(m, v + 3 + 3 * i, a + 3 * i);
-        if (!all_finite(c, 3) || !all_finite(a, 9)) {
+        if (box_volume(l, v, m, out)) {
             fail_tile(l, p, "boundingVolume.box overflows under the tile's transform");
             return 1;
         }
-        *out = tclod_bounds_obb(c, a);
-        if (tclod_bounds_validate(out) != TCLOD_OK) {
-            *out = box_sphere(c, a);
-            ++l->counts.box_fallbacks;
-        }
-        ++l->counts.boxes;
     } else if (region) {
         if (!read_numbers(region, v, 6)) {
             fail_tile(l, p,
@@ -554,13 +580,7 @@ static int read_bounds(loader *l, const pending *p, const cJSON *bv, const doubl
                       "south <= north in [-pi/2, pi/2], minimum height <= maximum height)");
             return 1;
         }
-        geo_region_box(v, c, a);
-        *out = tclod_bounds_obb(c, a);
-        if (tclod_bounds_validate(out) != TCLOD_OK) {
-            *out = box_sphere(c, a);
-            ++l->counts.box_fallbacks;
-        }
-        ++l->counts.regions;
+        region_volume(l, v, out);
     } else if (sphere) {
         if (!read_numbers(sphere, v, 4) || v[3] < 0.0) {
             fail_tile(l, p,
@@ -680,10 +700,696 @@ static int add_tile(loader *l, const pending *p, const tile *t) {
     return 0;
 }
 
+/* ---- implicit tiling ------------------------------------------------------------ */
+
+/* An implicit root tile (3D Tiles 1.1, "Implicit Tiling") stands for a quadtree
+ * or octree of tiles that the tileset does not list: which exist, and which
+ * have content, is said by subtree files, each covering subtreeLevels levels
+ * and naming the subtrees below its deepest level. Every tile is read here, at
+ * load time, into the flat array like an explicit one: its volume the root's
+ * cut in halves along x and y (and z for an octree) level by level, its
+ * geometric error the root's halved as often, its refinement the root's. */
+
+/* Deepest level read: a tile's x, y and z stay within 31 bits. */
+#define IMPLICIT_MAX_LEVELS 32
+/* Most levels a subtree covers: its bitstreams' indices stay within 64 bits. */
+#define IMPLICIT_MAX_SUBTREE_LEVELS_QUADTREE 31
+#define IMPLICIT_MAX_SUBTREE_LEVELS_OCTREE 21
+/* Contents of one implicit root (1.1's "contents"): far above real layers. */
+#define IMPLICIT_MAX_CONTENTS 16
+#define IMPLICIT_URI_SIZE 1024
+
+/* One kind of availability of a subtree: every bit `constant`, or a bitstream
+ * (3D Tiles' booleans: bit i is bit i % 8 of byte i / 8). */
+typedef struct availability {
+    const uint8_t *bits; /* NULL: constant */
+    int constant;
+} availability;
+
+static int available(const availability *a, uint64_t i) {
+    return a->bits ? (a->bits[i >> 3] >> (i & 7)) & 1 : a->constant;
+}
+
+/* A subtree file, read: its JSON, its binary chunk and the external buffers
+ * its bitstreams are in. */
+typedef struct subtree {
+    const char *path;
+    char *dir;
+    char *file;
+    cJSON *json;
+    const uint8_t *chunk; /* NULL: no binary chunk */
+    uint64_t chunk_size;
+    char **buffers; /* per buffer: an external one's bytes, once read */
+    size_t *buffer_size;
+    int buffer_count;
+    availability tiles, contents[IMPLICIT_MAX_CONTENTS], children;
+} subtree;
+
+/* What an implicit root gives the tiles below it. */
+typedef struct implicit {
+    pending root;       /* the implicit root's entry: its document, for uris and messages */
+    uint32_t root_tile; /* its tile */
+    int octree;         /* 8 children a tile, else 4 */
+    uint32_t subtree_levels, available_levels;
+    const char *subtree_uri;
+    const char *content_uri[IMPLICIT_MAX_CONTENTS];
+    int content_count;
+    int region;        /* volume: a region (6 numbers), else a box (12) */
+    double volume[12]; /* as written, in the root's frame */
+    double transform[16];
+    double geometric_error;
+    tclod_refine refine;
+} implicit;
+
+/* A subtree waiting to be read, and a tile of a subtree's level. */
+typedef struct subtree_root {
+    uint32_t level, xyz[3];
+    uint32_t parent; /* its root's parent tile */
+} subtree_root;
+typedef struct level_tile {
+    uint64_t morton; /* within the subtree's level */
+    uint32_t tile;
+} level_tile;
+
+/* tmpl with {level}, {x}, {y} and {z} replaced by the tile's coordinates, into
+ * out. 1 when it does not fit. */
+static int expand_template(const char *tmpl, uint32_t level, const uint32_t xyz[3], char *out,
+                           size_t size) {
+    static const char *const names[4] = {"{level}", "{x}", "{y}", "{z}"};
+    size_t o = 0;
+    while (*tmpl) {
+        int k, used = 0;
+        for (k = 0; k < 4; ++k) {
+            size_t n = strlen(names[k]);
+            if (strncmp(tmpl, names[k], n) == 0) {
+                int w = snprintf(out + o, size - o, "%lu",
+                                 (unsigned long)(k == 0 ? level : xyz[k - 1]));
+                if (w < 0 || (size_t)w >= size - o)
+                    return 1;
+                o += (size_t)w;
+                tmpl += n;
+                used = 1;
+                break;
+            }
+        }
+        if (!used) {
+            if (o + 1 >= size)
+                return 1;
+            out[o++] = *tmpl++;
+        }
+    }
+    out[o] = '\0';
+    return 0;
+}
+
+/* A tile's x, y (and z) within its level from its Morton index there: the
+ * index's bits taken in turn (x lowest, as 3D Tiles interleaves them). */
+static void morton_decode(uint64_t m, uint32_t levels, int octree, uint32_t xyz[3]) {
+    uint32_t k, d = octree ? 3u : 2u, i;
+    xyz[0] = xyz[1] = xyz[2] = 0;
+    for (k = 0; k < levels; ++k)
+        for (i = 0; i < d; ++i)
+            xyz[i] |= (uint32_t)((m >> (d * k + i)) & 1u) << k;
+}
+
+/* A JSON integer in [0, max] into *out; 0 if the item is anything else. */
+static int read_count(const cJSON *item, double max, uint64_t *out) {
+    double v;
+    if (!cJSON_IsNumber(item))
+        return 0;
+    v = item->valuedouble;
+    if (!(v >= 0.0 && v <= max) || v != floor(v))
+        return 0;
+    *out = (uint64_t)v;
+    return 1;
+}
+
+static uint64_t u64_le(const unsigned char *b) {
+    uint64_t v = 0;
+    int i;
+    for (i = 7; i >= 0; --i)
+        v = v << 8 | b[i];
+    return v;
+}
+
+/* The bytes of bitstream `view` of subtree s, at least `bits` bits long, into
+ * *out. 0 on success. */
+static int subtree_bitstream(loader *l, subtree *s, uint64_t view, uint64_t bits, const char *what,
+                             const uint8_t **out) {
+    const cJSON *views = cJSON_GetObjectItemCaseSensitive(s->json, "bufferViews");
+    const cJSON *buffers = cJSON_GetObjectItemCaseSensitive(s->json, "buffers");
+    const cJSON *v, *b, *uri;
+    uint64_t buffer, offset = 0, length, buffer_length;
+    const uint8_t *data;
+    if (!cJSON_IsArray(views) || view >= (uint64_t)cJSON_GetArraySize(views)) {
+        fail(l, "%s: %s names bufferViews[%lu], which does not exist", s->path, what,
+             (unsigned long)view);
+        return 1;
+    }
+    v = cJSON_GetArrayItem(views, (int)view);
+    if (!read_count(cJSON_GetObjectItemCaseSensitive(v, "buffer"), 2147483647.0, &buffer) ||
+        !read_count(cJSON_GetObjectItemCaseSensitive(v, "byteLength"), 9007199254740992.0,
+                    &length) ||
+        (cJSON_GetObjectItemCaseSensitive(v, "byteOffset") &&
+         !read_count(cJSON_GetObjectItemCaseSensitive(v, "byteOffset"), 9007199254740992.0,
+                     &offset))) {
+        fail(l,
+             "%s: bufferViews[%lu] needs a \"buffer\" index and a \"byteLength\" (and any "
+             "\"byteOffset\") that are integers >= 0",
+             s->path, (unsigned long)view);
+        return 1;
+    }
+    if (!cJSON_IsArray(buffers) || buffer >= (uint64_t)cJSON_GetArraySize(buffers)) {
+        fail(l, "%s: bufferViews[%lu] names buffers[%lu], which does not exist", s->path,
+             (unsigned long)view, (unsigned long)buffer);
+        return 1;
+    }
+    b = cJSON_GetArrayItem(buffers, (int)buffer);
+    if (!read_count(cJSON_GetObjectItemCaseSensitive(b, "byteLength"), 9007199254740992.0,
+                    &buffer_length)) {
+        fail(l, "%s: buffers[%lu] needs a \"byteLength\" that is an integer >= 0", s->path,
+             (unsigned long)buffer);
+        return 1;
+    }
+    uri = cJSON_GetObjectItemCaseSensitive(b, "uri");
+    if (!uri) {
+        if (!s->chunk || buffer_length > s->chunk_size) {
+            fail(l, "%s: buffers[%lu] has no uri and the file's binary chunk %s", s->path,
+                 (unsigned long)buffer, s->chunk ? "is shorter than its byteLength" : "is empty");
+            return 1;
+        }
+        data = s->chunk;
+    } else {
+        if (!cJSON_IsString(uri) || !uri_is_local(uri->valuestring)) {
+            fail(l, "%s: buffers[%lu]: uri is not a local file", s->path, (unsigned long)buffer);
+            return 1;
+        }
+        if (!s->buffers) {
+            s->buffer_count = cJSON_GetArraySize(buffers);
+            s->buffers = (char **)calloc((size_t)s->buffer_count, sizeof(*s->buffers));
+            s->buffer_size = (size_t *)calloc((size_t)s->buffer_count, sizeof(*s->buffer_size));
+            if (!s->buffers || !s->buffer_size) {
+                fail(l, "out of memory");
+                return 1;
+            }
+        }
+        if (!s->buffers[buffer]) {
+            char *path = uri_file(s->dir, uri->valuestring);
+            if (!path) {
+                fail(l, "out of memory");
+                return 1;
+            }
+            errno = 0;
+            s->buffers[buffer] = read_file(path, &s->buffer_size[buffer]);
+            if (!s->buffers[buffer]) {
+                fail(l, "%s: buffers[%lu]: cannot read %s: %s", s->path, (unsigned long)buffer,
+                     path, strerror(errno));
+                free(path);
+                return 1;
+            }
+            free(path);
+        }
+        if (s->buffer_size[buffer] < buffer_length) {
+            fail(l, "%s: buffers[%lu]: %s holds fewer bytes than its byteLength", s->path,
+                 (unsigned long)buffer, uri->valuestring);
+            return 1;
+        }
+        data = (const uint8_t *)s->buffers[buffer];
+    }
+    if (offset > buffer_length || length > buffer_length - offset) {
+        fail(l, "%s: bufferViews[%lu] reaches past the end of buffers[%lu]", s->path,
+             (unsigned long)view, (unsigned long)buffer);
+        return 1;
+    }
+    if (length < bits / 8 + (bits % 8 != 0)) {
+        fail(l, "%s: %s needs %llu bits, and bufferViews[%lu] holds %llu", s->path, what,
+             (unsigned long long)bits, (unsigned long)view, (unsigned long long)length * 8);
+        return 1;
+    }
+    *out = data + offset;
+    return 0;
+}
+
+/* One availability object of subtree s ("constant" 0 or 1, or a "bitstream":
+ * a buffer view of at least `bits` bits) into *a. */
+static int subtree_availability(loader *l, subtree *s, const cJSON *item, uint64_t bits,
+                                const char *what, availability *a) {
+    const cJSON *constant = cJSON_GetObjectItemCaseSensitive(item, "constant");
+    const cJSON *stream = cJSON_GetObjectItemCaseSensitive(item, "bitstream");
+    uint64_t v;
+    if (!stream) /* the name before 3D Tiles 1.1 */
+        stream = cJSON_GetObjectItemCaseSensitive(item, "bufferView");
+    a->bits = NULL;
+    a->constant = 0;
+    if (stream) {
+        if (!read_count(stream, 2147483647.0, &v)) {
+            fail(l, "%s: %s.bitstream must be a buffer view's index", s->path, what);
+            return 1;
+        }
+        return subtree_bitstream(l, s, v, bits, what, &a->bits);
+    }
+    if (!read_count(constant, 1.0, &v)) {
+        fail(l, "%s: %s needs a \"bitstream\", or a \"constant\" of 0 or 1", s->path, what);
+        return 1;
+    }
+    a->constant = (int)v;
+    return 0;
+}
+
+static void subtree_free(subtree *s) {
+    int i;
+    for (i = 0; i < s->buffer_count; ++i)
+        free(s->buffers[i]);
+    free(s->buffers);
+    free(s->buffer_size);
+    cJSON_Delete(s->json);
+    free(s->file);
+    free(s->dir);
+    memset(s, 0, sizeof(*s));
+}
+
+/* Reads the subtree file at path (binary, "subt", or JSON) and its
+ * availability. 0 on success; s is to be freed either way. */
+static int subtree_read(loader *l, const implicit *im, const char *path, subtree *s) {
+    const unsigned char *head;
+    const cJSON *item;
+    const char *slash = strrchr(path, '/');
+    uint64_t n = im->octree ? 8 : 4, per_level = 1, tiles = 0;
+    size_t size;
+    uint32_t k;
+    int c;
+    memset(s, 0, sizeof(*s));
+    s->path = path;
+    s->dir = copy_string(path, slash ? (size_t)(slash - path) + 1 : 0);
+    errno = 0;
+    s->file = s->dir ? read_file(path, &size) : NULL;
+    if (!s->file) {
+        fail(l, "%s: cannot read subtree: %s", path, s->dir ? strerror(errno) : "out of memory");
+        return 1;
+    }
+    head = (const unsigned char *)s->file;
+    if (size >= 4 && memcmp(head, "subt", 4) == 0) {
+        uint64_t json_length, binary_length;
+        if (size < 24) {
+            fail(l, "%s: a binary subtree's header is 24 bytes; the file has %lu", path,
+                 (unsigned long)size);
+            return 1;
+        }
+        json_length = u64_le(head + 8);
+        binary_length = u64_le(head + 16);
+        if (head[4] != 1 || head[5] || head[6] || head[7]) {
+            fail(l, "%s: binary subtree version %lu; only version 1 is read", path,
+                 (unsigned long)(head[4] | head[5] << 8 | head[6] << 16 | (uint32_t)head[7] << 24));
+            return 1;
+        }
+        if (json_length > size - 24 || binary_length > size - 24 - json_length) {
+            fail(l, "%s: the header's JSON and binary lengths reach past the end of the file",
+                 path);
+            return 1;
+        }
+        s->json = cJSON_ParseWithLength(s->file + 24, (size_t)json_length);
+        if (binary_length > 0) {
+            s->chunk = head + 24 + json_length;
+            s->chunk_size = binary_length;
+        }
+    } else {
+        s->json = cJSON_ParseWithLength(s->file, size);
+    }
+    if (!cJSON_IsObject(s->json)) {
+        fail(l, "%s: not a subtree: its JSON is malformed or not an object", path);
+        return 1;
+    }
+    for (k = 0; k < im->subtree_levels; ++k) {
+        tiles += per_level;
+        per_level *= n;
+    }
+    if (subtree_availability(l, s, cJSON_GetObjectItemCaseSensitive(s->json, "tileAvailability"),
+                             tiles, "tileAvailability", &s->tiles) ||
+        subtree_availability(l, s,
+                             cJSON_GetObjectItemCaseSensitive(s->json, "childSubtreeAvailability"),
+                             per_level, "childSubtreeAvailability", &s->children))
+        return 1;
+    item = cJSON_GetObjectItemCaseSensitive(s->json, "contentAvailability");
+    if (im->content_count > 0 &&
+        (!cJSON_IsArray(item) || cJSON_GetArraySize(item) != im->content_count)) {
+        fail(
+            l,
+            "%s: contentAvailability must be an array of %d (one per content of the implicit root)",
+            path, im->content_count);
+        return 1;
+    }
+    for (c = 0; c < im->content_count; ++c) {
+        char what[48];
+        snprintf(what, sizeof(what), "contentAvailability[%d]", c);
+        if (subtree_availability(l, s, cJSON_GetArrayItem(item, c), tiles, what, &s->contents[c]))
+            return 1;
+    }
+    if (!available(&s->tiles, 0)) {
+        fail(l, "%s: tileAvailability says the subtree's root tile is not available", path);
+        return 1;
+    }
+    return 0;
+}
+
+/* The bounding volume of tile (level, xyz) of im: the root's, cut in 2^level
+ * slices along each axis the scheme divides, taken from the root's extent
+ * directly (3D Tiles 1.1's implementation note: not by halving the parent's). */
+static void implicit_bounds(loader *l, const implicit *im, uint32_t level, const uint32_t xyz[3],
+                            tclod_bounds *out) {
+    double slices = ldexp(1.0, (int)level), v[12];
+    int axes = im->octree ? 3 : 2, i;
+    if (im->region) {
+        /* x: west to east (across the antimeridian when west > east), y: south
+         * to north, z: up; the last slice ends on the root's edge exactly */
+        double width = im->volume[2] - im->volume[0];
+        if (width < 0.0)
+            width += 2.0 * GEO_PI;
+        memcpy(v, im->volume, 6 * sizeof(double));
+        for (i = 0; i < axes; ++i) {
+            double lo = im->volume[i == 2 ? 4 : i], hi = im->volume[i == 2 ? 5 : i + 2];
+            double size = (i == 0 ? width : hi - lo) / slices;
+            v[i == 2 ? 4 : i] = lo + size * xyz[i];
+            if (xyz[i] + 1.0 < slices)
+                v[i == 2 ? 5 : i + 2] = lo + size * (xyz[i] + 1.0);
+        }
+        for (i = 0; i <= 2; i += 2)
+            if (v[i] > GEO_PI)
+                v[i] -= 2.0 * GEO_PI;
+        region_volume(l, v, out);
+        return;
+    }
+    /* a box: the centre moves along each divided half axis, which shrinks */
+    memcpy(v, im->volume, 12 * sizeof(double));
+    for (i = 0; i < axes; ++i) {
+        double t = (2.0 * xyz[i] + 1.0) / slices - 1.0;
+        int k;
+        for (k = 0; k < 3; ++k) {
+            v[k] += t * im->volume[3 + 3 * i + k];
+            v[3 + 3 * i + k] = im->volume[3 + 3 * i + k] / slices;
+        }
+    }
+    if (box_volume(l, v, im->transform, out)) /* within the root's, which did not overflow */
+        *out = tclod_bounds_sphere(0.0, 0.0, 0.0, 0.0);
+}
+
+/* The contents of tile `bit` of subtree s at (level, xyz): their bytes into
+ * *bytes; 1 in *has when one is available. */
+static int implicit_contents(loader *l, const implicit *im, const subtree *s, uint64_t bit,
+                             uint32_t level, const uint32_t xyz[3], double *bytes, int *has) {
+    char uri[IMPLICIT_URI_SIZE];
+    int c;
+    *bytes = 0.0;
+    *has = 0;
+    for (c = 0; c < im->content_count; ++c) {
+        if (!available(&s->contents[c], bit))
+            continue;
+        if (expand_template(im->content_uri[c], level, xyz, uri, sizeof(uri))) {
+            fail(l, "%s: content uri of tile %lu/%lu/%lu is longer than %d bytes", s->path,
+                 (unsigned long)level, (unsigned long)xyz[0], (unsigned long)xyz[1],
+                 IMPLICIT_URI_SIZE - 1);
+            return 1;
+        }
+        *bytes += content_bytes(l, &im->root, uri);
+        *has = 1;
+    }
+    return 0;
+}
+
+/* Appends tile (level, xyz) of im, bit `bit` of subtree s, below parent. */
+static int implicit_tile(loader *l, const implicit *im, const subtree *s, uint64_t bit,
+                         uint32_t level, const uint32_t xyz[3], uint32_t parent, uint32_t *out) {
+    tile t;
+    int has;
+    if (l->count >= TILESET_MAX_TILES) {
+        fail(l, "%s: more than %u tiles", s->path, TILESET_MAX_TILES);
+        return 1;
+    }
+    memset(&t, 0, sizeof(t));
+    implicit_bounds(l, im, level, xyz, &t.bounds);
+    t.geometric_error = ldexp(im->geometric_error, -(int)level);
+    if (implicit_contents(l, im, s, bit, level, xyz, &t.bytes, &has))
+        return 1;
+    t.parent = parent;
+    t.refine = im->refine;
+    t.empty = !has;
+    t.add_anchor = TILE_NONE;
+    l->counts.empty += (uint32_t)t.empty;
+    l->counts.additive += t.refine == TCLOD_REFINE_ADD;
+    l->counts.bytes += t.bytes;
+    *out = l->count;
+    return add_tile(l, &im->root, &t);
+}
+
+/* Grows a list to hold n more. */
+static int reserve(loader *l, void **list, size_t *cap, size_t used, size_t more, size_t elem) {
+    void *p;
+    size_t c = *cap ? *cap : 64;
+    if (used + more <= *cap)
+        return 0;
+    while (c < used + more)
+        c *= 2;
+    p = realloc(*list, c * elem);
+    if (!p) {
+        fail(l, "out of memory");
+        return 1;
+    }
+    *list = p;
+    *cap = c;
+    return 0;
+}
+
+/* Reads the tiles of subtree r: level by level, each available child of a
+ * tile of the level above (a tile whose parent is not available cannot be
+ * reached); then queues the child subtrees below its deepest level. */
+static int implicit_subtree(loader *l, const implicit *im, const subtree_root *r,
+                            subtree_root **queue, size_t *queued, size_t *queue_cap,
+                            level_tile **rows, size_t *row_cap) {
+    char uri[IMPLICIT_URI_SIZE];
+    char *path;
+    subtree s;
+    level_tile *row;
+    uint64_t n = im->octree ? 8 : 4, offset = 0, width = 1;
+    size_t count = 1, c, first;
+    uint32_t k, xyz[3], levels = im->subtree_levels;
+    int rc = 1;
+
+    if (expand_template(im->subtree_uri, r->level, r->xyz, uri, sizeof(uri)) ||
+        !uri_is_local(uri)) {
+        fail(l, "%s: subtree %lu/%lu/%lu: its uri is not a local file or is too long",
+             l->docs[im->root.doc].path, (unsigned long)r->level, (unsigned long)r->xyz[0],
+             (unsigned long)r->xyz[1]);
+        return 1;
+    }
+    path = uri_file(l->docs[im->root.doc].dir, uri);
+    if (!path) {
+        fail(l, "out of memory");
+        return 1;
+    }
+    if (subtree_read(l, im, path, &s))
+        goto done;
+    ++l->counts.subtrees;
+    if (reserve(l, (void **)rows, row_cap, 0, 2, sizeof(**rows)))
+        goto done;
+    row = *rows;
+    row[0].morton = 0;
+    if (r->level == 0) {
+        row[0].tile = im->root_tile; /* the implicit root, read from the tileset */
+        tile *root = &l->tiles[im->root_tile];
+        int has;
+        if (implicit_contents(l, im, &s, 0, 0, r->xyz, &root->bytes, &has))
+            goto done;
+        root->empty = !has; /* read_tile counted it empty */
+        l->counts.empty -= (uint32_t)has;
+        l->counts.bytes += root->bytes;
+    } else if (implicit_tile(l, im, &s, 0, r->level, r->xyz, r->parent, &row[0].tile)) {
+        goto done;
+    }
+    if (levels > im->available_levels - r->level)
+        levels = im->available_levels - r->level;
+    /* rows[0 .. count) holds the tiles of local level k, in Morton order; the
+     * next level's are appended after them, then moved down */
+    for (k = 1; k < levels; ++k) {
+        size_t next = 0;
+        offset += width;
+        width *= n;
+        for (c = 0; c < count; ++c) {
+            uint64_t child;
+            for (child = 0; child < n; ++child) {
+                uint64_t m = (*rows)[c].morton * n + child;
+                uint32_t parent = (*rows)[c].tile, t;
+                if (!available(&s.tiles, offset + m))
+                    continue;
+                morton_decode(m, k, im->octree, xyz);
+                xyz[0] |= r->xyz[0] << k;
+                xyz[1] |= r->xyz[1] << k;
+                xyz[2] |= r->xyz[2] << k;
+                if (implicit_tile(l, im, &s, offset + m, r->level + k, xyz, parent, &t) ||
+                    reserve(l, (void **)rows, row_cap, count + next, 1, sizeof(**rows)))
+                    goto done;
+                (*rows)[count + next].morton = m;
+                (*rows)[count + next].tile = t;
+                ++next;
+            }
+        }
+        memmove(*rows, *rows + count, next * sizeof(**rows));
+        count = next;
+    }
+    /* the child subtrees, below the deepest level when the tree goes on; on
+     * the stack last first, so that they are read in Morton order */
+    first = *queued;
+    if (levels == im->subtree_levels && r->level + levels < im->available_levels) {
+        for (c = 0; c < count; ++c) {
+            uint64_t child;
+            for (child = 0; child < n; ++child) {
+                uint64_t m = (*rows)[c].morton * n + child;
+                subtree_root *q;
+                if (!available(&s.children, m))
+                    continue;
+                if (reserve(l, (void **)queue, queue_cap, *queued, 1, sizeof(**queue)))
+                    goto done;
+                q = &(*queue)[(*queued)++];
+                q->level = r->level + levels;
+                morton_decode(m, levels, im->octree, q->xyz);
+                q->xyz[0] |= r->xyz[0] << levels;
+                q->xyz[1] |= r->xyz[1] << levels;
+                q->xyz[2] |= r->xyz[2] << levels;
+                q->parent = (*rows)[c].tile;
+            }
+        }
+    }
+    for (c = 0; c < (*queued - first) / 2; ++c) {
+        subtree_root tmp = (*queue)[first + c];
+        (*queue)[first + c] = (*queue)[*queued - 1 - c];
+        (*queue)[*queued - 1 - c] = tmp;
+    }
+    rc = 0;
+done:
+    subtree_free(&s);
+    free(path);
+    return rc;
+}
+
+/* Reads the implicit tiling of tile j (entry p, tile self, its transform
+ * composed in world): the implicit root's fields, then its subtrees, depth
+ * first. */
+static int read_implicit(loader *l, const pending *p, const cJSON *j, const cJSON *it,
+                         uint32_t self, const double world[16]) {
+    const cJSON *bv = cJSON_GetObjectItemCaseSensitive(j, "boundingVolume");
+    const cJSON *scheme = cJSON_GetObjectItemCaseSensitive(it, "subdivisionScheme");
+    const cJSON *subtrees = cJSON_GetObjectItemCaseSensitive(it, "subtrees");
+    const cJSON *uri = cJSON_GetObjectItemCaseSensitive(subtrees, "uri");
+    const cJSON *contents = cJSON_GetObjectItemCaseSensitive(j, "contents");
+    const cJSON *c;
+    implicit im;
+    subtree_root *queue = NULL;
+    level_tile *rows = NULL;
+    size_t queued = 1, queue_cap = 0, row_cap = 0;
+    uint64_t v;
+    int rc = 1;
+
+    memset(&im, 0, sizeof(im));
+    im.root = *p;
+    im.root.index = -1; /* its tiles are in no "children" array */
+    im.root_tile = self;
+    if (!cJSON_IsObject(it)) {
+        fail_tile(l, p, "implicitTiling is not an object");
+        return 1;
+    }
+    if (cJSON_IsString(scheme) && strcmp(scheme->valuestring, "QUADTREE") == 0) {
+        im.octree = 0;
+    } else if (cJSON_IsString(scheme) && strcmp(scheme->valuestring, "OCTREE") == 0) {
+        im.octree = 1;
+    } else {
+        fail_tile(l, p, "implicitTiling.subdivisionScheme must be \"QUADTREE\" or \"OCTREE\"");
+        return 1;
+    }
+    if (!read_count(cJSON_GetObjectItemCaseSensitive(it, "subtreeLevels"),
+                    im.octree ? IMPLICIT_MAX_SUBTREE_LEVELS_OCTREE
+                              : IMPLICIT_MAX_SUBTREE_LEVELS_QUADTREE,
+                    &v) ||
+        v < 1) {
+        fail_tile(l, p, "implicitTiling.subtreeLevels must be an integer in [1, %d]",
+                  im.octree ? IMPLICIT_MAX_SUBTREE_LEVELS_OCTREE
+                            : IMPLICIT_MAX_SUBTREE_LEVELS_QUADTREE);
+        return 1;
+    }
+    im.subtree_levels = (uint32_t)v;
+    if (!read_count(cJSON_GetObjectItemCaseSensitive(it, "availableLevels"), IMPLICIT_MAX_LEVELS,
+                    &v) ||
+        v < 1) {
+        fail_tile(l, p, "implicitTiling.availableLevels must be an integer in [1, %d]",
+                  IMPLICIT_MAX_LEVELS);
+        return 1;
+    }
+    im.available_levels = (uint32_t)v;
+    if (!cJSON_IsString(uri) || uri->valuestring[0] == '\0') {
+        fail_tile(l, p, "implicitTiling.subtrees needs a \"uri\" template");
+        return 1;
+    }
+    im.subtree_uri = uri->valuestring;
+    if (cJSON_GetObjectItemCaseSensitive(j, "children")) {
+        fail_tile(l, p, "an implicit root tile has no \"children\": its subtrees say them");
+        return 1;
+    }
+    /* contents: uri templates, none an external tileset */
+    c = contents ? contents->child : cJSON_GetObjectItemCaseSensitive(j, "content");
+    if (contents && !cJSON_IsArray(contents)) {
+        fail_tile(l, p, "contents is not an array");
+        return 1;
+    }
+    for (; c; c = contents ? c->next : NULL) {
+        const cJSON *u = cJSON_GetObjectItemCaseSensitive(c, "uri");
+        if (!cJSON_IsString(u) || u->valuestring[0] == '\0') {
+            fail_tile(l, p, "a content has no \"uri\" string");
+            return 1;
+        }
+        if (uri_is_tileset(u->valuestring)) {
+            fail_tile(l, p, "the content of an implicit root tile, %s, is an external tileset",
+                      u->valuestring);
+            return 1;
+        }
+        if (im.content_count == IMPLICIT_MAX_CONTENTS) {
+            fail_tile(l, p, "an implicit root tile with more than %d contents",
+                      IMPLICIT_MAX_CONTENTS);
+            return 1;
+        }
+        im.content_uri[im.content_count++] = u->valuestring;
+    }
+    /* the volume to divide, as written (read_bounds checked it) */
+    if (cJSON_GetObjectItemCaseSensitive(bv, "box")) {
+        read_numbers(cJSON_GetObjectItemCaseSensitive(bv, "box"), im.volume, 12);
+    } else if (cJSON_GetObjectItemCaseSensitive(bv, "region")) {
+        read_numbers(cJSON_GetObjectItemCaseSensitive(bv, "region"), im.volume, 6);
+        im.region = 1;
+    } else {
+        fail_tile(l, p, "implicit tiling divides a box or a region, not a sphere");
+        return 1;
+    }
+    memcpy(im.transform, world, sizeof(im.transform));
+    im.geometric_error = l->tiles[self].geometric_error;
+    im.refine = l->tiles[self].refine;
+
+    if (reserve(l, (void **)&queue, &queue_cap, 0, 1, sizeof(*queue)))
+        return 1;
+    memset(queue, 0, sizeof(*queue));
+    queue[0].parent = l->tiles[self].parent;
+    while (queued > 0) {
+        subtree_root r = queue[--queued];
+        if (implicit_subtree(l, &im, &r, &queue, &queued, &queue_cap, &rows, &row_cap))
+            goto done;
+    }
+    ++l->counts.implicit;
+    rc = 0;
+done:
+    free(queue);
+    free(rows);
+    return rc;
+}
+
 /* Reads the tile of entry p into a new tile, and puts its children (and the
  * root of the external tileset it names) on the stack. */
 static int read_tile(loader *l, const pending *p) {
-    const cJSON *j = p->json, *item, *child;
+    const cJSON *j = p->json, *item, *child, *implicit_tiling;
     const char *external;
     double world[16];
     tile t;
@@ -729,10 +1435,22 @@ static int read_tile(loader *l, const pending *p) {
         return 1;
     }
     t.geometric_error = item->valuedouble;
-    if (read_bounds(l, p, cJSON_GetObjectItemCaseSensitive(j, "boundingVolume"), world,
-                    &t.bounds) ||
-        read_contents(l, p, j, &t.bytes, &has_content, &external))
+    implicit_tiling = cJSON_GetObjectItemCaseSensitive(j, "implicitTiling");
+    item = cJSON_GetObjectItemCaseSensitive(j, "extensions");
+    if (cJSON_GetObjectItemCaseSensitive(item, "3DTILES_implicit_tiling")) {
+        fail_tile(l, p,
+                  "the 3DTILES_implicit_tiling extension (before 3D Tiles 1.1) is not read; "
+                  "1.1's implicitTiling is");
         return 1;
+    }
+    if (read_bounds(l, p, cJSON_GetObjectItemCaseSensitive(j, "boundingVolume"), world, &t.bounds))
+        return 1;
+    if (implicit_tiling) { /* its contents are templates: read_implicit reads them */
+        has_content = 0;
+        external = NULL;
+    } else if (read_contents(l, p, j, &t.bytes, &has_content, &external)) {
+        return 1;
+    }
     item = cJSON_GetObjectItemCaseSensitive(j, "children");
     if (item && !cJSON_IsArray(item)) {
         fail_tile(l, p, "children is not an array");
@@ -747,6 +1465,8 @@ static int read_tile(loader *l, const pending *p) {
     self = l->count;
     if (add_tile(l, p, &t))
         return 1;
+    if (implicit_tiling)
+        return read_implicit(l, p, j, implicit_tiling, self, world);
 
     /* children go on the stack last first, so that they come off in file order */
     first = l->top;

@@ -2,7 +2,8 @@
  * tileset — reads a 3D Tiles tileset.json (1.0 and 1.1) into a flat array of
  * tiles in world coordinates, ready to become libtclod nodes: bounding volumes
  * converted to tclod_bounds, transforms composed, refinement inherited, content
- * bytes looked up, external tilesets loaded below the tiles that name them.
+ * bytes looked up, external tilesets loaded below the tiles that name them,
+ * implicit tiling read from its subtree files into tiles like the others.
  */
 #ifndef TILES_TILESET_H
 #define TILES_TILESET_H
@@ -50,6 +51,7 @@ typedef struct tileset_counts {
                                                   their enclosing sphere */
     uint32_t empty, additive;                  /* tiles without content; tiles refining by ADD */
     uint32_t external;                         /* external tilesets loaded */
+    uint32_t implicit, subtrees;               /* implicit root tiles; subtree files read */
     uint32_t contents;                         /* contents (not external tilesets) */
     uint32_t from_file, from_sizes, estimated; /* where their bytes came from */
     uint32_t max_depth;

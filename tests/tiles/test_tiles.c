@@ -377,6 +377,346 @@ static void refuses_external_tilesets_nested_too_deep(void **state) {
     scratch_free(s);
 }
 
+/* ---- implicit tiling ------------------------------------------------------------- */
+
+/* Writes n bytes to dir/name. */
+static void scratch_write_bytes(scratch *s, const char *name, const void *data, size_t n) {
+    char *path = s->files[s->count];
+    FILE *f;
+    assert_true(s->count < 32);
+    scratch_path(s, name, path);
+    f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(data, 1, n, f), n);
+    assert_int_equal(fclose(f), 0);
+    ++s->count;
+}
+
+/* A binary subtree file: the header, json padded with spaces to 8 bytes, then
+ * the binary chunk of n bytes. */
+static void scratch_write_subtree(scratch *s, const char *name, const char *json,
+                                  const unsigned char *chunk, size_t n) {
+    unsigned char file[1024];
+    size_t jl = (strlen(json) + 7) / 8 * 8, i;
+    uint64_t lengths[2];
+    assert_true(24 + jl + n <= sizeof(file));
+    memcpy(file, "subt", 4);
+    file[4] = 1;
+    file[5] = file[6] = file[7] = 0;
+    lengths[0] = jl;
+    lengths[1] = n;
+    for (i = 0; i < 16; ++i) /* little-endian */
+        file[8 + i] = (unsigned char)(lengths[i / 8] >> (8 * (i % 8)));
+    memset(file + 24, ' ', jl);
+    memcpy(file + 24, json, strlen(json));
+    if (n)
+        memcpy(file + 24 + jl, chunk, n);
+    scratch_write_bytes(s, name, file, 24 + jl + n);
+}
+
+static void assert_box(const tile *t, double cx, double cy, double cz, double ax, double ay,
+                       double az) {
+    assert_int_equal(t->bounds.kind, TCLOD_BOUNDS_OBB);
+    assert_close(t->bounds.center[0], cx, 1e-12);
+    assert_close(t->bounds.center[1], cy, 1e-12);
+    assert_close(t->bounds.center[2], cz, 1e-12);
+    assert_close(t->bounds.half_axes[0][0], ax, 1e-12);
+    assert_close(t->bounds.half_axes[1][1], ay, 1e-12);
+    assert_close(t->bounds.half_axes[2][2], az, 1e-12);
+    assert_close(t->bounds.half_axes[0][1], 0.0, 1e-12);
+    assert_close(t->bounds.half_axes[1][2], 0.0, 1e-12);
+}
+
+/* A quadtree of boxes under a transform, 3 levels in subtrees of 2: the root
+ * subtree (binary, its bitstreams in its chunk) makes level 1's tiles (0, 0)
+ * and (1, 1) available, content at both but not at the root, and the child
+ * subtrees at Morton indices 5 (below (1, 0), which is not available: out of
+ * reach) and 13 (below (1, 1): tile 2/3/2); that subtree is JSON, its
+ * content bit in an external buffer. Worked by hand: a tile of level L at
+ * (x, y) is centred at c + (-1 + (2x + 1) / 2^L) u + (-1 + (2y + 1) / 2^L) v,
+ * its half axes u / 2^L, v / 2^L and w; its geometric error 64 / 2^L. */
+static void reads_an_implicit_quadtree_of_boxes(void **state) {
+    static const unsigned char chunk[24] = {0x13, 0, 0, 0, 0, 0, 0, 0,    0x12,
+                                            0,    0, 0, 0, 0, 0, 0, 0x20, 0x20};
+    static const unsigned char one = 1;
+    scratch *s = scratch_new();
+    size_table sizes;
+    tileset ts;
+    char err[512];
+    const tile *t;
+    (void)state;
+    scratch_write(
+        s, "tileset.json",
+        "{\"asset\":{\"version\":\"1.1\"},\"root\":{\"geometricError\":64,\"refine\":\"ADD\","
+        "\"boundingVolume\":{\"box\":[0,0,0,8,0,0,0,8,0,0,0,2]},"
+        "\"transform\":[1,0,0,0,0,1,0,0,0,0,1,0,100,0,0,1],"
+        "\"content\":{\"uri\":\"c/{level}/{x}/{y}.glb\"},"
+        "\"implicitTiling\":{\"subdivisionScheme\":\"QUADTREE\",\"subtreeLevels\":2,"
+        "\"availableLevels\":3,\"subtrees\":{\"uri\":\"s/{level}.{x}.{y}.subtree\"}}}}",
+        0);
+    scratch_mkdir(s, "s");
+    scratch_write_subtree(
+        s, "s/0.0.0.subtree",
+        "{\"buffers\":[{\"byteLength\":18}],\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,"
+        "\"byteLength\":1},{\"buffer\":0,\"byteOffset\":8,\"byteLength\":1},{\"buffer\":0,"
+        "\"byteOffset\":16,\"byteLength\":2}],\"tileAvailability\":{\"bitstream\":0},"
+        "\"contentAvailability\":[{\"bitstream\":1}],\"childSubtreeAvailability\":{"
+        "\"bitstream\":2}}",
+        chunk, sizeof(chunk));
+    scratch_write(s, "s/2.3.2.subtree",
+                  "{\"buffers\":[{\"uri\":\"avail.bin\",\"byteLength\":1}],\"bufferViews\":[{"
+                  "\"buffer\":0,\"byteLength\":1}],\"tileAvailability\":{\"constant\":1},"
+                  "\"contentAvailability\":[{\"bitstream\":0}],\"childSubtreeAvailability\":{"
+                  "\"constant\":1}}",
+                  0);
+    scratch_write_bytes(s, "s/avail.bin", &one, 1);
+    assert_int_equal(
+        size_table_load(scratch_write(s, "sizes.tsv", "c/1/0/0.glb\t100\nc/1/1/1.glb\t200\n", 0),
+                        &sizes, err, sizeof(err)),
+        0);
+    if (load(s, "tileset.json", &sizes, &ts, err, sizeof(err)))
+        fail_msg("%s", err);
+    assert_int_equal(ts.count, 4);
+    t = ts.tiles;
+    assert_int_equal(t[0].parent, TILE_NONE);
+    assert_int_equal(t[1].parent, 0);
+    assert_int_equal(t[2].parent, 0);
+    assert_int_equal(t[3].parent, 2);
+    assert_box(&t[0], 100.0, 0.0, 0.0, 8.0, 8.0, 2.0);
+    assert_box(&t[1], 96.0, -4.0, 0.0, 4.0, 4.0, 2.0);
+    assert_box(&t[2], 104.0, 4.0, 0.0, 4.0, 4.0, 2.0);
+    assert_box(&t[3], 106.0, 2.0, 0.0, 2.0, 2.0, 2.0);
+    assert_close(t[0].geometric_error, 64.0, 0.0);
+    assert_close(t[1].geometric_error, 32.0, 0.0);
+    assert_close(t[3].geometric_error, 16.0, 0.0);
+    assert_true(t[0].empty);
+    assert_false(t[1].empty);
+    assert_close(t[1].bytes, 100.0, 0.0);
+    assert_close(t[2].bytes, 200.0, 0.0);
+    assert_close(t[3].bytes, TILESET_ESTIMATE_BYTES, 0.0); /* c/2/3/2.glb: in no table */
+    assert_int_equal(t[3].refine, TCLOD_REFINE_ADD);
+    assert_int_equal(t[3].add_anchor, 2);
+    assert_int_equal(t[3].depth, 2);
+    assert_int_equal(ts.counts.implicit, 1);
+    assert_int_equal(ts.counts.subtrees, 2);
+    assert_int_equal(ts.counts.contents, 3);
+    assert_int_equal(ts.counts.from_sizes, 2);
+    assert_int_equal(ts.counts.estimated, 1);
+    assert_int_equal(ts.counts.empty, 1);
+    assert_int_equal(ts.counts.boxes, 4);
+    tileset_free(&ts);
+    size_table_free(&sizes);
+    scratch_free(s);
+}
+
+/* An octree (constant availability, one subtree: the root and its 8
+ * children, in Morton order) and a region quadtree across the antimeridian
+ * whose child subtrees are its level-1 tiles (x, y) = (1, 0) and (0, 1). */
+static void reads_implicit_octrees_and_regions(void **state) {
+    scratch *s = scratch_new();
+    size_table sizes;
+    tileset ts;
+    char err[512];
+    const tile *t;
+    double width = -3.0 - 3.0 + 2.0 * GEO_PI, r[6], c[3], a[9];
+    int k;
+    (void)state;
+    scratch_write(s, "octree.json",
+                  "{\"asset\":{\"version\":\"1.1\"},\"root\":{\"geometricError\":10,"
+                  "\"boundingVolume\":{\"box\":[0,0,0,2,0,0,0,4,0,0,0,6]},"
+                  "\"contents\":[{\"uri\":\"o/{level}/{x}/{y}/{z}.pnts\"}],"
+                  "\"implicitTiling\":{\"subdivisionScheme\":\"OCTREE\",\"subtreeLevels\":2,"
+                  "\"availableLevels\":2,\"subtrees\":{\"uri\":\"o{level}{x}{y}{z}.json\"}}}}",
+                  0);
+    scratch_write(s, "o0000.json",
+                  "{\"tileAvailability\":{\"constant\":1},\"contentAvailability\":[{"
+                  "\"constant\":1}],\"childSubtreeAvailability\":{\"constant\":0}}",
+                  0);
+    assert_int_equal(size_table_load(scratch_write(s, "sizes.tsv", "o/1/1/0/1.pnts\t555\n", 0),
+                                     &sizes, err, sizeof(err)),
+                     0);
+    if (load(s, "octree.json", &sizes, &ts, err, sizeof(err)))
+        fail_msg("%s", err);
+    assert_int_equal(ts.count, 9);
+    t = ts.tiles;
+    /* Morton 5 = 0b101: x 1, y 0, z 1 */
+    assert_box(&t[6], 1.0, -2.0, 3.0, 1.0, 2.0, 3.0);
+    assert_close(t[6].bytes, 555.0, 0.0);
+    assert_close(t[6].geometric_error, 5.0, 0.0);
+    assert_int_equal(t[6].refine, TCLOD_REFINE_REPLACE);
+    for (k = 1; k < 9; ++k)
+        assert_int_equal(t[k].parent, 0);
+    assert_int_equal(ts.counts.contents, 9);
+    tileset_free(&ts);
+
+    scratch_write(s, "region.json",
+                  "{\"asset\":{\"version\":\"1.1\"},\"root\":{\"geometricError\":10,"
+                  "\"boundingVolume\":{\"region\":[3.0,-0.1,-3.0,0.1,0,100]},"
+                  "\"implicitTiling\":{\"subdivisionScheme\":\"QUADTREE\",\"subtreeLevels\":1,"
+                  "\"availableLevels\":2,\"subtrees\":{\"uri\":\"r{level}{x}{y}.json\"}}}}",
+                  0);
+    scratch_write(s, "r000.json",
+                  "{\"buffers\":[{\"uri\":\"r.bin\",\"byteLength\":1}],\"bufferViews\":[{"
+                  "\"buffer\":0,\"byteLength\":1}],\"tileAvailability\":{\"constant\":1},"
+                  "\"childSubtreeAvailability\":{\"bitstream\":0}}",
+                  0);
+    scratch_write_bytes(s, "r.bin", "\x06", 1);
+    scratch_write(s, "r110.json",
+                  "{\"tileAvailability\":{\"constant\":1},\"childSubtreeAvailability\":{"
+                  "\"constant\":1}}",
+                  0);
+    scratch_write(s, "r101.json",
+                  "{\"tileAvailability\":{\"constant\":1},\"childSubtreeAvailability\":{"
+                  "\"constant\":0}}",
+                  0);
+    if (load(s, "region.json", NULL, &ts, err, sizeof(err)))
+        fail_msg("%s", err);
+    assert_int_equal(ts.count, 3);
+    assert_int_equal(ts.counts.subtrees, 3);
+    assert_int_equal(ts.counts.regions, 3);
+    assert_int_equal(ts.counts.empty, 3);
+    t = ts.tiles;
+    /* (1, 0): from half way across to the root's east edge, the south half,
+     * the root's heights */
+    r[0] = 3.0 + 0.5 * width;
+    if (r[0] > GEO_PI)
+        r[0] -= 2.0 * GEO_PI;
+    r[1] = -0.1;
+    r[2] = -3.0;
+    r[3] = 0.0;
+    r[4] = 0.0;
+    r[5] = 100.0;
+    geo_region_box(r, c, a);
+    for (k = 0; k < 3; ++k)
+        assert_close(t[1].bounds.center[k], c[k], 1e-6);
+    assert_close(t[1].bounds.half_axes[2][2], a[8], 1e-6);
+    /* (0, 1): the west half, the north half */
+    r[0] = 3.0;
+    r[1] = 0.0;
+    r[2] = 3.0 + 0.5 * width;
+    r[3] = 0.1;
+    if (r[2] > GEO_PI)
+        r[2] -= 2.0 * GEO_PI;
+    geo_region_box(r, c, a);
+    for (k = 0; k < 3; ++k)
+        assert_close(t[2].bounds.center[k], c[k], 1e-6);
+    assert_int_equal(t[1].parent, 0);
+    assert_int_equal(t[2].parent, 0);
+    tileset_free(&ts);
+    size_table_free(&sizes);
+    scratch_free(s);
+}
+
+#define IMPLICIT(volume, it) \
+    TILE("\"geometricError\":1,\"boundingVolume\":{" volume "},\"implicitTiling\":{" it "}")
+#define QUAD "\"subdivisionScheme\":\"QUADTREE\",\"subtreeLevels\":2,\"availableLevels\":3,"
+#define SUBTREES "\"subtrees\":{\"uri\":\"st{level}{x}{y}.json\"}"
+#define BOX "\"box\":[0,0,0,1,0,0,0,1,0,0,0,1]"
+
+/* One implicit tileset whose root subtree (st000.json) is `subtree`, refused
+ * with `expect`. */
+static void assert_subtree_refused(scratch *s, const char *subtree, const char *expect) {
+    scratch_write(s, "st000.json", subtree, 0);
+    assert_refused(s, IMPLICIT(BOX, QUAD SUBTREES), expect);
+    remove(s->files[--s->count]);
+}
+
+static void refuses_bad_implicit_tilesets_saying_what(void **state) {
+    static const unsigned char chunk[8] = {1};
+    scratch *s = scratch_new();
+    (void)state;
+    assert_refused(s, IMPLICIT("\"sphere\":[0,0,0,1]", QUAD SUBTREES), "a box or a region");
+    assert_refused(s,
+                   IMPLICIT(BOX, "\"subdivisionScheme\":\"quadtree\",\"subtreeLevels\":2,"
+                                 "\"availableLevels\":3," SUBTREES),
+                   "subdivisionScheme must be \"QUADTREE\" or \"OCTREE\"");
+    assert_refused(s,
+                   IMPLICIT(BOX, "\"subdivisionScheme\":\"OCTREE\",\"subtreeLevels\":22,"
+                                 "\"availableLevels\":3," SUBTREES),
+                   "subtreeLevels must be an integer in [1, 21]");
+    assert_refused(s,
+                   IMPLICIT(BOX, "\"subdivisionScheme\":\"QUADTREE\",\"subtreeLevels\":2,"
+                                 "\"availableLevels\":2.5," SUBTREES),
+                   "availableLevels must be an integer in [1, 32]");
+    assert_refused(s, IMPLICIT(BOX, QUAD "\"subtrees\":{}"), "subtrees needs a \"uri\"");
+    assert_refused(s,
+                   TILE("\"geometricError\":1,\"boundingVolume\":{" BOX "},\"children\":[],"
+                        "\"implicitTiling\":{" QUAD SUBTREES "}"),
+                   "an implicit root tile has no \"children\"");
+    assert_refused(s,
+                   TILE("\"geometricError\":1,\"boundingVolume\":{" BOX "},\"content\":{\"uri\":"
+                        "\"t.json\"},\"implicitTiling\":{" QUAD SUBTREES "}"),
+                   "is an external tileset");
+    assert_refused(
+        s, TILE("\"geometricError\":1," SPHERE ",\"extensions\":{\"3DTILES_implicit_tiling\":{}}"),
+        "3DTILES_implicit_tiling extension");
+    assert_refused(s, IMPLICIT(BOX, QUAD SUBTREES), "st000.json: cannot read subtree");
+    assert_subtree_refused(s, "{\"childSubtreeAvailability\":{\"constant\":0}}",
+                           "tileAvailability needs a \"bitstream\", or a \"constant\" of 0 or 1");
+    assert_subtree_refused(s,
+                           "{\"tileAvailability\":{\"constant\":0},\"childSubtreeAvailability\":"
+                           "{\"constant\":0}}",
+                           "the subtree's root tile is not available");
+    assert_subtree_refused(s,
+                           "{\"tileAvailability\":{\"bitstream\":0},\"childSubtreeAvailability\":"
+                           "{\"constant\":0}}",
+                           "tileAvailability names bufferViews[0], which does not exist");
+    /* 5 tiles' bits need a byte: a view of none is too short; a view past
+     * its buffer; a buffer with no uri in a JSON subtree (no binary chunk) */
+    scratch_write_bytes(s, "st.bin", chunk, 1);
+    assert_subtree_refused(
+        s,
+        "{\"buffers\":[{\"uri\":\"st.bin\",\"byteLength\":1}],\"bufferViews\":[{\"buffer\":0,"
+        "\"byteLength\":0}],\"tileAvailability\":{\"bitstream\":0},"
+        "\"childSubtreeAvailability\":{\"constant\":0}}",
+        "tileAvailability needs 5 bits, and bufferViews[0] holds 0");
+    assert_subtree_refused(
+        s,
+        "{\"buffers\":[{\"uri\":\"st.bin\",\"byteLength\":1}],\"bufferViews\":[{\"buffer\":0,"
+        "\"byteOffset\":1,\"byteLength\":1}],\"tileAvailability\":{\"bitstream\":0},"
+        "\"childSubtreeAvailability\":{\"constant\":0}}",
+        "bufferViews[0] reaches past the end of buffers[0]");
+    assert_subtree_refused(
+        s,
+        "{\"buffers\":[{\"uri\":\"st.bin\",\"byteLength\":2}],\"bufferViews\":[{\"buffer\":0,"
+        "\"byteLength\":1}],\"tileAvailability\":{\"bitstream\":0},"
+        "\"childSubtreeAvailability\":{\"constant\":0}}",
+        "st.bin holds fewer bytes than its byteLength");
+    assert_subtree_refused(
+        s,
+        "{\"buffers\":[{\"byteLength\":1}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":1}],"
+        "\"tileAvailability\":{\"bitstream\":0},\"childSubtreeAvailability\":{\"constant\":0}}",
+        "buffers[0] has no uri and the file's binary chunk is empty");
+    /* a binary subtree whose chunk is shorter than its header says */
+    {
+        unsigned char bad[40];
+        memset(bad, 0, sizeof(bad));
+        memcpy(bad, "subt", 4);
+        bad[4] = 1;
+        bad[8] = 8;
+        bad[16] = 64;
+        scratch_write_bytes(s, "st000.json", bad, sizeof(bad));
+        assert_refused(s, IMPLICIT(BOX, QUAD SUBTREES), "reach past the end of the file");
+        remove(s->files[--s->count]);
+    }
+    /* and a good one with a chunk loads */
+    scratch_write_subtree(s, "st000.json",
+                          "{\"buffers\":[{\"byteLength\":1}],\"bufferViews\":[{\"buffer\":0,"
+                          "\"byteLength\":1}],\"tileAvailability\":{\"bitstream\":0},"
+                          "\"childSubtreeAvailability\":{\"constant\":0}}",
+                          chunk, sizeof(chunk));
+    {
+        tileset ts;
+        char err[512];
+        scratch_write(s, "good.json", IMPLICIT(BOX, QUAD SUBTREES), 0);
+        if (load(s, "good.json", NULL, &ts, err, sizeof(err)))
+            fail_msg("%s", err);
+        assert_int_equal(ts.count, 1);
+        tileset_free(&ts);
+    }
+    scratch_free(s);
+}
+
 /* ---- the benefit model -------------------------------------------------------------- */
 
 /* A view from the origin down -z. */
@@ -585,6 +925,9 @@ int main(void) {
         cmocka_unit_test(reads_volumes_transforms_refinement_and_contents),
         cmocka_unit_test(refuses_bad_tilesets_saying_where),
         cmocka_unit_test(refuses_external_tilesets_nested_too_deep),
+        cmocka_unit_test(reads_an_implicit_quadtree_of_boxes),
+        cmocka_unit_test(reads_implicit_octrees_and_regions),
+        cmocka_unit_test(refuses_bad_implicit_tilesets_saying_what),
         cmocka_unit_test(benefits_telescope_to_the_parents_share),
         cmocka_unit_test(noted_areas_are_the_models_for_the_view),
         cmocka_unit_test(reference_distance_matches_the_library),
