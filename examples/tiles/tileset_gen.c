@@ -57,6 +57,10 @@
 /* Every this many contents, one is left out of sizes.tsv. */
 #define SIZES_GAP 97u
 #define SEED 0x3d711e5ull
+/* --implicit: levels per subtree file, and the most terrain levels (40 % of
+ * MAX_TILES fill 9 levels of a quadtree breadth first). */
+#define SUBTREE_LEVELS 3u
+#define TERRAIN_MAX_LEVELS 12u
 
 typedef struct rng {
     uint64_t state;
@@ -84,11 +88,14 @@ typedef struct gen {
     unsigned long tiles;
     double lon0, lat0, dlon, dlat; /* the city's centre and half sides, radians */
     int leaning_done;
+    int implicit;                           /* --implicit: the terrain by implicit tiling */
+    unsigned subtrees;                      /* subtree files written */
+    uint8_t *available[TERRAIN_MAX_LEVELS]; /* --implicit: per level, a byte per cell */
 } gen;
 
 static void usage(FILE *out) {
     fprintf(out,
-            "usage: tclod_tileset_gen DIR [--tiles N]\n"
+            "usage: tclod_tileset_gen DIR [--tiles N] [--implicit]\n"
             "\n"
             "Writes a synthetic 3D Tiles tileset of a 6 km city, earth-centred at 45.764 N,\n"
             "4.836 E, into DIR (created if missing): tileset.json (1.1) with a region\n"
@@ -97,8 +104,12 @@ static void usage(FILE *out) {
             "(uri<TAB>bytes) for the contents not on disk; and a few small content files.\n"
             "\n"
             "  --tiles N   tiles in all, %lu <= N <= %lu (default %lu)\n"
+            "  --implicit  the terrain as an implicit quadtree (3D Tiles 1.1 implicit\n"
+            "              tiling): the same tiles, listed by binary subtree files\n"
+            "              terrain/L_X_Y.subtree of %u levels each; its tiles' regions\n"
+            "              keep the root's heights\n"
             "  --help      print this text and exit\n",
-            MIN_TILES, MAX_TILES, DEFAULT_TILES);
+            MIN_TILES, MAX_TILES, DEFAULT_TILES, SUBTREE_LEVELS);
 }
 
 /* ---- files ----------------------------------------------------------------------- */
@@ -158,11 +169,23 @@ static int write_bytes(const char *path, const unsigned char *data, size_t n) {
 
 /* A glTF 2.0 binary: the header, a JSON chunk naming one buffer, and that
  * buffer of `payload` pseudo-random bytes (a multiple of 4). */
+/* Writes n bytes to DIR/name. */
+static int write_bytes_in(const gen *g, const char *name, const unsigned char *data, size_t n) {
+    char *path = join(g->dir, name);
+    int bad;
+    if (!path) {
+        fprintf(stderr, "tclod_tileset_gen: out of memory\n");
+        return 1;
+    }
+    bad = write_bytes(path, data, n);
+    free(path);
+    return bad;
+}
+
 static int write_glb(gen *g, const char *name, uint32_t payload) {
     char json[160];
     size_t jl, total, i;
     unsigned char *b;
-    char *path;
     int bad;
     snprintf(json, sizeof(json),
              "{\"asset\":{\"version\":\"2.0\",\"generator\":\"tclod_tileset_gen\"},"
@@ -171,10 +194,7 @@ static int write_glb(gen *g, const char *name, uint32_t payload) {
     jl = (strlen(json) + 3) & ~(size_t)3; /* chunks are 4-byte aligned, JSON padded by spaces */
     total = 12 + 8 + jl + 8 + payload;
     b = (unsigned char *)malloc(total);
-    path = join(g->dir, name);
-    if (!b || !path) {
-        free(b);
-        free(path);
+    if (!b) {
         fprintf(stderr, "tclod_tileset_gen: out of memory\n");
         return 1;
     }
@@ -189,9 +209,8 @@ static int write_glb(gen *g, const char *name, uint32_t payload) {
     memcpy(b + 24 + jl, "BIN\0", 4);
     for (i = 0; i < payload; ++i)
         b[28 + jl + i] = (unsigned char)(rng_next(&g->r) >> 56);
-    bad = write_bytes(path, b, total);
+    bad = write_bytes_in(g, name, b, total);
     free(b);
-    free(path);
     return bad;
 }
 
@@ -201,7 +220,6 @@ static int write_pnts(gen *g, const char *name, uint32_t points) {
     char json[96];
     size_t jl, total, i;
     unsigned char *b;
-    char *path;
     int bad;
     snprintf(json, sizeof(json), "{\"POINTS_LENGTH\":%lu,\"POSITION\":{\"byteOffset\":0}}",
              (unsigned long)points);
@@ -209,10 +227,7 @@ static int write_pnts(gen *g, const char *name, uint32_t points) {
     jl += (8 - (28 + jl) % 8) % 8; /* the binary body starts 8-byte aligned */
     total = 28 + jl + 12 * (size_t)points;
     b = (unsigned char *)malloc(total);
-    path = join(g->dir, name);
-    if (!b || !path) {
-        free(b);
-        free(path);
+    if (!b) {
         fprintf(stderr, "tclod_tileset_gen: out of memory\n");
         return 1;
     }
@@ -231,9 +246,8 @@ static int write_pnts(gen *g, const char *name, uint32_t points) {
         memcpy(&u, &v, sizeof(u));
         put_u32(b + 28 + jl + 4 * i, u);
     }
-    bad = write_bytes(path, b, total);
+    bad = write_bytes_in(g, name, b, total);
     free(b);
-    free(path);
     return bad;
 }
 
@@ -339,7 +353,75 @@ static void terrain_region(const gen *g, const cell *c, double out[6]) {
                          (2.0 * c->x1 - 1.0) * CITY_HALF, (2.0 * c->y1 - 1.0) * CITY_HALF);
 }
 
-/* The terrain: a region quadtree of `target` tiles below `parent`. */
+/* --implicit: whether terrain tile (level, x, y) exists. */
+static int terrain_has(const gen *g, unsigned level, unsigned x, unsigned y) {
+    return level < TERRAIN_MAX_LEVELS && g->available[level] &&
+           g->available[level][(size_t)y << level | x];
+}
+
+/* --implicit: marks terrain tile (level, x, y) as existing. */
+static int terrain_mark(gen *g, unsigned level, unsigned x, unsigned y) {
+    if (!g->available[level]) {
+        g->available[level] = (uint8_t *)calloc((size_t)1 << (2 * level), 1);
+        if (!g->available[level]) {
+            fprintf(stderr, "tclod_tileset_gen: out of memory\n");
+            return 1;
+        }
+    }
+    g->available[level][(size_t)y << level | x] = 1;
+    return 0;
+}
+
+/* --implicit: the subtree file of the tiles SUBTREE_LEVELS deep below
+ * terrain tile (level, x, y), binary: the tiles' availability (their
+ * contents' too: every terrain tile has one) in a bitstream, in Morton order
+ * level by level, then the child subtrees' (a constant 0 when there are none). */
+static int write_subtree(gen *g, unsigned level, unsigned x, unsigned y) {
+    unsigned char file[512], bits[16];
+    char name[64], json[320];
+    unsigned k, m, any = 0, bit = 0;
+    size_t json_len, n;
+    memset(bits, 0, sizeof(bits));
+    for (k = 0; k <= SUBTREE_LEVELS; ++k) {
+        if (k == SUBTREE_LEVELS)
+            bit = 64; /* the child subtrees' bits: bytes 8 to 15 */
+        for (m = 0; m < 1u << (2 * k); ++m, ++bit) {
+            unsigned lx = 0, ly = 0, b;
+            for (b = 0; b < k; ++b) {
+                lx |= (m >> (2 * b) & 1u) << b;
+                ly |= (m >> (2 * b + 1) & 1u) << b;
+            }
+            if (terrain_has(g, level + k, x << k | lx, y << k | ly)) {
+                bits[bit >> 3] |= (unsigned char)(1u << (bit & 7));
+                any |= k == SUBTREE_LEVELS;
+            }
+        }
+    }
+    snprintf(json, sizeof(json),
+             "{\"buffers\":[{\"byteLength\":16}],\"bufferViews\":[{\"buffer\":0,"
+             "\"byteOffset\":0,\"byteLength\":3},{\"buffer\":0,\"byteOffset\":8,"
+             "\"byteLength\":8}],\"tileAvailability\":{\"bitstream\":0},"
+             "\"contentAvailability\":[{\"bitstream\":0}],\"childSubtreeAvailability\":%s}",
+             any ? "{\"bitstream\":1}" : "{\"constant\":0}");
+    json_len = (strlen(json) + 7) / 8 * 8; /* padded with spaces */
+    memcpy(file, "subt", 4);
+    put_u32(file + 4, 1);
+    put_u32(file + 8, (uint32_t)json_len);
+    put_u32(file + 12, 0);
+    put_u32(file + 16, (uint32_t)sizeof(bits));
+    put_u32(file + 20, 0);
+    memset(file + 24, ' ', json_len);
+    memcpy(file + 24, json, strlen(json));
+    memcpy(file + 24 + json_len, bits, sizeof(bits));
+    n = 24 + json_len + sizeof(bits);
+    snprintf(name, sizeof(name), "terrain/%u_%u_%u.subtree", level, x, y);
+    ++g->subtrees;
+    return write_bytes_in(g, name, file, n);
+}
+
+/* The terrain: a region quadtree of `target` tiles below `parent`, filled
+ * breadth first; with --implicit, its root alone is in the tileset, over
+ * subtree files saying which of its tiles exist. */
 static int gen_terrain(gen *g, cJSON *parent, unsigned long target) {
     cell_queue q;
     cell root;
@@ -358,9 +440,13 @@ static int gen_terrain(gen *g, cJSON *parent, unsigned long target) {
         char uri[64];
         int k;
         terrain_region(g, &c, region);
-        add_volume(c.json, "region", region, 6);
+        if (c.json)
+            add_volume(c.json, "region", region, 6);
         snprintf(uri, sizeof(uri), "terrain/%u_%u_%u.glb", c.level, c.ix, c.iy);
-        add_content(c.json, "uri", uri);
+        if (c.json && !g->implicit)
+            add_content(c.json, "uri", uri);
+        if (g->implicit && terrain_mark(g, c.level, c.ix, c.iy))
+            goto done;
         if (c.level <= 1) {
             /* the top levels are on disk */
             if (write_glb(g, uri, (uint32_t)(4 * (int)rng_range(&g->r, 4000.0, 12000.0))))
@@ -378,14 +464,38 @@ static int gen_terrain(gen *g, cJSON *parent, unsigned long target) {
             child.x1 = k & 1 ? c.x1 : mx;
             child.y0 = k >> 1 ? my : c.y0;
             child.y1 = k >> 1 ? c.y1 : my;
-            child.json = new_tile(g, 256.0 / (double)(1u << child.level), NULL);
-            if (!child.json || !queue_add(&q, &child))
+            if (g->implicit) { /* no tile object: availability says it */
+                child.json = NULL;
+                ++g->tiles;
+            } else {
+                child.json = new_tile(g, 256.0 / (double)(1u << child.level), NULL);
+                if (!child.json)
+                    goto done;
+                cJSON_AddItemToArray(children_of(c.json), child.json);
+            }
+            if (!queue_add(&q, &child))
                 goto done;
-            cJSON_AddItemToArray(children_of(c.json), child.json);
         }
     }
-    for (q.head = 0; q.head < q.count; ++q.head)
-        mark_leaf(q.cells[q.head].json);
+    if (g->implicit) {
+        /* the root's region (the city's, as high as the hill) holds every tile */
+        unsigned levels = q.cells[q.count - 1].level + 1;
+        cJSON *it = cJSON_AddObjectToObject(root.json, "implicitTiling"), *sub;
+        add_content(root.json, "uri", "terrain/{level}_{x}_{y}.glb");
+        cJSON_AddStringToObject(it, "subdivisionScheme", "QUADTREE");
+        cJSON_AddNumberToObject(it, "subtreeLevels", SUBTREE_LEVELS);
+        cJSON_AddNumberToObject(it, "availableLevels", levels);
+        sub = cJSON_AddObjectToObject(it, "subtrees");
+        cJSON_AddStringToObject(sub, "uri", "terrain/{level}_{x}_{y}.subtree");
+        for (q.head = 0; q.head < q.count; ++q.head) {
+            const cell *c = &q.cells[q.head];
+            if (c->level % SUBTREE_LEVELS == 0 && write_subtree(g, c->level, c->ix, c->iy))
+                goto done;
+        }
+    } else {
+        for (q.head = 0; q.head < q.count; ++q.head)
+            mark_leaf(q.cells[q.head].json);
+    }
     rc = 0;
 done:
     free(q.cells);
@@ -670,6 +780,8 @@ int main(int argc, char **argv) {
                         MIN_TILES, MAX_TILES, argv[i]);
                 return 2;
             }
+        } else if (strcmp(argv[i], "--implicit") == 0) {
+            g.implicit = 1;
         } else if (argv[i][0] == '-' || g.dir) {
             fprintf(stderr, "tclod_tileset_gen: unexpected argument '%s' (try --help)\n", argv[i]);
             return 2;
@@ -722,6 +834,10 @@ int main(int argc, char **argv) {
     if (rc == 0)
         printf("tclod_tileset_gen: %lu tiles in %s/tileset.json and %s/district.json\n", g.tiles,
                g.dir, g.dir);
+    if (rc == 0 && g.implicit)
+        printf("tclod_tileset_gen: the terrain by implicit tiling, %u subtree files\n", g.subtrees);
+    for (i = 0; i < (int)TERRAIN_MAX_LEVELS; ++i)
+        free(g.available[i]);
     free(sizes_path);
     return rc;
 }
