@@ -52,6 +52,7 @@ typedef struct pending {
 
 typedef struct loader {
     const size_table *sizes;
+    uint32_t max_tiles;
     document *docs;
     uint32_t doc_count, doc_cap;
     pending *stack;
@@ -505,39 +506,44 @@ static tclod_bounds box_sphere(const double c[3], const double a[9]) {
     return tclod_bounds_sphere(c[0], c[1], c[2], sqrt(r2));
 }
 
-/* An oriented box, or the sphere around it when libtclod cannot take it (axes
- * not orthogonal), counted. */
-static tclod_bounds oriented_box(loader *l, const double c[3], const double a[9]) {
-    tclod_bounds b = tclod_bounds_obb(c, a);
-    if (tclod_bounds_validate(&b) != TCLOD_OK) {
-        b = box_sphere(c, a);
-        ++l->counts.box_fallbacks;
-    }
-    return b;
+/* An oriented box into *out, or the sphere around it when libtclod cannot
+ * take it (axes not orthogonal), counted. 1 when neither is valid (a box so
+ * large that its sphere overflows). */
+static int oriented_box(loader *l, const double c[3], const double a[9], tclod_bounds *out) {
+    *out = tclod_bounds_obb(c, a);
+    if (tclod_bounds_validate(out) == TCLOD_OK)
+        return 0;
+    *out = box_sphere(c, a);
+    if (tclod_bounds_validate(out) != TCLOD_OK)
+        return 1;
+    ++l->counts.box_fallbacks;
+    return 0;
 }
 
 /* A box as 3D Tiles writes it (v: centre, then the x, y and z half axes) under
  * the transform m: the centre as a point, the half axes as directions. 1 when
- * the transform makes it overflow. */
+ * it overflows. */
 static int box_volume(loader *l, const double v[12], const double m[16], tclod_bounds *out) {
     double c[3], a[9];
     int i;
     geo_mat4_point(m, v, c);
     for (i = 0; i < 3; ++i)
         geo_mat4_vector(m, v + 3 + 3 * i, a + 3 * i);
-    if (!all_finite(c, 3) || !all_finite(a, 9))
+    if (!all_finite(c, 3) || !all_finite(a, 9) || oriented_box(l, c, a, out))
         return 1;
-    *out = oriented_box(l, c, a);
     ++l->counts.boxes;
     return 0;
 }
 
-/* A valid region (geo_region_valid) as its oriented box. */
-static void region_volume(loader *l, const double v[6], tclod_bounds *out) {
+/* A valid region (geo_region_valid) as its oriented box. 1 when it overflows
+ * (only heights near the largest double can). */
+static int region_volume(loader *l, const double v[6], tclod_bounds *out) {
     double c[3], a[9];
     geo_region_box(v, c, a);
-    *out = oriented_box(l, c, a);
+    if (!all_finite(c, 3) || !all_finite(a, 9) || oriented_box(l, c, a, out))
+        return 1;
     ++l->counts.regions;
+    return 0;
 }
 
 /* The tile's bounding volume in world coordinates. A box goes through the
@@ -564,7 +570,7 @@ static int read_bounds(loader *l, const pending *p, const cJSON *bv, const doubl
             return 1;
         }
         if (box_volume(l, v, m, out)) {
-            fail_tile(l, p, "boundingVolume.box overflows under the tile's transform");
+            fail_tile(l, p, "boundingVolume.box overflows (under the tile's transform)");
             return 1;
         }
     } else if (region) {
@@ -580,7 +586,10 @@ static int read_bounds(loader *l, const pending *p, const cJSON *bv, const doubl
                       "south <= north in [-pi/2, pi/2], minimum height <= maximum height)");
             return 1;
         }
-        region_volume(l, v, out);
+        if (region_volume(l, v, out)) {
+            fail_tile(l, p, "boundingVolume.region's heights overflow its box");
+            return 1;
+        }
     } else if (sphere) {
         if (!read_numbers(sphere, v, 4) || v[3] < 0.0) {
             fail_tile(l, p,
@@ -1054,8 +1063,8 @@ static int subtree_read(loader *l, const implicit *im, const char *path, subtree
 /* The bounding volume of tile (level, xyz) of im: the root's, cut in 2^level
  * slices along each axis the scheme divides, taken from the root's extent
  * directly (3D Tiles 1.1's implementation note: not by halving the parent's). */
-static void implicit_bounds(loader *l, const implicit *im, uint32_t level, const uint32_t xyz[3],
-                            tclod_bounds *out) {
+static int implicit_bounds(loader *l, const implicit *im, uint32_t level, const uint32_t xyz[3],
+                           tclod_bounds *out) {
     double slices = ldexp(1.0, (int)level), v[12];
     int axes = im->octree ? 3 : 2, i;
     if (im->region) {
@@ -1075,8 +1084,7 @@ static void implicit_bounds(loader *l, const implicit *im, uint32_t level, const
         for (i = 0; i <= 2; i += 2)
             if (v[i] > GEO_PI)
                 v[i] -= 2.0 * GEO_PI;
-        region_volume(l, v, out);
-        return;
+        return region_volume(l, v, out);
     }
     /* a box: the centre moves along each divided half axis, which shrinks */
     memcpy(v, im->volume, 12 * sizeof(double));
@@ -1088,8 +1096,7 @@ static void implicit_bounds(loader *l, const implicit *im, uint32_t level, const
             v[3 + 3 * i + k] = im->volume[3 + 3 * i + k] / slices;
         }
     }
-    if (box_volume(l, v, im->transform, out)) /* within the root's, which did not overflow */
-        *out = tclod_bounds_sphere(0.0, 0.0, 0.0, 0.0);
+    return box_volume(l, v, im->transform, out);
 }
 
 /* The contents of tile `bit` of subtree s at (level, xyz): their bytes into
@@ -1120,12 +1127,16 @@ static int implicit_tile(loader *l, const implicit *im, const subtree *s, uint64
                          uint32_t level, const uint32_t xyz[3], uint32_t parent, uint32_t *out) {
     tile t;
     int has;
-    if (l->count >= TILESET_MAX_TILES) {
-        fail(l, "%s: more than %u tiles", s->path, TILESET_MAX_TILES);
+    if (l->count >= l->max_tiles) {
+        fail(l, "%s: more than %lu tiles", s->path, (unsigned long)l->max_tiles);
         return 1;
     }
     memset(&t, 0, sizeof(t));
-    implicit_bounds(l, im, level, xyz, &t.bounds);
+    if (implicit_bounds(l, im, level, xyz, &t.bounds)) {
+        fail(l, "%s: tile %lu/%lu/%lu/%lu: its volume overflows", s->path, (unsigned long)level,
+             (unsigned long)xyz[0], (unsigned long)xyz[1], (unsigned long)xyz[2]);
+        return 1;
+    }
     t.geometric_error = ldexp(im->geometric_error, -(int)level);
     if (implicit_contents(l, im, s, bit, level, xyz, &t.bytes, &has))
         return 1;
@@ -1401,8 +1412,8 @@ static int read_tile(loader *l, const pending *p) {
         fail_tile(l, p, "not a JSON object");
         return 1;
     }
-    if (l->count >= TILESET_MAX_TILES) {
-        fail_tile(l, p, "more than %u tiles", TILESET_MAX_TILES);
+    if (l->count >= l->max_tiles) {
+        fail_tile(l, p, "more than %lu tiles", (unsigned long)l->max_tiles);
         return 1;
     }
     memset(&t, 0, sizeof(t));
@@ -1564,6 +1575,11 @@ static void loader_free(loader *l) {
 
 int tileset_load(const char *path, const size_table *sizes, tileset *ts, char *err,
                  size_t err_size) {
+    return tileset_load_at_most(path, sizes, TILESET_MAX_TILES, ts, err, err_size);
+}
+
+int tileset_load_at_most(const char *path, const size_table *sizes, uint32_t max_tiles, tileset *ts,
+                         char *err, size_t err_size) {
     loader l;
     pending root;
     uint32_t *children = NULL;
@@ -1571,6 +1587,7 @@ int tileset_load(const char *path, const size_table *sizes, tileset *ts, char *e
 
     memset(&l, 0, sizeof(l));
     l.sizes = sizes;
+    l.max_tiles = max_tiles < TILESET_MAX_TILES ? max_tiles : TILESET_MAX_TILES;
     l.err = err;
     l.err_size = err_size;
     if (load_document(&l, path, NULL, &root.doc))

@@ -88,6 +88,10 @@ void size_table_free(size_table *t);
  * was wrong, and *ts untouched. */
 int tileset_load(const char *path, const size_table *sizes, tileset *ts, char *err,
                  size_t err_size);
+/* The same with at most max_tiles tiles (no more than TILESET_MAX_TILES): a
+ * tileset with more is refused. */
+int tileset_load_at_most(const char *path, const size_table *sizes, uint32_t max_tiles, tileset *ts,
+                         char *err, size_t err_size);
 void tileset_free(tileset *ts);
 
 #endif

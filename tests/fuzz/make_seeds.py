@@ -17,7 +17,9 @@ and the targets read (their readers are the reference); a change there
 changes what these bytes mean, but any bytes stay a valid input.
 """
 import hashlib
+import json
 import os
+import struct
 import sys
 
 # ---- values ----------------------------------------------------------------
@@ -460,6 +462,100 @@ def stream_seeds():
     return seeds
 
 
+# ---- fuzz_tileset (tests/tiles/fuzz_tileset.c) -------------------------------------
+
+# The names a record's first byte chooses, as FILE_NAMES in fuzz_tileset.c.
+TILESET_FILES = ["s000.subtree", "s110.subtree", "s101.subtree", "s232.subtree", "b.bin",
+                 "e.json"]
+
+
+def tileset_record(name, data):
+    """A file beside tileset.json: its name's index, a 16-bit length, the bytes."""
+    if isinstance(data, str):
+        data = data.encode()
+    return bytes([TILESET_FILES.index(name)]) + struct.pack("<H", len(data)) + data
+
+
+def binary_subtree(j, chunk):
+    """A binary subtree file: the header, the JSON padded to 8 bytes, the chunk."""
+    text = json.dumps(j, separators=(",", ":")).encode()
+    text += b" " * (-len(text) % 8)
+    return b"subt" + struct.pack("<IQQ", 1, len(text), len(chunk)) + text + chunk
+
+
+def tileset_json(root, version="1.1"):
+    return json.dumps({"asset": {"version": version}, "root": root},
+                      separators=(",", ":")).encode()
+
+
+def tileset_seeds():
+    """Every volume kind, a transform and an external tileset; implicit
+    quadtrees of boxes (binary subtree, JSON child subtree with an external
+    buffer) and of regions across the antimeridian (child subtrees); an
+    implicit octree with constant availability."""
+    implicit = {"subdivisionScheme": "QUADTREE", "subtreeLevels": 2, "availableLevels": 3,
+                "subtrees": {"uri": "s{level}{x}{y}.subtree"}}
+    listed = tileset_json({
+        "geometricError": 100, "refine": "ADD",
+        "boundingVolume": {"region": [0.1, 0.7, 0.11, 0.71, 0, 50]}, "content": {"uri": "a.glb"},
+        "children": [
+            {"geometricError": 10, "boundingVolume": {"box": [0, 0, 0, 2, 0, 0, 0, 2, 0, 0, 0, 2]},
+             "transform": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 10, 20, 30, 1],
+             "contents": [{"uri": "b.glb"}, {"uri": "c.glb"}],
+             "children": [{"geometricError": 0, "boundingVolume": {"sphere": [0, 0, 0, 5]},
+                           "content": {"uri": "d.glb"}}]},
+            {"geometricError": 5, "boundingVolume": {"sphere": [1, 2, 3, 4]},
+             "content": {"uri": "e.json"}}]})
+    external = tileset_json({
+        "geometricError": 4, "refine": "REPLACE", "boundingVolume": {"sphere": [0, 0, 3, 4]},
+        "content": {"url": "f.pnts"},
+        "children": [{"geometricError": 0,
+                      "boundingVolume": {"box": [0, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1]}}]}, "1.0")
+    boxes = tileset_json({
+        "geometricError": 64, "refine": "ADD",
+        "boundingVolume": {"box": [0, 0, 0, 8, 0, 0, 0, 8, 0, 0, 0, 2]},
+        "transform": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 100, 0, 0, 1],
+        "content": {"uri": "c/{level}/{x}/{y}.glb"}, "implicitTiling": implicit})
+    chunk = bytes([0x13]) + bytes(7) + bytes([0x12]) + bytes(7) + bytes([0x20, 0x20]) + bytes(6)
+    views = [{"buffer": 0, "byteOffset": 0, "byteLength": 1},
+             {"buffer": 0, "byteOffset": 8, "byteLength": 1},
+             {"buffer": 0, "byteOffset": 16, "byteLength": 2}]
+    root_subtree = binary_subtree({
+        "buffers": [{"byteLength": 18}], "bufferViews": views,
+        "tileAvailability": {"bitstream": 0}, "contentAvailability": [{"bitstream": 1}],
+        "childSubtreeAvailability": {"bitstream": 2}}, chunk)
+    child_subtree = json.dumps({
+        "buffers": [{"uri": "b.bin", "byteLength": 1}],
+        "bufferViews": [{"buffer": 0, "byteLength": 1}], "tileAvailability": {"constant": 1},
+        "contentAvailability": [{"bitstream": 0}], "childSubtreeAvailability": {"constant": 1}})
+    regions = tileset_json({
+        "geometricError": 10,
+        "boundingVolume": {"region": [3.0, -0.1, -3.0, 0.1, 0, 100]},
+        "contents": [{"uri": "r/{level}_{x}_{y}.glb"}],
+        "implicitTiling": dict(implicit, subtreeLevels=1)})
+    everything = {"tileAvailability": {"constant": 1}, "contentAvailability": [{"constant": 1}],
+                  "childSubtreeAvailability": {"constant": 0}}
+    octree = tileset_json({
+        "geometricError": 10, "boundingVolume": {"box": [0, 0, 0, 2, 0, 0, 0, 4, 0, 0, 0, 6]},
+        "content": {"uri": "o/{level}/{x}/{y}/{z}.pnts"},
+        "implicitTiling": dict(implicit, subdivisionScheme="OCTREE", availableLevels=2)})
+    return [
+        listed + b"\0" + tileset_record("e.json", external),
+        boxes + b"\0" + tileset_record("s000.subtree", root_subtree) +
+        tileset_record("s232.subtree", child_subtree) + tileset_record("b.bin", b"\x01"),
+        regions + b"\0" + tileset_record("s000.subtree", json.dumps({
+            "buffers": [{"uri": "b.bin", "byteLength": 1}],
+            "bufferViews": [{"buffer": 0, "byteLength": 1}],
+            "tileAvailability": {"constant": 1}, "contentAvailability": [{"constant": 1}],
+            "childSubtreeAvailability": {"bitstream": 0}})) +
+        tileset_record("b.bin", b"\x06") +
+        tileset_record("s110.subtree", json.dumps(dict(
+            everything, contentAvailability=[{"constant": 0}]))) +
+        tileset_record("s101.subtree", binary_subtree(everything, b"")),
+        octree + b"\0" + tileset_record("s000.subtree", json.dumps(everything)),
+    ]
+
+
 def write(directory, seeds):
     os.makedirs(directory, exist_ok=True)
     for data in seeds:
@@ -475,6 +571,7 @@ def main():
     write(os.path.join(root, "select"), select_seeds())
     write(os.path.join(root, "schedule"), schedule_seeds())
     write(os.path.join(root, "stream"), stream_seeds())
+    write(os.path.join(root, "tileset"), tileset_seeds())
 
 
 if __name__ == "__main__":

@@ -7,7 +7,8 @@
 #
 # SECONDS defaults to 60 per target (what CI runs); WORK_DIR (default: a new
 # temporary directory) receives the build, the growing corpora and any crash
-# reproducer. TARGETs default to every target (select schedule calib stream). Prints
+# reproducer. TARGETs default to every target (select schedule calib stream, and
+# tileset, the 3D Tiles reader of examples/tiles, when cJSON is found). Prints
 # each target's executions, executions per second and corpus size; exits
 # non-zero on the first crash, leak, sanitizer report, failed assertion or
 # broken guarantee.
@@ -19,7 +20,8 @@ seconds="${1:-60}"
 work="${2:-$(mktemp -d)}"
 shift $(($# > 2 ? 2 : $#))
 targets=("$@")
-if ((${#targets[@]} == 0)); then
+default_targets=$((${#targets[@]} == 0))
+if ((default_targets)); then
     targets=(select schedule calib stream)
 fi
 jobs="$(nproc 2>/dev/null || echo 2)"
@@ -30,7 +32,13 @@ mkdir -p "$work"
 # dropped) is a finding even when the guarantees the targets check still hold.
 env CC=clang CXX=clang++ cmake -S "$root" -B "$work/build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g" -DTCLOD_FUZZ=ON -DTCLOD_SANITIZE=address,undefined \
-    -DTCLOD_BUILD_EXAMPLES=OFF -DTCLOD_BUILD_BENCH=OFF >"$work/configure.log"
+    -DTCLOD_BUILD_EXAMPLES=ON -DTCLOD_BUILD_BENCH=OFF >"$work/configure.log"
+# the examples are configured for the tileset target alone (tests/tiles adds it
+# when cJSON is found); no other example is built
+build_targets="$(cmake --build "$work/build" --target help)"
+if ((default_targets)) && grep -qx '\.\.\. fuzz_tileset' <<<"$build_targets"; then
+    targets+=(tileset)
+fi
 cmake --build "$work/build" -j "$jobs" --target "${targets[@]/#/fuzz_}" >"$work/build.log"
 
 export ASAN_OPTIONS=detect_leaks=1

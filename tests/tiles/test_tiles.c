@@ -699,6 +699,29 @@ static void refuses_bad_implicit_tilesets_saying_what(void **state) {
         assert_refused(s, IMPLICIT(BOX, QUAD SUBTREES), "reach past the end of the file");
         remove(s->files[--s->count]);
     }
+    /* at most so many tiles: an octree of 3 levels has 1 + 8 + 64 */
+    {
+        tileset ts;
+        char err[512], path[160];
+        scratch_write(s, "st000.json",
+                      "{\"tileAvailability\":{\"constant\":1},\"childSubtreeAvailability\":{"
+                      "\"constant\":0}}",
+                      0);
+        scratch_write(s, "octree.json",
+                      IMPLICIT(BOX, "\"subdivisionScheme\":\"OCTREE\",\"subtreeLevels\":3,"
+                                    "\"availableLevels\":3," SUBTREES),
+                      0);
+        snprintf(path, sizeof(path), "%s/octree.json", s->dir);
+        assert_int_equal(tileset_load_at_most(path, NULL, 72, &ts, err, sizeof(err)), 1);
+        if (!strstr(err, "st000.json: more than 72 tiles"))
+            fail_msg("%s", err);
+        if (tileset_load_at_most(path, NULL, 73, &ts, err, sizeof(err)))
+            fail_msg("%s", err);
+        assert_int_equal(ts.count, 73);
+        tileset_free(&ts);
+        remove(s->files[--s->count]);
+        remove(s->files[--s->count]);
+    }
     /* and a good one with a chunk loads */
     scratch_write_subtree(s, "st000.json",
                           "{\"buffers\":[{\"byteLength\":1}],\"bufferViews\":[{\"buffer\":0,"
