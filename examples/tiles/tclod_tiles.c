@@ -366,11 +366,7 @@ static int add_tiles(const tileset *ts, tclod_scene *scene, tclod_id *ids) {
         const tile *x = &ts->tiles[t];
         tclod_node_desc d;
         tclod_status st;
-        tclod_node_desc_default(&d);
-        d.parent = x->parent == TILE_NONE ? TCLOD_NONE : ids[x->parent];
-        d.bounds = x->bounds;
-        d.refine = x->refine;
-        d.empty = x->empty;
+        tile_node_desc(x, x->parent == TILE_NONE ? TCLOD_NONE : ids[x->parent], &d);
         st = tclod_scene_add_node_desc(scene, &d, &ids[t]);
         if (st != TCLOD_OK) {
             fprintf(stderr, "tclod_tiles: adding tile %lu as a node failed: %s\n", (unsigned long)t,

@@ -682,7 +682,7 @@ static int read_contents(loader *l, const pending *p, const cJSON *j, double *by
     return 0;
 }
 
-/* Appends a tile to the arrays. */
+/* Appends a tile to the arrays, and counts it. */
 static int add_tile(loader *l, const pending *p, const tile *t) {
     if (l->count == l->tile_cap) {
         uint32_t cap = l->tile_cap ? 2 * l->tile_cap : 256;
@@ -703,6 +703,9 @@ static int add_tile(loader *l, const pending *p, const tile *t) {
         l->tile_cap = cap;
     }
     l->tiles[l->count] = *t;
+    l->counts.empty += (uint32_t)t->empty;
+    l->counts.additive += t->refine == TCLOD_REFINE_ADD;
+    l->counts.bytes += t->bytes;
     l->tile_doc[l->count] = p->doc;
     l->tile_index[l->count] = p->index;
     ++l->count;
@@ -1144,9 +1147,6 @@ static int implicit_tile(loader *l, const implicit *im, const subtree *s, uint64
     t.refine = im->refine;
     t.empty = !has;
     t.add_anchor = TILE_NONE;
-    l->counts.empty += (uint32_t)t.empty;
-    l->counts.additive += t.refine == TCLOD_REFINE_ADD;
-    l->counts.bytes += t.bytes;
     *out = l->count;
     return add_tile(l, &im->root, &t);
 }
@@ -1209,7 +1209,7 @@ static int implicit_subtree(loader *l, const implicit *im, const subtree_root *r
         int has;
         if (implicit_contents(l, im, &s, 0, 0, r->xyz, &root->bytes, &has))
             goto done;
-        root->empty = !has; /* read_tile counted it empty */
+        root->empty = !has; /* add_tile counted it empty */
         l->counts.empty -= (uint32_t)has;
         l->counts.bytes += root->bytes;
     } else if (implicit_tile(l, im, &s, 0, r->level, r->xyz, r->parent, &row[0].tile)) {
@@ -1470,9 +1470,6 @@ static int read_tile(loader *l, const pending *p) {
     t.parent = p->parent;
     t.empty = !has_content;
     t.add_anchor = TILE_NONE;
-    l->counts.empty += (uint32_t)t.empty;
-    l->counts.additive += t.refine == TCLOD_REFINE_ADD;
-    l->counts.bytes += t.bytes;
     self = l->count;
     if (add_tile(l, p, &t))
         return 1;
@@ -1618,6 +1615,14 @@ done:
     free(l.tiles);
     loader_free(&l);
     return rc;
+}
+
+void tile_node_desc(const tile *t, tclod_id parent, tclod_node_desc *d) {
+    tclod_node_desc_default(d);
+    d->parent = parent;
+    d->bounds = t->bounds;
+    d->refine = t->refine;
+    d->empty = t->empty;
 }
 
 void tileset_free(tileset *ts) {

@@ -94,4 +94,8 @@ int tileset_load_at_most(const char *path, const size_table *sizes, uint32_t max
                          char *err, size_t err_size);
 void tileset_free(tileset *ts);
 
+/* The libtclod node of tile t below node parent (TCLOD_NONE for the root):
+ * its volume, refinement and emptiness. */
+void tile_node_desc(const tile *t, tclod_id parent, tclod_node_desc *d);
+
 #endif

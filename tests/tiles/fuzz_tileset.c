@@ -126,11 +126,7 @@ static void check_tileset(const tileset *ts) {
     for (i = 0; i < ts->count; ++i) {
         const tile *t = &ts->tiles[i];
         tclod_node_desc d;
-        tclod_node_desc_default(&d);
-        d.parent = t->parent == TILE_NONE ? TCLOD_NONE : ids[t->parent];
-        d.bounds = t->bounds;
-        d.refine = t->refine;
-        d.empty = t->empty;
+        tile_node_desc(t, t->parent == TILE_NONE ? TCLOD_NONE : ids[t->parent], &d);
         check(tclod_scene_add_node_desc(scene, &d, &ids[i]) == TCLOD_OK,
               "libtclod takes every tile as a node");
     }
