@@ -1114,9 +1114,9 @@ static int implicit_contents(loader *l, const implicit *im, const subtree *s, ui
         if (!available(&s->contents[c], bit))
             continue;
         if (expand_template(im->content_uri[c], level, xyz, uri, sizeof(uri))) {
-            fail(l, "%s: content uri of tile %lu/%lu/%lu is longer than %d bytes", s->path,
+            fail(l, "%s: content uri of tile %lu/%lu/%lu/%lu is longer than %d bytes", s->path,
                  (unsigned long)level, (unsigned long)xyz[0], (unsigned long)xyz[1],
-                 IMPLICIT_URI_SIZE - 1);
+                 (unsigned long)xyz[2], IMPLICIT_URI_SIZE - 1);
             return 1;
         }
         *bytes += content_bytes(l, &im->root, uri);
@@ -1186,9 +1186,9 @@ static int implicit_subtree(loader *l, const implicit *im, const subtree_root *r
 
     if (expand_template(im->subtree_uri, r->level, r->xyz, uri, sizeof(uri)) ||
         !uri_is_local(uri)) {
-        fail(l, "%s: subtree %lu/%lu/%lu: its uri is not a local file or is too long",
+        fail(l, "%s: subtree %lu/%lu/%lu/%lu: its uri is not a local file or is too long",
              l->docs[im->root.doc].path, (unsigned long)r->level, (unsigned long)r->xyz[0],
-             (unsigned long)r->xyz[1]);
+             (unsigned long)r->xyz[1], (unsigned long)r->xyz[2]);
         return 1;
     }
     path = uri_file(l->docs[im->root.doc].dir, uri);
@@ -1204,9 +1204,9 @@ static int implicit_subtree(loader *l, const implicit *im, const subtree_root *r
     row = *rows;
     row[0].morton = 0;
     if (r->level == 0) {
-        row[0].tile = im->root_tile; /* the implicit root, read from the tileset */
-        tile *root = &l->tiles[im->root_tile];
+        tile *root = &l->tiles[im->root_tile]; /* the implicit root, read from the tileset */
         int has;
+        row[0].tile = im->root_tile;
         if (implicit_contents(l, im, &s, 0, 0, r->xyz, &root->bytes, &has))
             goto done;
         root->empty = !has; /* add_tile counted it empty */
