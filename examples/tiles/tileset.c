@@ -473,17 +473,27 @@ nomem:
 
 /* ---- tiles --------------------------------------------------------------------- */
 
-static int push(loader *l, const pending *p) {
-    if (l->top == l->stack_cap) {
-        size_t cap = l->stack_cap ? 2 * l->stack_cap : 64;
-        pending *s = (pending *)realloc(l->stack, cap * sizeof(*s));
-        if (!s) {
-            fail(l, "out of memory");
-            return 1;
-        }
-        l->stack = s;
-        l->stack_cap = cap;
+/* Grows a list to hold n more. */
+static int reserve(loader *l, void **list, size_t *cap, size_t used, size_t more, size_t elem) {
+    void *p;
+    size_t c = *cap ? *cap : 64;
+    if (used + more <= *cap)
+        return 0;
+    while (c < used + more)
+        c *= 2;
+    p = realloc(*list, c * elem);
+    if (!p) {
+        fail(l, "out of memory");
+        return 1;
     }
+    *list = p;
+    *cap = c;
+    return 0;
+}
+
+static int push(loader *l, const pending *p) {
+    if (reserve(l, (void **)&l->stack, &l->stack_cap, l->top, 1, sizeof(*l->stack)))
+        return 1;
     l->stack[l->top++] = *p;
     return 0;
 }
@@ -1149,24 +1159,6 @@ static int implicit_tile(loader *l, const implicit *im, const subtree *s, uint64
     t.add_anchor = TILE_NONE;
     *out = l->count;
     return add_tile(l, &im->root, &t);
-}
-
-/* Grows a list to hold n more. */
-static int reserve(loader *l, void **list, size_t *cap, size_t used, size_t more, size_t elem) {
-    void *p;
-    size_t c = *cap ? *cap : 64;
-    if (used + more <= *cap)
-        return 0;
-    while (c < used + more)
-        c *= 2;
-    p = realloc(*list, c * elem);
-    if (!p) {
-        fail(l, "out of memory");
-        return 1;
-    }
-    *list = p;
-    *cap = c;
-    return 0;
 }
 
 /* Reads the tiles of subtree r: level by level, each available child of a

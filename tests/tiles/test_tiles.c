@@ -48,25 +48,31 @@ static void scratch_path(const scratch *s, const char *name, char *out) {
     memcpy(out, path, sizeof(path));
 }
 
-/* Writes text (or, with text NULL, n filler bytes) to dir/name; name may be
- * in a subdirectory created before. Returns the path. */
-static const char *scratch_write(scratch *s, const char *name, const char *text, size_t n) {
+/* Writes n bytes to dir/name. */
+static void scratch_write_bytes(scratch *s, const char *name, const void *data, size_t n) {
     char *path = s->files[s->count];
     FILE *f;
     assert_true(s->count < 32);
     scratch_path(s, name, path);
     f = fopen(path, "wb");
     assert_non_null(f);
-    if (text) {
-        assert_int_equal(fwrite(text, 1, strlen(text), f), strlen(text));
-    } else {
-        size_t i;
-        for (i = 0; i < n; ++i)
-            fputc('x', f);
-    }
+    assert_int_equal(fwrite(data, 1, n, f), n);
     assert_int_equal(fclose(f), 0);
     ++s->count;
-    return path;
+}
+
+/* Writes text (or, with text NULL, n filler bytes) to dir/name; name may be
+ * in a subdirectory created before. Returns the path. */
+static const char *scratch_write(scratch *s, const char *name, const char *text, size_t n) {
+    char *filler = NULL;
+    if (!text) {
+        filler = (char *)malloc(n ? n : 1);
+        assert_non_null(filler);
+        memset(filler, 'x', n);
+    }
+    scratch_write_bytes(s, name, text ? text : filler, text ? strlen(text) : n);
+    free(filler);
+    return s->files[s->count - 1];
 }
 
 /* A subdirectory, removed last. */
@@ -378,19 +384,6 @@ static void refuses_external_tilesets_nested_too_deep(void **state) {
 }
 
 /* ---- implicit tiling ------------------------------------------------------------- */
-
-/* Writes n bytes to dir/name. */
-static void scratch_write_bytes(scratch *s, const char *name, const void *data, size_t n) {
-    char *path = s->files[s->count];
-    FILE *f;
-    assert_true(s->count < 32);
-    scratch_path(s, name, path);
-    f = fopen(path, "wb");
-    assert_non_null(f);
-    assert_int_equal(fwrite(data, 1, n, f), n);
-    assert_int_equal(fclose(f), 0);
-    ++s->count;
-}
 
 /* A binary subtree file: the header, json padded with spaces to 8 bytes, then
  * the binary chunk of n bytes. */
