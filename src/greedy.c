@@ -14,11 +14,15 @@
  * (take_closure). With lookahead an increment may replace its node by the
  * best-ratio cut of its subtree a few levels deep (Dinkelbach's method over
  * the subtree's dynamic program, lookahead_key), for benefits whose returns
- * do not diminish. A warm solve starts from the previous cut: it re-evaluates
- * only the frontier (cut nodes, their children and their collapsible
- * parents), applies decrements (children -> parent, least benefit lost per
- * cost saved first) while over budget, then increments and
- * increment/decrement swaps while they gain; on a scene with nodes that are
+ * do not diminish. When even the roots do not fit, refinements that cost
+ * less than what they replace (children out of view cost nothing) come
+ * before roots are left out (shed_cost). A warm solve starts from the
+ * previous cut: it re-evaluates only the frontier (cut nodes, their children
+ * and their collapsible parents), first takes the collapses a cold solve
+ * would have made (free ones, into invisible parents, those that gain),
+ * applies decrements (children -> parent, least benefit lost per cost saved
+ * first) while over budget, then increments and increment/decrement swaps
+ * while they gain; on a scene with nodes that are
  * not resident it first gives up the cut nodes residency no longer allows
  * (stream_repair).
  * A final exact re-summation in result order repairs any rounding drift, so the
@@ -420,8 +424,10 @@ static int collapsible(const tclod_selector *sel, tclod_id p) {
 
 /* Key of the decrement collapsing p's children (all in the cut) into p:
  * smallest loss per saved cost first, so the heap stores it negated. Free
- * collapses (no loss, no extra cost) and those removing unaffordable children
- * come first; collapses that save nothing come last. */
+ * collapses (no loss, no extra cost), collapses into an invisible p (which a
+ * cold solve culls with its subtree, whatever its children's own volumes
+ * say) and those removing unaffordable children come first; collapses that
+ * save nothing come last. */
 static double decrement_key(tclod_selector *sel, tclod_id p) {
     uint32_t count, i;
     const tclod_id *ch = children_of(sel, p, &count);
@@ -442,7 +448,7 @@ static double decrement_key(tclod_selector *sel, tclod_id p) {
     sel->greedy.delta[p].delta_c = saved;
     if (isinf(sel->node[p].cost) || !isfinite(sum_c))
         return -HUGE_VAL;
-    if (unaffordable)
+    if (unaffordable || !(sel->node[p].benefit > 0.0))
         return HUGE_VAL;
     if (loss <= 0.0 && saved >= 0.0)
         return HUGE_VAL;
@@ -657,7 +663,94 @@ static void clear_cut(tclod_selector *sel) {
     clear_heaps(sel);
 }
 
-/* Cut = the roots; drops roots that do not fit; queues their increments. */
+/* Queues in the decrement heap, unused by a cold start, the refinement of
+ * visible cut node n when its children cost less than n (children outside the
+ * frustum cost nothing), keyed by least benefit lost per cost saved (negated,
+ * as decrements are); append: heap order restored by the caller. */
+static int queue_saving(tclod_selector *sel, tclod_id n, int append) {
+    const tclod_scene *s = sel->scene;
+    uint32_t i = s->child_first[n], end = i + s->child_count[n];
+    double sum_b = 0.0, sum_c = 0.0, loss, saved, key;
+    if (i == end || !greedy_counts(sel, n))
+        return 0;
+    for (; i < end; ++i) {
+        tclod_id c = s->children[i];
+        if (evaluate(sel, c) != 0)
+            return -1;
+        if (greedy_unaffordable(sel->node[c].cost))
+            return 0;
+        sum_b += sel->node[c].benefit;
+        sum_c += sel->node[c].cost;
+    }
+    loss = sel->node[n].benefit - sum_b;
+    saved = sel->node[n].cost - sum_c;
+    if (!(saved > 0.0) || !isfinite(sum_c))
+        return 0;
+    sel->greedy.delta[n].delta_b = -loss;
+    sel->greedy.delta[n].delta_c = -saved;
+    key = loss <= 0.0 || isinf(saved) ? HUGE_VAL : -(loss / saved);
+    if (append)
+        tclod_heap_append(&sel->greedy.dec, n, key);
+    else
+        tclod_heap_push(&sel->greedy.dec, n, key);
+    return 0;
+}
+
+/* When the roots do not fit the budget: the refinements that cost less than
+ * the nodes they replace, least benefit lost per cost saved first, until the
+ * cut fits (docs/greedy.md, when the roots do not fit); then, newest first,
+ * every one of them that gave benefit away is undone where the budget still
+ * allows (the order may have taken one that a later, larger saving made
+ * needless). When none brings the cut within the budget it is the roots
+ * again, and roots are left out. */
+static int shed_cost(tclod_selector *sel) {
+    const tclod_scene *s = sel->scene;
+    uint32_t i, shed = 0, k;
+    for (i = 0; i < sel->cut_count; ++i)
+        if (queue_saving(sel, sel->cut[i], 1) != 0)
+            return -1;
+    tclod_heap_build(&sel->greedy.dec);
+    while (!greedy_feasible(sel) && sel->greedy.dec.count > 0) {
+        tclod_id n = tclod_heap_pop(&sel->greedy.dec);
+        uint32_t first = s->child_first[n], end = first + s->child_count[n];
+        sel->scratch[shed++] = n;
+        sel->stats.iterations++;
+        sel->stats.increments++;
+        greedy_cut_remove(sel, n);
+        for (k = first; k < end; ++k) {
+            tclod_id c = s->children[k];
+            greedy_cut_add(sel, c);
+            sel->path[2u * c] = sel->path[2u * c + 1u] = 0.0; /* where the safeguard counts from */
+            if (queue_saving(sel, c, 0) != 0)
+                return -1;
+        }
+    }
+    tclod_heap_clear(&sel->greedy.dec);
+    if (!greedy_feasible(sel)) {
+        clear_cut(sel);
+        for (i = 0; i < s->root_count; ++i)
+            greedy_cut_add(sel, s->roots[i]);
+        return 0;
+    }
+    while (shed > 0) {
+        tclod_id n = sel->scratch[--shed];
+        uint32_t first = s->child_first[n], end = first + s->child_count[n];
+        const tclod_delta *d = &sel->greedy.delta[n];
+        for (k = first; k < end && sel->node[s->children[k]].cut_pos != TCLOD_NONE; ++k)
+            ;
+        if (k < end || !(d->delta_b < 0.0) ||
+            !tclod_within(sel, sel->cost_sum - d->delta_c, greedy_cut_budget(sel)))
+            continue;
+        sel->stats.decrements++;
+        for (k = first; k < end; ++k)
+            greedy_cut_remove(sel, s->children[k]);
+        greedy_cut_add(sel, n);
+    }
+    return 0;
+}
+
+/* Cut = the roots; when they do not fit, refinements that save cost, else
+ * roots left out; queues the cut's increments. */
 static int start_cold(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
     uint32_t i;
@@ -674,6 +767,8 @@ static int start_cold(tclod_selector *sel) {
         sel->path[2u * r] = sel->path[2u * r + 1u] = 0.0;
         greedy_cut_add(sel, r);
     }
+    if (!greedy_feasible(sel) && shed_cost(sel) != 0)
+        return -1;
     if (!greedy_feasible(sel))
         drop_roots(sel);
     if (sel->stats.over_budget)
@@ -1052,6 +1147,8 @@ static int64_t warm_block(tclod_selector *sel, uint32_t i, int frontier) {
 }
 
 /* Cut = the previous cut, re-evaluated; queues its increments and decrements. */
+static int take_first_collapses(tclod_selector *sel);
+
 static int start_warm(tclod_selector *sel) {
     const tclod_scene *s = sel->scene;
     uint32_t i, culled = 0;
@@ -1102,7 +1199,7 @@ static int start_warm(tclod_selector *sel) {
     }
     tclod_heap_build(&sel->greedy.inc);
     tclod_heap_build(&sel->greedy.dec);
-    return 0;
+    return take_first_collapses(sel);
 }
 
 /* ---- the search ------------------------------------------------------------------ */
@@ -1137,18 +1234,15 @@ int tclod_out_of_time(tclod_selector *sel) {
 }
 
 /* Restores feasibility of a warm start: decrements while over budget (by the
- * running sum, or by its compensated total while decrements are left), then
- * roots are dropped if the roots alone do not fit (by the running sum, as
- * start_cold has it). Always completes. */
+ * running sum, or by its compensated total while decrements are left).
+ * Returns 1 when no decrement that saves cost is left and the cut is still
+ * over: the solve then starts cold, where refinements that save cost come
+ * before roots are left out (start_cold). Always completes. */
 static int restore_budget(tclod_selector *sel) {
     while (!greedy_feasible(sel) || (sel->greedy.dec.count > 0 &&
                                      !tclod_within(sel, sel->cost_sum, greedy_cut_budget(sel)))) {
-        if (sel->greedy.dec.count == 0) {
-            drop_roots(sel);
-            if (sel->stats.over_budget)
-                clear_heaps(sel); /* the roots over the budget, and nothing more */
-            break;
-        }
+        if (sel->greedy.dec.count == 0 || sel->greedy.dec.items[0].key == -HUGE_VAL)
+            return greedy_feasible(sel) ? 0 : 1;
         sel->stats.iterations++;
         if (apply_decrement(sel, tclod_heap_pop(&sel->greedy.dec)) != 0)
             return -1;
@@ -1166,12 +1260,46 @@ static double min_loss_ratio(const tclod_selector *sel) {
     return -sel->greedy.dec.items[0].key;
 }
 
-/* Makes room for increment n by decrements whose summed loss stays below its
- * gain. Returns 1 when the swap was made, 0 when it would not gain. */
-static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
-    double need = sel->cost_sum + sel->greedy.delta[n].delta_c - sel->frame->budget;
-    double gain = sel->greedy.delta[n].delta_b, freed = 0.0, loss = 0.0;
-    tclod_id parent = sel->scene->parent[n];
+/* After decrement p is taken for a swap: the collapse of p's parent q, when
+ * q's other children are in the cut, is queued too (a chain collapses level
+ * by level), unless q is n's parent. A swap that fails takes these out again
+ * (untake_parents). */
+static int take_parent_too(tclod_selector *sel, tclod_id p, tclod_id n_parent) {
+    tclod_id q = sel->scene->parent[p];
+    uint32_t count, i;
+    const tclod_id *ch;
+    if (q == TCLOD_NONE || q == n_parent || tclod_heap_contains(&sel->greedy.dec, q))
+        return 0;
+    ch = children_of(sel, q, &count);
+    for (i = 0; i < count; ++i)
+        if (ch[i] != p && sel->node[ch[i]].cut_pos == TCLOD_NONE)
+            return 0;
+    return queue_collapsible(sel, q, 0);
+}
+
+/* A failed swap's decrements taken (scratch[0 .. taken)) leave the cut as it
+ * was: their parents, queued by take_parent_too (and taken, maybe, then put
+ * back), are not collapsible and go. */
+static void untake_parents(tclod_selector *sel, uint32_t taken) {
+    uint32_t i;
+    for (i = 0; i < taken; ++i) {
+        tclod_id q = sel->scene->parent[sel->scratch[i]];
+        if (q != TCLOD_NONE && tclod_heap_contains(&sel->greedy.dec, q) && !collapsible(sel, q))
+            tclod_heap_remove(&sel->greedy.dec, q);
+    }
+}
+
+/* Makes room for increment n (with collapse, for the collapse into n, out of
+ * the decrement heap, that gains: take_first_collapses) by decrements whose
+ * summed loss stays below its gain, least loss per saved cost first. A taken
+ * decrement makes its parent's collapse a candidate when the parent's other
+ * children are in the cut (take_parent_too). Returns 1 when the swap was
+ * made, 0 when it would not gain. */
+static int try_swap(tclod_selector *sel, tclod_id n, int collapse, int *failed) {
+    double sign = collapse ? -1.0 : 1.0;
+    double need = sel->cost_sum + sign * sel->greedy.delta[n].delta_c - sel->frame->budget;
+    double gain = sign * sel->greedy.delta[n].delta_b, freed = 0.0, loss = 0.0;
+    tclod_id parent = collapse ? TCLOD_NONE : sel->scene->parent[n];
     uint32_t taken = 0, i;
     int ok = 0;
     if (sel->cost_err > 0.0) /* what the running sum absorbed needs room too */
@@ -1200,14 +1328,20 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
             ok = 1;
             break;
         }
+        if (take_parent_too(sel, p, parent) != 0) {
+            *failed = 1;
+            break;
+        }
     }
     for (i = 0; i < taken; ++i) {
         tclod_id p = sel->scratch[i];
         if (!ok || p == parent)
             tclod_heap_push(&sel->greedy.dec, p, sel->scratch_key[i]);
     }
-    if (!ok)
+    if (!ok) {
+        untake_parents(sel, taken);
         return 0;
+    }
     for (i = 0; i < taken; ++i) {
         tclod_id p = sel->scratch[i];
         if (p == parent)
@@ -1218,9 +1352,102 @@ static int try_swap(tclod_selector *sel, tclod_id n, int *failed) {
             return 0;
         }
     }
-    if (apply_increment(sel, n, 1) != 0)
+    if ((collapse ? apply_decrement(sel, n) : apply_increment(sel, n, 1)) != 0)
         *failed = 1;
     return 1;
+}
+
+/* 1 when the collapse into p, queued, is free (no loss, no extra cost), into
+ * an invisible p, or removes an unaffordable child (decrement_key's first
+ * ones). */
+static int free_collapse(const tclod_selector *sel, tclod_id p) {
+    return tclod_heap_contains(&sel->greedy.dec, p) &&
+           sel->greedy.dec.items[sel->greedy.dec.pos[p]].key == HUGE_VAL;
+}
+
+/* 1 when the collapse into p, queued, gains benefit at a cost: p is worth more
+ * than its children in the cut, typically children that left the frustum
+ * while p is still in it. A cold solve never refines such a p (its increment
+ * gains nothing), and the decrements' order, which puts collapses that save
+ * nothing last, would never undo it. */
+static int gaining_collapse(const tclod_selector *sel, tclod_id p) {
+    const tclod_delta *d = &sel->greedy.delta[p];
+    return tclod_heap_contains(&sel->greedy.dec, p) && d->delta_c < 0.0 &&
+           d->delta_b < -GREEDY_SWAP_MARGIN * sel->node[p].benefit;
+}
+
+/* Benefit gained per cost added by the gaining collapse into p. */
+static double gain_ratio(const tclod_selector *sel, tclod_id p) {
+    const tclod_delta *d = &sel->greedy.delta[p];
+    return d->delta_b / d->delta_c; /* both < 0 */
+}
+
+/* A warm start's first moves, before the budget is restored: the free
+ * collapses, and those that gain where they fit or a swap makes room for
+ * them (try_swap), cascading up to the parents that become such. Only here
+ * and in the last fill (fill_gaining_collapses): in the increments and swaps
+ * between, a collapse that gains at a cost is a trade among others (a
+ * lookahead's jump may take cheaper children at a loss). The pending ones
+ * wait at the top of scratch, below any parked misfits (none at a warm
+ * start), as try_swap uses its bottom. */
+static int take_first_collapses(tclod_selector *sel) {
+    uint32_t i, n = 0;
+    for (i = 0; i < sel->greedy.dec.count; ++i) {
+        tclod_id p = sel->greedy.dec.items[i].id;
+        if (free_collapse(sel, p) || gaining_collapse(sel, p))
+            sel->scratch[sel->cap - ++n] = p;
+    }
+    while (n > 0) {
+        tclod_id p = sel->scratch[sel->cap - n--], up = sel->scene->parent[p];
+        int failed = 0;
+        if (free_collapse(sel, p) ||
+            (gaining_collapse(sel, p) &&
+             tclod_within(sel, sel->cost_sum - sel->greedy.delta[p].delta_c,
+                          greedy_cut_budget(sel)))) {
+            sel->stats.iterations++;
+            if (apply_decrement(sel, p) != 0)
+                return -1;
+        } else if (gaining_collapse(sel, p)) {
+            uint32_t slot = sel->greedy.dec.pos[p];
+            double key = sel->greedy.dec.items[slot].key;
+            sel->stats.iterations++;
+            tclod_heap_remove(&sel->greedy.dec, p);
+            if (!try_swap(sel, p, 1, &failed))
+                tclod_heap_push(&sel->greedy.dec, p, key);
+            if (failed)
+                return -1;
+        } else {
+            continue;
+        }
+        if (up != TCLOD_NONE && (free_collapse(sel, up) || gaining_collapse(sel, up)))
+            sel->scratch[sel->cap - ++n] = up;
+    }
+    return 0;
+}
+
+/* A warm solve's last fill: the gaining collapses still queued, best ratio
+ * first, each one that fits. */
+static int fill_gaining_collapses(tclod_selector *sel) {
+    uint32_t i, n = 0;
+    for (i = 0; i < sel->greedy.dec.count; ++i) {
+        tclod_id p = sel->greedy.dec.items[i].id;
+        if (gaining_collapse(sel, p)) {
+            sel->scratch[n] = p;
+            sel->scratch_key[n++] = gain_ratio(sel, p);
+        }
+    }
+    tclod_sort_by_key(sel->scratch, sel->scratch_key, n);
+    for (i = 0; i < n; ++i) {
+        tclod_id p = sel->scratch[i];
+        if (!gaining_collapse(sel, p) ||
+            !tclod_within(sel, sel->cost_sum - sel->greedy.delta[p].delta_c,
+                          greedy_cut_budget(sel)))
+            continue;
+        sel->stats.iterations++;
+        if (apply_decrement(sel, p) != 0)
+            return -1;
+    }
+    return 0;
 }
 
 /* Relative margin above the previous solve's first misfit from which the
@@ -1346,7 +1573,7 @@ static int improve(tclod_selector *sel, int warm, int alt) {
         }
         n = pop_increment(sel);
         sel->stats.iterations++;
-        swapped = try_swap(sel, n, &failed);
+        swapped = try_swap(sel, n, 0, &failed);
         if (failed)
             return -1;
         if (swapped)
@@ -1355,6 +1582,8 @@ static int improve(tclod_selector *sel, int warm, int alt) {
     if (alt)
         for (i = 0; i < sel->greedy.inc.count; ++i)
             greedy_consider_alternative(sel, sel->greedy.inc.items[i].id);
+    if (warm && fill_gaining_collapses(sel) != 0)
+        return -1;
     sel->stats.stop_reason = *skipped ? TCLOD_STOP_BUDGET : TCLOD_STOP_FINEST;
     return 0;
 }
@@ -1524,8 +1753,15 @@ static int greedy_start(tclod_selector *sel) {
         else
             repair_cut(sel);
     }
-    if (R->greedy.warm)
-        return start_warm(sel) != 0 ? -1 : restore_budget(sel);
+    if (R->greedy.warm) {
+        int rc = start_warm(sel);
+        if (rc == 0)
+            rc = restore_budget(sel);
+        if (rc <= 0)
+            return rc;
+        R->greedy.warm = 0; /* nothing left to collapse fits: start from the roots */
+        R->greedy.audit = 0;
+    }
     R->greedy.closure_head = R->greedy.closure_tail = 0;
     R->greedy.closing = sel->greedy.closure_hint > 0.0 && sel->frame->max_iterations == 0 &&
                         sel->frame->solve_seconds == 0.0;

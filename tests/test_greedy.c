@@ -324,6 +324,112 @@ static void zero_budget_keeps_roots_that_cost_nothing(void **state) {
     tclod_selector_destroy(sel);
 }
 
+/* Roots that do not fit give way to children that cost less, before any root
+ * is left out (children outside the frustum cost nothing):
+ *   R1 0 (b 4, c 3)  children A 1 (2, 1), B 2 (invisible)
+ *   R2 3 (b 3, c 2)  children C 4 (2.7, 1.5), D 5 (invisible)
+ * Budget 4; the roots cost 5. Refining R1 saves 2 for a loss of 2 (ratio 1),
+ * R2 saves 0.5 for 0.3 (0.6): R2's comes first and leaves 4.5, R1's then
+ * 2.5, which fits. Undone newest first where it still fits: R1 back would
+ * cost 4.5, no; R2 back costs 3, yes. Cut {A, R2}: b 5, c 3, nothing left
+ * out, the optimum (exact_optimum). Leaving roots out instead kept {R1}, b 4.
+ * A warm selector whose last cut was the roots (budget 10, where neither
+ * refinement gains) comes to the same, and so does the mixed solver. */
+static void roots_that_do_not_fit_give_way_to_cheaper_children(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const tclod_id want[] = {1, 3}, roots[] = {0, 3};
+    tclod_id r1, r2;
+    tclod_stats st;
+    int k;
+    r1 = helper_add(f, TCLOD_NONE, 4.0, 3.0);
+    helper_add(f, r1, 2.0, 1.0);
+    helper_add(f, r1, 0.0, 5.0);
+    r2 = helper_add(f, TCLOD_NONE, 3.0, 2.0);
+    helper_add(f, r2, 2.7, 1.5);
+    helper_add(f, r2, 0.0, 5.0);
+    assert_true(exact_optimum(&f->model, 4.0, NULL) == 5.0);
+    for (k = 0; k < 3; ++k) {
+        tclod_selector *sel;
+        if (k < 2) {
+            sel = helper_selector(f->scene, &f->model, k);
+        } else {
+            tclod_selector_desc d;
+            tclod_selector_desc_default(&d);
+            d.solver = TCLOD_SOLVER_MIXED;
+            table_callbacks(&f->model, &d.callbacks);
+            assert_int_equal(tclod_selector_create(f->scene, &d, NULL, &sel), TCLOD_OK);
+        }
+        if (k == 1) { /* warm, from the roots */
+            select_frame(sel, 10.0, 0, &st);
+            helper_assert_cut(sel, roots, 2);
+        }
+        select_frame(sel, 4.0, 0, &st);
+        helper_assert_cut(sel, want, 2);
+        helper_check_result(sel, &f->model, &st, 4.0, 0);
+        assert_totals(&st, 5.0, 3.0);
+        assert_int_equal(st.dropped_roots, 0);
+        tclod_selector_destroy(sel);
+    }
+}
+
+/* A warm start takes back a parent whose children left the view:
+ *   P 0 (b 10, c 2)  children A 1 (6, 1), B 2 (6, 1)
+ * Budget 10: P -> {A, B} gains 2 at no cost: cut {A, B}, b 12. Then A and B
+ * turn invisible while P does not. The cut {A, B} would draw nothing (b 0);
+ * collapsing it into P gains 10 for 2 more cost, and a cold solve never
+ * refines P (its increment would lose 10): {P}, b 10, c 2. Over budget 1,
+ * P does not fit and the invisible children, which cost nothing, stay: b 0,
+ * c 0, no root left out. */
+static void a_warm_start_takes_back_a_parent_whose_children_left_the_view(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const tclod_id both[] = {1, 2}, parent[] = {0};
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 10.0, 2.0);
+    helper_add(f, 0, 6.0, 1.0);
+    helper_add(f, 0, 6.0, 1.0);
+    sel = helper_selector(f->scene, &f->model, 1);
+    select_frame(sel, 10.0, 0, &st);
+    helper_assert_cut(sel, both, 2);
+    assert_totals(&st, 12.0, 2.0);
+    f->model.benefit[1] = f->model.benefit[2] = 0.0;
+    select_frame(sel, 10.0, 0, &st);
+    helper_assert_cut(sel, parent, 1);
+    helper_check_result(sel, &f->model, &st, 10.0, 0);
+    assert_totals(&st, 10.0, 2.0);
+    select_frame(sel, 1.0, 0, &st);
+    helper_assert_cut(sel, NULL, 0);
+    assert_totals(&st, 0.0, 0.0);
+    assert_int_equal(st.dropped_roots, 0);
+    tclod_selector_destroy(sel);
+}
+
+/* A node whose parent is invisible is culled with it, whatever its own
+ * volume says (children that reach out of their parent's volume):
+ *   P 0 (b 10, c 2) -> Q 1 (12, 2) -> R 2 (14, 2)
+ * Budget 10: {R}, b 14. Then Q turns invisible while R (reaching out of it)
+ * is still seen, worth 1. A cold solve culls R with Q and keeps P (its
+ * increment would lose 10); the warm start collapses R into Q before
+ * anything else and then Q into P: {P}, b 10, c 2. */
+static void a_warm_start_culls_the_children_of_an_invisible_parent(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    static const tclod_id leaf[] = {2}, top[] = {0};
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 10.0, 2.0);
+    helper_add(f, 0, 12.0, 2.0);
+    helper_add(f, 1, 14.0, 2.0);
+    sel = helper_selector(f->scene, &f->model, 1);
+    select_frame(sel, 10.0, 0, &st);
+    helper_assert_cut(sel, leaf, 1);
+    f->model.benefit[1] = 0.0;
+    f->model.benefit[2] = 1.0;
+    select_frame(sel, 10.0, 0, &st);
+    helper_assert_cut(sel, top, 1);
+    assert_totals(&st, 10.0, 2.0);
+    tclod_selector_destroy(sel);
+}
+
 static void greedy_reaches_half_the_optimum_on_an_adversarial_instance(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
     /* Two chains with tiny roots A 0 and B 2 (b 0.125, c 0.125 each):
@@ -692,6 +798,37 @@ static void warm_start_swaps_in_the_misfit_its_fill_skipped(void **state) {
     assert_true(st.benefit == 13.0 && st.cost == 8.0);
     tclod_selector_destroy(warm);
     tclod_selector_destroy(cold);
+}
+
+static void warm_start_swaps_collapse_a_chain_level_by_level(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* Chains X: 0 (b 1, c 1) -> 1 (2, 2) -> 2 (2.25, 4) and I: 3 (1, 1) ->
+     * 4 (1, 4); budget 5. Frame 1: X's increments (ratios 1 and 0.125) fit, I
+     * gains nothing: {2, 3}, benefit 3.25, cost 5. Frame 2: 4 is worth 5 (Δb
+     * 4, Δc 3), with no room. The only collapse queued, 2 into 1, frees 2 for
+     * 0.25; once taken, 1 into 0 is one too (its only child is about to be in
+     * the cut) and frees the last 1 for 1: {0, 4}, benefit 6, cost 5, the
+     * optimum (exact_optimum). Seeing one level only kept 3.25. */
+    static const tclod_id first[] = {2, 3}, best[] = {0, 4};
+    tclod_selector *warm;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, 0, 2.0, 2.0);
+    helper_add(f, 1, 2.25, 4.0);
+    helper_add(f, TCLOD_NONE, 1.0, 1.0);
+    helper_add(f, 3, 1.0, 4.0);
+    warm = helper_selector(f->scene, &f->model, 1);
+    select_frame(warm, 5.0, 0, &st);
+    helper_assert_cut(warm, first, 2);
+    assert_totals(&st, 3.25, 5.0);
+    f->model.benefit[4] = 5.0;
+    assert_true(exact_optimum(&f->model, 5.0, NULL) == 6.0);
+    select_frame(warm, 5.0, 0, &st);
+    helper_assert_cut(warm, best, 2);
+    helper_check_result(warm, &f->model, &st, 5.0, 0);
+    assert_totals(&st, 6.0, 5.0);
+    assert_int_equal(st.decrements, 2);
+    tclod_selector_destroy(warm);
 }
 
 /* Warm solves over models that change every frame; `audited`: with the
@@ -1829,6 +1966,9 @@ int main(void) {
         FIXTURE_TEST(roots_that_do_not_fit_are_dropped_lowest_value_first),
         FIXTURE_TEST(zero_budget_drops_every_visible_root_that_costs),
         FIXTURE_TEST(zero_budget_keeps_roots_that_cost_nothing),
+        FIXTURE_TEST(roots_that_do_not_fit_give_way_to_cheaper_children),
+        FIXTURE_TEST(a_warm_start_takes_back_a_parent_whose_children_left_the_view),
+        FIXTURE_TEST(a_warm_start_culls_the_children_of_an_invisible_parent),
         FIXTURE_TEST(greedy_reaches_half_the_optimum_on_an_adversarial_instance),
         FIXTURE_TEST(exact_solver_agrees_with_hand_worked_optima),
         cmocka_unit_test(greedy_is_within_half_of_exact_optimum_on_random_trees),
@@ -1856,6 +1996,7 @@ int main(void) {
         FIXTURE_TEST(warm_start_after_a_budget_drop_uses_decrements),
         FIXTURE_TEST(warm_start_swaps_a_refinement_for_a_better_one_of_the_same_cost),
         FIXTURE_TEST(warm_start_swaps_in_the_misfit_its_fill_skipped),
+        FIXTURE_TEST(warm_start_swaps_collapse_a_chain_level_by_level),
         FIXTURE_TEST(an_audit_replaces_a_warm_cut_that_a_cold_solve_beats),
         FIXTURE_TEST(an_audit_keeps_a_warm_cut_that_beats_the_cold_solve),
         FIXTURE_TEST(audited_warm_starts_after_model_changes_stay_feasible),

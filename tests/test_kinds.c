@@ -273,16 +273,17 @@ static void an_unaffordable_root_is_left_out_even_over_the_budget(void **state) 
 }
 
 /* Drawn over the budget, the roots are all that is drawn: R (b 0.75, c 1)
- * with a child C (1, 0), budget 0. Refining R into C would cost nothing, but
- * the policy draws the coarsest level and stops, so the result is {R}, cost
+ * with a child C (1, 1.5), budget 0. Refining R into C would gain, but the
+ * policy draws the coarsest level and stops, so the result is {R}, cost
  * 1 > 0, flagged; and over_budget is 1 exactly when the cost exceeds the
- * budget. */
+ * budget. (A child that cost less than R would be drawn instead, within the
+ * budget: test_greedy.c, roots_that_do_not_fit_give_way_to_cheaper_children.) */
 static void drawn_over_the_budget_the_roots_are_all_that_is_drawn(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
     tclod_id r = add_kind(f, TCLOD_NONE, TABLE_REPLACE, 0.75, 1.0);
     const tclod_id drawn[] = {r};
     int k;
-    add_kind(f, r, TABLE_REPLACE, 1.0, 0.0);
+    add_kind(f, r, TABLE_REPLACE, 1.0, 1.5);
     for (k = 0; k < 3; ++k) {
         tclod_selector *sel =
             solver_selector(f->scene, &f->model, solvers[k], TCLOD_OVERFLOW_DRAW_ROOTS);
