@@ -148,8 +148,8 @@ static void usage(FILE *out) {
             "16 px, the \"sse16\" traversal). Nothing is drawn.\n"
             "\n"
             "  --frames N      frames of the flight, N >= 1 (default %lu; --stream %lu)\n"
-            "  --sizes FILE    content sizes, lines uri<TAB>bytes (uri as written in the\n"
-            "                  tileset), for contents that are not on disk beside it\n"
+            "  --sizes FILE    content sizes, lines path<TAB>bytes (the content's path from\n"
+            "                  the tileset's directory), for contents not on disk beside it\n"
             "  --csv FILE      also write the per-frame columns below to FILE (with a header)\n"
             "  --budget-ms X   budget per frame in ms, X >= 0 (default: the median of the\n"
             "                  sse16 traversal's per-frame cost over the flight); sse16:\n"
@@ -1033,6 +1033,7 @@ static void print_header(const options *o, const host *h, const flight *f, doubl
     static const char *const source[3] = {"median of the sse16 traversal's costs", "--budget-ms",
                                           "median; each frame's is the sse16 traversal's cost"};
     const tileset_counts *c = &h->ts.counts;
+    char warnings[1024];
     printf("tileset %s: %lu tiles (%lu regions, %lu boxes, %lu spheres), %lu without "
            "content, %lu refining by ADD, %lu external tilesets, %lu implicit roots (%lu "
            "subtrees), depth %lu\n",
@@ -1048,6 +1049,8 @@ static void print_header(const options *o, const host *h, const flight *f, doubl
            (unsigned long)c->contents, c->bytes * 1e-6, (unsigned long)c->from_file,
            (unsigned long)c->from_sizes, o->sizes_path ? o->sizes_path : "--sizes",
            (unsigned long)c->estimated, TILESET_ESTIMATE_BYTES, o->ms_per_mb);
+    tileset_warning_text(c, warnings, sizeof(warnings));
+    printf("reader: %s\n", warnings[0] ? warnings : "no deviation from 3D Tiles");
     if (f->path)
         printf("flight: %lu frames round a spiral of %lu frames down, %.0f m to %.0f m from the "
                "root's centre (radius %.0f m), and back up; budget %.3f ms (%s)\n\n",

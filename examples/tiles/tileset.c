@@ -48,6 +48,10 @@ typedef struct pending {
     int32_t index; /* position in the parent's "children"; -1 for a document's root */
     tclod_refine refine;
     double transform[16];
+    double error;     /* the parent's geometricError as written (the main root: the
+                         tileset's, -1 when it has none): a tile without one takes it */
+    int in_region;    /* 1: the parent's volume is the region below */
+    double region[6]; /* the parent's region, to tell whether the tile reaches out */
 } pending;
 
 typedef struct loader {
@@ -430,8 +434,8 @@ static int load_document(loader *l, const char *path, const pending *via, uint32
     version = cJSON_GetObjectItemCaseSensitive(asset, "version");
     if (!cJSON_IsObject(json)) {
         fail(l, "%s: not a tileset: the top level is not a JSON object", path);
-    } else if (!cJSON_IsObject(asset) || !cJSON_IsString(version)) {
-        fail(l, "%s: no \"asset\" object with a \"version\" string", path);
+    } else if (!cJSON_IsObject(asset)) {
+        fail(l, "%s: no \"asset\" object", path);
     } else if (!cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(json, "root"))) {
         fail(l, "%s: no \"root\" tile object", path);
     } else {
@@ -440,6 +444,14 @@ static int load_document(loader *l, const char *path, const pending *via, uint32
     cJSON_Delete(json);
     return 1;
 parsed:
+    /* CesiumJS refuses versions other than these three, cesium-native reads
+     * any: a version says nothing this reader needs */
+    if (!version)
+        ++l->counts.missing_versions;
+    else if (!cJSON_IsString(version) ||
+             (strcmp(version->valuestring, "0.0") != 0 &&
+              strcmp(version->valuestring, "1.0") != 0 && strcmp(version->valuestring, "1.1") != 0))
+        ++l->counts.other_versions;
     if (l->doc_count == l->doc_cap) {
         uint32_t cap = l->doc_cap ? 2 * l->doc_cap : 4;
         document *docs = (document *)realloc(l->docs, cap * sizeof(*docs));
@@ -539,10 +551,7 @@ static int box_volume(loader *l, const double v[12], const double m[16], tclod_b
     geo_mat4_point(m, v, c);
     for (i = 0; i < 3; ++i)
         geo_mat4_vector(m, v + 3 + 3 * i, a + 3 * i);
-    if (!all_finite(c, 3) || !all_finite(a, 9) || oriented_box(l, c, a, out))
-        return 1;
-    ++l->counts.boxes;
-    return 0;
+    return !all_finite(c, 3) || !all_finite(a, 9) || oriented_box(l, c, a, out);
 }
 
 /* A valid region (geo_region_valid) as its oriented box. 1 when it overflows
@@ -550,84 +559,130 @@ static int box_volume(loader *l, const double v[12], const double m[16], tclod_b
 static int region_volume(loader *l, const double v[6], tclod_bounds *out) {
     double c[3], a[9];
     geo_region_box(v, c, a);
-    if (!all_finite(c, 3) || !all_finite(a, 9) || oriented_box(l, c, a, out))
-        return 1;
-    ++l->counts.regions;
-    return 0;
+    return !all_finite(c, 3) || !all_finite(a, 9) || oriented_box(l, c, a, out);
 }
 
-/* The tile's bounding volume in world coordinates. A box goes through the
- * composed transform whole (centre as a point, half axes as directions); a
- * sphere's radius grows by the transform's largest scale (CesiumJS does the
- * same); a region is in earth-centred coordinates already and ignores the
- * transform (3D Tiles 1.1, "Bounding volumes"). Where a tile has several kinds
- * the box wins, then the region, as in CesiumJS. */
-static int read_bounds(loader *l, const pending *p, const cJSON *bv, const double m[16],
-                       tclod_bounds *out) {
+/* The kinds of bounding volume, as written. */
+enum { VOLUME_BOX = 1, VOLUME_REGION, VOLUME_SPHERE };
+
+/* A bounding volume ("boundingVolume" of a tile or a content, `name` in
+ * messages) in world coordinates; region[] gets a region as written. A box
+ * goes through the composed transform whole (centre as a point, half axes as
+ * directions); a sphere's radius grows by the transform's largest scale
+ * (CesiumJS does the same); a region is in earth-centred coordinates already
+ * and ignores the transform (3D Tiles 1.1, "Bounding volumes"). Where a volume
+ * has several kinds the box wins, then the region, as in CesiumJS. Returns
+ * the kind, or 0 after a message. */
+static int read_bounds(loader *l, const pending *p, const cJSON *bv, const char *name,
+                       const double m[16], tclod_bounds *out, double region[6]) {
     const cJSON *box = cJSON_GetObjectItemCaseSensitive(bv, "box");
-    const cJSON *region = cJSON_GetObjectItemCaseSensitive(bv, "region");
+    const cJSON *reg = cJSON_GetObjectItemCaseSensitive(bv, "region");
     const cJSON *sphere = cJSON_GetObjectItemCaseSensitive(bv, "sphere");
     double v[12], c[3];
     if (!cJSON_IsObject(bv)) {
-        fail_tile(l, p, "no \"boundingVolume\" object");
-        return 1;
+        fail_tile(l, p, "no \"%s\" object", name);
+        return 0;
     }
     if (box) {
         if (!read_numbers(box, v, 12)) {
             fail_tile(l, p,
-                      "boundingVolume.box needs 12 finite numbers (centre, then the x, y "
-                      "and z half axes)");
-            return 1;
+                      "%s.box needs 12 finite numbers (centre, then the x, y and z half axes)",
+                      name);
+            return 0;
         }
         if (box_volume(l, v, m, out)) {
-            fail_tile(l, p, "boundingVolume.box overflows (under the tile's transform)");
-            return 1;
+            fail_tile(l, p, "%s.box overflows (under the tile's transform)", name);
+            return 0;
         }
-    } else if (region) {
-        if (!read_numbers(region, v, 6)) {
+        return VOLUME_BOX;
+    }
+    if (reg) {
+        if (!read_numbers(reg, v, 6)) {
             fail_tile(l, p,
-                      "boundingVolume.region needs 6 finite numbers (west, south, east, "
-                      "north in radians, minimum and maximum height in m)");
-            return 1;
+                      "%s.region needs 6 finite numbers (west, south, east, north in radians, "
+                      "minimum and maximum height in m)",
+                      name);
+            return 0;
         }
         if (!geo_region_valid(v)) {
             fail_tile(l, p,
-                      "boundingVolume.region is out of range (west and east in [-pi, pi], "
-                      "south <= north in [-pi/2, pi/2], minimum height <= maximum height)");
-            return 1;
+                      "%s.region is out of range (west and east in [-pi, pi], south <= north "
+                      "in [-pi/2, pi/2], minimum height <= maximum height)",
+                      name);
+            return 0;
         }
         if (region_volume(l, v, out)) {
-            fail_tile(l, p, "boundingVolume.region's heights overflow its box");
-            return 1;
+            fail_tile(l, p, "%s.region's heights overflow its box", name);
+            return 0;
         }
-    } else if (sphere) {
+        memcpy(region, v, 6 * sizeof(double));
+        return VOLUME_REGION;
+    }
+    if (sphere) {
         if (!read_numbers(sphere, v, 4) || v[3] < 0.0) {
-            fail_tile(l, p,
-                      "boundingVolume.sphere needs 4 finite numbers (centre, then a radius "
-                      ">= 0)");
-            return 1;
+            fail_tile(l, p, "%s.sphere needs 4 finite numbers (centre, then a radius >= 0)", name);
+            return 0;
         }
         geo_mat4_point(m, v, c);
         *out = tclod_bounds_sphere(c[0], c[1], c[2], v[3] * geo_mat4_max_scale(m));
         if (!all_finite(c, 3) || !isfinite(out->radius) || tclod_bounds_validate(out) != TCLOD_OK) {
-            fail_tile(l, p, "boundingVolume.sphere overflows under the tile's transform");
-            return 1;
+            fail_tile(l, p, "%s.sphere overflows under the tile's transform", name);
+            return 0;
         }
-        ++l->counts.spheres;
-    } else {
-        fail_tile(l, p, "boundingVolume has no box, region or sphere");
-        return 1;
+        return VOLUME_SPHERE;
     }
+    fail_tile(l, p, "%s has no box, region or sphere", name);
     return 0;
 }
 
-/* Bytes of one content: the file beside the tileset, else the sizes file, else
- * the estimate. */
+/* The sizes file's key of a local uri named in document doc: its file's path
+ * relative to the main document's directory, "." and ".." segments resolved
+ * (a path that climbs out of that directory keeps its ".."). Malloc'd; NULL
+ * when out of memory. */
+static char *size_key(const loader *l, uint32_t doc, const char *uri) {
+    const char *base = l->docs[0].dir, *dir = l->docs[doc].dir;
+    size_t bl = strlen(base), i = 0, o = 0;
+    char *path, *key;
+    if (uri[0] == '/' || strncmp(dir, base, bl) != 0)
+        return uri_file("", uri);
+    path = uri_file(dir + bl, uri);
+    key = path ? (char *)malloc(strlen(path) + 1) : NULL;
+    if (!key) {
+        free(path);
+        return NULL;
+    }
+    while (path[i]) {
+        size_t n = strcspn(path + i, "/");
+        if (n == 1 && path[i] == '.') {
+            /* "./": nothing */
+        } else if (n == 2 && path[i] == '.' && path[i + 1] == '.' && o > 0 &&
+                   !(o >= 3 && memcmp(key + o - 3, "../", 3) == 0 &&
+                     (o == 3 || key[o - 4] == '/'))) {
+            /* "..": drop the segment before it */
+            o -= 1;
+            while (o > 0 && key[o - 1] != '/')
+                --o;
+        } else {
+            memcpy(key + o, path + i, n);
+            o += n;
+            if (path[i + n] == '/')
+                key[o++] = '/';
+        }
+        i += n + (path[i + n] == '/');
+    }
+    key[o] = '\0';
+    free(path);
+    return key;
+}
+
+/* Bytes of one content: the file beside the tileset, else the sizes file (by
+ * the path relative to the main tileset, else the uri as written), else the
+ * estimate. */
 static double content_bytes(loader *l, const pending *p, const char *uri) {
-    const size_entry *e;
+    const size_entry *e = NULL;
     ++l->counts.contents;
     if (uri_is_local(uri)) {
-        char *file = uri_file(l->docs[p->doc].dir, uri);
+        char *file = uri_file(l->docs[p->doc].dir, uri), *key;
         struct stat st;
         int found = file && stat(file, &st) == 0 && S_ISREG(st.st_mode);
         free(file);
@@ -635,8 +690,13 @@ static double content_bytes(loader *l, const pending *p, const char *uri) {
             ++l->counts.from_file;
             return (double)st.st_size;
         }
+        if (l->sizes && l->sizes->count > 0 && (key = size_key(l, p->doc, uri)) != NULL) {
+            e = size_lookup(l->sizes, key);
+            free(key);
+        }
     }
-    e = size_lookup(l->sizes, uri);
+    if (!e)
+        e = size_lookup(l->sizes, uri);
     if (e) {
         ++l->counts.from_sizes;
         return e->bytes;
@@ -645,11 +705,12 @@ static double content_bytes(loader *l, const pending *p, const char *uri) {
     return TILESET_ESTIMATE_BYTES;
 }
 
-/* A tile's content ("content" with "uri", or 1.0's "url") or contents (1.1):
- * their bytes summed into *bytes, *has_content set when one of them is drawn,
- * and *external set to the uri of an external tileset. */
-static int read_contents(loader *l, const pending *p, const cJSON *j, double *bytes,
-                         int *has_content, const char **external) {
+/* A tile's content ("content" with "uri", or "url" before 1.0) or contents
+ * (1.1): their bytes summed into *bytes, *has_content set when one of them is
+ * drawn, and *external set to the uri of an external tileset. A content's own
+ * bounding volume is checked under the tile's transform (world). */
+static int read_contents(loader *l, const pending *p, const cJSON *j, const double world[16],
+                         double *bytes, int *has_content, const char **external) {
     const cJSON *contents = cJSON_GetObjectItemCaseSensitive(j, "contents");
     const cJSON *content = cJSON_GetObjectItemCaseSensitive(j, "content");
     const cJSON *c;
@@ -672,11 +733,30 @@ static int read_contents(loader *l, const pending *p, const cJSON *j, double *by
     }
     for (; n > 0 && c; c = contents ? c->next : NULL) {
         const cJSON *uri = cJSON_GetObjectItemCaseSensitive(c, "uri");
-        if (!uri)
-            uri = cJSON_GetObjectItemCaseSensitive(c, "url"); /* 3D Tiles 1.0 */
-        if (!cJSON_IsObject(c) || !cJSON_IsString(uri) || uri->valuestring[0] == '\0') {
+        const cJSON *url = cJSON_GetObjectItemCaseSensitive(c, "url");
+        const cJSON *bv = cJSON_GetObjectItemCaseSensitive(c, "boundingVolume");
+        tclod_bounds unused;
+        double region[6];
+        if (!cJSON_IsObject(c)) {
+            fail_tile(l, p, "a content is not a JSON object");
+            return 1;
+        }
+        if (!(cJSON_IsString(uri) && uri->valuestring[0] != '\0') && cJSON_IsString(url)) {
+            uri = url; /* the name before 3D Tiles 1.0, which both Cesiums read */
+            ++l->counts.content_urls;
+        }
+        if (!cJSON_IsString(uri)) {
             fail_tile(l, p, "a content has no \"uri\" string");
             return 1;
+        }
+        if (bv) { /* CesiumJS culls drawing with it, not refinement: checked only */
+            if (!read_bounds(l, p, bv, "content.boundingVolume", world, &unused, region))
+                return 1;
+            ++l->counts.content_volumes;
+        }
+        if (uri->valuestring[0] == '\0') { /* CesiumJS: no content */
+            ++l->counts.empty_uris;
+            continue;
         }
         if (uri_is_tileset(uri->valuestring)) {
             if (n > 1) {
@@ -1097,7 +1177,10 @@ static int implicit_bounds(loader *l, const implicit *im, uint32_t level, const 
         for (i = 0; i <= 2; i += 2)
             if (v[i] > GEO_PI)
                 v[i] -= 2.0 * GEO_PI;
-        return region_volume(l, v, out);
+        if (region_volume(l, v, out))
+            return 1;
+        ++l->counts.regions;
+        return 0;
     }
     /* a box: the centre moves along each divided half axis, which shrinks */
     memcpy(v, im->volume, 12 * sizeof(double));
@@ -1109,7 +1192,10 @@ static int implicit_bounds(loader *l, const implicit *im, uint32_t level, const 
             v[3 + 3 * i + k] = im->volume[3 + 3 * i + k] / slices;
         }
     }
-    return box_volume(l, v, im->transform, out);
+    if (box_volume(l, v, im->transform, out))
+        return 1;
+    ++l->counts.boxes;
+    return 0;
 }
 
 /* The contents of tile `bit` of subtree s at (level, xyz): their bytes into
@@ -1389,14 +1475,98 @@ done:
     return rc;
 }
 
+/* Whether a tile's volume (b, of that kind; region as written) lies within its
+ * parent's (entry p), which 3D Tiles asks of every tile and not every producer
+ * keeps. Regions compare as regions; other volumes in world coordinates. The
+ * tolerance, 1e-4 of the parent's size and 1 mm, forgives written decimals. */
+static int within_parent(const loader *l, const pending *p, int kind, const double region[6],
+                         const tclod_bounds *b) {
+    const tclod_bounds *q;
+    double d[3], reach = 0.0, tol;
+    int i, k;
+    if (p->parent == TILE_NONE)
+        return 1;
+    q = &l->tiles[p->parent].bounds;
+    if (p->in_region && kind == VOLUME_REGION) {
+        const double *r = p->region;
+        double pw = r[2] >= r[0] ? r[2] - r[0] : r[2] - r[0] + 2.0 * GEO_PI;
+        double cw =
+            region[2] >= region[0] ? region[2] - region[0] : region[2] - region[0] + 2.0 * GEO_PI;
+        double west = region[0] - r[0], a = 1e-4 * pw + 1e-12, h = 1e-4 * (r[5] - r[4]) + 1e-3;
+        if (west < -a)
+            west += 2.0 * GEO_PI; /* the child starts east of the antimeridian */
+        return west >= -a && west + cw <= pw + a &&
+               region[1] >= r[1] - 1e-4 * (r[3] - r[1]) - 1e-12 &&
+               region[3] <= r[3] + 1e-4 * (r[3] - r[1]) + 1e-12 && region[4] >= r[4] - h &&
+               region[5] <= r[5] + h;
+    }
+    for (i = 0; i < 3; ++i)
+        d[i] = b->center[i] - q->center[i];
+    if (q->kind == TCLOD_BOUNDS_SPHERE) {
+        tol = 1e-4 * q->radius + 1e-3;
+        if (b->kind == TCLOD_BOUNDS_SPHERE)
+            return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) + b->radius <= q->radius + tol;
+        for (k = 0; k < 8; ++k) { /* a box: its corners */
+            double c2 = 0.0;
+            for (i = 0; i < 3; ++i) {
+                double x = d[i] + ((k & 1) ? 1 : -1) * b->half_axes[0][i] +
+                           ((k & 2) ? 1 : -1) * b->half_axes[1][i] +
+                           ((k & 4) ? 1 : -1) * b->half_axes[2][i];
+                c2 += x * x;
+            }
+            if (sqrt(c2) > q->radius + tol)
+                return 0;
+        }
+        return 1;
+    }
+    /* a box parent: along each of its axes, the child's centre offset and its
+     * reach within the half length (a zero axis takes the other two's normal) */
+    for (i = 0; i < 3; ++i) {
+        double h =
+            sqrt(q->half_axes[i][0] * q->half_axes[i][0] + q->half_axes[i][1] * q->half_axes[i][1] +
+                 q->half_axes[i][2] * q->half_axes[i][2]);
+        reach = h > reach ? h : reach;
+    }
+    tol = 1e-4 * reach + 1e-3;
+    for (i = 0; i < 3; ++i) {
+        const double *a = q->half_axes[i], *e = q->half_axes[(i + 1) % 3],
+                     *f = q->half_axes[(i + 2) % 3];
+        double u[3], h = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]), len, off = 0.0, ext = 0.0;
+        if (h > 0.0) {
+            for (k = 0; k < 3; ++k)
+                u[k] = a[k] / h;
+        } else {
+            u[0] = e[1] * f[2] - e[2] * f[1];
+            u[1] = e[2] * f[0] - e[0] * f[2];
+            u[2] = e[0] * f[1] - e[1] * f[0];
+            len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+            if (!(len > 0.0))
+                return 1; /* a segment or a point: nothing to compare with */
+            for (k = 0; k < 3; ++k)
+                u[k] /= len;
+        }
+        for (k = 0; k < 3; ++k)
+            off += d[k] * u[k];
+        if (b->kind == TCLOD_BOUNDS_SPHERE)
+            ext = b->radius;
+        else
+            for (k = 0; k < 3; ++k)
+                ext += fabs(b->half_axes[k][0] * u[0] + b->half_axes[k][1] * u[1] +
+                            b->half_axes[k][2] * u[2]);
+        if (fabs(off) + ext > h + tol)
+            return 0;
+    }
+    return 1;
+}
+
 /* Reads the tile of entry p into a new tile, and puts its children (and the
  * root of the external tileset it names) on the stack. */
 static int read_tile(loader *l, const pending *p) {
     const cJSON *j = p->json, *item, *child, *implicit_tiling;
     const char *external;
-    double world[16];
+    double world[16], error, region[6];
     tile t;
-    int has_content, n, i;
+    int has_content, n, i, kind;
     uint32_t self;
     size_t first;
 
@@ -1423,21 +1593,40 @@ static int read_tile(loader *l, const pending *p) {
     item = cJSON_GetObjectItemCaseSensitive(j, "refine");
     t.refine = p->refine;
     if (item) {
-        if (cJSON_IsString(item) && same_word(item->valuestring, "REPLACE")) {
-            t.refine = TCLOD_REFINE_REPLACE;
-        } else if (cJSON_IsString(item) && same_word(item->valuestring, "ADD")) {
-            t.refine = TCLOD_REFINE_ADD;
-        } else {
-            fail_tile(l, p, "refine must be \"REPLACE\" or \"ADD\"");
+        const char *r = cJSON_IsString(item) ? item->valuestring : NULL;
+        if (!r) {
+            fail_tile(l, p, "refine must be a string, \"REPLACE\" or \"ADD\"");
             return 1;
         }
+        if (same_word(r, "REPLACE") || same_word(r, "ADD")) {
+            t.refine = same_word(r, "ADD") ? TCLOD_REFINE_ADD : TCLOD_REFINE_REPLACE;
+            l->counts.lowercase_refines += strcmp(r, "REPLACE") != 0 && strcmp(r, "ADD") != 0;
+        } else {
+            ++l->counts.unknown_refines; /* cesium-native keeps the parent's */
+        }
     }
+    /* a missing geometricError is the parent's, as CesiumJS reads it (the
+     * root's: the tileset's); every error scales with the composed
+     * transform, as in both Cesiums */
     item = cJSON_GetObjectItemCaseSensitive(j, "geometricError");
-    if (!cJSON_IsNumber(item) || !isfinite(item->valuedouble) || item->valuedouble < 0.0) {
-        fail_tile(l, p, "geometricError must be a number >= 0");
+    if (item) {
+        if (!cJSON_IsNumber(item) || !isfinite(item->valuedouble) || item->valuedouble < 0.0) {
+            fail_tile(l, p, "geometricError must be a number >= 0");
+            return 1;
+        }
+        error = item->valuedouble;
+    } else if (p->error >= 0.0) {
+        error = p->error;
+        ++l->counts.inherited_errors;
+    } else {
+        fail_tile(l, p, "geometricError is missing, and there is no parent's or tileset's to take");
         return 1;
     }
-    t.geometric_error = item->valuedouble;
+    t.geometric_error = error * geo_mat4_max_scale(world);
+    if (!isfinite(t.geometric_error)) {
+        fail_tile(l, p, "geometricError overflows under the tile's transform");
+        return 1;
+    }
     implicit_tiling = cJSON_GetObjectItemCaseSensitive(j, "implicitTiling");
     item = cJSON_GetObjectItemCaseSensitive(j, "extensions");
     if (cJSON_GetObjectItemCaseSensitive(item, "3DTILES_implicit_tiling")) {
@@ -1446,12 +1635,19 @@ static int read_tile(loader *l, const pending *p) {
                   "1.1's implicitTiling is");
         return 1;
     }
-    if (read_bounds(l, p, cJSON_GetObjectItemCaseSensitive(j, "boundingVolume"), world, &t.bounds))
+    kind = read_bounds(l, p, cJSON_GetObjectItemCaseSensitive(j, "boundingVolume"),
+                       "boundingVolume", world, &t.bounds, region);
+    if (!kind)
         return 1;
+    l->counts.boxes += kind == VOLUME_BOX;
+    l->counts.regions += kind == VOLUME_REGION;
+    l->counts.spheres += kind == VOLUME_SPHERE;
+    t.loose = !within_parent(l, p, kind, region, &t.bounds);
+    l->counts.loose_children += (uint32_t)t.loose;
     if (implicit_tiling) { /* its contents are templates: read_implicit reads them */
         has_content = 0;
         external = NULL;
-    } else if (read_contents(l, p, j, &t.bytes, &has_content, &external)) {
+    } else if (read_contents(l, p, j, world, &t.bytes, &has_content, &external)) {
         return 1;
     }
     item = cJSON_GetObjectItemCaseSensitive(j, "children");
@@ -1479,6 +1675,9 @@ static int read_tile(loader *l, const pending *p) {
         c.index = n++;
         c.refine = t.refine;
         memcpy(c.transform, world, sizeof(world));
+        c.error = error;
+        c.in_region = kind == VOLUME_REGION;
+        memcpy(c.region, region, sizeof(region));
         if (push(l, &c))
             return 1;
     }
@@ -1512,6 +1711,9 @@ static int read_tile(loader *l, const pending *p) {
         c.index = -1;
         c.refine = t.refine;
         memcpy(c.transform, world, sizeof(world));
+        c.error = error;
+        c.in_region = kind == VOLUME_REGION;
+        memcpy(c.region, region, sizeof(region));
         if (push(l, &c))
             return 1;
     }
@@ -1571,6 +1773,7 @@ int tileset_load_at_most(const char *path, const size_table *sizes, uint32_t max
                          char *err, size_t err_size) {
     loader l;
     pending root;
+    const cJSON *error;
     uint32_t *children = NULL;
     int rc = 1;
 
@@ -1584,6 +1787,11 @@ int tileset_load_at_most(const char *path, const size_table *sizes, uint32_t max
     root.json = cJSON_GetObjectItemCaseSensitive(l.docs[0].json, "root");
     root.parent = TILE_NONE;
     root.index = -1;
+    error = cJSON_GetObjectItemCaseSensitive(l.docs[0].json, "geometricError");
+    root.error = cJSON_IsNumber(error) && isfinite(error->valuedouble) && error->valuedouble >= 0.0
+                     ? error->valuedouble
+                     : -1.0;
+    root.in_region = 0;
     /* 3D Tiles requires the root to say how it refines; one that does not
      * is read as REPLACE, the more common kind */
     root.refine = TCLOD_REFINE_REPLACE;
@@ -1621,4 +1829,38 @@ void tileset_free(tileset *ts) {
     free(ts->tiles);
     free(ts->children);
     memset(ts, 0, sizeof(*ts));
+}
+
+uint32_t tileset_warning_count(const tileset_counts *c) {
+    return c->inherited_errors + c->lowercase_refines + c->unknown_refines + c->content_urls +
+           c->empty_uris + c->missing_versions + c->other_versions + c->content_volumes +
+           c->loose_children;
+}
+
+void tileset_warning_text(const tileset_counts *c, char *out, size_t size) {
+    const struct {
+        uint32_t n;
+        const char *what;
+    } kinds[] = {
+        {c->inherited_errors, "tiles without geometricError took their parent's"},
+        {c->lowercase_refines, "refine values not in capitals were read in any case"},
+        {c->unknown_refines, "unknown refine values kept their parent's"},
+        {c->content_urls, "contents named by \"url\" were read as \"uri\""},
+        {c->empty_uris, "empty content uris were read as no content"},
+        {c->missing_versions, "tilesets without asset.version were read as 1.0"},
+        {c->other_versions, "tilesets of an asset.version other than 0.0, 1.0 and 1.1 were read"},
+        {c->content_volumes, "content bounding volumes were checked, not used"},
+        {c->loose_children, "tiles reach out of their parent's volume"},
+    };
+    size_t i, len = 0;
+    if (size > 0)
+        out[0] = '\0';
+    for (i = 0; i < sizeof(kinds) / sizeof(kinds[0]); ++i) {
+        int w;
+        if (kinds[i].n == 0 || len >= size)
+            continue;
+        w = snprintf(out + len, size - len, "%s%lu %s", len ? "; " : "", (unsigned long)kinds[i].n,
+                     kinds[i].what);
+        len = w < 0 ? size : len + (size_t)w;
+    }
 }

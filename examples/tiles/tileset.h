@@ -31,7 +31,8 @@
 
 typedef struct tile {
     tclod_bounds bounds;    /* world coordinates (earth-centred for a georeferenced set) */
-    double geometric_error; /* m, >= 0 */
+    double geometric_error; /* m, >= 0: as written (or inherited), times the
+                               composed transform's largest scale, as CesiumJS */
     double bytes;           /* content bytes, summed over a 1.1 tile's contents; 0 when empty */
     uint32_t parent;        /* TILE_NONE for the root */
     uint32_t first_child;   /* children: tileset.children[first_child .. + child_count] */
@@ -42,6 +43,9 @@ typedef struct tile {
     tclod_refine refine; /* how this tile's children refine it */
     int empty;           /* 1: no content of its own (none given, or an external
                             tileset's link) */
+    int loose;           /* 1: its volume reaches out of its parent's (3D Tiles asks
+                            that it does not; CesiumJS then culls the parent by its
+                            own volume only) */
 } tile;
 
 /* What the loader met, for the host's header line. */
@@ -56,7 +60,26 @@ typedef struct tileset_counts {
     uint32_t from_file, from_sizes, estimated; /* where their bytes came from */
     uint32_t max_depth;
     double bytes; /* all contents' bytes */
+    /* Deviations from 3D Tiles that real producers write and CesiumJS or
+     * cesium-native read, read the same way here and counted
+     * (docs/tiles.md, what the reader forgives): */
+    uint32_t inherited_errors;  /* tiles without geometricError: their parent's, the
+                                   root's from the tileset's geometricError */
+    uint32_t lowercase_refines; /* refine not in capitals ("add"), read in any case */
+    uint32_t unknown_refines;   /* refine neither REPLACE nor ADD: the parent's */
+    uint32_t content_urls;      /* contents named by "url" (before 1.0) for "uri" */
+    uint32_t empty_uris;        /* content.uri "": the tile has no content */
+    uint32_t missing_versions;  /* documents whose asset has no version: read as 1.0 */
+    uint32_t other_versions;    /* documents whose asset.version is not 0.0, 1.0 or 1.1 */
+    uint32_t content_volumes;   /* content bounding volumes: checked, then unused */
+    uint32_t loose_children;    /* tiles whose volume reaches out of their parent's */
 } tileset_counts;
+
+/* The deviations above, summed. */
+uint32_t tileset_warning_count(const tileset_counts *c);
+/* "2189 tiles without geometricError took their parent's, ...": the
+ * deviations that occurred, into out (empty when none). */
+void tileset_warning_text(const tileset_counts *c, char *out, size_t size);
 
 typedef struct tileset {
     tile *tiles; /* in depth-first order: a parent before its children */
@@ -65,8 +88,11 @@ typedef struct tileset {
     tileset_counts counts;
 } tileset;
 
-/* Content sizes given on the command line: lines "uri<TAB>bytes", the uri as
- * written in the tileset. Blank lines and lines starting with '#' are skipped. */
+/* Content sizes given on the command line: lines "path<TAB>bytes", the
+ * content's path relative to the directory of the tileset loaded (for the
+ * loaded file's own contents, the uri as written, without query or fragment);
+ * a line may also give a uri as an external tileset writes it. Blank lines and
+ * lines starting with '#' are skipped. */
 typedef struct size_entry {
     const char *uri;
     double bytes;

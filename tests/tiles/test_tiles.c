@@ -295,6 +295,82 @@ static void reads_volumes_transforms_refinement_and_contents(void **state) {
     scratch_free(s);
 }
 
+/* What real producers write that CesiumJS or cesium-native read, read alike
+ * and counted (docs/tiles.md, what the reader forgives):
+ *   root (the tileset's geometricError 40, none of its own; "Replace"),
+ *     0: child a: no geometricError (its parent's 40), scaled by 3 (120),
+ *        its content named by "url", its content's box checked;
+ *        child a1: "add", geometricError 10 under a's scale (30), reaching
+ *        out of a's box
+ *     1: child b: refine "MERGE" (its parent's REPLACE), content uri "" (no
+ *        content), an external tileset below it with no asset.version,
+ *        whose root's content is sized by its path from the main tileset's
+ *        directory (sub/e.glb in sizes.tsv) */
+static void reads_what_real_producers_write_and_counts_it(void **state) {
+    scratch *s = scratch_new();
+    size_table sizes;
+    tileset ts;
+    char err[512], text[1024];
+    const tile *t;
+    (void)state;
+    scratch_write(
+        s, "tileset.json",
+        "{\"asset\":{\"version\":\"2.0\"},\"geometricError\":40,\"root\":{\"refine\":\"Replace\","
+        "\"boundingVolume\":{\"box\":[0,0,0,10,0,0,0,10,0,0,0,10]},\"children\":["
+        "{\"transform\":[3,0,0,0,0,3,0,0,0,0,3,0,0,0,0,1],"
+        "\"boundingVolume\":{\"box\":[0,0,0,1,0,0,0,1,0,0,0,1]},"
+        "\"content\":{\"url\":\"a.glb\",\"boundingVolume\":{\"box\":[0,0,0,1,0,0,0,1,0,0,0,1]}},"
+        "\"children\":[{\"geometricError\":10,\"refine\":\"add\","
+        "\"boundingVolume\":{\"box\":[2,0,0,1,0,0,0,1,0,0,0,1]},\"content\":{\"uri\":\"a.glb\"}}]},"
+        "{\"geometricError\":5,\"refine\":\"MERGE\",\"boundingVolume\":{\"sphere\":[0,0,0,1]},"
+        "\"content\":{\"uri\":\"\"},\"children\":[{\"geometricError\":4,"
+        "\"boundingVolume\":{\"sphere\":[0,0,0,1]},\"content\":{\"uri\":\"sub/ext.json\"}}]}]}}",
+        0);
+    scratch_mkdir(s, "sub");
+    scratch_write(s, "sub/ext.json",
+                  "{\"asset\":{},\"root\":{\"boundingVolume\":{\"sphere\":[0,0,0,1]},"
+                  "\"content\":{\"uri\":\"e.glb\"}}}",
+                  0);
+    assert_int_equal(size_table_load(scratch_write(s, "sizes.tsv", "a.glb\t100\nsub/e.glb\t7\n", 0),
+                                     &sizes, err, sizeof(err)),
+                     0);
+    if (load(s, "tileset.json", &sizes, &ts, err, sizeof(err)))
+        fail_msg("%s", err);
+    t = ts.tiles;
+    /* root, a, a1, b, the link below b, the external root */
+    assert_int_equal(ts.count, 6);
+    assert_close(t[0].geometric_error, 40.0, 0.0);  /* the tileset's */
+    assert_close(t[1].geometric_error, 120.0, 0.0); /* the root's 40, times 3 */
+    assert_close(t[2].geometric_error, 30.0, 0.0);  /* 10 under a's scale */
+    assert_int_equal(t[0].refine, TCLOD_REFINE_REPLACE);
+    assert_int_equal(t[2].refine, TCLOD_REFINE_ADD);
+    assert_int_equal(t[3].refine, TCLOD_REFINE_REPLACE);
+    assert_close(t[1].bytes, 100.0, 0.0);
+    assert_true(t[3].empty);
+    assert_true(t[4].empty);
+    assert_close(t[5].geometric_error, 4.0, 0.0); /* the link's */
+    assert_close(t[5].bytes, 7.0, 0.0);
+    assert_false(t[1].loose);
+    assert_true(t[2].loose); /* centre 6 from a's, reach 3 + 3 against 3 */
+    assert_false(t[3].loose);
+    assert_int_equal(ts.counts.inherited_errors, 3); /* root, a, the external root */
+    assert_int_equal(ts.counts.lowercase_refines, 2);
+    assert_int_equal(ts.counts.unknown_refines, 1);
+    assert_int_equal(ts.counts.content_urls, 1);
+    assert_int_equal(ts.counts.empty_uris, 1);
+    assert_int_equal(ts.counts.missing_versions, 1);
+    assert_int_equal(ts.counts.other_versions, 1);
+    assert_int_equal(ts.counts.content_volumes, 1);
+    assert_int_equal(ts.counts.loose_children, 1);
+    assert_int_equal(tileset_warning_count(&ts.counts), 12);
+    tileset_warning_text(&ts.counts, text, sizeof(text));
+    assert_non_null(strstr(text, "3 tiles without geometricError took their parent's"));
+    assert_non_null(strstr(text, "1 tiles reach out of their parent's volume"));
+    tileset_free(&ts);
+    size_table_free(&sizes);
+    scratch_free(s);
+}
+
 /* One bad tileset: loading fails and the message holds `expect`. */
 static void assert_refused(scratch *s, const char *json, const char *expect) {
     tileset ts;
@@ -328,8 +404,16 @@ static void refuses_bad_tilesets_saying_where(void **state) {
     assert_refused(
         s, TILE("\"geometricError\":1,\"boundingVolume\":{\"box\":[0,0,0,1,0,0,0,1,0,0,0,\"1\"]}"),
         "boundingVolume.box needs 12");
-    assert_refused(s, TILE("\"geometricError\":1,\"refine\":\"MERGE\"," SPHERE),
-                   "refine must be \"REPLACE\" or \"ADD\"");
+    assert_refused(s, TILE("\"geometricError\":1,\"refine\":7," SPHERE),
+                   "tile root: refine must be a string");
+    assert_refused(s, TILE(SPHERE), "tile root: geometricError is missing");
+    assert_refused(s,
+                   TILE("\"geometricError\":1," SPHERE
+                        ",\"content\":{\"uri\":\"a.glb\",\"boundingVolume\":{\"box\":[0,0,0]}}"),
+                   "tile root: content.boundingVolume.box needs 12");
+    assert_refused(s,
+                   "{\"asset\":{\"version\":\"1.0\"},\"geometricError\":-2,\"root\":{" SPHERE "}}",
+                   "tile root: geometricError is missing");
     assert_refused(
         s, TILE("\"geometricError\":1,\"transform\":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,0]," SPHERE),
         "transform needs 16");
@@ -939,6 +1023,7 @@ int main(void) {
         cmocka_unit_test(region_box_encloses_the_region),
         cmocka_unit_test(region_validity),
         cmocka_unit_test(reads_volumes_transforms_refinement_and_contents),
+        cmocka_unit_test(reads_what_real_producers_write_and_counts_it),
         cmocka_unit_test(refuses_bad_tilesets_saying_where),
         cmocka_unit_test(refuses_external_tilesets_nested_too_deep),
         cmocka_unit_test(reads_an_implicit_quadtree_of_boxes),
