@@ -120,6 +120,8 @@ typedef struct host {
 typedef struct frame_result {
     double cost, benefit, us;
     double max_sse; /* the largest screen-space error left: of a drawn tile not refined */
+    double cwsse;   /* the screen-space error of those tiles, weighted by their
+                       projected areas (coverage_error) */
     uint32_t tiles;
 } frame_result;
 
@@ -187,6 +189,10 @@ static void usage(FILE *out) {
             "  max_sse, sse16_max_sse\n"
             "                 the largest screen-space error left on screen, in px: of\n"
             "                 the drawn tiles not refined further (CSV only)\n"
+            "  cwsse, sse16_cwsse\n"
+            "                 the screen-space error of those tiles weighted by their\n"
+            "                 projected areas, px: the mean error per pixel covered\n"
+            "                 (CSV only)\n"
             "\n"
             "Summary line (last line of stdout):\n"
             "  frames                      frames flown\n"
@@ -206,7 +212,9 @@ static void usage(FILE *out) {
             "                              distance or area disagreed with this program's,\n"
             "                              or its selection broke 3D Tiles' refinement rules\n"
             "  max_sse_median              median over frames of max_sse\n"
-            "  sse16_max_sse_median        median over frames of sse16_max_sse\n",
+            "  sse16_max_sse_median        median over frames of sse16_max_sse\n"
+            "  cwsse_median                median over frames of cwsse\n"
+            "  sse16_cwsse_median          median over frames of sse16_cwsse\n",
             DEFAULT_FRAMES, TILESET_ESTIMATE_BYTES);
     fputs(stream_sim_usage_output, out);
     fputs("\n"
@@ -408,6 +416,15 @@ static int build_copies(host *h) {
     return st == TCLOD_OK && ok;
 }
 
+/* A cost in ms rounded to a whole multiple of COST_QUANTUM (2^-30 ms, under
+ * a picosecond): sums of such costs below 2^22 ms are exact in any order, so
+ * that the sse16 traversal's cost, given as a budget, admits the same tiles
+ * summed in the library's order (docs/tiles.md, cost). */
+#define COST_QUANTUM (1.0 / 1073741824.0)
+static double exact_cost(double ms) {
+    return ms < 4194304.0 ? floor(ms / COST_QUANTUM + 0.5) * COST_QUANTUM : ms;
+}
+
 /* The scene and the tables the callbacks index by node id. */
 static int build_scene(host *h, double ms_per_mb) {
     tclod_status st = tclod_scene_create(NULL, &h->scene);
@@ -419,7 +436,7 @@ static int build_scene(host *h, double ms_per_mb) {
     if (st == TCLOD_OK && !add_tiles(&h->ts, h->scene, h->id_of_tile))
         return 1;
     for (t = 0; st == TCLOD_OK && t < h->ts.count; ++t)
-        h->cost_ms[t] = h->ts.tiles[t].bytes * 1e-6 * ms_per_mb;
+        h->cost_ms[t] = exact_cost(h->ts.tiles[t].bytes * 1e-6 * ms_per_mb);
     if (st == TCLOD_OK)
         st = tclod_scene_prepare(h->scene);
     if (st == TCLOD_OK) {
@@ -807,6 +824,25 @@ static double max_error(host *h, const uint32_t *list, size_t n) {
     return worst;
 }
 
+/* The screen-coverage-weighted screen-space error of the drawn tiles that
+ * check_rules has just found unrefined: their errors weighted by their
+ * projected areas (tclod_view_bounds_area, at most the viewport's, 0 outside
+ * the frustum), the mean error per pixel of what is on screen. 0 when they
+ * cover nothing. */
+static double coverage_error(host *h, const uint32_t *list, size_t n) {
+    double area = 0.0, sum = 0.0;
+    size_t i;
+    for (i = 0; i < n; ++i) {
+        uint32_t t = list[i];
+        if (h->rules.refined_stamp[t] != h->rules.stamp) {
+            double a = model_area(&h->model, t);
+            area += a;
+            sum += a * model_sse(&h->model, t, model_distance(&h->model, t));
+        }
+    }
+    return area > 0.0 ? sum / area : 0.0;
+}
+
 /* ---- the sse16 traversal ---------------------------------------------------------- */
 
 /* CesiumJS's default selection without its loading logic: from the root,
@@ -838,6 +874,14 @@ static void sse16_frame(host *h, unsigned long frame, const tclod_view *v, uint3
             continue;
         refine = x->child_count > 0 &&
                  (x->empty || model_sse(m, t, model_distance(m, t)) > MODEL_SSE_REF);
+        if (refine || m->link[t].children_bound) {
+            int seen = 0;
+            for (i = 0; i < x->child_count && !seen; ++i)
+                seen = model_visible(m, ts->children[x->first_child + i]);
+            if (!seen && m->link[t].children_bound)
+                continue;            /* its children bound what it shows, and none is in view */
+            refine = refine && seen; /* none in view: the tile is drawn instead */
+        }
         if (!x->empty && (!refine || x->refine == TCLOD_REFINE_ADD)) {
             drawn[n++] = t;
             cost += h->cost_ms[t];
@@ -852,6 +896,7 @@ static void sse16_frame(host *h, unsigned long frame, const tclod_view *v, uint3
         benefit += model_benefit(m, drawn[i], model_distance(m, drawn[i]));
     check_rules(h, "the sse16 traversal", frame, drawn, n, NULL);
     out->max_sse = max_error(h, drawn, n);
+    out->cwsse = coverage_error(h, drawn, n);
     out->cost = cost;
     out->benefit = benefit;
     out->tiles = n;
@@ -894,10 +939,10 @@ static void print_row(FILE *out, int csv, unsigned long frame, double budget,
                       const frame_result *mine, const frame_result *base, double distance,
                       const stream_sim *ss) {
     if (csv)
-        fprintf(out, "%lu,%.9g,%.9g,%.9g,%lu,%.3f,%.9g,%.9g,%lu,%.3f,%.3f,%.6g,%.6g", frame, budget,
-                mine->cost, mine->benefit, (unsigned long)mine->tiles, mine->us, base->cost,
-                base->benefit, (unsigned long)base->tiles, base->us, distance, mine->max_sse,
-                base->max_sse);
+        fprintf(out, "%lu,%.9g,%.9g,%.9g,%lu,%.3f,%.9g,%.9g,%lu,%.3f,%.3f,%.6g,%.6g,%.6g,%.6g",
+                frame, budget, mine->cost, mine->benefit, (unsigned long)mine->tiles, mine->us,
+                base->cost, base->benefit, (unsigned long)base->tiles, base->us, distance,
+                mine->max_sse, base->max_sse, mine->cwsse, base->cwsse);
     else
         fprintf(out, "%6lu %9.3f %9.3f %12.1f %6lu %9.1f %13.3f %13.1f %11lu %9.1f", frame, budget,
                 mine->cost, mine->benefit, (unsigned long)mine->tiles, mine->us, base->cost,
@@ -936,6 +981,10 @@ static int run_tclod(host *h, const options *o, const flight *f, const double *b
         sd.callbacks.cost_batch = cost_batch_cb;
     }
     sd.callbacks.user = h;
+    /* a tileset's levels need not gain at every step (a producer's child may
+     * carry a larger geometric error than its parent): an increment looks
+     * one level past the children (docs/tiles.md, the solver) */
+    sd.greedy.lookahead = 1;
     st = tclod_selector_create(h->scene, &sd, NULL, &sel);
     if (st != TCLOD_OK) {
         fprintf(stderr, "tclod_tiles: creating the selector failed: %s\n", tclod_status_string(st));
@@ -1001,6 +1050,7 @@ static int run_tclod(host *h, const options *o, const flight *f, const double *b
         }
         check_rules(h, "libtclod", frame, h->rule_list, n, ss ? ss->ours.state : NULL);
         r->max_sse = max_error(h, h->rule_list, n);
+        r->cwsse = coverage_error(h, h->rule_list, n);
         r->cost = cost;
         r->benefit = benefit;
         r->tiles = (uint32_t)n;
@@ -1065,6 +1115,7 @@ static void print_summary(const host *h, unsigned long frames, double budget, fr
                           frame_result *base, const totals *tot, stream_sim *ss) {
     double *v = (double *)malloc(frames * sizeof(double));
     double base_max = 0.0, base_median, select_median, sse16_median, max_sse, sse16_max_sse;
+    double cwsse, sse16_cwsse;
     unsigned long i, check_errors;
     if (!v) {
         fprintf(stderr, "tclod_tiles: out of memory\n");
@@ -1087,6 +1138,12 @@ static void print_summary(const host *h, unsigned long frames, double budget, fr
     for (i = 0; i < frames; ++i)
         v[i] = base[i].max_sse;
     sse16_max_sse = median(v, frames);
+    for (i = 0; i < frames; ++i)
+        v[i] = mine[i].cwsse;
+    cwsse = median(v, frames);
+    for (i = 0; i < frames; ++i)
+        v[i] = base[i].cwsse;
+    sse16_cwsse = median(v, frames);
     free(v);
 
     check_errors = tot->cost_mismatches + tot->benefit_mismatches + h->unknown_ids +
@@ -1120,12 +1177,13 @@ static void print_summary(const host *h, unsigned long frames, double budget, fr
     printf("\nsummary: frames=%lu tiles=%lu violations=%lu mean_cost_ratio=%.4f "
            "sse16_cost_max_over_median=%.4f benefit_vs_sse16=%.4f select_us_median=%.1f "
            "sse16_us_median=%.1f budget_ms=%.4f box_fallbacks=%lu check_errors=%lu "
-           "max_sse_median=%.2f sse16_max_sse_median=%.2f",
+           "max_sse_median=%.2f sse16_max_sse_median=%.2f cwsse_median=%.3f "
+           "sse16_cwsse_median=%.3f",
            frames, (unsigned long)h->ts.count, tot->violations,
            tot->sum_cost_ratio / (double)frames, base_median > 0.0 ? base_max / base_median : 0.0,
            tot->benefit_frames ? tot->sum_benefit_ratio / (double)tot->benefit_frames : 0.0,
            select_median, sse16_median, budget, (unsigned long)h->ts.counts.box_fallbacks,
-           check_errors, max_sse, sse16_max_sse);
+           check_errors, max_sse, sse16_max_sse, cwsse, sse16_cwsse);
     if (ss)
         stream_sim_print_summary(stdout, ss);
     printf("\n");
@@ -1156,7 +1214,8 @@ static FILE *open_csv(const char *path, int streaming) {
         return NULL;
     }
     fprintf(csv, "frame,budget_ms,cost_ms,benefit,tiles,select_us,sse16_cost_ms,"
-                 "sse16_benefit,sse16_tiles,sse16_us,distance_m,max_sse,sse16_max_sse");
+                 "sse16_benefit,sse16_tiles,sse16_us,distance_m,max_sse,sse16_max_sse,cwsse,"
+                 "sse16_cwsse");
     if (streaming)
         stream_sim_csv_header(csv);
     fputc('\n', csv);

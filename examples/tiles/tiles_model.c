@@ -98,6 +98,13 @@ int model_init(tiles_model *m, const tileset *ts) {
         m->link[t].add_anchor = x->add_anchor;
         m->link[t].first_child = x->first_child;
         m->link[t].child_count = x->child_count;
+        m->link[t].children_bound = x->refine == TCLOD_REFINE_REPLACE && x->child_count > 0 &&
+                                    x->bounds.kind == TCLOD_BOUNDS_OBB;
+    }
+    for (t = 0; t < ts->count; ++t) { /* a child that is no box, or reaches out */
+        const tile *x = &ts->tiles[t];
+        if (x->parent != TILE_NONE && (x->bounds.kind != TCLOD_BOUNDS_OBB || x->loose))
+            m->link[x->parent].children_bound = 0;
     }
     return 0;
 }
@@ -382,20 +389,39 @@ double model_sse(const tiles_model *m, uint32_t t, double distance) {
     return m->link[t].geometric_error * m->sse_factor / d;
 }
 
+/* The error the benefit weighs: CesiumJS's, but from no nearer than the near
+ * plane, since nothing nearer is on screen. A camera inside a tile's volume
+ * (distance 0) would otherwise see every level of it at an error of 10^10 px,
+ * where the quality below no longer tells one level from the next. */
+static double model_seen_sse(const tiles_model *m, uint32_t t, double distance) {
+    double near = (double)m->view.near_z;
+    return model_sse(m, t, distance > near ? distance : near);
+}
+
 static double quality(double sse) {
     return 1.0 / (1.0 + sse / MODEL_HALF_QUALITY_SSE);
 }
 
+int model_culled_by_children(tiles_model *m, uint32_t t) {
+    return m->link[t].children_bound && !(children_area(m, t) > 0.0);
+}
+
 double model_benefit(tiles_model *m, uint32_t t, double distance) {
     uint32_t anchor = m->link[t].add_anchor;
-    double a = share_of(m, t), q = quality(model_sse(m, t, distance)), b;
+    double a, q, b;
+    if (model_culled_by_children(m, t))
+        return 0.0;
+    a = share_of(m, t);
+    q = quality(model_seen_sse(m, t, distance));
+    if (!(a > 0.0))
+        return 0.0; /* an ancestor is out of view: CesiumJS culls its subtree */
     if (a < MIN_SHARE)
         a = MIN_SHARE;
     /* below an additive tile that stays drawn, only the improvement counts:
      * the sums over a drawn subtree then telescope to what its finest tiles
      * show, as with replacement */
     if (anchor != TILE_NONE)
-        q -= quality(model_sse(m, anchor, model_distance(m, anchor)));
+        q -= quality(model_seen_sse(m, anchor, model_distance(m, anchor)));
     b = a * q;
     return b > a * MIN_GAIN ? b : a * MIN_GAIN;
 }

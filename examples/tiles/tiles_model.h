@@ -34,7 +34,7 @@
  * refines above. */
 #define MODEL_SSE_REF 16.0
 /* K: the error (px) at which a tile shows half its quality. */
-#define MODEL_HALF_QUALITY_SSE 64.0
+#define MODEL_HALF_QUALITY_SSE 256.0
 /* A camera inside a tile's volume is at distance 0: CesiumJS divides by this
  * instead (CesiumMath.EPSILON7). */
 #define MODEL_MIN_DISTANCE 1e-7
@@ -60,6 +60,8 @@ typedef struct model_eye {
 typedef struct model_link {
     double geometric_error;
     uint32_t parent, add_anchor, first_child, child_count;
+    uint32_t children_bound; /* 1: a REPLACE box with children, all boxes within it:
+                                what it shows lies in them (model_children_bound) */
 } model_link;
 
 typedef struct tiles_model {
@@ -112,9 +114,15 @@ void model_note_area(tiles_model *m, uint32_t t, double area);
 /* The screen-space error of tile t seen from `distance`, in px. */
 double model_sse(const tiles_model *m, uint32_t t, double distance);
 
+/* 1 when tile t is one whose children bound what it shows (a REPLACE tile
+ * with children, itself and every child a box or region, each child within
+ * it, as CesiumJS's cullWithChildrenBounds asks) and none of them is in the
+ * frustum: CesiumJS then culls t, and so does the benefit. */
+int model_culled_by_children(tiles_model *m, uint32_t t);
+
 /* The benefit of drawing tile t, seen from `distance`, when it is in the
  * frustum: > 0 (a tile that adds nothing gets a trace, not 0, which would
- * cull its subtree). */
+ * cull its subtree), or 0 when model_culled_by_children. */
 double model_benefit(tiles_model *m, uint32_t t, double distance);
 
 /* The distance from eye to b computed here, apart from the library, to check

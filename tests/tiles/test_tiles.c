@@ -879,6 +879,87 @@ static void benefits_telescope_to_the_parents_share(void **state) {
     }
 }
 
+/* The benefit culls what CesiumJS culls and weighs what is on screen:
+ *  - a REPLACE box whose children are boxes within it, none in view, shows
+ *    nothing (CesiumJS's cullWithChildrenBounds): benefit 0; with a child
+ *    that reaches out of it, it is drawn as seen;
+ *  - a tile whose parent is out of view has no share and is culled, though
+ *    its own volume (reaching out of the parent's) is in view;
+ *  - from inside a volume the error is seen from the near plane: a sphere of
+ *    error 1 around the eye, 0.1 m near, shows 1 x 300 / tan(0.5) / 0.1 px
+ *    over the whole viewport, at quality 1 / (1 + s / 256). */
+static void the_benefit_culls_what_cesiumjs_culls(void **state) {
+    static const char *const boxes =
+        "{\"asset\":{\"version\":\"1.1\"},\"root\":{\"geometricError\":8,\"refine\":\"REPLACE\","
+        "\"boundingVolume\":{\"box\":[0,0,-100,20,0,0,0,20,0,0,0,20]},\"content\":{\"uri\":\"r\"},"
+        "\"children\":[{\"geometricError\":0,\"boundingVolume\":{\"box\":[-10,0,-100,5,0,0,0,5,0,"
+        "0,0,5]},\"content\":{\"uri\":\"a\"}},{\"geometricError\":0,\"boundingVolume\":{\"box\":["
+        "10,0,-100,%d,0,0,0,5,0,0,0,5]},\"content\":{\"uri\":\"b\"}}]}}";
+    static const char *const spheres =
+        "{\"asset\":{\"version\":\"1.1\"},\"root\":{\"geometricError\":1,"
+        "\"boundingVolume\":{\"sphere\":[0,0,0,10]},\"content\":{\"uri\":\"r\"},"
+        "\"children\":[{\"geometricError\":0,\"boundingVolume\":{\"sphere\":[100,0,-100,4]},"
+        "\"content\":{\"uri\":\"a\"},\"children\":[{\"geometricError\":0,\"boundingVolume\":{"
+        "\"sphere\":[0,0,-100,1]},\"content\":{\"uri\":\"b\"}}]}]}}";
+    int loose;
+    (void)state;
+    for (loose = 0; loose < 2; ++loose) {
+        scratch *s = scratch_new();
+        tileset ts;
+        tiles_model m;
+        tclod_view v = view_down_z();
+        char err[512], json[512];
+        double b;
+        snprintf(json, sizeof(json), boxes, loose ? 30 : 5);
+        scratch_write(s, "t.json", json, 0);
+        if (load(s, "t.json", NULL, &ts, err, sizeof(err)))
+            fail_msg("%s", err);
+        assert_int_equal(ts.tiles[2].loose, loose);
+        assert_int_equal(model_init(&m, &ts), 0);
+        /* inside the root's box above the children, looking away from them */
+        v.eye[1] = 15.0;
+        v.eye[2] = -100.0;
+        v.forward[1] = 1.0f;
+        v.forward[2] = 0.0f;
+        v.up[1] = 0.0f;
+        v.up[2] = 1.0f;
+        model_set_view(&m, &v);
+        assert_true(model_area(&m, 0) > 0.0);
+        assert_true(model_area(&m, 1) == 0.0);
+        b = model_benefit(&m, 0, model_distance(&m, 0));
+        if (loose)
+            assert_true(b > 0.0 && model_area(&m, 2) == 0.0);
+        else
+            assert_true(b == 0.0);
+        model_free(&m);
+        tileset_free(&ts);
+        scratch_free(s);
+    }
+    {
+        scratch *s = scratch_new();
+        tileset ts;
+        tiles_model m;
+        tclod_view v = view_down_z();
+        char err[512];
+        double sse = 1.0 * 300.0 / tan(0.5) / 0.1, area;
+        scratch_write(s, "t.json", spheres, 0);
+        if (load(s, "t.json", NULL, &ts, err, sizeof(err)))
+            fail_msg("%s", err);
+        assert_int_equal(model_init(&m, &ts), 0);
+        model_set_view(&m, &v);
+        assert_true(model_area(&m, 1) == 0.0 && model_area(&m, 2) > 0.0);
+        assert_true(model_benefit(&m, 2, model_distance(&m, 2)) == 0.0);
+        area = model_area(&m, 0);
+        assert_close(area, 600.0 * 600.0 * 1.5, 1e-6);
+        assert_close(model_distance(&m, 0), 0.0, 0.0);
+        assert_close(model_benefit(&m, 0, 0.0), area / (1.0 + sse / MODEL_HALF_QUALITY_SSE),
+                     1e-9 * area);
+        model_free(&m);
+        tileset_free(&ts);
+        scratch_free(s);
+    }
+}
+
 /* Areas the callbacks take from the queries (model_note_area) are the tiles'
  * for the view: the shares are split by them, by hand 1000 x 300 / (300 + 100)
  * = 750 and 1000 x 100 / 400 = 250 for the two error-free children (quality
@@ -1030,6 +1111,7 @@ int main(void) {
         cmocka_unit_test(reads_implicit_octrees_and_regions),
         cmocka_unit_test(refuses_bad_implicit_tilesets_saying_what),
         cmocka_unit_test(benefits_telescope_to_the_parents_share),
+        cmocka_unit_test(the_benefit_culls_what_cesiumjs_culls),
         cmocka_unit_test(noted_areas_are_the_models_for_the_view),
         cmocka_unit_test(reference_distance_matches_the_library),
         cmocka_unit_test(model_measures_match_the_library),
