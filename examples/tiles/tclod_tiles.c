@@ -781,8 +781,9 @@ static int check_cut(host *h, cut_check *c, const uint32_t *list, size_t n, cons
         while (top > 0) {
             uint32_t t = c->stack[--top];
             const tile *x = &ts->tiles[t];
-            if (model_area(&h->model, t) <= 0.0 || c->drawn_stamp[t] == s ||
-                c->refined_stamp[t] == s || (state && state[h->id_of_tile[t]] != STREAM_RESIDENT))
+            if (model_area(&h->model, t) <= 0.0 || model_out_of_request(&h->model, t) ||
+                c->drawn_stamp[t] == s || c->refined_stamp[t] == s ||
+                (state && state[h->id_of_tile[t]] != STREAM_RESIDENT))
                 continue;
             if (x->child_count == 0 && !x->empty && !faults++)
                 snprintf(why, why_size,
@@ -870,7 +871,7 @@ static void sse16_frame(host *h, unsigned long frame, const tclod_view *v, uint3
         uint32_t t = stack[--top];
         const tile *x = &ts->tiles[t];
         int refine;
-        if (!model_visible(m, t))
+        if (!model_visible(m, t) || model_out_of_request(m, t))
             continue;
         refine = x->child_count > 0 &&
                  (x->empty || model_sse(m, t, model_distance(m, t)) > MODEL_SSE_REF);

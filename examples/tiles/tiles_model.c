@@ -402,6 +402,13 @@ static double quality(double sse) {
     return 1.0 / (1.0 + sse / MODEL_HALF_QUALITY_SSE);
 }
 
+int model_out_of_request(const tiles_model *m, uint32_t t) {
+    const tileset *ts = m->ts;
+    uint32_t r = ts->tiles[t].request;
+    return r != TILE_NONE && r < ts->request_count &&
+           model_reference_distance(&ts->requests[r], m->view.eye) > 0.0;
+}
+
 int model_culled_by_children(tiles_model *m, uint32_t t) {
     return m->link[t].children_bound && !(children_area(m, t) > 0.0);
 }
@@ -409,7 +416,7 @@ int model_culled_by_children(tiles_model *m, uint32_t t) {
 double model_benefit(tiles_model *m, uint32_t t, double distance) {
     uint32_t anchor = m->link[t].add_anchor;
     double a, q, b;
-    if (model_culled_by_children(m, t))
+    if (model_out_of_request(m, t) || model_culled_by_children(m, t))
         return 0.0;
     a = share_of(m, t);
     q = quality(model_seen_sse(m, t, distance));

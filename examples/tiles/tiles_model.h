@@ -114,6 +114,10 @@ void model_note_area(tiles_model *m, uint32_t t, double area);
 /* The screen-space error of tile t seen from `distance`, in px. */
 double model_sse(const tiles_model *m, uint32_t t, double distance);
 
+/* 1 when tile t has a viewerRequestVolume the eye is outside of: CesiumJS
+ * then culls t with its subtree, and so does the benefit. */
+int model_out_of_request(const tiles_model *m, uint32_t t);
+
 /* 1 when tile t is one whose children bound what it shows (a REPLACE tile
  * with children, itself and every child a box or region, each child within
  * it, as CesiumJS's cullWithChildrenBounds asks) and none of them is in the
@@ -122,7 +126,8 @@ int model_culled_by_children(tiles_model *m, uint32_t t);
 
 /* The benefit of drawing tile t, seen from `distance`, when it is in the
  * frustum: > 0 (a tile that adds nothing gets a trace, not 0, which would
- * cull its subtree), or 0 when model_culled_by_children. */
+ * cull its subtree), or 0 when model_culled_by_children or
+ * model_out_of_request. */
 double model_benefit(tiles_model *m, uint32_t t, double distance);
 
 /* The distance from eye to b computed here, apart from the library, to check

@@ -63,6 +63,8 @@ typedef struct loader {
     size_t top, stack_cap;
     tile *tiles;
     uint32_t count, tile_cap;
+    tclod_bounds *requests; /* viewerRequestVolumes */
+    uint32_t request_count, request_cap;
     uint32_t *tile_doc;  /* per tile: its document, for messages */
     int32_t *tile_index; /* per tile: its position in its parent's "children" */
     tileset_counts counts;
@@ -1243,6 +1245,7 @@ static int implicit_tile(loader *l, const implicit *im, const subtree *s, uint64
     t.refine = im->refine;
     t.empty = !has;
     t.add_anchor = TILE_NONE;
+    t.request = TILE_NONE;
     *out = l->count;
     return add_tile(l, &im->root, &t);
 }
@@ -1644,6 +1647,26 @@ static int read_tile(loader *l, const pending *p) {
     l->counts.spheres += kind == VOLUME_SPHERE;
     t.loose = !within_parent(l, p, kind, region, &t.bounds);
     l->counts.loose_children += (uint32_t)t.loose;
+    t.request = TILE_NONE;
+    item = cJSON_GetObjectItemCaseSensitive(j, "viewerRequestVolume");
+    if (item) {
+        tclod_bounds rv;
+        double unused[6];
+        if (!read_bounds(l, p, item, "viewerRequestVolume", world, &rv, unused))
+            return 1;
+        if (l->request_count == l->request_cap) {
+            uint32_t cap = l->request_cap ? 2 * l->request_cap : 16;
+            tclod_bounds *r = (tclod_bounds *)realloc(l->requests, cap * sizeof(*r));
+            if (!r) {
+                fail(l, "out of memory");
+                return 1;
+            }
+            l->requests = r;
+            l->request_cap = cap;
+        }
+        t.request = l->request_count;
+        l->requests[l->request_count++] = rv;
+    }
     if (implicit_tiling) { /* its contents are templates: read_implicit reads them */
         has_content = 0;
         external = NULL;
@@ -1762,6 +1785,7 @@ static void loader_free(loader *l) {
     free(l->stack);
     free(l->tile_doc);
     free(l->tile_index);
+    free(l->requests);
 }
 
 int tileset_load(const char *path, const size_table *sizes, tileset *ts, char *err,
@@ -1808,8 +1832,11 @@ int tileset_load_at_most(const char *path, const size_table *sizes, uint32_t max
     ts->tiles = l.tiles;
     ts->count = l.count;
     ts->children = children;
+    ts->requests = l.requests;
+    ts->request_count = l.request_count;
     ts->counts = l.counts;
     l.tiles = NULL;
+    l.requests = NULL;
     rc = 0;
 done:
     free(l.tiles);
@@ -1828,6 +1855,7 @@ void tile_node_desc(const tile *t, tclod_id parent, tclod_node_desc *d) {
 void tileset_free(tileset *ts) {
     free(ts->tiles);
     free(ts->children);
+    free(ts->requests);
     memset(ts, 0, sizeof(*ts));
 }
 

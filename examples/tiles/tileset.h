@@ -46,6 +46,8 @@ typedef struct tile {
     int loose;           /* 1: its volume reaches out of its parent's (3D Tiles asks
                             that it does not; CesiumJS then culls the parent by its
                             own volume only) */
+    uint32_t request;    /* its viewerRequestVolume: tileset.requests[request], or
+                            TILE_NONE when it has none */
 } tile;
 
 /* What the loader met, for the host's header line. */
@@ -85,6 +87,10 @@ typedef struct tileset {
     tile *tiles; /* in depth-first order: a parent before its children */
     uint32_t count;
     uint32_t *children;
+    tclod_bounds *requests; /* the viewerRequestVolumes of the tiles that have one, in
+                               world coordinates: CesiumJS shows such a tile (and
+                               its subtree) only to a camera inside it */
+    uint32_t request_count;
     tileset_counts counts;
 } tileset;
 

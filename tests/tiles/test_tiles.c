@@ -408,6 +408,9 @@ static void refuses_bad_tilesets_saying_where(void **state) {
                    "tile root: refine must be a string");
     assert_refused(s, TILE(SPHERE), "tile root: geometricError is missing");
     assert_refused(s,
+                   TILE("\"geometricError\":1," SPHERE ",\"viewerRequestVolume\":{\"sphere\":[1]}"),
+                   "tile root: viewerRequestVolume.sphere needs 4");
+    assert_refused(s,
                    TILE("\"geometricError\":1," SPHERE
                         ",\"content\":{\"uri\":\"a.glb\",\"boundingVolume\":{\"box\":[0,0,0]}}"),
                    "tile root: content.boundingVolume.box needs 12");
@@ -879,7 +882,8 @@ static void benefits_telescope_to_the_parents_share(void **state) {
     }
 }
 
-/* The benefit culls what CesiumJS culls and weighs what is on screen:
+/* The benefit culls what CesiumJS culls and weighs what is on screen (and
+ * a tile is shown only to an eye inside its viewerRequestVolume):
  *  - a REPLACE box whose children are boxes within it, none in view, shows
  *    nothing (CesiumJS's cullWithChildrenBounds): benefit 0; with a child
  *    that reaches out of it, it is drawn as seen;
@@ -954,6 +958,37 @@ static void the_benefit_culls_what_cesiumjs_culls(void **state) {
         assert_close(model_distance(&m, 0), 0.0, 0.0);
         assert_close(model_benefit(&m, 0, 0.0), area / (1.0 + sse / MODEL_HALF_QUALITY_SSE),
                      1e-9 * area);
+        model_free(&m);
+        tileset_free(&ts);
+        scratch_free(s);
+    }
+    { /* a viewerRequestVolume: the tile is shown only to an eye inside it */
+        scratch *s = scratch_new();
+        tileset ts;
+        tiles_model m;
+        tclod_view v = view_down_z();
+        char err[512];
+        scratch_write(s, "t.json",
+                      "{\"asset\":{\"version\":\"1.0\"},\"root\":{\"geometricError\":1,"
+                      "\"boundingVolume\":{\"sphere\":[0,0,-100,20]},\"children\":[{"
+                      "\"geometricError\":0,\"boundingVolume\":{\"sphere\":[0,0,-100,5]},"
+                      "\"viewerRequestVolume\":{\"sphere\":[0,0,-100,10]},"
+                      "\"content\":{\"uri\":\"a\"}}]}}",
+                      0);
+        if (load(s, "t.json", NULL, &ts, err, sizeof(err)))
+            fail_msg("%s", err);
+        assert_int_equal(ts.request_count, 1);
+        assert_int_equal(ts.tiles[0].request, TILE_NONE);
+        assert_int_equal(ts.tiles[1].request, 0);
+        assert_close(ts.requests[0].radius, 10.0, 0.0);
+        assert_int_equal(model_init(&m, &ts), 0);
+        model_set_view(&m, &v); /* the eye at the origin: 90 m out of the request volume */
+        assert_true(model_area(&m, 1) > 0.0 && model_out_of_request(&m, 1));
+        assert_true(model_benefit(&m, 1, model_distance(&m, 1)) == 0.0);
+        v.eye[2] = -95.0; /* inside it */
+        model_set_view(&m, &v);
+        assert_false(model_out_of_request(&m, 1));
+        assert_true(model_benefit(&m, 1, model_distance(&m, 1)) > 0.0);
         model_free(&m);
         tileset_free(&ts);
         scratch_free(s);
