@@ -43,7 +43,9 @@ const char stream_sim_usage_options[] =
     "                  --stream: every N frames the camera jumps to the one of 8\n"
     "                  points spread along its path (golden-ratio sequence) whose\n"
     "                  view needs the most bytes the view it leaves does not (by\n"
-    "                  the baseline's traversal); N >= 0, 0 never (default 200)\n";
+    "                  the baseline's traversal); N >= 0, 0 never (default 200)\n"
+    "  --min-yield Y   --stream: the plan's tclod_stream_desc.min_yield, Y >= 0 or\n"
+    "                  'off' (default 0: the library's default)\n";
 
 const char stream_sim_usage_output[] =
     "--stream adds table columns (after the others):\n"
@@ -73,7 +75,13 @@ const char stream_sim_usage_output[] =
     "                         before the next teleport or the end: the time to it)\n"
     "  t95_baseline_ms        the same for the baseline\n"
     "  bytes_loaded           bytes of the loads completed\n"
-    "  bytes_loaded_baseline  the same for the baseline\n";
+    "  bytes_loaded_baseline  the same for the baseline\n"
+    "  memory_bytes           the memory budget, bytes\n"
+    "  needed_bytes_median, needed_bytes_max\n"
+    "                         over the frames, the bytes of the nodes the\n"
+    "                         all-resident selection draws and refines through:\n"
+    "                         when above the memory, no loader can reach its\n"
+    "                         benefit there\n";
 
 /* A finite number and nothing else in s. */
 static int parse_number(const char *s, double *out) {
@@ -91,7 +99,8 @@ int stream_sim_parse_option(stream_sim_options *o, const char *prog, int argc, c
         return 1;
     }
     if (strcmp(opt, "--latency-ms") != 0 && strcmp(opt, "--bandwidth-mbps") != 0 &&
-        strcmp(opt, "--memory-mb") != 0 && strcmp(opt, "--teleport-every") != 0)
+        strcmp(opt, "--memory-mb") != 0 && strcmp(opt, "--teleport-every") != 0 &&
+        strcmp(opt, "--min-yield") != 0)
         return 0;
     if (!val) {
         fprintf(stderr, "%s: option %s needs a value\n", prog, opt);
@@ -117,6 +126,16 @@ int stream_sim_parse_option(stream_sim_options *o, const char *prog, int argc, c
             return -1;
         }
         o->memory_mb = v;
+    } else if (strcmp(opt, "--min-yield") == 0) {
+        if (strcmp(val, "off") == 0) {
+            o->min_yield = TCLOD_OFF;
+        } else if (!parse_number(val, &v) || !(v >= 0.0) || v > 1e6) {
+            fprintf(stderr, "%s: --min-yield expects a number >= 0 or 'off', got '%s'\n", prog,
+                    val);
+            return -1;
+        } else {
+            o->min_yield = v;
+        }
     } else {
         if (!parse_number(val, &v) || !(v >= 0.0) || v != floor(v) || v > 1e8 || strchr(val, '.') ||
             strchr(val, 'e') || strchr(val, 'E')) {
@@ -131,8 +150,8 @@ int stream_sim_parse_option(stream_sim_options *o, const char *prog, int argc, c
 int stream_sim_options_check(const stream_sim_options *o, const char *prog) {
     if (o->given && !o->enabled) {
         fprintf(stderr,
-                "%s: --latency-ms, --bandwidth-mbps, --memory-mb and --teleport-every need "
-                "--stream\n",
+                "%s: --latency-ms, --bandwidth-mbps, --memory-mb, --teleport-every and "
+                "--min-yield need --stream\n",
                 prog);
         return 0;
     }
@@ -647,7 +666,8 @@ int stream_sim_start(stream_sim *s, const stream_sim_options *opt, unsigned long
     }
     s->memory_bytes = opt->memory_mb > 0.0 ? opt->memory_mb * 1e6 : 0.5 * s->nodes.total_bytes;
     s->drawn = (uint8_t *)calloc(s->nodes.count ? s->nodes.count : 1u, 1);
-    if (!s->drawn)
+    s->needed = (double *)calloc(frames ? frames : 1u, sizeof(double));
+    if (!s->drawn || !s->needed)
         return out_of_memory(prog);
     st = tclod_selector_create(base, sd, NULL, &s->base.sel);
     if (st == TCLOD_OK)
@@ -667,6 +687,7 @@ void stream_sim_free(stream_sim *s) {
     loader_free(&s->base);
     nodes_free(&s->nodes);
     free(s->drawn);
+    free(s->needed);
     memset(s, 0, sizeof(*s));
 }
 
@@ -682,6 +703,7 @@ int stream_sim_before(stream_sim *s, unsigned long frame, const char *prog) {
     d.max_requests = STREAM_SIM_MAX_LOADS;
     d.memory_budget = s->memory_bytes;
     d.bytes_in_flight = s->ours.flight_bytes;
+    d.min_yield = s->opt.min_yield;
     st = tclod_selector_set_stream(s->ours.sel, &d);
     if (st != TCLOD_OK)
         return fail(prog, "tclod_selector_set_stream", st);
@@ -714,6 +736,29 @@ static void follow_t95(stream_sim *s, unsigned long frame) {
     }
 }
 
+/* The bytes of the nodes the all-resident selection draws and of their
+ * ancestors, each once, into *out. 0 after a message. */
+static int needed_bytes(stream_sim *s, double *out, const char *prog) {
+    const stream_nodes *N = &s->nodes;
+    const tclod_id *cut;
+    size_t n, i;
+    double sum = 0.0;
+    tclod_id a;
+    tclod_status st = tclod_selector_cut(s->all_sel, &cut, &n);
+    if (st != TCLOD_OK)
+        return fail(prog, "the all-resident tclod_selector_cut", st);
+    for (i = 0; i < n; ++i)
+        for (a = cut[i]; a != TCLOD_NONE && a < N->count && !s->drawn[a]; a = N->parent[a]) {
+            s->drawn[a] = 1;
+            sum += N->bytes[a];
+        }
+    for (i = 0; i < n; ++i)
+        for (a = cut[i]; a != TCLOD_NONE && a < N->count && s->drawn[a]; a = N->parent[a])
+            s->drawn[a] = 0;
+    *out = sum;
+    return 1;
+}
+
 int stream_sim_after(stream_sim *s, unsigned long frame, const tclod_frame *fr, double benefit,
                      const char *prog) {
     double now = (double)frame / STREAM_SIM_HZ;
@@ -732,6 +777,8 @@ int stream_sim_after(stream_sim *s, unsigned long frame, const tclod_frame *fr, 
     if (st != TCLOD_OK)
         return fail(prog, "the all-resident tclod_select", st);
     s->all_benefit = stats.benefit;
+    if (frame < s->frames && !needed_bytes(s, &s->needed[frame], prog))
+        return 0;
     follow_t95(s, frame);
     return 1;
 }
@@ -788,6 +835,18 @@ void stream_sim_print_summary(FILE *out, stream_sim *s) {
             s->ours.nonresident_draws + s->base.nonresident_draws,
             s->ours.mem_violations + s->base.mem_violations, median_t95(&s->ours, events),
             median_t95(&s->base, events), s->ours.loaded_bytes, s->base.loaded_bytes);
+    {
+        double max = 0.0;
+        unsigned long i;
+        for (i = 0; i < s->frames; ++i)
+            max = s->needed[i] > max ? s->needed[i] : max;
+        qsort(s->needed, s->frames, sizeof(double), compare_double);
+        fprintf(out, " memory_bytes=%.0f needed_bytes_median=%.0f needed_bytes_max=%.0f",
+                s->memory_bytes,
+                s->frames % 2 ? s->needed[s->frames / 2]
+                              : 0.5 * (s->needed[s->frames / 2 - 1] + s->needed[s->frames / 2]),
+                max);
+    }
 }
 
 void stream_sim_print_settings(FILE *out, const stream_sim *s) {

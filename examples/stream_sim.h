@@ -74,7 +74,8 @@ typedef struct stream_sim_options {
     double bandwidth_mbps;        /* --bandwidth-mbps W, > 0, Mbit/s; default 100 */
     double memory_mb;             /* --memory-mb M, > 0, 10^6 bytes; 0: half the scene */
     unsigned long teleport_every; /* --teleport-every N, frames; 0: never; default 200 */
-    int given;                    /* one of the four was given (they need --stream) */
+    double min_yield;             /* --min-yield Y: tclod_stream_desc.min_yield; default 0 */
+    int given;                    /* one of the five was given (they need --stream) */
 } stream_sim_options;
 
 void stream_sim_options_default(stream_sim_options *o);
@@ -206,6 +207,8 @@ typedef struct stream_sim {
     size_t event;            /* the current one */
     unsigned long event_frame;
     uint8_t *drawn; /* per node: 1 while in ours' cut (scratch) */
+    double *needed; /* per frame: bytes the all-resident selection draws and
+                       refines through (what memory must hold to draw it) */
 } stream_sim;
 
 /* Starts the simulation of a flight of `frames` frames. ours is the host's

@@ -54,6 +54,9 @@ size_t tclod_stream_buffers(tclod_stream_state *S, tclod_array *out) {
     out[n++] = (tclod_array){(void **)&S->size, sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&S->delta, 2 * sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&S->queue, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&S->jump, sizeof(uint8_t), 0};
+    out[n++] = (tclod_array){(void **)&S->level, sizeof(tclod_id), -1};
+    out[n++] = (tclod_array){(void **)&S->look, 2 * sizeof(double), -1};
     out[n++] = (tclod_array){(void **)&S->size_seen, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&S->used, sizeof(uint32_t), 0};
     out[n++] = (tclod_array){(void **)&S->seen_value, sizeof(double), 0};
@@ -217,36 +220,261 @@ static int request_bytes(tclod_selector *sel, tclod_id n, double *bytes) {
     return 0;
 }
 
-/* The increment of target node n: its visible children in its place. Queues
- * it when it gains benefit and no child's cost is unaffordable, nor their sum
- * (costs near DBL_MAX overflow it: inf / inf would key the heap with NaN).
- * Returns 0 or -1 (strict). */
-static int target_queue(tclod_selector *sel, tclod_id n, double b, double c) {
+/* The target's lookahead (docs/streaming.md, the target) mirrors the
+ * solver's (docs/greedy.md): with greedy.lookahead L > 0 the increment of a
+ * target node n may replace it by the cut of its subtree within L levels
+ * below its children of the best ratio, found by Dinkelbach's method over
+ * the subtree's dynamic program, on the nodes' values as if resident; and
+ * such a jump that does not fit gives way to the cut that gains most among
+ * those on the hull that fit. Per node, in tclod_stream_state.jump: */
+enum {
+    LOOK_JUMP = 0x10u,   /* its increment reaches below its children */
+    LOOK_EXPAND = 0x20u, /* below a node whose increment is a jump: replaced by it */
+    LOOK_OPEN = 0x40u,   /* while a subtree is looked at: its children are in it */
+    LOOK_REFIT = 0x80u   /* its jump gave way to a cut that fits */
+};
+/* The relative margin by which a deeper cut's ratio must beat a shallower
+ * one's, and Dinkelbach's iterations at most (as the solver's). */
+#define LOOK_MARGIN 1e-12
+#define LOOK_ITERATIONS 16u
+
+/* An increment's key: gain per cost, +inf when it costs nothing. */
+static double ratio(double db, double dc) {
+    return dc > 0.0 ? db / dc : HUGE_VAL;
+}
+
+/* The visible children of node m, as if resident, summed into *b and *c;
+ * with `grow`, those with children of their own are appended to S->level at
+ * *top. Returns 0, 1 when a child's cost is unaffordable (m cannot be
+ * replaced; nothing appended), -1 (strict). */
+static int visible_children(tclod_selector *sel, tclod_id m, int grow, uint32_t *top, double *b,
+                            double *c) {
     const tclod_scene *s = sel->scene;
-    uint32_t i = s->child_first[n], end = i + s->child_count[n];
-    double sum_b = 0.0, sum_c = 0.0, db, dc;
+    uint32_t i = s->child_first[m], end = i + s->child_count[m], from = *top;
+    double sum_b = 0.0, sum_c = 0.0;
     for (; i < end; ++i) {
+        tclod_id ch = s->children[i];
         double cb, cc;
-        if (true_values(sel, s->children[i], &cb, &cc) != 0)
+        if (true_values(sel, ch, &cb, &cc) != 0)
             return -1;
         if (!(cb > 0.0))
             continue;
-        if (isinf(cc))
-            return 0;
+        if (isinf(cc)) {
+            *top = from;
+            return 1;
+        }
         sum_b += cb;
         sum_c += cc;
+        if (grow && s->child_count[ch] > 0)
+            sel->stream.level[(*top)++] = ch;
     }
+    *b = sum_b;
+    *c = sum_c;
+    return 0;
+}
+
+/* The subtree target node p's lookahead sees: its visible nodes down to L
+ * levels below its children, breadth first, into S->level[S->level_top ..
+ * returned end); those whose children are in it carry LOOK_OPEN (not those
+ * with an unaffordable child, nor those L + 1 levels down). Returns the end,
+ * 0 after a strict error. */
+static uint32_t look_nodes(tclod_selector *sel, tclod_id p) {
+    const tclod_scene *s = sel->scene;
+    tclod_stream_state *S = &sel->stream;
+    uint32_t look = sel->desc.greedy.lookahead, head = S->level_top, tail = head, k, i;
+    double b, c;
+    S->level[tail++] = p;
+    for (k = 0; k <= look + 1u && head < tail; ++k) {
+        uint32_t end = tail;
+        for (i = head; i < end; ++i) {
+            tclod_id m = S->level[i];
+            int r = k <= look ? visible_children(sel, m, 1, &tail, &b, &c) : 1;
+            if (r < 0)
+                return 0;
+            S->jump[m] = (uint8_t)(r == 0 && s->child_count[m] > 0 ? LOOK_OPEN : 0u);
+        }
+        head = end;
+    }
+    return tail;
+}
+
+/* One pass of the lookahead's dynamic program over the subtree of
+ * S->level[base] (look_nodes, S->level[base .. end)), children before
+ * parents: every open node below the subtree's root either stays or is
+ * replaced by its children's best cuts, whichever has the larger
+ * weight x b - lambda x c (it stays on a tie); the root itself is always
+ * replaced. The sums of the cut go to *b, *c; with `write` the nodes replaced
+ * carry LOOK_EXPAND. Returns 1 when a node below the root's children is
+ * replaced. */
+static int look_pass(tclod_selector *sel, uint32_t base, uint32_t end, double weight,
+                     double lambda, int write, double *b, double *c) {
+    const tclod_scene *s = sel->scene;
+    tclod_stream_state *S = &sel->stream;
+    tclod_id root = S->level[base];
+    uint32_t i;
+    int deeper = 0;
+    for (i = end; i-- > base;) {
+        tclod_id m = S->level[i];
+        double mb = 0.0, mc = 0.0, cb = 0.0, cc = 0.0;
+        uint32_t k, first = s->child_first[m], last = first + s->child_count[m];
+        (void)true_values(sel, m, &mb, &mc); /* evaluated by look_nodes */
+        if (write)
+            S->jump[m] &= (uint8_t)~LOOK_EXPAND;
+        if (S->jump[m] & LOOK_OPEN) {
+            for (k = first; k < last; ++k) {
+                tclod_id ch = s->children[k];
+                double xb = 0.0, xc = 0.0;
+                (void)true_values(sel, ch, &xb, &xc);
+                if (!(xb > 0.0))
+                    continue;
+                if (s->child_count[ch] > 0 && (S->jump[ch] & LOOK_OPEN)) {
+                    xb = S->look[2u * ch];
+                    xc = S->look[2u * ch + 1u];
+                }
+                cb += xb;
+                cc += xc;
+            }
+            if (m == root || weight * cb - lambda * cc > weight * mb - lambda * mc) {
+                mb = cb;
+                mc = cc;
+                if (m != root) {
+                    deeper = 1;
+                    if (write)
+                        S->jump[m] |= LOOK_EXPAND;
+                }
+            }
+        }
+        S->look[2u * m] = mb;
+        S->look[2u * m + 1u] = mc;
+    }
+    *b = S->look[2u * root];
+    *c = S->look[2u * root + 1u];
+    return deeper;
+}
+
+/* Target node n's lookahead (b, c its values; *sum_b, *sum_c its children's
+ * sums, the plain increment's): from lambda = the plain ratio (0 when it
+ * gains nothing), each pass's cut has a better ratio until lambda is the
+ * best; the shallowest cut of the best ratio is taken (a last pass at it,
+ * ties staying). A jump sets LOOK_JUMP on n, LOOK_EXPAND below it, and its
+ * sums in *sum_b, *sum_c. Returns 0, -1 (strict). */
+static int target_look(tclod_selector *sel, tclod_id n, double b, double c, double *sum_b,
+                       double *sum_c) {
+    tclod_stream_state *S = &sel->stream;
+    uint32_t base = S->level_top, end, it;
+    double B, C, q, best, lambda, at = 0.0;
+    int deep = 0;
+    if (sel->desc.solver != TCLOD_SOLVER_GREEDY || sel->desc.greedy.lookahead == 0)
+        return 0;
+    end = look_nodes(sel, n);
+    if (end == 0)
+        return -1;
+    if (end == base + 1u || !(S->jump[n] & LOOK_OPEN))
+        return 0; /* nothing below the children to look at */
+    best = *sum_b - b > 0.0 ? ratio(*sum_b - b, *sum_c - c) : (double)NAN;
+    if (best == HUGE_VAL)
+        return 0;
+    lambda = best == best ? best : 0.0;
+    for (it = 0; it < LOOK_ITERATIONS; ++it) {
+        int rc = look_pass(sel, base, end, 1.0, lambda, 0, &B, &C);
+        q = B - b > 0.0 ? ratio(B - b, C - c) : (double)NAN;
+        if (rc == 0 || q != q || (best == best && !(q > best * (1.0 + LOOK_MARGIN))))
+            break;
+        best = q;
+        at = lambda;
+        deep = 1;
+        if (q == HUGE_VAL)
+            break;
+        lambda = q;
+    }
+    if (!deep)
+        return 0;
+    (void)look_pass(sel, base, end, 1.0, best < HUGE_VAL ? best : at, 1, &B, &C);
+    q = B - b > 0.0 ? ratio(B - b, C - c) : (double)NAN;
+    if (!(q >= best * (1.0 - LOOK_MARGIN)))
+        (void)look_pass(sel, base, end, 1.0, at, 1, &B, &C);
+    S->jump[n] |= LOOK_JUMP;
+    *sum_b = B;
+    *sum_c = C;
+    return 0;
+}
+
+/* The increment of target node n: its visible children in its place, or
+ * with lookahead the jump target_look finds. Queues it when it gains
+ * benefit and no child's cost is unaffordable, nor their sum (costs near
+ * DBL_MAX overflow it: inf / inf would key the heap with NaN). Returns 0 or
+ * -1 (strict). */
+static int target_queue(tclod_selector *sel, tclod_id n, double b, double c) {
+    const tclod_scene *s = sel->scene;
+    tclod_stream_state *S = &sel->stream;
+    uint32_t top = 0;
+    double sum_b = 0.0, sum_c = 0.0, db, dc;
+    int r = visible_children(sel, n, 0, &top, &sum_b, &sum_c);
+    S->jump[n] = 0;
+    if (r != 0)
+        return r < 0 ? -1 : 0;
+    if (s->child_count[n] > 0 && isfinite(sum_c) && target_look(sel, n, b, c, &sum_b, &sum_c) != 0)
+        return -1;
     db = sum_b - b;
     dc = sum_c - c;
-    sel->stream.delta[2u * n] = db;
-    sel->stream.delta[2u * n + 1u] = dc;
+    S->delta[2u * n] = db;
+    S->delta[2u * n + 1u] = dc;
     if (s->child_count[n] > 0 && db > 0.0 && isfinite(sum_c)) {
-        double key = dc > 0.0 ? db / dc : HUGE_VAL;
-        if (sel->stream.filling && key >= sel->stream.closure)
-            sel->stream.queue[sel->stream.tail++] = n;
+        double key = ratio(db, dc);
+        if (S->filling && key >= S->closure)
+            S->queue[S->tail++] = n;
         else
-            tclod_heap_push(&sel->stream.heap, n, key);
+            tclod_heap_push(&S->heap, n, key);
     }
+    return 0;
+}
+
+/* Target node p's jump that does not fit the room left: once, it gives way
+ * to the cut of p's subtree that gains most among those on the upper hull of
+ * the cuts' (cost, benefit) that fit, as the solver's refit (docs/greedy.md),
+ * queued again by its own key; nothing when even the cheapest cut does not
+ * fit or gain. Returns 0 or -1 (strict). */
+static int target_refit(tclod_selector *sel, tclod_id p, double room) {
+    tclod_stream_state *S = &sel->stream;
+    double b = 0.0, c = 0.0, ab = S->delta[2u * p], ac = S->delta[2u * p + 1u], bb, bc, cb, cc;
+    double weight = 0.0, lambda = 1.0;
+    uint32_t base = S->level_top, end, it;
+    if ((S->jump[p] & (LOOK_JUMP | LOOK_REFIT)) != LOOK_JUMP)
+        return 0;
+    end = look_nodes(sel, p);
+    if (end == 0)
+        return -1;
+    (void)true_values(sel, p, &b, &c); /* evaluated when it was queued */
+    (void)look_pass(sel, base, end, 0.0, 1.0, 0, &cb, &cc); /* the cheapest cut */
+    bb = cb - b;
+    bc = cc - c;
+    if (!(bc <= room))
+        return 0;
+    for (it = 0; it < LOOK_ITERATIONS && ab > bb; ++it) {
+        double l = (ab - bb) / (ac - bc), db, dc, gap;
+        (void)look_pass(sel, base, end, 1.0, l, 0, &cb, &cc);
+        db = cb - b;
+        dc = cc - c;
+        gap = (db - l * dc) - (bb - l * bc);
+        if (!(gap > LOOK_MARGIN * (fabs(db) + fabs(bb) + l * (fabs(dc) + fabs(bc)))))
+            break;
+        if (dc <= room) {
+            bb = db;
+            bc = dc;
+            weight = 1.0;
+            lambda = l;
+        } else {
+            ab = db;
+            ac = dc;
+        }
+    }
+    if (!(bb > 0.0))
+        return 0;
+    (void)look_pass(sel, base, end, weight, lambda, 1, &cb, &cc);
+    S->jump[p] = (uint8_t)(LOOK_JUMP | LOOK_REFIT | LOOK_OPEN);
+    S->delta[2u * p] = cb - b;
+    S->delta[2u * p + 1u] = cc - c;
+    tclod_heap_push(&S->heap, p, ratio(cb - b, cc - c));
     return 0;
 }
 
@@ -317,12 +545,84 @@ static int request_children(tclod_selector *sel, tclod_id p, double gain, uint32
     return 0;
 }
 
+/* Takes target node p's jump (LOOK_JUMP: the nodes it replaces below p
+ * carry LOOK_EXPAND): the nodes it passes over are marked PASSED, those not
+ * resident among them and among the cut it reaches form one group of request
+ * candidates, ranked by the jump's gain over their bytes (at most p's cap; a
+ * node of bad size leaves the group out: the solver could not pass it), and
+ * the cut's nodes join the target. Two walks down, with S->level as their
+ * queue: the first marks and ranks, the second adds (target_add may look
+ * ahead above the queue). Returns 0 or -1 (strict). */
+static int target_jump(tclod_selector *sel, tclod_id p, uint32_t *count) {
+    const tclod_scene *s = sel->scene;
+    tclod_stream_state *S = &sel->stream;
+    uint32_t base = S->level_top, head = base, tail = base, group = *count, i, j;
+    double cap = S->cap_value[p], group_bytes = 0.0, rank, b = 0.0, c = 0.0, z;
+    int bad = 0, r, walk;
+    S->mark[p] = (uint8_t)((S->mark[p] & ~STREAM_VCUT) | STREAM_PASSED);
+    for (walk = 0; walk < 2; ++walk) {
+        head = tail = base;
+        S->level[tail++] = p;
+        while (head < tail) {
+            tclod_id m = S->level[head++];
+            uint32_t first = s->child_first[m], last = first + s->child_count[m];
+            for (j = first; j < last; ++j) {
+                tclod_id ch = s->children[j];
+                (void)true_values(sel, ch, &b, &c); /* evaluated by the lookahead */
+                if (!(b > 0.0))
+                    continue;
+                if (s->child_count[ch] > 0 && (S->jump[ch] & LOOK_EXPAND)) {
+                    if (walk == 0)
+                        mark(S, ch, STREAM_PASSED);
+                    S->level[tail++] = ch;
+                } else if (walk == 1) {
+                    S->level_top = tail;
+                    r = target_add(sel, ch, b, c, S->cap_value[ch]);
+                    S->level_top = base;
+                    if (r != 0)
+                        return -1;
+                    continue;
+                }
+                if (walk == 1)
+                    continue;
+                S->cap_value[ch] = cap;
+                if (!(s->flags[ch] & TCLOD_NODE_ABSENT))
+                    continue;
+                r = request_bytes(sel, ch, &z);
+                if (r < 0)
+                    return -1;
+                if (r > 0) {
+                    bad = 1;
+                } else {
+                    candidate(S, ch, 0.0, count);
+                    group_bytes += z;
+                }
+            }
+        }
+        if (walk == 1)
+            break;
+        rank = S->delta[2u * p] / group_bytes < cap ? S->delta[2u * p] / group_bytes : cap;
+        for (i = group; i < *count; ++i) {
+            if (bad)
+                S->mark[S->ids[i]] &= (uint8_t)~STREAM_REQUEST;
+            S->keys[i] = rank;
+            S->cap_value[S->ids[i]] = rank;
+        }
+        if (bad)
+            *count = group;
+    }
+    return 0;
+}
+
 /* Takes target node p's increment: its visible children replace it, and
- * those not resident become request candidates. Returns 0 or -1. */
+ * those not resident become request candidates (deeper with lookahead:
+ * target_jump). Returns 0 or -1. */
 static int target_take(tclod_selector *sel, tclod_id p, uint32_t *count) {
     const tclod_scene *s = sel->scene;
     tclod_stream_state *S = &sel->stream;
     uint32_t k, end = s->child_first[p] + s->child_count[p];
+    if (S->jump[p] & LOOK_JUMP)
+        return target_jump(sel, p, count);
     S->mark[p] = (uint8_t)((S->mark[p] & ~STREAM_VCUT) | STREAM_PASSED);
     if (request_children(sel, p, S->delta[2u * p], count) != 0)
         return -1;
@@ -348,6 +648,7 @@ static int target_pass(tclod_selector *sel, uint32_t *count) {
     *count = 0;
     S->target_benefit = 0.0;
     S->head = S->tail = 0;
+    S->level_top = 0;
     S->least = HUGE_VAL;
     for (i = 0; i < s->root_count; ++i) {
         tclod_id r = s->roots[i];
@@ -389,8 +690,12 @@ static int target_pass(tclod_selector *sel, uint32_t *count) {
         double key = S->heap.items[0].key;
         tclod_id p = tclod_heap_pop(&S->heap);
         double dc = S->delta[2u * p + 1u];
-        if (!(total + dc <= budget))
+        if (!(total + dc <= budget)) {
+            int r = target_refit(sel, p, budget - total);
+            if (r < 0)
+                return -1;
             continue;
+        }
         total += dc;
         S->target_benefit += S->delta[2u * p];
         if (key < S->least)
@@ -504,6 +809,19 @@ static void keep_path(tclod_selector *sel, tclod_id n) {
     }
 }
 
+/* 1 when cut node n is out of view and its absence would refine nothing
+ * back: a root, or a child of an additive node (either counts as invisible
+ * when not resident, tclod_evaluate_absent). A replacing parent's culled
+ * child must stay: without it the parent could not stay refined. */
+static int culled_alone(const tclod_selector *sel, tclod_id n) {
+    const tclod_scene *s = sel->scene;
+    tclod_id o = tclod_scene_owner(s, n), p;
+    if (o != n || sel->node[n].stamp != sel->solve_id || sel->node[n].benefit > 0.0)
+        return 0;
+    p = s->parent[n];
+    return p == TCLOD_NONE || (s->flags[p] & TCLOD_NODE_ADD) != 0;
+}
+
 /* What must stay resident: the selection's cut, drawn or culled (a culled
  * node coming into view would otherwise undo its parent's refinement until
  * it came back), the target's and the owner's keep list, each with its
@@ -514,7 +832,7 @@ static void keep_all(tclod_selector *sel) {
     uint32_t i, n = S->touched_count;
     for (i = 0; i < sel->cut_count; ++i) {
         tclod_id id = sel->cut[i];
-        if (!(sel->flags[id] & TCLOD_FLAG_DROPPED))
+        if (!(sel->flags[id] & TCLOD_FLAG_DROPPED) && !culled_alone(sel, id))
             keep_path(sel, id);
     }
     for (i = 0; i < n; ++i) /* the target: marked before this began */
@@ -671,15 +989,20 @@ static double target_bytes(const tclod_scene *s, tclod_id n) {
 /* Leaves out the request candidates that would bring less benefit per byte
  * than the desc's min_yield times what the target draws brings on average:
  * loads that would spend the link and the memory on what adds little (the
- * last few per cent of a view that takes most of its bytes). A node's rank
- * is capped by its requested ancestors', so a node left out leaves out what
- * lies below it. Returns how many are left (compacted in place). */
+ * last few per cent of a view that takes most of its bytes). Of those below
+ * that floor, the best are kept again until the ones left out would add at
+ * most TCLOD_STREAM_YIELD_LOSS of the target's benefit together (a
+ * candidate adds its rank times its bytes): where the benefit per byte is
+ * spread wide (point clouds, small scenes seen whole), the floor alone would
+ * leave a view short of what it needs for good. A node's rank is capped by
+ * its requested ancestors', so a node left out leaves out what lies below
+ * it. Returns how many are left (compacted in place). */
 static uint32_t worth_loading(tclod_selector *sel, uint32_t count) {
     const tclod_scene *s = sel->scene;
     tclod_stream_state *S = &sel->stream;
     double yield = S->desc.min_yield == 0.0 ? TCLOD_STREAM_MIN_YIELD : S->desc.min_yield;
-    double bytes = 0.0, floor;
-    uint32_t i, kept = 0;
+    double bytes = 0.0, floor, loss;
+    uint32_t i, low = 0, drop;
     if (yield <= 0.0)
         return count;
     for (i = 0; i < S->touched_count; ++i)
@@ -688,12 +1011,25 @@ static uint32_t worth_loading(tclod_selector *sel, uint32_t count) {
     if (!(bytes > 0.0))
         return count;
     floor = yield * S->target_benefit / bytes;
-    for (i = 0; i < count; ++i)
-        if (S->keys[i] >= floor) {
-            S->ids[kept] = S->ids[i];
-            S->keys[kept++] = S->keys[i];
-        }
-    return kept;
+    for (i = 0; i < count; ++i) /* those below the floor to the front */
+        if (S->keys[i] < floor)
+            candidate_swap(S, i, low++);
+    /* sorted ascending (a heap sort: the best goes last), then left out from
+     * the least while their gains fit the loss */
+    candidates_heapify(S, low);
+    for (i = low; i > 1; --i)
+        (void)candidates_pop(S, i);
+    loss = TCLOD_STREAM_YIELD_LOSS * S->target_benefit;
+    for (drop = 0; drop < low; ++drop) {
+        loss -= S->keys[drop] * S->size[S->ids[drop]];
+        if (loss < 0.0)
+            break;
+    }
+    for (i = drop; i < count; ++i) {
+        S->ids[i - drop] = S->ids[i];
+        S->keys[i - drop] = S->keys[i];
+    }
+    return count - drop;
 }
 
 /* Makes the eviction candidates the first time the plan needs room. */

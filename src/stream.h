@@ -30,6 +30,13 @@ typedef struct tclod_stream_state {
     double *size;          /* a request candidate's size (request_bytes) */
     double *delta;         /* 2 per node: its increment's gain and cost in the target */
     double target_benefit; /* the target's benefit */
+    /* the target's lookahead (the selector's greedy.lookahead): per node the
+     * levels below it that its increment replaces it by (1: its children),
+     * and the scratch of its walks down, used from `level_top` up */
+    uint8_t *jump;
+    tclod_id *level;
+    double *look; /* 2 per node: a refit's best cut below it, benefit and cost */
+    uint32_t level_top;
     uint32_t *size_seen;   /* the solve that sized it (size valid) */
     /* the target's closure: increments keyed at least `closure` are taken
      * first in first out (queue[head .. tail)) while `filling`; `least`: the

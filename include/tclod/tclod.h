@@ -30,7 +30,7 @@
 #include <stdint.h>
 
 #define TCLOD_VERSION_MAJOR 0
-#define TCLOD_VERSION_MINOR 5
+#define TCLOD_VERSION_MINOR 6
 #define TCLOD_VERSION_PATCH 0
 /* MAJOR * 10000 + MINOR * 100 + PATCH, what tclod_version() returns. */
 #define TCLOD_VERSION_NUMBER \
@@ -789,6 +789,10 @@ typedef struct tclod_stream_desc {
 
 /* The default tclod_stream_desc.min_yield (docs/streaming.md, the yield). */
 #define TCLOD_STREAM_MIN_YIELD 0.5
+/* The share of the target's benefit that the yield may leave out at most:
+ * below min_yield, the best candidates are listed again until the ones left
+ * out add no more than this together (docs/streaming.md, the yield). */
+#define TCLOD_STREAM_YIELD_LOSS 0.02
 
 /* Sets what the next selects plan; d NULL: nothing. Errors: TCLOD_ERR_ARG
  * (NULL sel; a field NaN, infinite or negative, min_yield TCLOD_OFF aside,
