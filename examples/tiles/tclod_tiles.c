@@ -142,7 +142,7 @@ static void usage(FILE *out) {
             "usage: tclod_tiles [--frames N] [--sizes FILE] [--csv FILE]\n"
             "                   [--budget-ms X|sse16] [--ms-per-mb X] [--per-node]\n"
             "                   [--stream [--latency-ms L] [--bandwidth-mbps W] [--memory-mb M]\n"
-            "                   [--teleport-every N]] [--help] TILESET.json\n"
+            "                   [--teleport-every N] [--min-yield Y]] [--help] TILESET.json\n"
             "\n"
             "Flies a camera down a spiral onto a 3D Tiles tileset (1.0 or 1.1) and selects\n"
             "the tiles to draw every frame twice: with libtclod under a render-time budget,\n"
@@ -173,7 +173,7 @@ static void usage(FILE *out) {
             "\n"
             "A content's bytes are its file's size when it is beside the tileset, else its\n"
             "line in --sizes, else %.0f. Tiles without content cost nothing. The benefit of\n"
-            "a tile is its share of the screen times 1 / (1 + sse / 64) (docs/tiles.md).\n"
+            "a tile is its share of the screen times 1 / (1 + sse / %.0f) (docs/tiles.md).\n"
             "\n"
             "Per frame (stdout, and --csv):\n"
             "  frame          frame number, from 0\n"
@@ -215,8 +215,13 @@ static void usage(FILE *out) {
             "  sse16_max_sse_median        median over frames of sse16_max_sse\n"
             "  cwsse_median                median over frames of cwsse\n"
             "  sse16_cwsse_median          median over frames of sse16_cwsse\n",
-            DEFAULT_FRAMES, TILESET_ESTIMATE_BYTES);
+            DEFAULT_FRAMES, TILESET_ESTIMATE_BYTES, MODEL_HALF_QUALITY_SSE);
     fputs(stream_sim_usage_output, out);
+    fputs("  baseline_vs_sse16      mean over frames of the baseline loader's benefit /\n"
+          "                         sse16_benefit\n"
+          "  all_resident_vs_sse16  the same for the all-resident benefit: what a loader\n"
+          "                         can reach at best under the budget\n",
+          out);
     fputs("\n"
           "Exit status: 0 on success, 1 when the tileset or a file cannot be read or\n"
           "libtclod fails, 2 for a bad command line.\n",
@@ -932,6 +937,7 @@ static int run_sse16(host *h, const flight *f, frame_result *results) {
 typedef struct totals {
     unsigned long violations, cost_mismatches, benefit_mismatches, dropped_frames;
     double sum_cost_ratio, sum_benefit_ratio;
+    double sum_base_ratio, sum_all_ratio; /* --stream: the baseline's, the all-resident's */
     unsigned long benefit_frames;
 } totals;
 
@@ -1069,6 +1075,10 @@ static int run_tclod(host *h, const options *o, const flight *f, const double *b
             tclod_selector_destroy(sel);
             return 1;
         }
+        if (ss && base[frame].benefit > 0.0) {
+            tot->sum_base_ratio += ss->base.benefit / base[frame].benefit;
+            tot->sum_all_ratio += ss->all_benefit / base[frame].benefit;
+        }
         check_queries(h); /* those of the copies' selects (--stream) */
         print_row(stdout, 0, frame, budget, r, &base[frame], distance, ss);
         if (csv)
@@ -1095,9 +1105,9 @@ static void print_header(const options *o, const host *h, const flight *f, doubl
     printf("box fallbacks: %lu boxes with axes that are not orthogonal are drawn as their "
            "enclosing sphere\n",
            (unsigned long)c->box_fallbacks);
-    printf("content: %lu contents, %.1f MB: %lu sized from files, %lu from %s, %lu estimated "
-           "at %.0f bytes; cost %g ms per MB\n",
-           (unsigned long)c->contents, c->bytes * 1e-6, (unsigned long)c->from_file,
+    printf("content: %lu contents, %.1f MB (%.0f bytes): %lu sized from files, %lu from %s, "
+           "%lu estimated at %.0f bytes; cost %g ms per MB\n",
+           (unsigned long)c->contents, c->bytes * 1e-6, c->bytes, (unsigned long)c->from_file,
            (unsigned long)c->from_sizes, o->sizes_path ? o->sizes_path : "--sizes",
            (unsigned long)c->estimated, TILESET_ESTIMATE_BYTES, o->ms_per_mb);
     tileset_warning_text(c, warnings, sizeof(warnings));
@@ -1185,8 +1195,12 @@ static void print_summary(const host *h, unsigned long frames, double budget, fr
            tot->benefit_frames ? tot->sum_benefit_ratio / (double)tot->benefit_frames : 0.0,
            select_median, sse16_median, budget, (unsigned long)h->ts.counts.box_fallbacks,
            check_errors, max_sse, sse16_max_sse, cwsse, sse16_cwsse);
-    if (ss)
+    if (ss) {
         stream_sim_print_summary(stdout, ss);
+        printf(" baseline_vs_sse16=%.4f all_resident_vs_sse16=%.4f",
+               tot->benefit_frames ? tot->sum_base_ratio / (double)tot->benefit_frames : 0.0,
+               tot->benefit_frames ? tot->sum_all_ratio / (double)tot->benefit_frames : 0.0);
+    }
     printf("\n");
 }
 
