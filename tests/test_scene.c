@@ -328,10 +328,10 @@ static void unknown_status_has_a_fixed_string(void **state) {
 static void version_matches_the_header(void **state) {
     char expected[32];
     (void)state;
-    assert_int_equal(TCLOD_VERSION_NUMBER, 500); /* 0 * 10000 + 5 * 100 + 0 */
+    assert_int_equal(TCLOD_VERSION_NUMBER, 600); /* 0 * 10000 + 6 * 100 + 0 */
     assert_int_equal(tclod_version(), TCLOD_VERSION_NUMBER);
     assert_non_null(tclod_version_string());
-    assert_string_equal(tclod_version_string(), "0.5.0");
+    assert_string_equal(tclod_version_string(), "0.6.0");
     snprintf(expected, sizeof expected, "%d.%d.%d", TCLOD_VERSION_MAJOR, TCLOD_VERSION_MINOR,
              TCLOD_VERSION_PATCH);
     assert_string_equal(tclod_version_string(), expected);
