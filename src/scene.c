@@ -778,11 +778,21 @@ static tclod_status add_node(tclod_scene *s, const tclod_node_desc *d, tclod_id 
         return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "empty must be 0 or 1");
     if (d->not_resident != 0 && d->not_resident != 1)
         return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "not_resident must be 0 or 1");
+    if (d->unexpanded != 0 && d->unexpanded != 1)
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "unexpanded must be 0 or 1");
+    if (d->unexpanded && d->empty)
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn,
+                          "an unexpanded node cannot be empty: it is valued as what its "
+                          "expansion draws first");
     if (!bytes_valid(d->bytes))
         return tclod_fail(s->error, TCLOD_ERR_ARG, fn, BYTES_RULE);
     if (d->parent != TCLOD_NONE && !node_live(s, d->parent))
         return tclod_fail(s->error, TCLOD_ERR_HIERARCHY, fn,
                           "parent is neither TCLOD_NONE nor a live node");
+    if (d->parent != TCLOD_NONE && (s->flags[d->parent] & TCLOD_NODE_UNEXPANDED))
+        return tclod_fail(s->error, TCLOD_ERR_HIERARCHY, fn,
+                          "parent is unexpanded: remove it and add what its expansion "
+                          "read in its place");
     if (held(s))
         return tclod_fail(s->error, TCLOD_ERR_STATE, fn, HELD);
     additive = d->refine == TCLOD_REFINE_ADD && !d->empty;
@@ -810,10 +820,12 @@ static tclod_status add_node(tclod_scene *s, const tclod_node_desc *d, tclod_id 
     s->res_wanted |= d->bytes > 0.0;
     if (s->res_listed)
         s->res_pos[id] = TCLOD_NONE;
-    if (d->not_resident)
+    if (d->not_resident || d->unexpanded)
         s->flags[id] |= TCLOD_NODE_ABSENT;
+    if (d->unexpanded)
+        s->flags[id] |= TCLOD_NODE_UNEXPANDED;
     if (!d->empty) {
-        if (d->not_resident)
+        if (d->not_resident || d->unexpanded)
             s->absent_count++;
         else
             resident_add(s, id);
@@ -1425,6 +1437,10 @@ static tclod_status set_resident(tclod_scene *s, tclod_id id, int resident, int 
         return TCLOD_ERR_ARG;
     if (resident != 0 && resident != 1)
         return tclod_fail(s->error, TCLOD_ERR_ARG, fn, "resident must be 0 or 1");
+    if (!smooth && (*flags & TCLOD_NODE_UNEXPANDED))
+        return tclod_fail(s->error, TCLOD_ERR_ARG, fn,
+                          "node is unexpanded: remove it and add what its expansion read in "
+                          "its place");
     if (held(s))
         return tclod_fail(s->error, TCLOD_ERR_STATE, fn, HELD);
     if (resident == !(*flags & TCLOD_NODE_ABSENT))

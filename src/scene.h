@@ -27,7 +27,9 @@ enum {
     TCLOD_NODE_SELF = 8u,     /* the drawing of an additive node among its children (its
                                  "self leaf"): an id no call returns */
     TCLOD_NODE_INDEXED = 16u, /* in the child index (the tree the solvers see) */
-    TCLOD_NODE_ABSENT = 32u   /* live and not resident (also in smooth_flags) */
+    TCLOD_NODE_ABSENT = 32u,  /* live and not resident (also in smooth_flags) */
+    TCLOD_NODE_UNEXPANDED = 64u /* stands for a part of the hierarchy not read yet: a
+                                   leaf, absent until the host replaces it */
 };
 
 /* What a scene knows of a selector or scheduler over it: enough to refuse

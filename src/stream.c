@@ -1087,7 +1087,9 @@ static void plan_lists(tclod_selector *sel, uint32_t candidates) {
                      z, rank);
         else
             add_item(S->list[0][1], &S->count[0][1], n,
-                     (S->mark[n] & STREAM_LISTED) ? TCLOD_STREAM_LISTED : 0u, z, rank);
+                     ((S->mark[n] & STREAM_LISTED) ? TCLOD_STREAM_LISTED : 0u) |
+                         ((s->flags[n] & TCLOD_NODE_UNEXPANDED) ? TCLOD_STREAM_EXPAND : 0u),
+                     z, rank);
     }
 }
 

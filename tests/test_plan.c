@@ -10,7 +10,9 @@
  *    the path to it or one the plan needs, and a node after the resident
  *    nodes below it; a memory budget below what must stay is noted;
  *  - the bytes callback: asked for nodes of unknown size; a bad size leaves
- *    its group out (strict mode fails the select and keeps the old lists).
+ *    its group out (strict mode fails the select and keeps the old lists);
+ *  - a hierarchy read on demand: unexpanded nodes requested like content,
+ *    and an implicit quadtree of 1.4 million tiles read as the camera sees it.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -20,6 +22,7 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <tclod/tclod.h>
@@ -375,6 +378,286 @@ static void a_plan_jump_that_does_not_fit_gives_way_to_a_cheaper_cut(void **stat
     run(sel, 2.0);
     helper_assert_cut(sel, group, 2);
     tclod_selector_destroy(sel);
+}
+
+/* ---- hierarchy on demand ----------------------------------------------------------- */
+
+/* An additive root S (b 1, c 1, resident) with three children that join one
+ * by one (cost 0.1 each, 100 B each, none resident):
+ *   D (b 6): content, rank 6 / 100 = 0.06;
+ *   U (b 3): unexpanded, a part of the hierarchy not read yet, rank 0.03;
+ *   C (b 1): content, rank 0.01.
+ * U's expansion is ranked with the loads, by the same gain per byte, and
+ * flagged: D, U (TCLOD_STREAM_EXPAND), C. With D and C resident the cut is
+ * S, D, C: U is never drawn, and its expansion is the one request. U takes
+ * no child and no residency; in its place the host adds what it read (V,
+ * b 3, resident), which is drawn and no longer requested. */
+static void unexpanded_nodes_are_requested_like_content(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    tclod_id s = add(f, TCLOD_NONE, TCLOD_REFINE_ADD, 1, 100, 1.0, 1.0), d, u, c, v, x;
+    tclod_node_desc nd;
+    tclod_selector *sel;
+    const tclod_stream_item *items;
+    size_t n;
+    uint32_t nodes;
+    d = add(f, s, TCLOD_REFINE_REPLACE, 0, 100, 6.0, 0.1);
+    tclod_node_desc_default(&nd);
+    nd.parent = s;
+    nd.unexpanded = 1;
+    nd.bytes = 100;
+    assert_int_equal(table_add_node_desc(&f->model, f->scene, &nd, 3.0, 0.1, &u), TCLOD_OK);
+    c = add(f, s, TCLOD_REFINE_REPLACE, 0, 100, 1.0, 0.1);
+    assert_false(tclod_scene_node_resident(f->scene, u));
+
+    sel = helper_selector(f->scene, &f->model, 1);
+    set_stream(sel, 100, 0.0, 0.0, 0.0);
+    run(sel, 100.0);
+    {
+        const tclod_id want[3] = {d, u, c}, drawn[1] = {s};
+        assert_requests(sel, want, 3);
+        helper_assert_cut(sel, drawn, 1);
+    }
+    assert_int_equal(tclod_selector_requests(sel, &items, &n), TCLOD_OK);
+    assert_near(items[0].value, 0.06, 1e-15);
+    assert_near(items[1].value, 0.03, 1e-15);
+    assert_near(items[1].bytes, 100.0, 0.0);
+    assert_near(items[2].value, 0.01, 1e-15);
+    assert_int_equal(items[0].flags, 0u);
+    assert_int_equal(items[1].flags, TCLOD_STREAM_EXPAND);
+    assert_int_equal(items[2].flags, 0u);
+
+    assert_int_equal(tclod_scene_set_resident(f->scene, d, 1), TCLOD_OK);
+    assert_int_equal(tclod_scene_set_resident(f->scene, c, 1), TCLOD_OK);
+    run(sel, 100.0);
+    {
+        const tclod_id want[1] = {u}, drawn[3] = {s, d, c};
+        assert_requests(sel, want, 1);
+        helper_assert_cut(sel, drawn, 3);
+    }
+
+    /* what an unexpanded node refuses, each changing nothing */
+    nodes = tclod_scene_node_count(f->scene);
+    assert_int_equal(tclod_scene_set_resident(f->scene, u, 1), TCLOD_ERR_ARG);
+    assert_non_null(strstr(tclod_scene_last_error(f->scene), "unexpanded"));
+    assert_false(tclod_scene_node_resident(f->scene, u));
+    tclod_node_desc_default(&nd);
+    nd.parent = u;
+    assert_int_equal(tclod_scene_add_node_desc(f->scene, &nd, &x), TCLOD_ERR_HIERARCHY);
+    assert_non_null(strstr(tclod_scene_last_error(f->scene), "unexpanded"));
+    nd.parent = s;
+    nd.unexpanded = 1;
+    nd.empty = 1;
+    assert_int_equal(tclod_scene_add_node_desc(f->scene, &nd, &x), TCLOD_ERR_ARG);
+    nd.empty = 0;
+    nd.unexpanded = 2;
+    assert_int_equal(tclod_scene_add_node_desc(f->scene, &nd, &x), TCLOD_ERR_ARG);
+    assert_int_equal(tclod_scene_node_count(f->scene), nodes);
+
+    /* expanded: U gives way to what its file held */
+    assert_int_equal(tclod_scene_remove_node(f->scene, u), TCLOD_OK);
+    v = add(f, s, TCLOD_REFINE_REPLACE, 1, 100, 3.0, 0.1);
+    run(sel, 100.0);
+    {
+        const tclod_id drawn[4] = {s, d, c, v};
+        assert_requests(sel, NULL, 0);
+        helper_assert_cut(sel, drawn, 4);
+    }
+    tclod_selector_destroy(sel);
+}
+
+/* An implicit quadtree known on demand, over the square [0, 1024]² seen
+ * from a camera 2 above (cx, cy): tile (l, x, y) has side h = 1024 / 2^l,
+ * cost 1 and the benefit of tclod_tiles' model, its share of the screen
+ * a = min(1, (h / d)²) times the quality 1 / (1 + s / 256) of its error on
+ * screen s = 1000 h / d, d the camera's distance to its square (at least
+ * 2). The scene starts as one unexpanded node, the root's "file";
+ * expanding one (as a subtree file of one level would) puts the tile in its
+ * place, resident, with an unexpanded node for each child below it. */
+#define QT_SIDE 1024.0
+typedef struct qt_key {
+    uint8_t level, unexpanded;
+    uint16_t x, y;
+} qt_key;
+typedef struct qt_world {
+    helper_fixture *f;
+    qt_key *key; /* by node id */
+    uint32_t cap, depth, expansions;
+    double cx, cy;
+} qt_world;
+
+static double qt_benefit(const qt_world *w, qt_key k) {
+    double h = QT_SIDE / (double)(1u << k.level);
+    double dx = fmax(fmax(k.x * h - w->cx, w->cx - (k.x + 1) * h), 0.0);
+    double dy = fmax(fmax(k.y * h - w->cy, w->cy - (k.y + 1) * h), 0.0);
+    double d = sqrt(dx * dx + dy * dy + 4.0);
+    return fmin(1.0, (h / d) * (h / d)) / (1.0 + 1000.0 * h / d / 256.0);
+}
+
+static tclod_id qt_add(qt_world *w, tclod_id parent, qt_key k) {
+    tclod_node_desc d;
+    tclod_id id;
+    tclod_node_desc_default(&d);
+    d.parent = parent;
+    d.unexpanded = k.unexpanded;
+    d.bytes = 1000.0;
+    assert_int_equal(table_add_node_desc(&w->f->model, w->f->scene, &d, qt_benefit(w, k), 1.0, &id),
+                     TCLOD_OK);
+    if (id >= w->cap) {
+        uint32_t cap = 2 * id + 64;
+        w->key = (qt_key *)realloc(w->key, cap * sizeof *w->key);
+        assert_non_null(w->key);
+        w->cap = cap;
+    }
+    w->key[id] = k;
+    return id;
+}
+
+/* Adds tile k below parent, with its children: unexpanded, or (full) the
+ * whole subtree down to the world's depth. */
+static void qt_tile(qt_world *w, tclod_id parent, qt_key k, int full) {
+    tclod_id t;
+    uint32_t c;
+    k.unexpanded = 0;
+    t = qt_add(w, parent, k);
+    if (k.level == w->depth)
+        return;
+    for (c = 0; c < 4; ++c) {
+        qt_key ck = {(uint8_t)(k.level + 1), (uint8_t)!full, (uint16_t)(2 * k.x + (c & 1)),
+                     (uint16_t)(2 * k.y + (c >> 1))};
+        if (full)
+            qt_tile(w, t, ck, 1);
+        else
+            qt_add(w, t, ck);
+    }
+}
+
+/* Selects and expands what the plan asks for, 20 a frame, until it asks for
+ * nothing; returns the frames. */
+static uint32_t qt_converge(qt_world *w, tclod_selector *sel, double budget) {
+    uint32_t frame;
+    for (frame = 0; frame < 10000; ++frame) {
+        const tclod_stream_item *items;
+        size_t n, i;
+        run(sel, budget);
+        assert_int_equal(tclod_selector_requests(sel, &items, &n), TCLOD_OK);
+        if (n == 0)
+            return frame;
+        for (i = 0; i < n && i < 20; ++i) {
+            tclod_id u = items[i].id, p = tclod_scene_parent(w->f->scene, u);
+            qt_key k = w->key[u];
+            assert_int_equal(items[i].flags & TCLOD_STREAM_EXPAND, TCLOD_STREAM_EXPAND);
+            assert_true(k.unexpanded);
+            assert_int_equal(table_remove_node(&w->f->model, w->f->scene, u), TCLOD_OK);
+            qt_tile(w, p, k, 0);
+            w->expansions++;
+        }
+    }
+    fail_msg("the plan kept asking");
+    return frame;
+}
+
+/* Sorted keys of the cut, as level << 40 | x << 20 | y. */
+static size_t qt_cut(const qt_world *w, const tclod_selector *sel, uint64_t *out, size_t cap) {
+    tclod_id *ids = (tclod_id *)malloc(cap * sizeof *ids);
+    size_t n, i, j;
+    assert_non_null(ids);
+    n = helper_sorted_cut(sel, ids, cap);
+    for (i = 0; i < n; ++i) {
+        qt_key k = w->key[ids[i]];
+        assert_false(k.unexpanded);
+        out[i] = (uint64_t)k.level << 40 | (uint64_t)k.x << 20 | k.y;
+    }
+    for (i = 1; i < n; ++i) /* insertion sort: a few hundred keys */
+        for (j = i; j > 0 && out[j - 1] > out[j]; --j) {
+            uint64_t t = out[j];
+            out[j] = out[j - 1];
+            out[j - 1] = t;
+        }
+    free(ids);
+    return n;
+}
+
+/* Depth 6 (5461 tiles), budget 300: the plan asks for the expansions the
+ * selection needs, and once it asks for nothing more the cold greedy draws
+ * exactly what it draws over the whole tree read at once, from a scene that
+ * read a fraction of it. */
+static void a_hierarchy_read_on_demand_selects_as_the_whole(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    qt_world w = {f, NULL, 0, 6, 0, 100.3, 37.7}, ww = {NULL, NULL, 0, 6, 0, 100.3, 37.7};
+    qt_key root = {0, 1, 0, 0};
+    uint64_t got[400], want[400];
+    size_t n, m, i;
+    tclod_selector *sel, *wsel;
+    void *ws = NULL;
+
+    qt_add(&w, TCLOD_NONE, root); /* start-up: one file */
+    assert_int_equal(tclod_scene_node_count(f->scene), 1u);
+    sel = helper_selector(f->scene, &f->model, 0);
+    set_stream(sel, 100, 0.0, 0.0, 0.0);
+    qt_converge(&w, sel, 300.0);
+    n = qt_cut(&w, sel, got, 400);
+
+    assert_int_equal(helper_fixture_setup(&ws), 0);
+    ww.f = (helper_fixture *)ws;
+    qt_tile(&ww, TCLOD_NONE, root, 1);
+    assert_int_equal(tclod_scene_node_count(ww.f->scene), 5461u);
+    wsel = helper_selector(ww.f->scene, &ww.f->model, 0);
+    run(wsel, 300.0);
+    m = qt_cut(&ww, wsel, want, 400);
+
+    assert_true(n > 250 && n <= 300);
+    assert_int_equal(n, m);
+    for (i = 0; i < n; ++i)
+        assert_int_equal(got[i], want[i]);
+    /* each expansion read one tile's file: fewer than a tenth of the tiles */
+    assert_true(w.expansions < 5461 / 10);
+    assert_int_equal(tclod_scene_node_count(f->scene) >= w.expansions, 1);
+    tclod_selector_destroy(wsel);
+    tclod_selector_destroy(sel);
+    helper_fixture_teardown(&ws);
+    free(ww.key);
+    free(w.key);
+}
+
+/* Depth 10: 1 398 101 tiles, more than 10⁶. From one unexpanded root, a view
+ * reads a few hundred files; a second view, at the far corner, reads about
+ * as many more: what is known grows with what the camera has seen, not with
+ * the tileset. Every tile drawn is resident, none unexpanded. */
+static void a_million_tiles_are_read_as_the_camera_sees_them(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    qt_world w = {f, NULL, 0, 10, 0, 10.0, 20.0};
+    qt_key root = {0, 1, 0, 0};
+    uint64_t keys[600];
+    uint32_t first, id, deepest = 0;
+    size_t n, i;
+    tclod_selector *sel;
+
+    qt_add(&w, TCLOD_NONE, root);
+    sel = helper_selector(f->scene, &f->model, 1);
+    set_stream(sel, 100, 0.0, 0.0, 0.0);
+    qt_converge(&w, sel, 500.0);
+    first = w.expansions;
+    n = qt_cut(&w, sel, keys, 600);
+    for (i = 0; i < n; ++i)
+        deepest = (uint32_t)(keys[i] >> 40) > deepest ? (uint32_t)(keys[i] >> 40) : deepest;
+    assert_int_equal(deepest, 10u); /* the finest tiles, under the camera */
+    assert_true(first > 50 && first < 1000);
+
+    w.cx = QT_SIDE - 10.0;
+    w.cy = QT_SIDE - 20.0;
+    for (id = 0; id < tclod_scene_node_count(f->scene); ++id)
+        if (tclod_scene_node_live(f->scene, id) && f->model.kind[id] != TABLE_NONE)
+            f->model.benefit[id] = qt_benefit(&w, w.key[id]);
+    qt_converge(&w, sel, 500.0);
+    n = qt_cut(&w, sel, keys, 600);
+    assert_true(w.expansions > first + first / 2 && w.expansions < 3 * first);
+    /* 5 nodes a file at most (a tile and 4 unexpanded children), and the root */
+    assert_true(tclod_scene_node_count(f->scene) <= 5u * w.expansions + 1u);
+    assert_true(tclod_scene_node_count(f->scene) < 1398101u / 100u);
+    for (i = 0; i < n; ++i)
+        assert_true((keys[i] >> 40) <= 10u);
+    tclod_selector_destroy(sel);
+    free(w.key);
 }
 
 /* ---- evictions -------------------------------------------------------------------- */
@@ -852,6 +1135,12 @@ int main(void) {
         cmocka_unit_test_setup_teardown(the_plan_looks_past_a_level_that_gains_nothing,
                                         helper_fixture_setup, helper_fixture_teardown),
         cmocka_unit_test_setup_teardown(a_plan_jump_that_does_not_fit_gives_way_to_a_cheaper_cut,
+                                        helper_fixture_setup, helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(unexpanded_nodes_are_requested_like_content,
+                                        helper_fixture_setup, helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(a_hierarchy_read_on_demand_selects_as_the_whole,
+                                        helper_fixture_setup, helper_fixture_teardown),
+        cmocka_unit_test_setup_teardown(a_million_tiles_are_read_as_the_camera_sees_them,
                                         helper_fixture_setup, helper_fixture_teardown),
         cmocka_unit_test_setup_teardown(evictions_free_the_least_valuable, helper_fixture_setup,
                                         helper_fixture_teardown),

@@ -318,14 +318,23 @@ typedef struct tclod_node_desc {
                             tclod_scene_set_resident (docs/streaming.md). Default 0 */
     double bytes;        /* its size once resident, >= 0 and finite (0: not known
                             yet). Default 0 */
+    int unexpanded;      /* 1: it stands for a part of the hierarchy not read yet (an
+                            external tileset, an implicit subtree): a leaf, never
+                            drawn, that the load plan values as what reading it
+                            draws first (its callbacks, as any node's) and lists
+                            with TCLOD_STREAM_EXPAND for bytes (the file's size).
+                            Once read, the host removes it and adds what it read in
+                            its place (docs/streaming.md, hierarchy on demand). Not
+                            with empty; no child can be added below it. Default 0 */
 } tclod_node_desc;
 
 /* Fills d with the defaults above. */
 TCLOD_API void tclod_node_desc_default(tclod_node_desc *d);
 
 /* Adds a node described by d. Errors: TCLOD_ERR_ARG (s, d or out_id NULL; bounds
- * rejected by tclod_bounds_validate; refine or empty out of range),
- * TCLOD_ERR_HIERARCHY (parent neither TCLOD_NONE nor a live node),
+ * rejected by tclod_bounds_validate; refine, empty or unexpanded out of range;
+ * unexpanded and empty), TCLOD_ERR_HIERARCHY (parent neither TCLOD_NONE nor a
+ * live node, or unexpanded),
  * TCLOD_ERR_STATE (a solve holds the scene), TCLOD_ERR_NOMEM. An additive node
  * that is not empty takes a second id for its own drawing among its children,
  * which no call returns (docs/scenes.md, ids). */
@@ -405,7 +414,8 @@ TCLOD_API tclod_id tclod_scene_parent(const tclod_scene *s, tclod_id node);
  * resident (its data loaded). Every node is resident unless added with
  * not_resident or marked otherwise here. Each call is O(1) and changes no
  * selection state: a select picks the residency up as it evaluates. Errors:
- * TCLOD_ERR_ARG (s NULL; node not a live node; resident not 0 or 1),
+ * TCLOD_ERR_ARG (s NULL; node not a live node; resident not 0 or 1; node
+ * unexpanded),
  * TCLOD_ERR_STATE (a solve holds the scene, or from a callback); nothing
  * changes on error. */
 TCLOD_API tclod_status tclod_scene_set_resident(tclod_scene *s, tclod_id node, int resident);
@@ -802,6 +812,8 @@ TCLOD_API tclod_status tclod_selector_set_stream(tclod_selector *sel, const tclo
 /* tclod_stream_item.flags */
 #define TCLOD_STREAM_SMOOTH 0x1u /* id is a smooth object, not a node */
 #define TCLOD_STREAM_LISTED 0x2u /* it was in the previous select's list too */
+#define TCLOD_STREAM_EXPAND 0x4u /* a request to read an unexpanded node's part of the
+                                    hierarchy (tclod_node_desc.unexpanded) */
 
 /* A load request or an eviction. */
 typedef struct tclod_stream_item {

@@ -1073,8 +1073,10 @@ static void move_smooth(host_model *m, tclod_id id, const float sphere[4], int h
 static void add_node_spec(host_model *m, const node_spec *ns, int held) {
     tclod_id id = 12345u, parent = ns->desc.parent;
     uint32_t old = m->nodes, now, growth, fresh;
-    int bad_parent = parent != TCLOD_NONE && !node_live_model(m, parent);
-    int bad_arg = ns->verdict == 1 || ns->bad_enum, additive;
+    int bad_parent =
+        parent != TCLOD_NONE && (!node_live_model(m, parent) || m->unexpanded[parent]);
+    int bad_arg = ns->verdict == 1 || ns->bad_enum || (ns->desc.unexpanded && ns->desc.empty),
+        additive;
     tclod_status st;
     if (m->nodes + 2u > MAX_NODES)
         return; /* the model's id space is full */
@@ -1113,6 +1115,7 @@ static void add_node_spec(host_model *m, const node_spec *ns, int held) {
     m->state[id] = ID_LIVE;
     m->kind[id] = ns->desc.empty ? KIND_EMPTY : (additive ? KIND_ADD : KIND_REPLACE);
     m->parent[id] = parent;
+    m->unexpanded[id] = (uint8_t)ns->desc.unexpanded;
     m->hidden[id] = TCLOD_NONE;
     if (additive) {
         if (growth > fresh) { /* a fresh hidden id, the last */
@@ -1234,6 +1237,17 @@ void try_held_edit(const host_model *m, const edit *e) {
 void add_node(fuzz_reader *in, host_model *m) {
     node_spec ns;
     read_node_spec(in, m, &ns);
+    add_node_spec(m, &ns, 0);
+}
+
+void add_unexpanded(fuzz_reader *in, host_model *m) {
+    node_spec ns;
+    read_node_spec(in, m, &ns);
+    ns.short_form = 0;
+    ns.bad_enum = 0;
+    ns.desc.refine = TCLOD_REFINE_REPLACE;
+    ns.desc.empty = (fuzz_u8(in) & 7u) == 0;
+    ns.desc.unexpanded = 1;
     add_node_spec(m, &ns, 0);
 }
 

@@ -46,6 +46,8 @@ typedef struct host_model {
     uint32_t live_nodes, live_smooth; /* of those, live (nodes: public ones) */
     uint8_t state[MAX_NODES];         /* ID_* */
     uint8_t kind[MAX_NODES];          /* KIND_*, of live and removed nodes */
+    uint8_t unexpanded[MAX_NODES];    /* added with tclod_node_desc.unexpanded: no child
+                                         can be added below it */
     tclod_id parent[MAX_NODES];       /* as added (empty ones included) */
     tclod_id hidden[MAX_NODES];       /* an additive node's hidden id, TCLOD_NONE or
                                          HIDDEN_UNKNOWN; for a hidden id its owner */
@@ -282,6 +284,9 @@ void try_held_edit(const host_model *m, const edit *e);
 /* Adds a node (smooth object) as the input says, as try_edit does with
  * held = 0; nothing when the model's id space is full. */
 void add_node(fuzz_reader *in, host_model *m);
+/* The same with tclod_node_desc.unexpanded = 1 (a replace node with no size;
+ * one byte in 8 also empty, which the scene refuses). */
+void add_unexpanded(fuzz_reader *in, host_model *m);
 void add_smooth(fuzz_reader *in, host_model *m);
 
 /* Whether the header requires tclod_view_validate to accept (1) or reject

@@ -40,7 +40,9 @@
  *    resident, each once, at most max_requests; the evictions, listed only
  *    with a memory budget, are live resident ones that are neither drawn
  *    nor above a drawn node (in no group), each once; TCLOD_STREAM_LISTED
- *    is set exactly on the items the previous select listed too;
+ *    is set exactly on the items the previous select listed too, and
+ *    TCLOD_STREAM_EXPAND exactly on requests for unexpanded nodes (added
+ *    between frames, never resident, refusing residency and children);
  *  - the bytes callback is asked only about a live node (smooth object)
  *    that is not resident and has no size, at most once per select;
  *  - the two selectors agree, lists included, when no limit is involved.
@@ -71,6 +73,7 @@ enum {
     T_EVICTIONS,
     T_BYTES_ASKED,
     T_STREAM_DESC_BAD,
+    T_EXPAND_LISTED, /* a request to expand an unexpanded node */
     T_COUNT
 };
 static unsigned long tallies_[T_COUNT];
@@ -88,7 +91,8 @@ static void print_tallies_(void) {
                                                "selects with requests",
                                                "selects with evictions",
                                                "bytes asked",
-                                               "bad stream descs"};
+                                               "bad stream descs",
+                                               "expansions requested"};
     int i;
     for (i = 0; i < T_COUNT; ++i)
         fprintf(stderr, "tally: %-30s %lu\n", names[i], tallies_[i]);
@@ -157,13 +161,14 @@ static double model_sum(const host_model *m, const residency *r) {
 }
 
 /* Ids that became live since the last sync are resident with no size (what
- * fuzz_host adds); ids no longer live are forgotten. */
+ * fuzz_host adds), unexpanded ones not resident; ids no longer live are
+ * forgotten. */
 static void sync(const host_model *m, residency *r) {
     uint32_t i;
     for (i = 0; i < MAX_NODES; ++i) {
         int live = is_live(m, i);
         if (live != r->live[i]) {
-            r->resident[i] = (uint8_t)live;
+            r->resident[i] = (uint8_t)(live && !m->unexpanded[i]);
             r->bytes[i] = 0.0f;
         }
         r->live[i] = (uint8_t)live;
@@ -230,7 +235,7 @@ static void residency_call(host_model *m, residency *r, uint8_t op, tclod_id id,
     switch (op % OP_KINDS) {
     case OP_RESIDENT:
         st = tclod_scene_set_resident(s, id, flag);
-        bad = !live || (flag != 0 && flag != 1);
+        bad = !live || (flag != 0 && flag != 1) || m->unexpanded[id];
         break;
     case OP_SMOOTH_RESIDENT:
         st = tclod_scene_set_smooth_resident(s, id, flag);
@@ -526,8 +531,15 @@ static void check_result(int k, const tclod_frame *f, const tclod_stats *st, con
             int smooth = (it->flags & TCLOD_STREAM_SMOOTH) != 0, was = 0;
             uint32_t slot = smooth ? MAX_NODES + it->id : it->id;
             size_t q;
-            FUZZ_CHECK((it->flags & ~(TCLOD_STREAM_SMOOTH | TCLOD_STREAM_LISTED)) == 0,
+            FUZZ_CHECK((it->flags & ~(TCLOD_STREAM_SMOOTH | TCLOD_STREAM_LISTED |
+                                      TCLOD_STREAM_EXPAND)) == 0,
                        "item flags %x", (unsigned)it->flags);
+            FUZZ_CHECK(((it->flags & TCLOD_STREAM_EXPAND) != 0) ==
+                           (kind == 0 && !smooth && m->unexpanded[it->id]),
+                       "%s: %u (unexpanded %d) flagged %x", kind ? "evictions" : "requests",
+                       (unsigned)it->id, !smooth && m->unexpanded[it->id], (unsigned)it->flags);
+            if (!smooth && m->unexpanded[it->id])
+                count(T_EXPAND_LISTED);
             FUZZ_CHECK(smooth ? is_smooth_live(m, it->id) : model_draws(m, it->id),
                        "%s lists %s %u, not live", kind ? "evictions" : "requests",
                        smooth ? "smooth object" : "node", (unsigned)it->id);
@@ -650,14 +662,18 @@ static void settle_new(fuzz_reader *in, const uint8_t *was_live, const uint8_t *
         }
 }
 
-static void grow(fuzz_reader *in, uint32_t nodes, uint32_t smooth) {
+static void grow(fuzz_reader *in, uint32_t nodes, uint32_t smooth, int unexpanded) {
     run_state *S = &state;
     uint8_t was_live[MAX_NODES], was_smooth[MAX_SMOOTH];
     uint32_t i;
     memcpy(was_live, S->res.live, sizeof was_live);
     memcpy(was_smooth, S->res.smooth_live, sizeof was_smooth);
-    for (i = 0; i < nodes; ++i)
-        add_node(in, &S->model);
+    for (i = 0; i < nodes; ++i) {
+        if (unexpanded)
+            add_unexpanded(in, &S->model);
+        else
+            add_node(in, &S->model);
+    }
     for (i = 0; i < smooth; ++i)
         add_smooth(in, &S->model);
     sync(&S->model, &S->res);
@@ -682,9 +698,11 @@ static void operate(fuzz_reader *in) {
         residency_call(m, &S->res, op, id, flag, x, 0);
         break;
     }
-    case 3:
-        grow(in, 1, fuzz_u8(in) & 1);
+    case 3: {
+        uint8_t b = fuzz_u8(in);
+        grow(in, 1, b & 1, (b & 6) == 6); /* one in four: a part not read yet */
         break;
+    }
     case 4: {
         edit e;
         uint8_t was_live[MAX_NODES], was_smooth[MAX_SMOOTH];
@@ -756,7 +774,7 @@ static void run(fuzz_reader *in) {
         S->res.answer[i] = 1.0 + (double)(i % 5u);
     f = fuzz_u8(in) % (FIRST_NODES + 1u); /* read in this order, not as arguments */
     i = fuzz_u8(in) % (FIRST_SMOOTH + 1u);
-    grow(in, f, i);
+    grow(in, f, i, 0);
     if (desc_invalid(&d, m->live_smooth)) {
         tclod_selector *sel = NULL;
         FUZZ_CHECK(tclod_selector_create(s, &d, NULL, &sel) == TCLOD_ERR_ARG,

@@ -492,7 +492,10 @@ def tileset_seeds():
     """Every volume kind, a transform and an external tileset; implicit
     quadtrees of boxes (binary subtree, JSON child subtree with an external
     buffer) and of regions across the antimeridian (child subtrees); an
-    implicit octree with constant availability."""
+    implicit octree with constant availability; and every deviation the
+    reader forgives (docs/tiles.md): errors inherited, refine in lowercase and
+    unknown, url for uri, an empty uri, an asset without version, a content
+    volume, a child reaching out of its parent, a viewerRequestVolume."""
     implicit = {"subdivisionScheme": "QUADTREE", "subtreeLevels": 2, "availableLevels": 3,
                 "subtrees": {"uri": "s{level}{x}{y}.subtree"}}
     listed = tileset_json({
@@ -539,8 +542,20 @@ def tileset_seeds():
         "geometricError": 10, "boundingVolume": {"box": [0, 0, 0, 2, 0, 0, 0, 4, 0, 0, 0, 6]},
         "content": {"uri": "o/{level}/{x}/{y}/{z}.pnts"},
         "implicitTiling": dict(implicit, subdivisionScheme="OCTREE", availableLevels=2)})
+    liberal = json.dumps({"asset": {}, "geometricError": 50, "root": {
+        "refine": "add", "boundingVolume": {"box": [0, 0, 0, 4, 0, 0, 0, 4, 0, 0, 0, 4]},
+        "content": {"url": "a.glb", "boundingVolume": {"sphere": [0, 0, 0, 3]}},
+        "children": [
+            {"refine": "Replace", "boundingVolume": {"sphere": [9, 0, 0, 2]},
+             "content": {"uri": ""},
+             "children": [{"refine": "MERGE", "boundingVolume": {"sphere": [9, 0, 0, 1]},
+                           "content": {"uri": "b.glb"}}]},
+            {"geometricError": 1, "boundingVolume": {"sphere": [0, 0, 0, 1]},
+             "viewerRequestVolume": {"sphere": [0, 0, 0, 10]},
+             "content": {"uri": "c.glb"}}]}}, separators=(",", ":")).encode()
     return [
         listed + b"\0" + tileset_record("e.json", external),
+        liberal + b"\0",
         boxes + b"\0" + tileset_record("s000.subtree", root_subtree) +
         tileset_record("s232.subtree", child_subtree) + tileset_record("b.bin", b"\x01"),
         regions + b"\0" + tileset_record("s000.subtree", json.dumps({
