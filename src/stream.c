@@ -235,8 +235,8 @@ enum {
 };
 /* The relative margin by which a deeper cut's ratio must beat a shallower
  * one's, and Dinkelbach's iterations at most (as the solver's). */
-#define LOOK_MARGIN 1e-12
-#define LOOK_ITERATIONS 16u
+#define JUMP_MARGIN 1e-12
+#define JUMP_ITERATIONS 16u
 
 /* An increment's key: gain per cost, +inf when it costs nothing. */
 static double ratio(double db, double dc) {
@@ -306,7 +306,7 @@ static uint32_t look_nodes(tclod_selector *sel, tclod_id p) {
  * replaced. The sums of the cut go to *b, *c; with `write` the nodes replaced
  * carry LOOK_EXPAND. Returns 1 when a node below the root's children is
  * replaced. */
-static int look_pass(tclod_selector *sel, uint32_t base, uint32_t end, double weight,
+static int jump_pass(tclod_selector *sel, uint32_t base, uint32_t end, double weight,
                      double lambda, int write, double *b, double *c) {
     const tclod_scene *s = sel->scene;
     tclod_stream_state *S = &sel->stream;
@@ -375,10 +375,10 @@ static int target_look(tclod_selector *sel, tclod_id n, double b, double c, doub
     if (best == HUGE_VAL)
         return 0;
     lambda = best == best ? best : 0.0;
-    for (it = 0; it < LOOK_ITERATIONS; ++it) {
-        int rc = look_pass(sel, base, end, 1.0, lambda, 0, &B, &C);
+    for (it = 0; it < JUMP_ITERATIONS; ++it) {
+        int rc = jump_pass(sel, base, end, 1.0, lambda, 0, &B, &C);
         q = B - b > 0.0 ? ratio(B - b, C - c) : (double)NAN;
-        if (rc == 0 || q != q || (best == best && !(q > best * (1.0 + LOOK_MARGIN))))
+        if (rc == 0 || q != q || (best == best && !(q > best * (1.0 + JUMP_MARGIN))))
             break;
         best = q;
         at = lambda;
@@ -389,10 +389,10 @@ static int target_look(tclod_selector *sel, tclod_id n, double b, double c, doub
     }
     if (!deep)
         return 0;
-    (void)look_pass(sel, base, end, 1.0, best < HUGE_VAL ? best : at, 1, &B, &C);
+    (void)jump_pass(sel, base, end, 1.0, best < HUGE_VAL ? best : at, 1, &B, &C);
     q = B - b > 0.0 ? ratio(B - b, C - c) : (double)NAN;
-    if (!(q >= best * (1.0 - LOOK_MARGIN)))
-        (void)look_pass(sel, base, end, 1.0, at, 1, &B, &C);
+    if (!(q >= best * (1.0 - JUMP_MARGIN)))
+        (void)jump_pass(sel, base, end, 1.0, at, 1, &B, &C);
     S->jump[n] |= LOOK_JUMP;
     *sum_b = B;
     *sum_c = C;
@@ -445,18 +445,18 @@ static int target_refit(tclod_selector *sel, tclod_id p, double room) {
     if (end == 0)
         return -1;
     (void)true_values(sel, p, &b, &c); /* evaluated when it was queued */
-    (void)look_pass(sel, base, end, 0.0, 1.0, 0, &cb, &cc); /* the cheapest cut */
+    (void)jump_pass(sel, base, end, 0.0, 1.0, 0, &cb, &cc); /* the cheapest cut */
     bb = cb - b;
     bc = cc - c;
     if (!(bc <= room))
         return 0;
-    for (it = 0; it < LOOK_ITERATIONS && ab > bb; ++it) {
+    for (it = 0; it < JUMP_ITERATIONS && ab > bb; ++it) {
         double l = (ab - bb) / (ac - bc), db, dc, gap;
-        (void)look_pass(sel, base, end, 1.0, l, 0, &cb, &cc);
+        (void)jump_pass(sel, base, end, 1.0, l, 0, &cb, &cc);
         db = cb - b;
         dc = cc - c;
         gap = (db - l * dc) - (bb - l * bc);
-        if (!(gap > LOOK_MARGIN * (fabs(db) + fabs(bb) + l * (fabs(dc) + fabs(bc)))))
+        if (!(gap > JUMP_MARGIN * (fabs(db) + fabs(bb) + l * (fabs(dc) + fabs(bc)))))
             break;
         if (dc <= room) {
             bb = db;
@@ -470,7 +470,7 @@ static int target_refit(tclod_selector *sel, tclod_id p, double room) {
     }
     if (!(bb > 0.0))
         return 0;
-    (void)look_pass(sel, base, end, weight, lambda, 1, &cb, &cc);
+    (void)jump_pass(sel, base, end, weight, lambda, 1, &cb, &cc);
     S->jump[p] = (uint8_t)(LOOK_JUMP | LOOK_REFIT | LOOK_OPEN);
     S->delta[2u * p] = cb - b;
     S->delta[2u * p + 1u] = cc - c;
