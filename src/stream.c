@@ -495,6 +495,24 @@ static void candidate(tclod_stream_state *S, tclod_id n, double key, uint32_t *c
     ++*count;
 }
 
+/* Makes ch, not resident, a member of a group of request candidates ranked
+ * together: its bytes join *group_bytes, or a bad size sets *bad (the group
+ * is left out). Returns 0 or -1 (strict). */
+static int group_join(tclod_selector *sel, tclod_id ch, double *group_bytes, int *bad,
+                      uint32_t *count) {
+    double z;
+    int r = request_bytes(sel, ch, &z);
+    if (r < 0)
+        return -1;
+    if (r > 0) {
+        *bad = 1;
+    } else {
+        candidate(&sel->stream, ch, 0.0, count);
+        *group_bytes += z;
+    }
+    return 0;
+}
+
 /* The children of target node p that are not resident, as request candidates
  * ranked by the benefit their arrival adds per byte, at most p's cap: each
  * child of an additive node by its own benefit (they join one by one), the
@@ -518,17 +536,18 @@ static int request_children(tclod_selector *sel, tclod_id p, double gain, uint32
             return -1;
         if (!(b > 0.0))
             continue;
+        if (!additive) {
+            if (group_join(sel, ch, &group_bytes, &bad, count) != 0)
+                return -1;
+            continue;
+        }
         r = request_bytes(sel, ch, &z);
         if (r < 0)
             return -1;
-        if (r > 0) {
+        if (r > 0)
             bad = 1;
-        } else if (additive) {
+        else
             candidate(S, ch, b / z < cap ? b / z : cap, count);
-        } else {
-            candidate(S, ch, 0.0, count);
-            group_bytes += z;
-        }
     }
     if (!additive) {
         double rank = gain / group_bytes < cap ? gain / group_bytes : cap;
@@ -557,7 +576,7 @@ static int target_jump(tclod_selector *sel, tclod_id p, uint32_t *count) {
     const tclod_scene *s = sel->scene;
     tclod_stream_state *S = &sel->stream;
     uint32_t base = S->level_top, head = base, tail = base, group = *count, i, j;
-    double cap = S->cap_value[p], group_bytes = 0.0, rank, b = 0.0, c = 0.0, z;
+    double cap = S->cap_value[p], group_bytes = 0.0, rank, b = 0.0, c = 0.0;
     int bad = 0, r, walk;
     S->mark[p] = (uint8_t)((S->mark[p] & ~STREAM_VCUT) | STREAM_PASSED);
     for (walk = 0; walk < 2; ++walk) {
@@ -586,17 +605,9 @@ static int target_jump(tclod_selector *sel, tclod_id p, uint32_t *count) {
                 if (walk == 1)
                     continue;
                 S->cap_value[ch] = cap;
-                if (!(s->flags[ch] & TCLOD_NODE_ABSENT))
-                    continue;
-                r = request_bytes(sel, ch, &z);
-                if (r < 0)
+                if ((s->flags[ch] & TCLOD_NODE_ABSENT) &&
+                    group_join(sel, ch, &group_bytes, &bad, count) != 0)
                     return -1;
-                if (r > 0) {
-                    bad = 1;
-                } else {
-                    candidate(S, ch, 0.0, count);
-                    group_bytes += z;
-                }
             }
         }
         if (walk == 1)
