@@ -1862,7 +1862,7 @@ static int bench_drift(uint32_t objects, unsigned long frames) {
     bench_row rows[DRIFT_MODES];
     double *times[DRIFT_MODES], sum_us[DRIFT_MODES], budget, ratio_sum = 0.0, ratio_min = 1e300;
     unsigned long f, total = frames + WARMUP_FRAMES, fallbacks = 0;
-    int k, rc = 0;
+    int k, ran = 0, rc = 0;
     budget = drift_build(&d, objects);
     mem_row_begin();
     memset(rows, 0, sizeof rows);
@@ -1871,6 +1871,8 @@ static int bench_drift(uint32_t objects, unsigned long frames) {
         times[k] = (double *)malloc(frames * sizeof(double));
     for (k = 0; k < DRIFT_MODES && budget >= 0.0; ++k) {
         tclod_selector_desc sd;
+        if (!row_wanted("greedy", drift_modes[k]))
+            continue; /* --mode: this selector neither runs nor prints */
         tclod_selector_desc_default(&sd);
         sd.callbacks.benefit = drift_benefit;
         sd.callbacks.cost = drift_cost;
@@ -1893,6 +1895,8 @@ static int bench_drift(uint32_t objects, unsigned long frames) {
         for (k = 0; k < DRIFT_MODES && rc == 0; ++k) {
             solve_call call;
             double us;
+            if (!sel[k])
+                continue;
             memset(&call, 0, sizeof(call));
             call.method = METHOD_GREEDY;
             call.sel = sel[k];
@@ -1913,22 +1917,25 @@ static int bench_drift(uint32_t objects, unsigned long frames) {
             if (k == DRIFT_WARM)
                 fallbacks += (call.stats.notes & TCLOD_NOTE_COLD_FALLBACK) != 0;
         }
-        if (rc == 0 && f >= WARMUP_FRAMES) {
+        if (rc == 0 && f >= WARMUP_FRAMES && sel[DRIFT_COLD] && sel[DRIFT_WARM]) {
             double r = benefit[DRIFT_WARM] / benefit[DRIFT_COLD];
             ratio_sum += r;
             if (r < ratio_min)
                 ratio_min = r;
         }
     }
+    for (k = 0; k < DRIFT_MODES && rc == 0; ++k)
+        ran += sel[k] != NULL;
     for (k = 0; k < DRIFT_MODES && rc == 0; ++k) {
+        if (!sel[k])
+            continue;
         mem_row_end(&rows[k]);
-        rows[k].selector_bytes /= DRIFT_MODES; /* the three selectors lived together */
+        rows[k].selector_bytes /= (double)ran; /* the selectors lived together */
         finish_row(&rows[k], times[k], frames, sum_us[k]);
-        if (row_wanted("greedy", drift_modes[k]))
-            print_row("drift", "greedy", drift_modes[k], (unsigned long)objects,
+        print_row("drift", "greedy", drift_modes[k], (unsigned long)objects,
                       (unsigned long)d.nodes, budget, (unsigned long)objects, &rows[k]);
     }
-    if (rc == 0)
+    if (rc == 0 && sel[DRIFT_COLD] && sel[DRIFT_WARM])
         fprintf(stderr,
                 "summary: scene=drift objects=%u cold_us_median=%.2f warm_us_median=%.2f "
                 "time_ratio=%.3f benefit_ratio=%.5f benefit_ratio_min=%.5f "
@@ -2236,7 +2243,8 @@ static void usage(FILE *out) {
             "  --solver NAME only the rows of one solver or baseline: greedy, mixed,\n"
             "                robin_hood, threshold_tuned, threshold_fixed, pq_stop, flat\n"
             "  --mode NAME   only the rows of one mode: cold, warm, warm_floor,\n"
-            "                warm_batch, warm_parallel (drift: cold, warm, warm_batch; thesis:\n"
+            "                warm_batch, warm_parallel (drift: cold, warm, warm_batch, only\n"
+            "                that selector runs, the summary needs cold and warm; thesis:\n"
             "                split, flat, split_gradient; churn: warm, warm_noedit,\n"
             "                warm_edited; the summary needs warm and warm_noedit; absorb:\n"
             "                limited, step, scheduler; stream: flips, warm_plain,\n"
