@@ -54,9 +54,23 @@ typedef struct pending {
     double region[6]; /* the parent's region, to tell whether the tile reaches out */
 } pending;
 
+/* A file not read yet that an unexpanded tile stands for (tileset_open). */
+typedef struct file_link {
+    uint32_t tile;
+    uint32_t implicit;      /* its implicit tiling, loader.implicits[implicit]; DOC_NONE:
+                               an external tileset */
+    pending via;            /* external: the linking tile's entry (messages, cycles) */
+    pending root;           /* external: what the linked root inherits, json aside */
+    uint32_t level, xyz[3]; /* implicit: the subtree's root tile */
+    char *path;
+} file_link;
+
+struct implicit;
+
 typedef struct loader {
     const size_table *sizes;
     uint32_t max_tiles;
+    int lazy; /* tileset_open: files other than the first become unexpanded tiles */
     document *docs;
     uint32_t doc_count, doc_cap;
     pending *stack;
@@ -67,6 +81,14 @@ typedef struct loader {
     uint32_t request_count, request_cap;
     uint32_t *tile_doc;  /* per tile: its document, for messages */
     int32_t *tile_index; /* per tile: its position in its parent's "children" */
+    uint32_t *tile_file; /* per tile: its entry in files, TILE_NONE when expanded */
+    uint32_t *children;  /* tileset.children */
+    size_t child_count, child_cap;
+    file_link *files;
+    uint32_t file_count, file_cap;
+    struct implicit *implicits;
+    uint32_t implicit_count;
+    size_t implicit_cap;
     tileset_counts counts;
     char *err;
     size_t err_size;
@@ -779,7 +801,7 @@ static int add_tile(loader *l, const pending *p, const tile *t) {
     if (l->count == l->tile_cap) {
         uint32_t cap = l->tile_cap ? 2 * l->tile_cap : 256;
         tile *tiles = (tile *)realloc(l->tiles, cap * sizeof(*tiles));
-        uint32_t *docs;
+        uint32_t *docs, *files;
         int32_t *index;
         if (tiles)
             l->tiles = tiles;
@@ -787,11 +809,14 @@ static int add_tile(loader *l, const pending *p, const tile *t) {
         if (docs)
             l->tile_doc = docs;
         index = docs ? (int32_t *)realloc(l->tile_index, cap * sizeof(*index)) : NULL;
-        if (!index) {
+        if (index)
+            l->tile_index = index;
+        files = index ? (uint32_t *)realloc(l->tile_file, cap * sizeof(*files)) : NULL;
+        if (!files) {
             fail(l, "out of memory");
             return 1;
         }
-        l->tile_index = index;
+        l->tile_file = files;
         l->tile_cap = cap;
     }
     l->tiles[l->count] = *t;
@@ -800,7 +825,47 @@ static int add_tile(loader *l, const pending *p, const tile *t) {
     l->counts.bytes += t->bytes;
     l->tile_doc[l->count] = p->doc;
     l->tile_index[l->count] = p->index;
+    l->tile_file[l->count] = TILE_NONE;
     ++l->count;
+    return 0;
+}
+
+/* Makes tile t stand for the file at path (taken over), which tileset_expand
+ * reads: an external tileset (implicit DOC_NONE; via, the linking tile's
+ * entry, and root, what its root inherits) or the implicit subtree of
+ * implicits[implicit] whose root is t, at (level, xyz). */
+static int link_file(loader *l, uint32_t t, uint32_t implicit, const pending *via,
+                     const pending *root, uint32_t level, const uint32_t xyz[3], char *path) {
+    struct stat st;
+    file_link *f;
+    if (l->file_count == l->file_cap) {
+        uint32_t cap = l->file_cap ? 2 * l->file_cap : 16;
+        file_link *files = (file_link *)realloc(l->files, cap * sizeof(*files));
+        if (!files) {
+            free(path);
+            fail(l, "out of memory");
+            return 1;
+        }
+        l->files = files;
+        l->file_cap = cap;
+    }
+    f = &l->files[l->file_count];
+    memset(f, 0, sizeof(*f));
+    f->tile = t;
+    f->implicit = implicit;
+    if (via)
+        f->via = *via;
+    if (root)
+        f->root = *root;
+    f->level = level;
+    if (xyz)
+        memcpy(f->xyz, xyz, sizeof(f->xyz));
+    f->path = path;
+    l->tile_file[t] = l->file_count++;
+    l->tiles[t].unexpanded = 1;
+    /* its size, for the host's request; a file missing now fails when read */
+    l->tiles[t].file_bytes = stat(path, &st) == 0 && S_ISREG(st.st_mode) ? (double)st.st_size : 0.0;
+    ++l->counts.unexpanded;
     return 0;
 }
 
@@ -869,6 +934,8 @@ typedef struct implicit {
 typedef struct subtree_root {
     uint32_t level, xyz[3];
     uint32_t parent; /* its root's parent tile */
+    uint32_t tile;   /* the tile its root is already (the implicit root, an unexpanded
+                        tile), or TILE_NONE */
 } subtree_root;
 typedef struct level_tile {
     uint64_t morton; /* within the subtree's level */
@@ -1223,23 +1290,25 @@ static int implicit_contents(loader *l, const implicit *im, const subtree *s, ui
     return 0;
 }
 
-/* Appends tile (level, xyz) of im, bit `bit` of subtree s, below parent. */
+/* Appends tile (level, xyz) of im, bit `bit` of subtree s, below parent;
+ * without s, the root of a subtree not read (no content yet). */
 static int implicit_tile(loader *l, const implicit *im, const subtree *s, uint64_t bit,
                          uint32_t level, const uint32_t xyz[3], uint32_t parent, uint32_t *out) {
+    const char *where = s ? s->path : l->docs[im->root.doc].path;
     tile t;
-    int has;
+    int has = 0;
     if (l->count >= l->max_tiles) {
-        fail(l, "%s: more than %lu tiles", s->path, (unsigned long)l->max_tiles);
+        fail(l, "%s: more than %lu tiles", where, (unsigned long)l->max_tiles);
         return 1;
     }
     memset(&t, 0, sizeof(t));
     if (implicit_bounds(l, im, level, xyz, &t.bounds)) {
-        fail(l, "%s: tile %lu/%lu/%lu/%lu: its volume overflows", s->path, (unsigned long)level,
+        fail(l, "%s: tile %lu/%lu/%lu/%lu: its volume overflows", where, (unsigned long)level,
              (unsigned long)xyz[0], (unsigned long)xyz[1], (unsigned long)xyz[2]);
         return 1;
     }
     t.geometric_error = ldexp(im->geometric_error, -(int)level);
-    if (implicit_contents(l, im, s, bit, level, xyz, &t.bytes, &has))
+    if (s && implicit_contents(l, im, s, bit, level, xyz, &t.bytes, &has))
         return 1;
     t.parent = parent;
     t.refine = im->refine;
@@ -1253,10 +1322,25 @@ static int implicit_tile(loader *l, const implicit *im, const subtree *s, uint64
 /* Reads the tiles of subtree r: level by level, each available child of a
  * tile of the level above (a tile whose parent is not available cannot be
  * reached); then queues the child subtrees below its deepest level. */
+/* The path of im's subtree at (level, xyz), or NULL after a message. */
+static char *subtree_path(loader *l, const implicit *im, uint32_t level, const uint32_t xyz[3]) {
+    char uri[IMPLICIT_URI_SIZE];
+    char *path;
+    if (expand_template(im->subtree_uri, level, xyz, uri, sizeof(uri)) || !uri_is_local(uri)) {
+        fail(l, "%s: subtree %lu/%lu/%lu/%lu: its uri is not a local file or is too long",
+             l->docs[im->root.doc].path, (unsigned long)level, (unsigned long)xyz[0],
+             (unsigned long)xyz[1], (unsigned long)xyz[2]);
+        return NULL;
+    }
+    path = uri_file(l->docs[im->root.doc].dir, uri);
+    if (!path)
+        fail(l, "out of memory");
+    return path;
+}
+
 static int implicit_subtree(loader *l, const implicit *im, const subtree_root *r,
                             subtree_root **queue, size_t *queued, size_t *queue_cap,
                             level_tile **rows, size_t *row_cap) {
-    char uri[IMPLICIT_URI_SIZE];
     char *path;
     subtree s;
     level_tile *row;
@@ -1265,18 +1349,9 @@ static int implicit_subtree(loader *l, const implicit *im, const subtree_root *r
     uint32_t k, xyz[3], levels = im->subtree_levels;
     int rc = 1;
 
-    if (expand_template(im->subtree_uri, r->level, r->xyz, uri, sizeof(uri)) ||
-        !uri_is_local(uri)) {
-        fail(l, "%s: subtree %lu/%lu/%lu/%lu: its uri is not a local file or is too long",
-             l->docs[im->root.doc].path, (unsigned long)r->level, (unsigned long)r->xyz[0],
-             (unsigned long)r->xyz[1], (unsigned long)r->xyz[2]);
+    path = subtree_path(l, im, r->level, r->xyz);
+    if (!path)
         return 1;
-    }
-    path = uri_file(l->docs[im->root.doc].dir, uri);
-    if (!path) {
-        fail(l, "out of memory");
-        return 1;
-    }
     if (subtree_read(l, im, path, &s))
         goto done;
     ++l->counts.subtrees;
@@ -1284,15 +1359,22 @@ static int implicit_subtree(loader *l, const implicit *im, const subtree_root *r
         goto done;
     row = *rows;
     row[0].morton = 0;
-    if (r->level == 0) {
-        tile *root = &l->tiles[im->root_tile]; /* the implicit root, read from the tileset */
+    if (r->tile != TILE_NONE) {
+        /* the implicit root, read from the tileset, or an unexpanded tile */
+        tile *root = &l->tiles[r->tile];
         int has;
-        row[0].tile = im->root_tile;
-        if (implicit_contents(l, im, &s, 0, 0, r->xyz, &root->bytes, &has))
+        row[0].tile = r->tile;
+        if (implicit_contents(l, im, &s, 0, r->level, r->xyz, &root->bytes, &has))
             goto done;
         root->empty = !has; /* add_tile counted it empty */
         l->counts.empty -= (uint32_t)has;
         l->counts.bytes += root->bytes;
+        if (root->unexpanded) {
+            root->unexpanded = 0;
+            root->file_bytes = 0.0;
+            l->tile_file[r->tile] = TILE_NONE;
+            --l->counts.unexpanded;
+        }
     } else if (implicit_tile(l, im, &s, 0, r->level, r->xyz, r->parent, &row[0].tile)) {
         goto done;
     }
@@ -1346,6 +1428,19 @@ static int implicit_subtree(loader *l, const implicit *im, const subtree_root *r
                 q->xyz[1] |= r->xyz[1] << levels;
                 q->xyz[2] |= r->xyz[2] << levels;
                 q->parent = (*rows)[c].tile;
+                q->tile = TILE_NONE;
+                if (l->lazy) {
+                    /* not read now: its root becomes a tile standing for it */
+                    subtree_root at = *q;
+                    char *child_path;
+                    --*queued;
+                    if (implicit_tile(l, im, NULL, 0, at.level, at.xyz, at.parent, &at.tile))
+                        goto done;
+                    child_path = subtree_path(l, im, at.level, at.xyz);
+                    if (!child_path || link_file(l, at.tile, (uint32_t)(im - l->implicits), NULL,
+                                                 NULL, at.level, at.xyz, child_path))
+                        goto done;
+                }
             }
         }
     }
@@ -1461,10 +1556,25 @@ static int read_implicit(loader *l, const pending *p, const cJSON *j, const cJSO
     im.geometric_error = l->tiles[self].geometric_error;
     im.refine = l->tiles[self].refine;
 
+    if (l->lazy) {
+        /* kept for tileset_expand; the root tile stands for subtree 0 */
+        static const uint32_t origin[3] = {0, 0, 0};
+        char *path;
+        if (reserve(l, (void **)&l->implicits, &l->implicit_cap, l->implicit_count, 1, sizeof(im)))
+            return 1;
+        l->implicits[l->implicit_count] = im;
+        path = subtree_path(l, &im, 0, origin);
+        if (!path || link_file(l, self, l->implicit_count, NULL, NULL, 0, origin, path))
+            return 1;
+        ++l->implicit_count;
+        ++l->counts.implicit;
+        return 0;
+    }
     if (reserve(l, (void **)&queue, &queue_cap, 0, 1, sizeof(*queue)))
         return 1;
     memset(queue, 0, sizeof(*queue));
     queue[0].parent = l->tiles[self].parent;
+    queue[0].tile = self;
     while (queued > 0) {
         subtree_root r = queue[--queued];
         if (implicit_subtree(l, &im, &r, &queue, &queued, &queue_cap, &rows, &row_cap))
@@ -1564,6 +1674,8 @@ static int within_parent(const loader *l, const pending *p, int kind, const doub
 
 /* Reads the tile of entry p into a new tile, and puts its children (and the
  * root of the external tileset it names) on the stack. */
+static int linked_root(loader *l, uint32_t doc, pending *c);
+
 static int read_tile(loader *l, const pending *p) {
     const cJSON *j = p->json, *item, *child, *implicit_tiling;
     const char *external;
@@ -1723,95 +1835,139 @@ static int read_tile(loader *l, const pending *p) {
             fail(l, "out of memory");
             return 1;
         }
-        bad = load_document(l, path, p, &doc);
-        free(path);
-        if (bad)
-            return 1;
-        ++l->counts.external;
-        c.json = cJSON_GetObjectItemCaseSensitive(l->docs[doc].json, "root");
+        c.json = NULL;
         c.parent = self;
-        c.doc = doc;
+        c.doc = p->doc;
         c.index = -1;
         c.refine = t.refine;
         memcpy(c.transform, world, sizeof(world));
         c.error = error;
         c.in_region = kind == VOLUME_REGION;
         memcpy(c.region, region, sizeof(region));
-        if (push(l, &c))
+        /* opened lazily, a link without children of its own is read later
+         * (with some, they and the linked root are read at once) */
+        if (l->lazy && n == 0)
+            return link_file(l, self, DOC_NONE, p, &c, 0, NULL, path);
+        bad = load_document(l, path, p, &doc);
+        free(path);
+        if (bad)
             return 1;
+        return linked_root(l, doc, &c);
     }
     return 0;
 }
 
-/* Children lists, ADD anchors and depths, once every tile is read. Tiles are in
- * depth-first order, so a parent is always finished before its children. */
-static int link_tiles(loader *l, uint32_t **children_out) {
-    uint32_t *children = (uint32_t *)malloc((l->count ? l->count : 1) * sizeof(*children));
-    uint32_t i, next = 0;
-    if (!children) {
-        fail(l, "out of memory");
+/* Reads on below the root of external tileset doc, just loaded: entry c. */
+static int linked_root(loader *l, uint32_t doc, pending *c) {
+    ++l->counts.external;
+    c->json = cJSON_GetObjectItemCaseSensitive(l->docs[doc].json, "root");
+    c->doc = doc;
+    return push(l, c);
+}
+
+/* Children lists, ADD anchors and depths of tiles[from .. count), just read:
+ * tiles are in depth-first order, so a parent is finished before its
+ * children, and the parents of these are among them or (from > 0) the
+ * unexpanded tile `up` they were read for, which had none. Their lists are
+ * appended to the children array. */
+static int link_tiles(loader *l, uint32_t from, uint32_t up) {
+    uint32_t i, next;
+    size_t need = l->child_count + (l->count - from);
+    if (reserve(l, (void **)&l->children, &l->child_cap, 0, need ? need : 1, sizeof(uint32_t)))
         return 1;
-    }
-    for (i = 0; i < l->count; ++i)
+    for (i = from; i < l->count; ++i)
         l->tiles[i].child_count = 0;
-    for (i = 1; i < l->count; ++i)
-        ++l->tiles[l->tiles[i].parent].child_count;
-    for (i = 0; i < l->count; ++i) {
+    if (up != TILE_NONE)
+        l->tiles[up].child_count = 0;
+    for (i = from; i < l->count; ++i)
+        if (l->tiles[i].parent != TILE_NONE)
+            ++l->tiles[l->tiles[i].parent].child_count;
+    next = (uint32_t)l->child_count;
+    if (up != TILE_NONE) {
+        l->tiles[up].first_child = next;
+        next += l->tiles[up].child_count;
+        l->tiles[up].child_count = 0;
+    }
+    for (i = from; i < l->count; ++i) {
         l->tiles[i].first_child = next;
         next += l->tiles[i].child_count;
         l->tiles[i].child_count = 0;
     }
-    for (i = 1; i < l->count; ++i) {
-        tile *p = &l->tiles[l->tiles[i].parent];
-        children[p->first_child + p->child_count++] = i;
+    for (i = from; i < l->count; ++i) {
+        tile *p;
+        if (l->tiles[i].parent == TILE_NONE)
+            continue;
+        p = &l->tiles[l->tiles[i].parent];
+        l->children[p->first_child + p->child_count++] = i;
         l->tiles[i].add_anchor =
             !p->empty && p->refine == TCLOD_REFINE_ADD ? l->tiles[i].parent : p->add_anchor;
         l->tiles[i].depth = p->depth + 1;
         if (l->tiles[i].depth > l->counts.max_depth)
             l->counts.max_depth = l->tiles[i].depth;
     }
-    *children_out = children;
+    l->child_count = next;
     return 0;
 }
 
-static void loader_free(loader *l) {
+/* Frees documents docs[from ..) and file links files[from_file ..). */
+static void drop_documents(loader *l, uint32_t from, uint32_t from_file) {
     uint32_t i;
-    for (i = 0; i < l->doc_count; ++i) {
+    for (i = from; i < l->doc_count; ++i) {
         cJSON_Delete(l->docs[i].json);
         free(l->docs[i].path);
         free(l->docs[i].dir);
     }
+    l->doc_count = from;
+    for (i = from_file; i < l->file_count; ++i)
+        free(l->files[i].path);
+    l->file_count = from_file;
+}
+
+static void loader_free(loader *l) {
+    drop_documents(l, 0, 0);
     free(l->docs);
     free(l->stack);
     free(l->tile_doc);
     free(l->tile_index);
+    free(l->tile_file);
+    free(l->files);
+    free(l->implicits);
     free(l->requests);
+    free(l->children);
+    free(l->tiles);
 }
 
-int tileset_load(const char *path, const size_table *sizes, tileset *ts, char *err,
-                 size_t err_size) {
-    return tileset_load_at_most(path, sizes, TILESET_MAX_TILES, ts, err, err_size);
+/* Reads the tiles on the stack, depth first. */
+static int read_stack(loader *l) {
+    while (l->top > 0) {
+        pending p = l->stack[--l->top];
+        if (read_tile(l, &p))
+            return 1;
+    }
+    return 0;
 }
 
-int tileset_load_at_most(const char *path, const size_table *sizes, uint32_t max_tiles, tileset *ts,
-                         char *err, size_t err_size) {
-    loader l;
+/* The tileset's view of what l holds. */
+static void publish(loader *l, tileset *ts) {
+    ts->tiles = l->tiles;
+    ts->count = l->count;
+    ts->children = l->children;
+    ts->requests = l->requests;
+    ts->request_count = l->request_count;
+    l->counts.files = l->doc_count + l->counts.subtrees;
+    ts->counts = l->counts;
+}
+
+/* Reads the tileset at path into l (set up by the caller). */
+static int read_tileset(loader *l, const char *path) {
     pending root;
     const cJSON *error;
-    uint32_t *children = NULL;
-    int rc = 1;
-
-    memset(&l, 0, sizeof(l));
-    l.sizes = sizes;
-    l.max_tiles = max_tiles < TILESET_MAX_TILES ? max_tiles : TILESET_MAX_TILES;
-    l.err = err;
-    l.err_size = err_size;
-    if (load_document(&l, path, NULL, &root.doc))
-        goto done;
-    root.json = cJSON_GetObjectItemCaseSensitive(l.docs[0].json, "root");
+    if (load_document(l, path, NULL, &root.doc))
+        return 1;
+    root.json = cJSON_GetObjectItemCaseSensitive(l->docs[0].json, "root");
     root.parent = TILE_NONE;
     root.index = -1;
-    error = cJSON_GetObjectItemCaseSensitive(l.docs[0].json, "geometricError");
+    error = cJSON_GetObjectItemCaseSensitive(l->docs[0].json, "geometricError");
     root.error = cJSON_IsNumber(error) && isfinite(error->valuedouble) && error->valuedouble >= 0.0
                      ? error->valuedouble
                      : -1.0;
@@ -1820,28 +1976,127 @@ int tileset_load_at_most(const char *path, const size_table *sizes, uint32_t max
      * is read as REPLACE, the more common kind */
     root.refine = TCLOD_REFINE_REPLACE;
     geo_mat4_identity(root.transform);
-    if (push(&l, &root))
-        goto done;
-    while (l.top > 0) {
-        pending p = l.stack[--l.top];
-        if (read_tile(&l, &p))
-            goto done;
+    return push(l, &root) || read_stack(l) || link_tiles(l, 0, TILE_NONE);
+}
+
+int tileset_load(const char *path, const size_table *sizes, tileset *ts, char *err,
+                 size_t err_size) {
+    return tileset_load_at_most(path, sizes, TILESET_MAX_TILES, ts, err, err_size);
+}
+
+static int open_as(const char *path, const size_table *sizes, uint32_t max_tiles, int lazy,
+                   tileset *ts, char *err, size_t err_size) {
+    loader *l = (loader *)calloc(1, sizeof(*l));
+    if (!l) {
+        snprintf(err, err_size, "%s: out of memory", path);
+        return 1;
     }
-    if (link_tiles(&l, &children))
-        goto done;
-    ts->tiles = l.tiles;
-    ts->count = l.count;
-    ts->children = children;
-    ts->requests = l.requests;
-    ts->request_count = l.request_count;
-    ts->counts = l.counts;
-    l.tiles = NULL;
-    l.requests = NULL;
-    rc = 0;
-done:
-    free(l.tiles);
-    loader_free(&l);
-    return rc;
+    l->sizes = sizes;
+    l->max_tiles = max_tiles < TILESET_MAX_TILES ? max_tiles : TILESET_MAX_TILES;
+    l->lazy = lazy;
+    l->err = err;
+    l->err_size = err_size;
+    if (read_tileset(l, path)) {
+        loader_free(l);
+        free(l);
+        return 1;
+    }
+    memset(ts, 0, sizeof(*ts));
+    publish(l, ts);
+    if (lazy) {
+        ts->lazy = l;
+        return 0;
+    }
+    /* the tiles outlive the loader */
+    l->tiles = NULL;
+    l->children = NULL;
+    l->requests = NULL;
+    loader_free(l);
+    free(l);
+    return 0;
+}
+
+int tileset_load_at_most(const char *path, const size_table *sizes, uint32_t max_tiles, tileset *ts,
+                         char *err, size_t err_size) {
+    return open_as(path, sizes, max_tiles, 0, ts, err, err_size);
+}
+
+int tileset_open(const char *path, const size_table *sizes, uint32_t max_tiles, tileset *ts,
+                 char *err, size_t err_size) {
+    return open_as(path, sizes, max_tiles, 1, ts, err, err_size);
+}
+
+int tileset_expand(tileset *ts, uint32_t t, char *err, size_t err_size) {
+    loader *l = ts->lazy;
+    file_link link;
+    uint32_t count, docs, files, requests, implicits, index;
+    size_t children;
+    tileset_counts counts;
+    tile before;
+    int bad;
+    if (!l || t >= l->count || !l->tiles[t].unexpanded) {
+        snprintf(err, err_size, "tile %lu: %s", (unsigned long)t,
+                 !l ? "the tileset was loaded whole, not opened"
+                    : t >= l->count ? "no such tile" : "not unexpanded");
+        return 1;
+    }
+    l->err = err;
+    l->err_size = err_size;
+    index = l->tile_file[t];
+    link = l->files[index];
+    count = l->count;
+    docs = l->doc_count;
+    files = l->file_count;
+    requests = l->request_count;
+    implicits = l->implicit_count;
+    children = l->child_count;
+    counts = l->counts;
+    before = l->tiles[t];
+    if (link.implicit == DOC_NONE) {
+        /* t becomes the link it is, its tileset's root below it */
+        uint32_t doc;
+        pending root = link.root;
+        l->tiles[t].unexpanded = 0;
+        l->tiles[t].file_bytes = 0.0;
+        l->tile_file[t] = TILE_NONE;
+        --l->counts.unexpanded;
+        bad = load_document(l, link.path, &link.via, &doc) || linked_root(l, doc, &root) ||
+              read_stack(l);
+    } else {
+        /* t is the subtree's root: the subtree gives its content */
+        const implicit *im = &l->implicits[link.implicit];
+        subtree_root r;
+        subtree_root *queue = NULL;
+        level_tile *rows = NULL;
+        size_t queued = 0, queue_cap = 0, row_cap = 0;
+        r.level = link.level;
+        memcpy(r.xyz, link.xyz, sizeof(r.xyz));
+        r.parent = l->tiles[t].parent;
+        r.tile = t;
+        bad = implicit_subtree(l, im, &r, &queue, &queued, &queue_cap, &rows, &row_cap);
+        free(queue);
+        free(rows);
+    }
+    if (!bad)
+        bad = link_tiles(l, count, t);
+    if (bad) {
+        /* as it was: the file links made since, the documents read, the tiles */
+        l->top = 0;
+        drop_documents(l, docs, files);
+        l->count = count;
+        l->request_count = requests;
+        l->implicit_count = implicits;
+        l->child_count = children;
+        l->counts = counts;
+        l->tiles[t] = before;
+        l->tile_file[t] = index;
+        publish(l, ts);
+        return 1;
+    }
+    free(link.path);
+    l->files[index].path = NULL;
+    publish(l, ts);
+    return 0;
 }
 
 void tile_node_desc(const tile *t, tclod_id parent, tclod_node_desc *d) {
@@ -1849,13 +2104,19 @@ void tile_node_desc(const tile *t, tclod_id parent, tclod_node_desc *d) {
     d->parent = parent;
     d->bounds = t->bounds;
     d->refine = t->refine;
-    d->empty = t->empty;
+    d->empty = t->empty && !t->unexpanded;
+    d->unexpanded = t->unexpanded;
 }
 
 void tileset_free(tileset *ts) {
-    free(ts->tiles);
-    free(ts->children);
-    free(ts->requests);
+    if (ts->lazy) {
+        loader_free(ts->lazy);
+        free(ts->lazy);
+    } else {
+        free(ts->tiles);
+        free(ts->children);
+        free(ts->requests);
+    }
     memset(ts, 0, sizeof(*ts));
 }
 

@@ -48,6 +48,10 @@ typedef struct tile {
                             own volume only) */
     uint32_t request;    /* its viewerRequestVolume: tileset.requests[request], or
                             TILE_NONE when it has none */
+    int unexpanded;      /* 1 (tileset_open only): it stands for a file not read yet,
+                            the external tileset it links or the implicit subtree it is
+                            the root of; a leaf until tileset_expand reads the file */
+    double file_bytes;   /* with unexpanded: that file's size on disk (0: not found) */
 } tile;
 
 /* What the loader met, for the host's header line. */
@@ -61,7 +65,9 @@ typedef struct tileset_counts {
     uint32_t contents;                         /* contents (not external tilesets) */
     uint32_t from_file, from_sizes, estimated; /* where their bytes came from */
     uint32_t max_depth;
-    double bytes; /* all contents' bytes */
+    uint32_t unexpanded; /* tiles standing for a file not read yet (tileset_open) */
+    uint32_t files;      /* files read: tileset documents and subtrees */
+    double bytes;        /* all contents' bytes */
     /* Deviations from 3D Tiles that real producers write and CesiumJS or
      * cesium-native read, read the same way here and counted
      * (docs/tiles.md, what the reader forgives): */
@@ -92,6 +98,8 @@ typedef struct tileset {
                                its subtree) only to a camera inside it */
     uint32_t request_count;
     tileset_counts counts;
+    struct loader *lazy; /* tileset_open: the documents and implicit tilings that
+                            tileset_expand reads on from; NULL after tileset_load */
 } tileset;
 
 /* Content sizes given on the command line: lines "path<TAB>bytes", the
@@ -126,8 +134,25 @@ int tileset_load_at_most(const char *path, const size_table *sizes, uint32_t max
                          char *err, size_t err_size);
 void tileset_free(tileset *ts);
 
+/* Opens the tileset at path as tileset_load_at_most does, reading no file but
+ * that one: a tile linking an external tileset (with no children of its own)
+ * and the root of each implicit subtree (the implicit root tile's included)
+ * are read as tiles with `unexpanded` set and the file's size in file_bytes,
+ * and no children. Same return and messages. */
+int tileset_open(const char *path, const size_table *sizes, uint32_t max_tiles, tileset *ts,
+                 char *err, size_t err_size);
+/* Reads the file that unexpanded tile t of an opened tileset stands for: its
+ * tiles are appended (ts->tiles[old count .. ts->count), a parent before its
+ * children, the first of them children of t), with tiles `unexpanded` again
+ * for the files they name in turn; t becomes a tile like the others (an
+ * implicit subtree's root takes its content). ts->tiles and ts->children may
+ * move; other tiles do not change. 0 on success; else 1 with a message in err
+ * naming the file and what was wrong, and *ts as it was. */
+int tileset_expand(tileset *ts, uint32_t t, char *err, size_t err_size);
+
 /* The libtclod node of tile t below node parent (TCLOD_NONE for the root):
- * its volume, refinement and emptiness. */
+ * its volume, refinement and emptiness, or for an unexpanded tile an
+ * unexpanded node (whose bytes are the file's, file_bytes). */
 void tile_node_desc(const tile *t, tclod_id parent, tclod_node_desc *d);
 
 #endif

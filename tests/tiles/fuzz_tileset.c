@@ -16,7 +16,12 @@
  *    geometric errors and bytes >= 0, volumes tclod_bounds_validate takes, and
  *    its counts add up;
  *  - libtclod takes every tile as a node (tclod_scene_add_node_desc, as
- *    tclod_tiles adds them).
+ *    tclod_tiles adds them);
+ *  - opened on demand (tileset_open), the same holds after the open and after
+ *    each tileset_expand of its unexpanded tiles in turn (leaves without
+ *    children, counted); a failed expansion says why and changes no count;
+ *    when the whole load succeeds, so does every expansion, and they end
+ *    with the same tiles and files read.
  * Tilesets are loaded with at most FUZZ_MAX_TILES tiles.
  * A broken check aborts. FUZZ_TRACE=1 in the environment prints what each input
  * loaded, or why it was refused.
@@ -83,7 +88,7 @@ static void write_file(const char *name, const uint8_t *bytes, size_t n) {
 
 /* Everything a loaded tileset promises (tileset.h). */
 static void check_tileset(const tileset *ts) {
-    uint32_t i, k, empty = 0, additive = 0, volumes;
+    uint32_t i, k, empty = 0, additive = 0, unexpanded = 0, volumes;
     tclod_scene *scene = NULL;
     tclod_id *ids;
     const tileset_counts *c = &ts->counts;
@@ -111,9 +116,15 @@ static void check_tileset(const tileset *ts) {
                       (!p->empty && p->refine == TCLOD_REFINE_ADD ? t->parent : p->add_anchor),
                   "ADD anchors are the nearest drawn additive ancestors");
         }
+        check(!t->unexpanded || (t->child_count == 0 && t->empty && t->bytes == 0.0),
+              "an unexpanded tile is an empty leaf");
+        check(isfinite(t->file_bytes) && t->file_bytes >= 0.0 && (t->unexpanded || t->file_bytes == 0.0),
+              "file bytes are finite, >= 0, and 0 once expanded");
         empty += (uint32_t)t->empty;
         additive += t->refine == TCLOD_REFINE_ADD;
+        unexpanded += (uint32_t)t->unexpanded;
     }
+    check(unexpanded == c->unexpanded, "the count of unexpanded tiles");
     volumes = c->regions + c->boxes + c->spheres;
     check(empty == c->empty && additive == c->additive, "the counts of empty and ADD tiles");
     check(volumes == ts->count, "every tile's volume is counted once by kind");
@@ -132,6 +143,48 @@ static void check_tileset(const tileset *ts) {
     }
     tclod_scene_destroy(scene);
     free(ids);
+}
+
+/* The tileset at path opened on demand and expanded tile by tile; whole: the
+ * whole load, when it succeeded. */
+static void on_demand(const char *path, const tileset *whole) {
+    tileset ts;
+    char err[512];
+    uint32_t i, failures = 0;
+    memset(&ts, 0, sizeof(ts));
+    err[0] = '\0';
+    if (tileset_open(path, NULL, FUZZ_MAX_TILES, &ts, err, sizeof(err)) != 0) {
+        check(err[0] != '\0', "a failed open says why");
+        check(!whole, "what loads whole opens");
+        return;
+    }
+    check_tileset(&ts);
+    for (i = 0; i < ts.count; ++i) {
+        tileset_counts before;
+        uint32_t count = ts.count;
+        if (!ts.tiles[i].unexpanded)
+            continue;
+        before = ts.counts;
+        err[0] = '\0';
+        if (tileset_expand(&ts, i, err, sizeof(err)) != 0) {
+            check(err[0] != '\0', "a failed expansion says why");
+            check(ts.count == count && ts.tiles[i].unexpanded &&
+                      memcmp(&before, &ts.counts, sizeof(before)) == 0,
+                  "a failed expansion changes nothing");
+            ++failures;
+            continue;
+        }
+        check(!ts.tiles[i].unexpanded && ts.count >= count, "an expansion adds to the tileset");
+        check_tileset(&ts);
+    }
+    if (getenv("FUZZ_TRACE"))
+        fprintf(stderr, "on demand: %lu tiles, %lu files, %lu expansions failed\n",
+                (unsigned long)ts.count, (unsigned long)ts.counts.files, (unsigned long)failures);
+    if (whole)
+        check(failures == 0 && ts.count == whole->count &&
+                  ts.counts.files == whole->counts.files,
+              "expanded whole, the tileset read on demand is the one loaded whole");
+    tileset_free(&ts);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
@@ -163,6 +216,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             fprintf(stderr, "refused: %s\n", err);
         check(err[0] != '\0', "a failed load says why");
         check(ts.tiles == NULL && ts.count == 0, "a failed load leaves the tileset untouched");
+        on_demand(path, NULL);
         return 0;
     }
     if (getenv("FUZZ_TRACE"))
@@ -170,6 +224,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 (unsigned long)ts.count, (unsigned long)ts.counts.subtrees,
                 (unsigned long)ts.counts.external);
     check_tileset(&ts);
+    on_demand(path, &ts);
     tileset_free(&ts);
     return 0;
 }

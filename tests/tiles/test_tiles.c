@@ -836,6 +836,357 @@ static tclod_view view_down_z(void) {
     return v;
 }
 
+
+/* ---- reading on demand ------------------------------------------------------------ */
+
+/* Opens dir/name lazily (tileset_open); the error message goes to err. */
+static int open_lazily(const scratch *s, const char *name, uint32_t max_tiles, tileset *ts,
+                       char *err, size_t err_size) {
+    char path[160];
+    snprintf(path, sizeof(path), "%s/%s", s->dir, name);
+    err[0] = '\0';
+    return tileset_open(path, NULL, max_tiles, ts, err, err_size);
+}
+
+static void expand_or_fail(tileset *ts, uint32_t t) {
+    char err[512];
+    if (tileset_expand(ts, t, err, sizeof(err)))
+        fail_msg("expanding tile %u: %s", (unsigned)t, err);
+}
+
+/* The bytes of a file, for file_bytes. */
+static double file_size(const scratch *s, const char *name) {
+    char path[160];
+    struct stat st;
+    snprintf(path, sizeof(path), "%s/%s", s->dir, name);
+    assert_int_equal(stat(path, &st), 0);
+    return (double)st.st_size;
+}
+
+/* The quadtree of reads_an_implicit_quadtree_of_boxes, opened: the tileset
+ * alone is read, its root standing for subtree 0; expanding it reads that
+ * file (the root takes its content, none, and level 1's tiles come) and makes
+ * tile 2/3/2 stand for its subtree; expanding that gives it its content.
+ * Then every figure is the whole read's. */
+static void opens_an_implicit_tileset_reading_subtrees_on_demand(void **state) {
+    static const unsigned char chunk[24] = {0x13, 0, 0, 0, 0, 0, 0, 0,    0x12,
+                                            0,    0, 0, 0, 0, 0, 0, 0x20, 0x20};
+    static const unsigned char one = 1;
+    scratch *s = scratch_new();
+    tileset ts;
+    char err[512];
+    const tile *t;
+    (void)state;
+    scratch_write(
+        s, "tileset.json",
+        "{\"asset\":{\"version\":\"1.1\"},\"root\":{\"geometricError\":64,\"refine\":\"ADD\","
+        "\"boundingVolume\":{\"box\":[0,0,0,8,0,0,0,8,0,0,0,2]},"
+        "\"transform\":[1,0,0,0,0,1,0,0,0,0,1,0,100,0,0,1],"
+        "\"content\":{\"uri\":\"c/{level}/{x}/{y}.glb\"},"
+        "\"implicitTiling\":{\"subdivisionScheme\":\"QUADTREE\",\"subtreeLevels\":2,"
+        "\"availableLevels\":3,\"subtrees\":{\"uri\":\"s/{level}.{x}.{y}.subtree\"}}}}",
+        0);
+    scratch_mkdir(s, "s");
+    scratch_write_subtree(
+        s, "s/0.0.0.subtree",
+        "{\"buffers\":[{\"byteLength\":18}],\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,"
+        "\"byteLength\":1},{\"buffer\":0,\"byteOffset\":8,\"byteLength\":1},{\"buffer\":0,"
+        "\"byteOffset\":16,\"byteLength\":2}],\"tileAvailability\":{\"bitstream\":0},"
+        "\"contentAvailability\":[{\"bitstream\":1}],\"childSubtreeAvailability\":{"
+        "\"bitstream\":2}}",
+        chunk, sizeof(chunk));
+    scratch_write(s, "s/2.3.2.subtree",
+                  "{\"buffers\":[{\"uri\":\"avail.bin\",\"byteLength\":1}],\"bufferViews\":[{"
+                  "\"buffer\":0,\"byteLength\":1}],\"tileAvailability\":{\"constant\":1},"
+                  "\"contentAvailability\":[{\"bitstream\":0}],\"childSubtreeAvailability\":{"
+                  "\"constant\":1}}",
+                  0);
+    scratch_write_bytes(s, "s/avail.bin", &one, 1);
+    if (open_lazily(s, "tileset.json", TILESET_MAX_TILES, &ts, err, sizeof(err)))
+        fail_msg("%s", err);
+    assert_int_equal(ts.count, 1);
+    assert_int_equal(ts.counts.files, 1);
+    assert_int_equal(ts.counts.unexpanded, 1);
+    t = ts.tiles;
+    assert_true(t[0].unexpanded);
+    assert_int_equal(t[0].child_count, 0);
+    assert_close(t[0].file_bytes, file_size(s, "s/0.0.0.subtree"), 0.0);
+    assert_box(&t[0], 100.0, 0.0, 0.0, 8.0, 8.0, 2.0);
+    expand_or_fail(&ts, 0);
+    t = ts.tiles;
+    assert_int_equal(ts.count, 4);
+    assert_int_equal(ts.counts.files, 2);
+    assert_false(t[0].unexpanded);
+    assert_true(t[0].empty);
+    assert_int_equal(t[0].child_count, 2);
+    assert_int_equal(ts.children[t[0].first_child], 1);
+    assert_int_equal(ts.children[t[0].first_child + 1], 2);
+    assert_box(&t[1], 96.0, -4.0, 0.0, 4.0, 4.0, 2.0);
+    assert_box(&t[2], 104.0, 4.0, 0.0, 4.0, 4.0, 2.0);
+    assert_false(t[1].empty || t[1].unexpanded || t[2].unexpanded);
+    /* 2/3/2 stands for its subtree: its volume and error known, its content not */
+    assert_int_equal(t[3].parent, 2);
+    assert_true(t[3].unexpanded);
+    assert_true(t[3].empty);
+    assert_close(t[3].file_bytes, file_size(s, "s/2.3.2.subtree"), 0.0);
+    assert_box(&t[3], 106.0, 2.0, 0.0, 2.0, 2.0, 2.0);
+    assert_close(t[3].geometric_error, 16.0, 0.0);
+    assert_int_equal(t[3].depth, 2);
+    assert_int_equal(t[3].add_anchor, 2);
+    /* expanded ones are refused, and so is a tile out of range */
+    assert_int_equal(tileset_expand(&ts, 1, err, sizeof(err)), 1);
+    assert_non_null(strstr(err, "tile 1: not unexpanded"));
+    assert_int_equal(tileset_expand(&ts, 4, err, sizeof(err)), 1);
+    assert_non_null(strstr(err, "tile 4: no such tile"));
+    expand_or_fail(&ts, 3);
+    t = ts.tiles;
+    assert_int_equal(ts.count, 4);
+    assert_false(t[3].unexpanded || t[3].empty);
+    assert_close(t[3].bytes, TILESET_ESTIMATE_BYTES, 0.0);
+    /* the whole read's counts (reads_an_implicit_quadtree_of_boxes, without sizes) */
+    assert_int_equal(ts.counts.files, 3);
+    assert_int_equal(ts.counts.unexpanded, 0);
+    assert_int_equal(ts.counts.implicit, 1);
+    assert_int_equal(ts.counts.subtrees, 2);
+    assert_int_equal(ts.counts.contents, 3);
+    assert_int_equal(ts.counts.empty, 1);
+    assert_int_equal(ts.counts.boxes, 4);
+    tileset_free(&ts);
+    scratch_free(s);
+}
+
+/* A tile's place, to compare tilesets read in different orders. */
+typedef struct tile_key {
+    uint32_t depth;
+    double x, y, error, bytes, parent_x, parent_y;
+    int empty;
+} tile_key;
+
+static int by_tile_key(const void *a, const void *b) {
+    const tile_key *p = (const tile_key *)a, *q = (const tile_key *)b;
+    if (p->depth != q->depth)
+        return p->depth < q->depth ? -1 : 1;
+    if (p->x != q->x)
+        return p->x < q->x ? -1 : 1;
+    return (p->y > q->y) - (p->y < q->y);
+}
+
+static tile_key *tile_keys(const tileset *ts) {
+    tile_key *k = (tile_key *)calloc(ts->count, sizeof(*k));
+    uint32_t i;
+    assert_non_null(k);
+    for (i = 0; i < ts->count; ++i) {
+        const tile *t = &ts->tiles[i];
+        k[i].depth = t->depth;
+        k[i].x = t->bounds.center[0];
+        k[i].y = t->bounds.center[1];
+        k[i].error = t->geometric_error;
+        k[i].bytes = t->bytes;
+        k[i].empty = t->empty;
+        k[i].parent_x = t->parent == TILE_NONE ? 0.0 : ts->tiles[t->parent].bounds.center[0];
+        k[i].parent_y = t->parent == TILE_NONE ? 0.0 : ts->tiles[t->parent].bounds.center[1];
+    }
+    qsort(k, ts->count, sizeof(*k), by_tile_key);
+    return k;
+}
+
+/* A quadtree of 4 levels in subtrees of 2, every tile available, one
+ * subtree file a level ({level} alone in the template): expanding every
+ * unexpanded tile until none is left gives the tiles the whole read gives,
+ * 1 + 4 + 16 + 64 = 85, each below the same parent; and an external tileset
+ * read on demand likewise. */
+static void expanding_everything_reads_what_the_whole_read_does(void **state) {
+    scratch *s = scratch_new();
+    tileset whole, lazy;
+    char err[512];
+    tile_key *a, *b;
+    uint32_t i;
+    (void)state;
+    scratch_write(s, "implicit.json",
+                  "{\"asset\":{\"version\":\"1.1\"},\"root\":{\"geometricError\":80,"
+                  "\"refine\":\"REPLACE\",\"boundingVolume\":{\"box\":[0,0,0,64,0,0,0,64,0,0,0,1]},"
+                  "\"content\":{\"uri\":\"c/{level}/{x}/{y}.glb\"},"
+                  "\"implicitTiling\":{\"subdivisionScheme\":\"QUADTREE\",\"subtreeLevels\":2,"
+                  "\"availableLevels\":4,\"subtrees\":{\"uri\":\"s{level}.json\"}}}}",
+                  0);
+    scratch_write(s, "s0.json",
+                  "{\"tileAvailability\":{\"constant\":1},\"contentAvailability\":[{\"constant\":"
+                  "1}],\"childSubtreeAvailability\":{\"constant\":1}}",
+                  0);
+    scratch_write(s, "s2.json",
+                  "{\"tileAvailability\":{\"constant\":1},\"contentAvailability\":[{\"constant\":"
+                  "1}],\"childSubtreeAvailability\":{\"constant\":0}}",
+                  0);
+    /* a tileset whose second child links the quadtree, whose first one a
+     * tileset without children */
+    scratch_write(s, "tileset.json",
+                  TILE("\"geometricError\":100,\"refine\":\"ADD\","
+                       "\"boundingVolume\":{\"box\":[0,0,0,64,0,0,0,64,0,0,0,1]},"
+                       "\"children\":[{\"geometricError\":90," SPHERE
+                       ",\"content\":{\"uri\":\"leaf.json\"}},{\"geometricError\":90,"
+                       "\"boundingVolume\":{\"box\":[0,0,0,64,0,0,0,64,0,0,0,1]},"
+                       "\"content\":{\"uri\":\"implicit.json\"}}]"),
+                  0);
+    scratch_write(s, "leaf.json", TILE("\"geometricError\":0," SPHERE), 0);
+    if (load(s, "tileset.json", NULL, &whole, err, sizeof(err)))
+        fail_msg("%s", err);
+    assert_int_equal(whole.count, 3 + 1 + 85);
+    if (open_lazily(s, "tileset.json", TILESET_MAX_TILES, &lazy, err, sizeof(err)))
+        fail_msg("%s", err);
+    assert_int_equal(lazy.count, 3);
+    assert_int_equal(lazy.counts.files, 1);
+    assert_int_equal(lazy.counts.unexpanded, 2);
+    assert_true(lazy.tiles[1].unexpanded && lazy.tiles[2].unexpanded);
+    assert_close(lazy.tiles[1].file_bytes, file_size(s, "leaf.json"), 0.0);
+    for (i = 0; i < lazy.count; ++i)
+        if (lazy.tiles[i].unexpanded)
+            expand_or_fail(&lazy, i);
+    assert_int_equal(lazy.count, whole.count);
+    assert_int_equal(lazy.counts.unexpanded, 0);
+    /* the tileset, the two linked ones, and subtrees: 1 at level 0, 16 at 2 */
+    assert_int_equal(lazy.counts.files, 3 + 17);
+    assert_int_equal(lazy.counts.files, whole.counts.files);
+    assert_int_equal(lazy.counts.external, 2);
+    assert_int_equal(lazy.counts.max_depth, whole.counts.max_depth);
+    a = tile_keys(&whole);
+    b = tile_keys(&lazy);
+    for (i = 0; i < whole.count; ++i) {
+        assert_int_equal(a[i].depth, b[i].depth);
+        assert_close(b[i].x, a[i].x, 0.0);
+        assert_close(b[i].y, a[i].y, 0.0);
+        assert_close(b[i].error, a[i].error, 0.0);
+        assert_close(b[i].bytes, a[i].bytes, 0.0);
+        assert_int_equal(b[i].empty, a[i].empty);
+        assert_close(b[i].parent_x, a[i].parent_x, 0.0);
+        assert_close(b[i].parent_y, a[i].parent_y, 0.0);
+    }
+    free(a);
+    free(b);
+    tileset_free(&whole);
+    tileset_free(&lazy);
+    scratch_free(s);
+}
+
+/* 1 398 101 tiles (a quadtree of 11 levels, every tile a subtree of its own,
+ * one subtree file a level): opened, one file is read and one tile known;
+ * down one branch to the finest level, 11 subtrees more and 41 tiles, each
+ * level's 4 (one expanded), the deepest hand-worked: level 10's tile
+ * (1023, 1023) of a root box of half axes 1024 is centred at (1023, 1023),
+ * half axes 1, error 2^20 / 2^10. The whole read refuses it under a cap of
+ * 100 tiles (it would read every tile's subtree), the lazy one stays within
+ * it. */
+static void a_million_implicit_tiles_open_by_one_file(void **state) {
+    scratch *s = scratch_new();
+    tileset ts;
+    char err[512];
+    const tile *t;
+    uint32_t level, last = 0;
+    (void)state;
+    scratch_write(s, "tileset.json",
+                  "{\"asset\":{\"version\":\"1.1\"},\"root\":{\"geometricError\":1048576,"
+                  "\"refine\":\"REPLACE\","
+                  "\"boundingVolume\":{\"box\":[0,0,0,1024,0,0,0,1024,0,0,0,1]},"
+                  "\"content\":{\"uri\":\"c/{level}/{x}/{y}.glb\"},"
+                  "\"implicitTiling\":{\"subdivisionScheme\":\"QUADTREE\",\"subtreeLevels\":1,"
+                  "\"availableLevels\":11,\"subtrees\":{\"uri\":\"{level}.json\"}}}}",
+                  0);
+    for (level = 0; level < 11; ++level) {
+        char name[16];
+        snprintf(name, sizeof(name), "%u.json", (unsigned)level);
+        scratch_write(s, name,
+                      "{\"tileAvailability\":{\"constant\":1},\"contentAvailability\":[{"
+                      "\"constant\":1}],\"childSubtreeAvailability\":{\"constant\":1}}",
+                      0);
+    }
+    {
+        char path[160];
+        snprintf(path, sizeof(path), "%s/tileset.json", s->dir);
+        assert_int_equal(tileset_load_at_most(path, NULL, 100, &ts, err, sizeof(err)), 1);
+        assert_non_null(strstr(err, "more than 100 tiles"));
+    }
+    if (open_lazily(s, "tileset.json", 100, &ts, err, sizeof(err)))
+        fail_msg("%s", err);
+    assert_int_equal(ts.count, 1);
+    assert_int_equal(ts.counts.files, 1);
+    for (level = 0; level < 11; ++level) {
+        assert_true(ts.tiles[last].unexpanded);
+        expand_or_fail(&ts, last);
+        assert_int_equal(ts.count, 1 + 4 * (level + 1 < 11 ? level + 1 : 10));
+        last = ts.count - 1; /* the child at Morton index 3: (2x + 1, 2y + 1) */
+    }
+    t = &ts.tiles[ts.count - 1];
+    assert_int_equal(ts.counts.files, 12);
+    assert_int_equal(ts.counts.unexpanded, 30);
+    assert_int_equal(ts.counts.max_depth, 10);
+    t = &ts.tiles[last];
+    assert_int_equal(t->depth, 10);
+    assert_false(t->unexpanded || t->empty);
+    assert_int_equal(t->child_count, 0);
+    assert_box(t, 1023.0, 1023.0, 0.0, 1.0, 1.0, 1.0);
+    assert_close(t->geometric_error, 1024.0, 0.0);
+    tileset_free(&ts);
+    scratch_free(s);
+}
+
+/* An expansion that fails (a missing file, a cycle, the tile cap) says which
+ * file and what, and leaves the tileset as it was; it can be tried again. */
+static void a_failed_expansion_changes_nothing(void **state) {
+    scratch *s = scratch_new();
+    tileset ts;
+    tileset_counts before;
+    char err[512];
+    (void)state;
+    scratch_write(s, "tileset.json",
+                  TILE("\"geometricError\":100," SPHERE
+                       ",\"children\":[{\"geometricError\":50," SPHERE
+                       ",\"content\":{\"uri\":\"a.json\"}},{\"geometricError\":50," SPHERE
+                       ",\"content\":{\"uri\":\"gone.json\"}}]"),
+                  0);
+    /* a.json: two tiles, and a link back to tileset.json */
+    scratch_write(s, "a.json",
+                  TILE("\"geometricError\":40," SPHERE ",\"children\":[{\"geometricError\":30," SPHERE
+                       ",\"content\":{\"uri\":\"tileset.json\"}}]"),
+                  0);
+    if (open_lazily(s, "tileset.json", 5, &ts, err, sizeof(err)))
+        fail_msg("%s", err);
+    assert_int_equal(ts.count, 3);
+    assert_close(ts.tiles[2].file_bytes, 0.0, 0.0); /* gone.json is nowhere */
+    before = ts.counts;
+    assert_int_equal(tileset_expand(&ts, 2, err, sizeof(err)), 1);
+    if (!strstr(err, "gone.json") || !strstr(err, "cannot open external tileset"))
+        fail_msg("%s", err);
+    assert_int_equal(ts.count, 3);
+    assert_true(ts.tiles[2].unexpanded);
+    assert_int_equal(memcmp(&before, &ts.counts, sizeof(before)), 0);
+    expand_or_fail(&ts, 1);
+    assert_int_equal(ts.count, 5);
+    assert_int_equal(ts.tiles[3].parent, 1);
+    assert_int_equal(ts.tiles[4].parent, 3);
+    assert_true(ts.tiles[4].unexpanded);
+    before = ts.counts;
+    assert_int_equal(tileset_expand(&ts, 4, err, sizeof(err)), 1);
+    if (!strstr(err, "cycle"))
+        fail_msg("%s", err);
+    assert_int_equal(ts.count, 5);
+    assert_true(ts.tiles[4].unexpanded);
+    assert_int_equal(ts.tiles[4].child_count, 0);
+    assert_int_equal(memcmp(&before, &ts.counts, sizeof(before)), 0);
+    /* gone.json arrives; the cap of 5 tiles then refuses its one tile */
+    scratch_write(s, "gone.json", TILE("\"geometricError\":0," SPHERE), 0);
+    assert_int_equal(tileset_expand(&ts, 2, err, sizeof(err)), 1);
+    if (!strstr(err, "more than 5 tiles"))
+        fail_msg("%s", err);
+    assert_int_equal(ts.count, 5);
+    assert_int_equal(memcmp(&before, &ts.counts, sizeof(before)), 0);
+    tileset_free(&ts);
+    /* a tileset loaded whole has nothing to expand */
+    assert_int_equal(load(s, "gone.json", NULL, &ts, err, sizeof(err)), 0);
+    assert_int_equal(tileset_expand(&ts, 0, err, sizeof(err)), 1);
+    assert_non_null(strstr(err, "loaded whole"));
+    tileset_free(&ts);
+    scratch_free(s);
+}
+
 /* Children split their parent's share: refining a tile by ADD adds what the
  * children improve on it, by REPLACE what they improve on it too; with exact
  * children (error 0) either way the drawn tiles' benefits sum to the parent's
@@ -1145,6 +1496,10 @@ int main(void) {
         cmocka_unit_test(reads_an_implicit_quadtree_of_boxes),
         cmocka_unit_test(reads_implicit_octrees_and_regions),
         cmocka_unit_test(refuses_bad_implicit_tilesets_saying_what),
+        cmocka_unit_test(opens_an_implicit_tileset_reading_subtrees_on_demand),
+        cmocka_unit_test(expanding_everything_reads_what_the_whole_read_does),
+        cmocka_unit_test(a_million_implicit_tiles_open_by_one_file),
+        cmocka_unit_test(a_failed_expansion_changes_nothing),
         cmocka_unit_test(benefits_telescope_to_the_parents_share),
         cmocka_unit_test(the_benefit_culls_what_cesiumjs_culls),
         cmocka_unit_test(noted_areas_are_the_models_for_the_view),
