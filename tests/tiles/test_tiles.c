@@ -507,24 +507,11 @@ static void assert_box(const tile *t, double cx, double cy, double cz, double ax
     assert_close(t->bounds.half_axes[1][2], 0.0, 1e-12);
 }
 
-/* A quadtree of boxes under a transform, 3 levels in subtrees of 2: the root
- * subtree (binary, its bitstreams in its chunk) makes level 1's tiles (0, 0)
- * and (1, 1) available, content at both but not at the root, and the child
- * subtrees at Morton indices 5 (below (1, 0), which is not available: out of
- * reach) and 13 (below (1, 1): tile 2/3/2); that subtree is JSON, its
- * content bit in an external buffer. Worked by hand: a tile of level L at
- * (x, y) is centred at c + (-1 + (2x + 1) / 2^L) u + (-1 + (2y + 1) / 2^L) v,
- * its half axes u / 2^L, v / 2^L and w; its geometric error 64 / 2^L. */
-static void reads_an_implicit_quadtree_of_boxes(void **state) {
+/* Writes the files of the quadtree below. */
+static void write_quadtree_of_boxes(scratch *s) {
     static const unsigned char chunk[24] = {0x13, 0, 0, 0, 0, 0, 0, 0,    0x12,
                                             0,    0, 0, 0, 0, 0, 0, 0x20, 0x20};
     static const unsigned char one = 1;
-    scratch *s = scratch_new();
-    size_table sizes;
-    tileset ts;
-    char err[512];
-    const tile *t;
-    (void)state;
     scratch_write(
         s, "tileset.json",
         "{\"asset\":{\"version\":\"1.1\"},\"root\":{\"geometricError\":64,\"refine\":\"ADD\","
@@ -550,6 +537,24 @@ static void reads_an_implicit_quadtree_of_boxes(void **state) {
                   "\"constant\":1}}",
                   0);
     scratch_write_bytes(s, "s/avail.bin", &one, 1);
+}
+
+/* A quadtree of boxes under a transform, 3 levels in subtrees of 2: the root
+ * subtree (binary, its bitstreams in its chunk) makes level 1's tiles (0, 0)
+ * and (1, 1) available, content at both but not at the root, and the child
+ * subtrees at Morton indices 5 (below (1, 0), which is not available: out of
+ * reach) and 13 (below (1, 1): tile 2/3/2); that subtree is JSON, its
+ * content bit in an external buffer. Worked by hand: a tile of level L at
+ * (x, y) is centred at c + (-1 + (2x + 1) / 2^L) u + (-1 + (2y + 1) / 2^L) v,
+ * its half axes u / 2^L, v / 2^L and w; its geometric error 64 / 2^L. */
+static void reads_an_implicit_quadtree_of_boxes(void **state) {
+    scratch *s = scratch_new();
+    size_table sizes;
+    tileset ts;
+    char err[512];
+    const tile *t;
+    (void)state;
+    write_quadtree_of_boxes(s);
     assert_int_equal(
         size_table_load(scratch_write(s, "sizes.tsv", "c/1/0/0.glb\t100\nc/1/1/1.glb\t200\n", 0),
                         &sizes, err, sizeof(err)),
@@ -869,39 +874,12 @@ static double file_size(const scratch *s, const char *name) {
  * tile 2/3/2 stand for its subtree; expanding that gives it its content.
  * Then every figure is the whole read's. */
 static void opens_an_implicit_tileset_reading_subtrees_on_demand(void **state) {
-    static const unsigned char chunk[24] = {0x13, 0, 0, 0, 0, 0, 0, 0,    0x12,
-                                            0,    0, 0, 0, 0, 0, 0, 0x20, 0x20};
-    static const unsigned char one = 1;
     scratch *s = scratch_new();
     tileset ts;
     char err[512];
     const tile *t;
     (void)state;
-    scratch_write(
-        s, "tileset.json",
-        "{\"asset\":{\"version\":\"1.1\"},\"root\":{\"geometricError\":64,\"refine\":\"ADD\","
-        "\"boundingVolume\":{\"box\":[0,0,0,8,0,0,0,8,0,0,0,2]},"
-        "\"transform\":[1,0,0,0,0,1,0,0,0,0,1,0,100,0,0,1],"
-        "\"content\":{\"uri\":\"c/{level}/{x}/{y}.glb\"},"
-        "\"implicitTiling\":{\"subdivisionScheme\":\"QUADTREE\",\"subtreeLevels\":2,"
-        "\"availableLevels\":3,\"subtrees\":{\"uri\":\"s/{level}.{x}.{y}.subtree\"}}}}",
-        0);
-    scratch_mkdir(s, "s");
-    scratch_write_subtree(
-        s, "s/0.0.0.subtree",
-        "{\"buffers\":[{\"byteLength\":18}],\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,"
-        "\"byteLength\":1},{\"buffer\":0,\"byteOffset\":8,\"byteLength\":1},{\"buffer\":0,"
-        "\"byteOffset\":16,\"byteLength\":2}],\"tileAvailability\":{\"bitstream\":0},"
-        "\"contentAvailability\":[{\"bitstream\":1}],\"childSubtreeAvailability\":{"
-        "\"bitstream\":2}}",
-        chunk, sizeof(chunk));
-    scratch_write(s, "s/2.3.2.subtree",
-                  "{\"buffers\":[{\"uri\":\"avail.bin\",\"byteLength\":1}],\"bufferViews\":[{"
-                  "\"buffer\":0,\"byteLength\":1}],\"tileAvailability\":{\"constant\":1},"
-                  "\"contentAvailability\":[{\"bitstream\":0}],\"childSubtreeAvailability\":{"
-                  "\"constant\":1}}",
-                  0);
-    scratch_write_bytes(s, "s/avail.bin", &one, 1);
+    write_quadtree_of_boxes(s);
     if (open_lazily(s, "tileset.json", TILESET_MAX_TILES, &ts, err, sizeof(err)))
         fail_msg("%s", err);
     assert_int_equal(ts.count, 1);
