@@ -1092,7 +1092,6 @@ static void a_million_implicit_tiles_open_by_one_file(void **state) {
         assert_int_equal(ts.count, 1 + 4 * (level + 1 < 11 ? level + 1 : 10));
         last = ts.count - 1; /* the child at Morton index 3: (2x + 1, 2y + 1) */
     }
-    t = &ts.tiles[ts.count - 1];
     assert_int_equal(ts.counts.files, 12);
     assert_int_equal(ts.counts.unexpanded, 30);
     assert_int_equal(ts.counts.max_depth, 10);
