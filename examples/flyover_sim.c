@@ -670,7 +670,8 @@ static int build_scene(sim_scene *s, const options *opt) {
         if (st == TCLOD_OK) {
             flyover_stream_model(s, s->bytes, s->error);
             if (!stream_path_init(&s->path, (double)FRAMES_PER_LOOP, opt->stream.teleport_every,
-                                  opt->frames, flyover_view, s, s->world.scene, s->bytes, s->error))
+                                  opt->frames, flyover_view, s, s->world.scene, s->bytes, s->error,
+                                  NULL))
                 st = TCLOD_ERR_NOMEM;
         }
     }
@@ -993,7 +994,7 @@ static int start_stream(flight *f) {
     sim_scene *sim = f->sim;
     return stream_sim_start(&f->stream, &f->opt->stream, f->opt->frames, sim->world.scene, f->sel,
                             sim->copy[0].scene, sim->copy[1].scene, &f->sd, sim->bytes, sim->error,
-                            "flyover_sim");
+                            NULL, "flyover_sim");
 }
 
 /* Everything before the first frame; 0 after saying what failed (end_flight

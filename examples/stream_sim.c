@@ -185,8 +185,17 @@ double stream_path_position(const stream_path *p, unsigned long frame) {
 
 /* ---- the scene's structure ---------------------------------------------------------- */
 
+/* Where a copy's sizes and errors come from: the host's arrays (the copies
+ * alike) or its functions. */
+typedef struct size_source {
+    const double *bytes, *error;
+    const stream_host *host; /* NULL: the arrays */
+    int copy;
+} size_source;
+
 static void nodes_free(stream_nodes *n) {
     free(n->live);
+    free(n->unexpanded);
     free(n->parent);
     free(n->first);
     free(n->child);
@@ -198,13 +207,14 @@ static void nodes_free(stream_nodes *n) {
     memset(n, 0, sizeof(*n));
 }
 
-static int nodes_read(stream_nodes *n, const tclod_scene *scene, const double *bytes,
-                      const double *error) {
+/* The structure of scene into *n (freed first). 0 when out of memory. */
+static int nodes_read(stream_nodes *n, const tclod_scene *scene, const size_source *src) {
     uint32_t count = tclod_scene_node_count(scene), i;
     size_t room = count ? count : 1u;
-    memset(n, 0, sizeof(*n));
+    nodes_free(n);
     n->count = count;
     n->live = (uint8_t *)calloc(room, 1);
+    n->unexpanded = (uint8_t *)calloc(room, 1);
     n->parent = (tclod_id *)malloc(room * sizeof(tclod_id));
     n->first = (uint32_t *)calloc(room + 1u, sizeof(uint32_t));
     n->child = (tclod_id *)malloc(room * sizeof(tclod_id));
@@ -213,8 +223,8 @@ static int nodes_read(stream_nodes *n, const tclod_scene *scene, const double *b
     n->bounds = (tclod_bounds *)calloc(room, sizeof(tclod_bounds));
     n->bytes = (double *)calloc(room, sizeof(double));
     n->error = (double *)calloc(room, sizeof(double));
-    if (!n->live || !n->parent || !n->first || !n->child || !n->roots || !n->depth || !n->bounds ||
-        !n->bytes || !n->error)
+    if (!n->live || !n->unexpanded || !n->parent || !n->first || !n->child || !n->roots ||
+        !n->depth || !n->bounds || !n->bytes || !n->error)
         return 0;
     for (i = 0; i < count; ++i) {
         n->parent[i] = TCLOD_NONE;
@@ -222,9 +232,19 @@ static int nodes_read(stream_nodes *n, const tclod_scene *scene, const double *b
             continue;
         n->live[i] = 1;
         n->parent[i] = tclod_scene_parent(scene, i);
-        n->bytes[i] = bytes[i];
-        n->error[i] = error[i];
-        n->total_bytes += bytes[i];
+        if (src->host) {
+            void *u = src->host->user;
+            n->bytes[i] = src->host->bytes(u, src->copy, i);
+            n->error[i] = src->host->error(u, src->copy, i);
+            n->unexpanded[i] = src->host->unexpanded && src->host->unexpanded(u, src->copy, i);
+        } else {
+            n->bytes[i] = src->bytes[i];
+            n->error[i] = src->error[i];
+        }
+        if (n->unexpanded[i])
+            n->unexpanded_count++;
+        else
+            n->total_bytes += n->bytes[i];
         if (tclod_scene_node_bounds(scene, i, &n->bounds[i]) != TCLOD_OK)
             n->bounds[i].kind = TCLOD_BOUNDS_NONE;
         if (n->parent[i] == TCLOD_NONE)
@@ -245,7 +265,8 @@ static int nodes_read(stream_nodes *n, const tclod_scene *scene, const double *b
                 n->child[fill[n->parent[i]]++] = i;
         free(fill);
     }
-    /* depths: the steps up to the root (the scenes are a few levels deep) */
+    /* depths: the steps up to the root (ids are reused, so that a parent's
+     * may be above its children's) */
     for (i = 0; i < count; ++i) {
         tclod_id a;
         if (!n->live[i])
@@ -268,53 +289,105 @@ static int out_of_memory(const char *prog) {
     return 0;
 }
 
-/* The sizes into the loader's scene, and the start: the roots and the nodes
- * with nothing to load resident, the others absent. The sizes the sim keeps are
- * those the scene gives back, so that both count the same bytes. */
-static int loader_start(stream_sim *s, stream_loader *L, int baseline, tclod_scene *scene,
-                        tclod_selector *sel, const char *prog) {
-    stream_nodes *n = &s->nodes;
-    size_t room = n->count ? n->count : 1u;
-    uint32_t i;
-    tclod_status st = TCLOD_OK;
-    L->baseline = baseline;
-    L->scene = scene;
-    L->sel = sel;
-    L->state = (uint8_t *)calloc(room, 1);
-    L->t95_ms = (double *)calloc(s->events, sizeof(double));
-    if (!L->state || !L->t95_ms)
-        return out_of_memory(prog);
-    if (baseline) {
-        L->used = (unsigned long *)calloc(room, sizeof(unsigned long));
-        L->kept = (unsigned long *)calloc(room, sizeof(unsigned long));
-        L->stack = (tclod_id *)malloc(room * sizeof(tclod_id));
-        L->wanted = (stream_rank *)malloc(room * sizeof(stream_rank));
-        L->lru = (stream_rank *)malloc(room * sizeof(stream_rank));
-        L->walk = (tclod_id *)malloc(room * sizeof(tclod_id));
-        L->walk_sse = (double *)malloc(room * sizeof(double));
-        if (!L->used || !L->kept || !L->stack || !L->wanted || !L->lru || !L->walk || !L->walk_sse)
-            return out_of_memory(prog);
+static size_source source_of(const stream_sim *s, int copy) {
+    size_source src;
+    src.bytes = s->bytes;
+    src.error = s->error;
+    src.host = s->host.bytes ? &s->host : NULL;
+    src.copy = copy;
+    return src;
+}
+
+/* Grows the array *p of `size`-byte entries from `old` to `room` entries,
+ * the new ones zero. 0 when out of memory (*p as it was). */
+static int grow(void *p, size_t size, uint32_t old, uint32_t room) {
+    void **q = (void **)p;
+    char *g = (char *)realloc(*q, (size_t)room * size);
+    if (!g)
+        return 0;
+    memset(g + (size_t)old * size, 0, (size_t)(room - old) * size);
+    *q = g;
+    return 1;
+}
+
+static int loader_grow(stream_sim *s, stream_loader *L, uint32_t count) {
+    uint32_t room = L->room, old = L->room;
+    if (count <= room && s->drawn_room >= count)
+        return 1;
+    while (room < count)
+        room = room ? 2u * room : 64u;
+    if (room > old &&
+        !(grow(&L->state, 1, old, room) && grow(&L->used, sizeof(*L->used), old, room) &&
+          grow(&L->kept, sizeof(*L->kept), old, room) &&
+          grow(&L->stack, sizeof(*L->stack), old, room) &&
+          grow(&L->walk, sizeof(*L->walk), old, room) &&
+          grow(&L->walk_sse, sizeof(*L->walk_sse), old, room) &&
+          grow(&L->wanted, sizeof(*L->wanted), old, room) &&
+          grow(&L->lru, sizeof(*L->lru), old, room)))
+        return 0;
+    L->room = room;
+    if (s->drawn_room < room) {
+        if (!grow(&s->drawn, 1, s->drawn_room, room))
+            return 0;
+        s->drawn_room = room;
     }
-    for (i = 0; i < n->count && st == TCLOD_OK; ++i) {
-        if (!n->live[i])
-            continue;
-        st = tclod_scene_set_node_bytes(scene, i, n->bytes[i]);
-        if (st != TCLOD_OK)
-            break;
-        if (n->parent[i] != TCLOD_NONE && n->bytes[i] > 0.0) {
-            st = tclod_scene_set_resident(scene, i, 0);
+    return 1;
+}
+
+/* Reads the loader's copy again: at the start, and after expansions. The
+ * per-node arrays grow to the ids, and each node that is new since the last
+ * read gets its size in the scene (the sim keeps what the scene gives back,
+ * so that both count the same bytes) and its start: resident when it is a
+ * root, has nothing to load or is of the all-resident copy; else absent
+ * (marked so in the scene). Unexpanded nodes are absent. Ids of nodes gone
+ * (expanded) are absent. 0 after a message. */
+static int loader_refresh(stream_sim *s, stream_loader *L, const char *prog) {
+    uint8_t *was = L->nodes.live;
+    uint32_t was_count = L->nodes.count, i;
+    size_source src = source_of(s, L->copy);
+    stream_nodes *n = &L->nodes;
+    tclod_status st = TCLOD_OK;
+    L->nodes.live = NULL;
+    if (!nodes_read(n, L->scene, &src) || !loader_grow(s, L, n->count)) {
+        free(was);
+        return out_of_memory(prog);
+    }
+    for (i = 0; i < was_count; ++i)
+        if (was[i] && !n->live[i])
             L->state[i] = STREAM_ABSENT;
+    for (i = 0; i < n->count && st == TCLOD_OK; ++i) {
+        if (!n->live[i] || (i < was_count && was[i]))
+            continue;
+        L->state[i] = STREAM_ABSENT;
+        if (n->unexpanded[i]) {
+            n->bytes[i] = tclod_scene_node_bytes(L->scene, i);
+            continue;
+        }
+        st = tclod_scene_set_node_bytes(L->scene, i, n->bytes[i]);
+        if (st != TCLOD_OK) {
+            fprintf(stderr, "%s: node %lu: its size %g bytes is refused: %s\n", prog,
+                    (unsigned long)i, n->bytes[i], tclod_status_string(st));
+            break;
+        }
+        n->total_bytes -= n->bytes[i];
+        n->bytes[i] = tclod_scene_node_bytes(L->scene, i);
+        n->total_bytes += n->bytes[i];
+        if (L->copy != STREAM_SIM_ALL && n->parent[i] != TCLOD_NONE && n->bytes[i] > 0.0) {
+            st = tclod_scene_set_resident(L->scene, i, 0);
+            if (st != TCLOD_OK)
+                fail(prog, "marking the scene's nodes absent", st);
         } else {
             L->state[i] = STREAM_RESIDENT;
             L->resident_bytes += n->bytes[i];
         }
     }
-    if (st != TCLOD_OK)
-        return fail(prog, "marking the scene's nodes absent", st);
-    return 1;
+    free(was);
+    L->grown = 0;
+    return st == TCLOD_OK;
 }
 
 static void loader_free(stream_loader *L) {
+    nodes_free(&L->nodes);
     free(L->state);
     free(L->t95_ms);
     free(L->used);
@@ -328,7 +401,7 @@ static void loader_free(stream_loader *L) {
 
 /* Issues the load of node id at time now (s). */
 static void issue(stream_sim *s, stream_loader *L, tclod_id id, double now) {
-    double bytes = s->nodes.bytes[id], begin = now + s->latency_s;
+    double bytes = L->nodes.bytes[id], begin = now + s->latency_s;
     stream_load *load = &L->loads[L->load_count++];
     if (L->link_free > begin)
         begin = L->link_free;
@@ -341,20 +414,34 @@ static void issue(stream_sim *s, stream_loader *L, tclod_id id, double now) {
     L->issued++;
 }
 
-/* The loads completed by now become resident; then the memory check. */
+/* The loads completed by now become resident, or for an unexpanded node
+ * the host reads its file and puts what it holds in its place; then the
+ * memory check. */
 static int arrive(stream_sim *s, stream_loader *L, double now, const char *prog) {
     size_t k = 0, i;
     for (; k < L->load_count && L->loads[k].done <= now; ++k) {
         const stream_load *load = &L->loads[k];
-        tclod_status st = tclod_scene_set_resident(L->scene, load->id, 1);
-        if (st != TCLOD_OK)
-            return fail(prog, "tclod_scene_set_resident", st);
+        L->loaded_bytes += load->bytes;
+        if (L->nodes.unexpanded[load->id]) {
+            L->state[load->id] = STREAM_ABSENT;
+            L->files++;
+            L->grown = 1;
+            if (!s->host.expand(s->host.user, L->copy, load->id))
+                return 0;
+            continue;
+        }
+        {
+            tclod_status st = tclod_scene_set_resident(L->scene, load->id, 1);
+            if (st != TCLOD_OK)
+                return fail(prog, "tclod_scene_set_resident", st);
+        }
         L->state[load->id] = STREAM_RESIDENT;
         L->resident_bytes += load->bytes;
-        L->loaded_bytes += load->bytes;
     }
     memmove(L->loads, L->loads + k, (L->load_count - k) * sizeof(*L->loads));
     L->load_count -= k;
+    if (L->grown && !loader_refresh(s, L, prog))
+        return 0;
     /* summed again, so that no rounding builds up */
     L->flight_bytes = 0.0;
     for (i = 0; i < L->load_count; ++i)
@@ -401,12 +488,12 @@ static int ours_load(stream_sim *s, double now, const char *prog) {
         return fail(prog, "tclod_selector_evictions", st);
     for (i = 0; i < n; ++i) {
         tclod_id id = items[i].id;
-        if ((items[i].flags & TCLOD_STREAM_SMOOTH) || id >= s->nodes.count ||
+        if ((items[i].flags & TCLOD_STREAM_SMOOTH) || id >= L->nodes.count ||
             L->state[id] != STREAM_RESIDENT)
             continue;
         if (s->drawn[id])
             L->lost_drawn++;
-        if (!evict(L, &s->nodes, id, prog))
+        if (!evict(L, &L->nodes, id, prog))
             return 0;
     }
     for (i = 0; i < drawn; ++i)
@@ -416,7 +503,7 @@ static int ours_load(stream_sim *s, double now, const char *prog) {
         return fail(prog, "tclod_selector_requests", st);
     for (i = 0; i < n && L->load_count < STREAM_SIM_MAX_LOADS; ++i) {
         tclod_id id = items[i].id;
-        if ((items[i].flags & TCLOD_STREAM_SMOOTH) || id >= s->nodes.count || !s->nodes.live[id] ||
+        if ((items[i].flags & TCLOD_STREAM_SMOOTH) || id >= L->nodes.count || !L->nodes.live[id] ||
             L->state[id] == STREAM_LOADING)
             continue;
         if (L->state[id] == STREAM_RESIDENT) {
@@ -475,9 +562,9 @@ static size_t sse_walk(const stream_nodes *n, const tclod_view *v, tclod_id *sta
 /* The baseline's wanted nodes (sse_walk) marked used in this frame, and those
  * that are absent in L->wanted, the largest error first (then parents
  * first). Returns their number. */
-static size_t sse_traversal(stream_sim *s, stream_loader *L, const tclod_view *v,
+static size_t sse_traversal(stream_loader *L, const tclod_view *v,
                             unsigned long stamp) {
-    const stream_nodes *n = &s->nodes;
+    const stream_nodes *n = &L->nodes;
     size_t count = sse_walk(n, v, L->stack, L->walk, L->walk_sse), wanted = 0, k;
     for (k = 0; k < count; ++k) {
         tclod_id i = L->walk[k];
@@ -497,8 +584,8 @@ static size_t sse_traversal(stream_sim *s, stream_loader *L, const tclod_view *v
 /* The baseline's eviction candidates, least recently used first: resident
  * nodes with bytes, no root, not drawn nor above a drawn node, not wanted in
  * this frame. */
-static void lru_order(stream_sim *s, stream_loader *L, unsigned long stamp) {
-    const stream_nodes *n = &s->nodes;
+static void lru_order(stream_loader *L, unsigned long stamp) {
+    const stream_nodes *n = &L->nodes;
     uint32_t i;
     L->lru_count = L->lru_next = 0;
     L->lru_bytes = 0.0;
@@ -522,7 +609,7 @@ static void lru_order(stream_sim *s, stream_loader *L, unsigned long stamp) {
 static int base_load(stream_sim *s, unsigned long frame, const tclod_view *v, double now,
                      const char *prog) {
     stream_loader *L = &s->base;
-    const stream_nodes *n = &s->nodes;
+    const stream_nodes *n = &L->nodes;
     const tclod_id *ids;
     size_t count, i, wanted;
     unsigned long stamp = frame + 1u;
@@ -537,13 +624,13 @@ static int base_load(stream_sim *s, unsigned long frame, const tclod_view *v, do
         for (a = ids[i]; a != TCLOD_NONE && L->kept[a] != stamp; a = n->parent[a])
             L->kept[a] = stamp;
     }
-    wanted = sse_traversal(s, L, v, stamp);
+    wanted = sse_traversal(L, v, stamp);
     for (i = 0; i < wanted && L->load_count < STREAM_SIM_MAX_LOADS; ++i) {
         tclod_id id = L->wanted[i].id;
         double short_by = L->resident_bytes + L->flight_bytes + n->bytes[id] - s->memory_bytes;
         if (short_by > 0.0) {
             if (!lru_ready) {
-                lru_order(s, L, stamp);
+                lru_order(L, stamp);
                 lru_ready = 1;
             }
             if (L->lru_bytes < short_by)
@@ -575,9 +662,16 @@ static double new_bytes(const stream_nodes *n, const tclod_view *v, tclod_id *st
     return bytes;
 }
 
+/* How far position b lies from a along a closed path of length loop. */
+static double along(double a, double b, double loop) {
+    double d = fabs(a - b);
+    return d < loop - d ? d : loop - d;
+}
+
 int stream_path_init(stream_path *p, double loop, unsigned long every, unsigned long frames,
                      stream_sim_view_fn view, void *user, const tclod_scene *scene,
-                     const double *bytes, const double *error) {
+                     const double *bytes, const double *error, const stream_host *host) {
+    size_source src;
     unsigned long draws = 0;
     stream_nodes n;
     size_t k, room;
@@ -593,7 +687,11 @@ int stream_path_init(stream_path *p, double loop, unsigned long every, unsigned 
     if (p->events < 1)
         p->events = 1;
     p->start = (double *)malloc(p->events * sizeof(*p->start));
-    ok = p->start && nodes_read(&n, scene, bytes, error);
+    src.bytes = bytes;
+    src.error = error;
+    src.host = host;
+    src.copy = STREAM_SIM_OURS;
+    ok = p->start && nodes_read(&n, scene, &src);
     room = n.count ? n.count : 1u;
     if (ok) {
         stack = (tclod_id *)malloc(room * sizeof(tclod_id));
@@ -606,10 +704,10 @@ int stream_path_init(stream_path *p, double loop, unsigned long every, unsigned 
         p->start[0] = 0.0;
     for (k = 1; ok && k < p->events; ++k) {
         tclod_view here;
-        double best = -1.0;
+        double best = -1.0, leave = wrap(p->start[k - 1] + (double)every, loop);
         size_t count, i;
         unsigned c;
-        view(user, wrap(p->start[k - 1] + (double)every, loop), &here);
+        view(user, leave, &here);
         count = sse_walk(&n, &here, stack, out, sse);
         for (i = 0; i < count; ++i)
             mark[out[i]] = (uint32_t)k;
@@ -618,7 +716,8 @@ int stream_path_init(stream_path *p, double loop, unsigned long every, unsigned 
             tclod_view there;
             view(user, at, &there);
             b = new_bytes(&n, &there, stack, out, sse, mark, (uint32_t)k);
-            if (b > best) {
+            if (b > best ||
+                (b == best && along(leave, at, loop) > along(leave, p->start[k], loop))) {
                 best = b;
                 p->start[k] = at;
             }
@@ -637,55 +736,66 @@ int stream_path_init(stream_path *p, double loop, unsigned long every, unsigned 
 int stream_sim_start(stream_sim *s, const stream_sim_options *opt, unsigned long frames,
                      tclod_scene *ours, tclod_selector *ours_sel, tclod_scene *base,
                      tclod_scene *all, const tclod_selector_desc *sd, const double *bytes,
-                     const double *error, const char *prog) {
-    tclod_status st;
-    uint32_t i;
+                     const double *error, const stream_host *host, const char *prog) {
+    tclod_selector_desc copy_sd[2];
+    tclod_status st = TCLOD_OK;
+    int k;
     memset(s, 0, sizeof(*s));
     s->opt = *opt;
     s->frames = frames;
     s->latency_s = opt->latency_ms * 1e-3;
     s->bytes_per_s = opt->bandwidth_mbps * 1e6 / 8.0;
+    s->bytes = bytes;
+    s->error = error;
+    if (host)
+        s->host = *host;
     s->events = opt->teleport_every
                     ? (size_t)((frames + opt->teleport_every - 1u) / opt->teleport_every)
                     : 1u;
-    if (!nodes_read(&s->nodes, ours, bytes, error))
-        return out_of_memory(prog);
-    /* the sizes as the scene keeps them (a float may round a large one) */
-    for (i = 0; i < s->nodes.count; ++i) {
-        if (!s->nodes.live[i])
-            continue;
-        st = tclod_scene_set_node_bytes(ours, i, bytes[i]);
-        if (st != TCLOD_OK) {
-            fprintf(stderr, "%s: node %lu: its size %g bytes is refused: %s\n", prog,
-                    (unsigned long)i, bytes[i], tclod_status_string(st));
-            return 0;
-        }
-        s->nodes.total_bytes -= s->nodes.bytes[i];
-        s->nodes.bytes[i] = tclod_scene_node_bytes(ours, i);
-        s->nodes.total_bytes += s->nodes.bytes[i];
-    }
-    s->memory_bytes = opt->memory_mb > 0.0 ? opt->memory_mb * 1e6 : 0.5 * s->nodes.total_bytes;
-    s->drawn = (uint8_t *)calloc(s->nodes.count ? s->nodes.count : 1u, 1);
     s->needed = (double *)calloc(frames ? frames : 1u, sizeof(double));
-    if (!s->drawn || !s->needed)
+    s->ours.t95_ms = (double *)calloc(s->events, sizeof(double));
+    s->base.t95_ms = (double *)calloc(s->events, sizeof(double));
+    if (!s->needed || !s->ours.t95_ms || !s->base.t95_ms)
         return out_of_memory(prog);
-    st = tclod_selector_create(base, sd, NULL, &s->base.sel);
-    if (st == TCLOD_OK)
-        st = tclod_selector_create(all, sd, NULL, &s->all_sel);
+    for (k = 0; k < 2 && st == TCLOD_OK; ++k) {
+        copy_sd[k] = *sd;
+        if (s->host.selector_user[k])
+            copy_sd[k].callbacks.user = s->host.selector_user[k];
+        st = tclod_selector_create(k ? all : base, &copy_sd[k], NULL, k ? &s->all.sel : &s->base.sel);
+    }
     if (st != TCLOD_OK)
         return fail(prog, "creating the baseline's and the all-resident selectors", st);
-    if (!loader_start(s, &s->ours, 0, ours, ours_sel, prog) ||
-        !loader_start(s, &s->base, 1, base, s->base.sel, prog))
+    s->ours.copy = STREAM_SIM_OURS;
+    s->ours.scene = ours;
+    s->ours.sel = ours_sel;
+    s->base.copy = STREAM_SIM_BASE;
+    s->base.scene = base;
+    s->all.copy = STREAM_SIM_ALL;
+    s->all.scene = all;
+    if (!loader_refresh(s, &s->ours, prog) || !loader_refresh(s, &s->base, prog) ||
+        !loader_refresh(s, &s->all, prog))
         return 0;
+    s->scene_bytes = s->host.scene_bytes > 0.0 ? s->host.scene_bytes : s->ours.nodes.total_bytes;
+    s->memory_bytes = opt->memory_mb > 0.0 ? opt->memory_mb * 1e6 : 0.5 * s->scene_bytes;
+    if (s->host.expand) {
+        /* the all-resident copy expands what its plan asks for, at once */
+        tclod_stream_desc d;
+        memset(&d, 0, sizeof(d));
+        d.max_requests = STREAM_SIM_EXPAND_BATCH;
+        d.min_yield = TCLOD_OFF;
+        st = tclod_selector_set_stream(s->all.sel, &d);
+        if (st != TCLOD_OK)
+            return fail(prog, "tclod_selector_set_stream (all resident)", st);
+    }
     return 1;
 }
 
 void stream_sim_free(stream_sim *s) {
     tclod_selector_destroy(s->base.sel);
-    tclod_selector_destroy(s->all_sel);
+    tclod_selector_destroy(s->all.sel);
     loader_free(&s->ours);
     loader_free(&s->base);
-    nodes_free(&s->nodes);
+    loader_free(&s->all);
     free(s->drawn);
     free(s->needed);
     memset(s, 0, sizeof(*s));
@@ -739,12 +849,12 @@ static void follow_t95(stream_sim *s, unsigned long frame) {
 /* The bytes of the nodes the all-resident selection draws and of their
  * ancestors, each once, into *out. 0 after a message. */
 static int needed_bytes(stream_sim *s, double *out, const char *prog) {
-    const stream_nodes *N = &s->nodes;
+    const stream_nodes *N = &s->all.nodes;
     const tclod_id *cut;
     size_t n, i;
     double sum = 0.0;
     tclod_id a;
-    tclod_status st = tclod_selector_cut(s->all_sel, &cut, &n);
+    tclod_status st = tclod_selector_cut(s->all.sel, &cut, &n);
     if (st != TCLOD_OK)
         return fail(prog, "the all-resident tclod_selector_cut", st);
     for (i = 0; i < n; ++i)
@@ -757,6 +867,42 @@ static int needed_bytes(stream_sim *s, double *out, const char *prog) {
             s->drawn[a] = 0;
     *out = sum;
     return 1;
+}
+
+/* The all-resident copy's select; while its plan asks to expand nodes (a
+ * host reading on demand), they are expanded and it selects again, at most
+ * STREAM_SIM_EXPAND_ROUNDS times. 0 after a message. */
+static int all_select(stream_sim *s, const tclod_frame *fr, tclod_stats *stats,
+                      const char *prog) {
+    stream_loader *L = &s->all;
+    unsigned round;
+    for (round = 0;; ++round) {
+        const tclod_stream_item *items;
+        size_t n, i, expand = 0;
+        tclod_status st = tclod_select(L->sel, fr, stats);
+        if (st != TCLOD_OK)
+            return fail(prog, "the all-resident tclod_select", st);
+        if (!s->host.expand || round == STREAM_SIM_EXPAND_ROUNDS)
+            return 1;
+        st = tclod_selector_requests(L->sel, &items, &n);
+        if (st != TCLOD_OK)
+            return fail(prog, "the all-resident tclod_selector_requests", st);
+        for (i = 0; i < n; ++i) {
+            tclod_id id = items[i].id;
+            if ((items[i].flags & TCLOD_STREAM_EXPAND) && id < L->nodes.count &&
+                L->nodes.live[id] && L->nodes.unexpanded[id])
+                L->walk[expand++] = id;
+        }
+        if (expand == 0)
+            return 1;
+        for (i = 0; i < expand; ++i) {
+            L->files++;
+            if (!s->host.expand(s->host.user, STREAM_SIM_ALL, L->walk[i]))
+                return 0;
+        }
+        if (!loader_refresh(s, L, prog))
+            return 0;
+    }
 }
 
 int stream_sim_after(stream_sim *s, unsigned long frame, const tclod_frame *fr, double benefit,
@@ -773,9 +919,8 @@ int stream_sim_after(stream_sim *s, unsigned long frame, const tclod_frame *fr, 
     s->base.benefit = stats.benefit;
     if (!base_load(s, frame, fr->view, now, prog))
         return 0;
-    st = tclod_select(s->all_sel, fr, &stats);
-    if (st != TCLOD_OK)
-        return fail(prog, "the all-resident tclod_select", st);
+    if (!all_select(s, fr, &stats, prog))
+        return 0;
     s->all_benefit = stats.benefit;
     if (frame < s->frames && !needed_bytes(s, &s->needed[frame], prog))
         return 0;
@@ -847,14 +992,26 @@ void stream_sim_print_summary(FILE *out, stream_sim *s) {
                               : 0.5 * (s->needed[s->frames / 2 - 1] + s->needed[s->frames / 2]),
                 max);
     }
+    fprintf(out, " files_read=%lu files_read_baseline=%lu files_read_all_resident=%lu",
+            s->ours.files, s->base.files, s->all.files);
 }
 
 void stream_sim_print_settings(FILE *out, const stream_sim *s) {
+    char needs[64];
+    if (s->ours.nodes.unexpanded_count && !(s->host.scene_bytes > 0.0))
+        snprintf(needs, sizeof(needs), "not known before it is read");
+    else
+        snprintf(needs, sizeof(needs), "%.1f MB", s->scene_bytes * 1e-6);
     fprintf(out,
             "stream: latency %g ms, bandwidth %g Mbit/s, memory %.1f MB (the scene needs "
-            "%.1f MB), %u loads in flight at most, %g frames per s, teleport every %lu "
+            "%s), %u loads in flight at most, %g frames per s, teleport every %lu "
             "frames; baseline: refine above %g px, evict the least recently used\n",
             s->opt.latency_ms, s->opt.bandwidth_mbps, s->memory_bytes * 1e-6,
-            s->nodes.total_bytes * 1e-6, STREAM_SIM_MAX_LOADS, STREAM_SIM_HZ, s->opt.teleport_every,
+            needs, STREAM_SIM_MAX_LOADS, STREAM_SIM_HZ, s->opt.teleport_every,
             STREAM_SIM_MAX_SSE);
+    if (s->ours.nodes.unexpanded_count)
+        fprintf(out,
+                "stream: the hierarchy is read on demand: each copy starts with %lu nodes, "
+                "%lu of them unexpanded (files not read)\n",
+                (unsigned long)(s->ours.nodes.count), (unsigned long)s->ours.nodes.unexpanded_count);
 }

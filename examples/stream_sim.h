@@ -38,6 +38,12 @@
  * distance to the node's bounding volume (tclod_view_bounds_distance). Both
  * simulations start with the roots resident and nothing else.
  *
+ * A scene read on demand (stream_host): an unexpanded node is loaded as its
+ * file (its bytes), ours when the plan lists it with TCLOD_STREAM_EXPAND, the
+ * baseline when its traversal reaches it; on arrival the host replaces it by
+ * what the file holds (stream_host.expand) and the copy's structure is read
+ * again. The all-resident copy expands what its own plan lists at once.
+ *
  * Not part of the library: the examples' own module.
  */
 #ifndef STREAM_SIM_H
@@ -64,6 +70,10 @@
  * traversal wants there and not where the camera is. */
 #define STREAM_SIM_TELEPORT_CANDIDATES 8u
 #define STREAM_SIM_TELEPORT_SEED 0.5
+/* The all-resident copy of a scene read on demand expands at most this
+ * many nodes per select, and selects again at most this many times a frame. */
+#define STREAM_SIM_EXPAND_BATCH 64u
+#define STREAM_SIM_EXPAND_ROUNDS 32u
 /* With --stream, the programs fly this many frames unless --frames says. */
 #define STREAM_SIM_DEFAULT_FRAMES 2000ul
 
@@ -95,6 +105,31 @@ int stream_sim_options_check(const stream_sim_options *o, const char *prog);
 extern const char stream_sim_usage_options[];
 extern const char stream_sim_usage_output[];
 
+/* The copies (stream_host's `copy` argument). */
+enum { STREAM_SIM_OURS = 0, STREAM_SIM_BASE = 1, STREAM_SIM_ALL = 2 };
+
+/* What the simulation asks of a host whose scene is read on demand
+ * (tclod_node_desc.unexpanded, docs/streaming.md), or whose copies do not
+ * share ids. Every function takes the copy (STREAM_SIM_OURS, _BASE, _ALL) and
+ * a live node id of it. */
+typedef struct stream_host {
+    void *user;
+    double (*bytes)(void *user, int copy, tclod_id id); /* its size; an unexpanded
+                                                           node's: its file's */
+    double (*error)(void *user, int copy, tclod_id id); /* its geometric error, m */
+    int (*unexpanded)(void *user, int copy, tclod_id id);
+    /* Reads what unexpanded node id stands for and puts it in the copy's
+     * scene in the node's place: removes the node, adds what it read below
+     * its parent (with bounds; new ids). Called when the load of its file
+     * completes (ours, base) or when the all-resident selection's plan asks
+     * for it. 0 after a message on stderr. */
+    int (*expand)(void *user, int copy, tclod_id id);
+    void *selector_user[2]; /* the callbacks' user of base's and all's selectors
+                               (NULL: the selector desc's) */
+    double scene_bytes;     /* what the whole scene needs, when the host knows more of
+                               it than its nodes say (0: their sum) */
+} stream_host;
+
 /* ---- the camera path with teleports -------------------------------------------- */
 
 /* The view at `position` frames along a closed path (any real; the path
@@ -113,21 +148,25 @@ typedef struct stream_path {
 } stream_path;
 
 /* The path of a flight of `frames` frames, its teleports chosen now over
- * the scene with the host's sizes and errors (as stream_sim_start). 0 when
- * out of memory (p can still be freed). */
+ * the scene with the host's sizes and errors (as stream_sim_start; host's
+ * copy STREAM_SIM_OURS), as much of it as is read: candidates that tie (a
+ * scene not read yet needs as much everywhere) go to the point farthest
+ * along the path from the one the camera leaves. 0 when out of memory (p can
+ * still be freed). */
 int stream_path_init(stream_path *p, double loop, unsigned long every, unsigned long frames,
                      stream_sim_view_fn view, void *user, const tclod_scene *scene,
-                     const double *bytes, const double *error);
+                     const double *bytes, const double *error, const stream_host *host);
 void stream_path_free(stream_path *p);
 /* The position along the path, in [0, loop), at frame `frame`. */
 double stream_path_position(const stream_path *p, unsigned long frame);
 
 /* ---- the simulation -------------------------------------------------------------- */
 
-/* The scene's structure, read once (the three copies share it). */
+/* A copy's structure, read again after each expansion. */
 typedef struct stream_nodes {
     uint32_t count;   /* tclod_scene_node_count */
     uint8_t *live;    /* 1 for a live node (not an additive node's self leaf) */
+    uint8_t *unexpanded;
     tclod_id *parent; /* TCLOD_NONE for a root */
     uint32_t *first;  /* children of n: child[first[n] .. first[n + 1]) */
     tclod_id *child;  /* live children, in id order */
@@ -137,7 +176,8 @@ typedef struct stream_nodes {
     tclod_bounds *bounds;
     double *bytes;      /* the host's sizes */
     double *error;      /* the host's geometric errors, m */
-    double total_bytes; /* over the live nodes: what the whole scene needs */
+    double total_bytes; /* over the live nodes that are not unexpanded */
+    uint32_t unexpanded_count;
 } stream_nodes;
 
 /* A load in flight. */
@@ -155,18 +195,23 @@ typedef struct stream_rank {
     tclod_id id;
 } stream_rank;
 
-/* One loader over its copy of the scene. */
+/* One loader over its copy of the scene (or the all-resident copy, which
+ * loads nothing and expands at once). */
 typedef struct stream_loader {
-    int baseline;        /* 0: libtclod's plan; 1: the screen-space-error loader */
+    int copy;            /* STREAM_SIM_OURS, _BASE or _ALL */
     tclod_scene *scene;  /* its copy */
     tclod_selector *sel; /* its selector (ours: the host's own) */
+    stream_nodes nodes;  /* its copy's structure */
+    uint32_t room;       /* per-node arrays hold this many entries */
     uint8_t *state;      /* per node: STREAM_ABSENT, STREAM_LOADING or STREAM_RESIDENT */
     stream_load loads[STREAM_SIM_MAX_LOADS]; /* in flight, in order of completion */
     size_t load_count;
     double link_free;      /* s: when the link has sent what is in flight */
     double resident_bytes; /* this simulation's own sum */
     double flight_bytes;
-    double loaded_bytes; /* loads completed, summed */
+    double loaded_bytes; /* loads completed, summed (files read included) */
+    unsigned long files; /* expansions: unexpanded nodes' files read */
+    int grown;           /* an expansion since its structure was read */
     /* the current frame */
     double frame_resident_bytes; /* when the frame was selected */
     unsigned long issued;        /* loads issued after its select */
@@ -197,31 +242,35 @@ enum { STREAM_ABSENT = 0, STREAM_LOADING = 1, STREAM_RESIDENT = 2 };
 typedef struct stream_sim {
     stream_sim_options opt;
     double memory_bytes; /* the memory budget M, bytes */
+    double scene_bytes;  /* what the whole scene needs (stream_host.scene_bytes) */
     double latency_s, bytes_per_s;
     unsigned long frames;
-    stream_nodes nodes;
-    stream_loader ours, base;
-    tclod_selector *all_sel; /* over the all-resident copy */
-    double all_benefit;      /* its benefit, this frame */
+    const double *bytes, *error; /* per node id, the copies alike; or NULL with host */
+    stream_host host;            /* zero without one */
+    stream_loader ours, base, all;
+    double all_benefit; /* the all-resident copy's benefit, this frame */
     size_t events;           /* the start and the teleports */
     size_t event;            /* the current one */
     unsigned long event_frame;
-    uint8_t *drawn; /* per node: 1 while in ours' cut (scratch) */
+    uint8_t *drawn; /* per node of any copy: 1 while in its cut (scratch) */
+    uint32_t drawn_room;
     double *needed; /* per frame: bytes the all-resident selection draws and
                        refines through (what memory must hold to draw it) */
 } stream_sim;
 
 /* Starts the simulation of a flight of `frames` frames. ours is the host's
- * scene and selector; base and all are two more copies of the scene (the same
- * nodes with the same ids), over which it creates selectors with sd. bytes and
- * error: per node id (tclod_scene_node_count entries; entries of ids that are
- * not live are not read). Sets the sizes in ours and base, and marks every
- * node there that is no root and has bytes absent. 0 after a message on
- * stderr naming prog (stream_sim_free frees what was made). */
+ * scene and selector; base and all are two more copies of the scene, over
+ * which it creates selectors with sd. Sizes and errors: with host NULL, bytes
+ * and error per node id, the copies having the same nodes with the same ids
+ * (tclod_scene_node_count entries; entries of ids that are not live are not
+ * read); else host's functions (bytes and error NULL). Sets the sizes in the
+ * copies, and marks every node in ours and base that is no root and has
+ * bytes absent. 0 after a message on stderr naming prog (stream_sim_free
+ * frees what was made). */
 int stream_sim_start(stream_sim *s, const stream_sim_options *opt, unsigned long frames,
                      tclod_scene *ours, tclod_selector *ours_sel, tclod_scene *base,
                      tclod_scene *all, const tclod_selector_desc *sd, const double *bytes,
-                     const double *error, const char *prog);
+                     const double *error, const stream_host *host, const char *prog);
 
 /* Before the frame's select of ours: the loads completed by now become
  * resident, and ours is told its stream desc. 0 after a message. */

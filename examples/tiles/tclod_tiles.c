@@ -70,6 +70,10 @@
  * then the radial direction there, else +z (3D Tiles' local up). */
 #define EARTH_CENTRED_MIN 1.0e6
 #define PI 3.14159265358979323846
+/* --stream over a tileset read on demand without --sizes: what it holds is
+ * not known, and the memory defaults to CesiumJS's cache (cacheBytes,
+ * 512 MiB). */
+#define STREAM_UNKNOWN_MEMORY_MB 536.870912
 
 typedef struct options {
     unsigned long frames;
@@ -91,18 +95,43 @@ typedef struct cut_check {
 static int cut_check_init(cut_check *c, uint32_t tiles);
 static void cut_check_free(cut_check *c);
 
+struct host;
+
+/* One copy of the scene with its ids: the host's own, and with --stream the
+ * baseline's and the all-resident one (STREAM_SIM_OURS, _BASE, _ALL). Read on
+ * demand, each copy knows the files its own loader read, so that the same
+ * tile has other ids in each. */
+typedef struct scene_copy {
+    struct host *h; /* the callbacks' user is the copy */
+    int index;
+    tclod_scene *scene;
+    tclod_id *id_of_tile; /* per tile: its node here, TCLOD_NONE when not here */
+    uint8_t *open;        /* per tile: 1 while its node here is unexpanded */
+    uint32_t *tile_of_id; /* per id: TILE_NONE for ids no tile has (an additive node's own) */
+    uint32_t id_room;
+} scene_copy;
+
 /* Everything the callbacks read. */
 typedef struct host {
     tileset ts;
     size_table sizes;
     int have_sizes;
-    tclod_scene *scene;
-    tclod_scene *copy[2];  /* --stream: the baseline's and the all-resident copies */
-    double *bytes, *error; /* --stream: per node id, the tile's size and geometric error */
-    tclod_id *id_of_tile;
-    uint32_t *tile_of_id; /* TILE_NONE for ids no tile has (an additive node's own) */
-    uint32_t id_count;
-    double *cost_ms; /* per tile */
+    int on_demand; /* --stream: the tileset is opened (tileset_open) and read on */
+    tileset_counts opened; /* the counts when it was opened */
+    scene_copy copies[3];
+    int copy_count;
+    double ms_per_mb;
+    /* per tile (tile_room entries; tiles[0 .. known) prepared) */
+    uint32_t tile_room, known;
+    double *cost_ms;
+    double *file_bytes;     /* the size of the file a tile stood for when read unexpanded,
+                               < 0 for a tile that never was */
+    uint32_t *read_lo;      /* the tiles reading that file added: [read_lo, read_hi) */
+    uint32_t *read_hi;
+    uint8_t *failed;        /* 1: its file could not be read */
+    unsigned long failed_files;
+    double expand_us;       /* time spent reading files within the sse16 timing */
+    uint32_t *sse_stack, *sse_drawn;
     tiles_model model;
     /* the queries of the current select (tile, screen_area, distance), checked
      * after it against this program's measures (check_queries) */
@@ -357,6 +386,7 @@ static double median(double *v, size_t n) {
 
 static int load_tileset(const options *o, host *h) {
     char err[1024];
+    int bad;
     if (o->sizes_path) {
         if (size_table_load(o->sizes_path, &h->sizes, err, sizeof(err))) {
             fprintf(stderr, "tclod_tiles: %s\n", err);
@@ -364,61 +394,20 @@ static int load_tileset(const options *o, host *h) {
         }
         h->have_sizes = 1;
     }
-    if (tileset_load(o->tileset_path, h->have_sizes ? &h->sizes : NULL, &h->ts, err, sizeof(err))) {
+    /* --stream reads the root tileset alone, and the rest as the loaders ask */
+    h->on_demand = o->stream.enabled;
+    if (h->on_demand)
+        bad = tileset_open(o->tileset_path, h->have_sizes ? &h->sizes : NULL, TILESET_MAX_TILES,
+                           &h->ts, err, sizeof(err));
+    else
+        bad = tileset_load(o->tileset_path, h->have_sizes ? &h->sizes : NULL, &h->ts, err,
+                           sizeof(err));
+    if (bad) {
         fprintf(stderr, "tclod_tiles: %s\n", err);
         return 1;
     }
+    h->opened = h->ts.counts;
     return 0;
-}
-
-/* One node per tile into scene, parents first (the tiles' order); ids[t] gets
- * tile t's node. 0 after saying which tile failed. */
-static int add_tiles(const tileset *ts, tclod_scene *scene, tclod_id *ids) {
-    uint32_t t;
-    for (t = 0; t < ts->count; ++t) {
-        const tile *x = &ts->tiles[t];
-        tclod_node_desc d;
-        tclod_status st;
-        tile_node_desc(x, x->parent == TILE_NONE ? TCLOD_NONE : ids[x->parent], &d);
-        st = tclod_scene_add_node_desc(scene, &d, &ids[t]);
-        if (st != TCLOD_OK) {
-            fprintf(stderr, "tclod_tiles: adding tile %lu as a node failed: %s\n", (unsigned long)t,
-                    tclod_status_string(st));
-            return 0;
-        }
-    }
-    return 1;
-}
-
-/* --stream: two more copies of the scene, with the same ids, and the tiles'
- * sizes and errors by node id. */
-static int build_copies(host *h) {
-    tclod_id *ids = (tclod_id *)malloc((h->ts.count ? h->ts.count : 1) * sizeof(tclod_id));
-    size_t n = h->id_count ? h->id_count : 1u;
-    tclod_status st = ids ? TCLOD_OK : TCLOD_ERR_NOMEM;
-    uint32_t t;
-    int k, ok = 1;
-    h->bytes = (double *)calloc(n, sizeof(double));
-    h->error = (double *)calloc(n, sizeof(double));
-    if (!h->bytes || !h->error)
-        st = TCLOD_ERR_NOMEM;
-    for (t = 0; st == TCLOD_OK && t < h->ts.count; ++t) {
-        h->bytes[h->id_of_tile[t]] = h->ts.tiles[t].bytes;
-        h->error[h->id_of_tile[t]] = h->ts.tiles[t].geometric_error;
-    }
-    for (k = 0; k < 2 && ok && st == TCLOD_OK; ++k) {
-        st = tclod_scene_create(NULL, &h->copy[k]);
-        if (st == TCLOD_OK)
-            ok = add_tiles(&h->ts, h->copy[k], ids) &&
-                 memcmp(ids, h->id_of_tile, h->ts.count * sizeof(tclod_id)) == 0;
-        if (st == TCLOD_OK && ok)
-            st = tclod_scene_prepare(h->copy[k]);
-    }
-    free(ids);
-    if (st != TCLOD_OK || !ok)
-        fprintf(stderr, "tclod_tiles: building the copies of the scene failed: %s\n",
-                st != TCLOD_OK ? tclod_status_string(st) : "other ids");
-    return st == TCLOD_OK && ok;
 }
 
 /* A cost in ms rounded to a whole multiple of COST_QUANTUM (2^-30 ms, under
@@ -430,65 +419,224 @@ static double exact_cost(double ms) {
     return ms < 4194304.0 ? floor(ms / COST_QUANTUM + 0.5) * COST_QUANTUM : ms;
 }
 
-/* The scene and the tables the callbacks index by node id. */
-static int build_scene(host *h, double ms_per_mb) {
-    tclod_status st = tclod_scene_create(NULL, &h->scene);
-    uint32_t t;
-    h->id_of_tile = (tclod_id *)malloc((h->ts.count ? h->ts.count : 1) * sizeof(tclod_id));
-    h->cost_ms = (double *)malloc((h->ts.count ? h->ts.count : 1) * sizeof(double));
-    if (st == TCLOD_OK && (!h->id_of_tile || !h->cost_ms))
-        st = TCLOD_ERR_NOMEM;
-    if (st == TCLOD_OK && !add_tiles(&h->ts, h->scene, h->id_of_tile))
-        return 1;
-    for (t = 0; st == TCLOD_OK && t < h->ts.count; ++t)
-        h->cost_ms[t] = exact_cost(h->ts.tiles[t].bytes * 1e-6 * ms_per_mb);
-    if (st == TCLOD_OK)
-        st = tclod_scene_prepare(h->scene);
-    if (st == TCLOD_OK) {
-        h->id_count = tclod_scene_node_count(h->scene);
-        h->tile_of_id =
-            (uint32_t *)malloc((h->id_count ? h->id_count : 1) * sizeof(*h->tile_of_id));
-        if (!h->tile_of_id)
-            st = TCLOD_ERR_NOMEM;
+/* Grows *p, of `size`-byte entries, from `old` to `room` entries, the new ones
+ * zero. 0 when out of memory (*p as it was). */
+static int grow(void *p, size_t size, size_t old, size_t room) {
+    void **q = (void **)p;
+    char *g = (char *)realloc(*q, room * size);
+    if (!g)
+        return 0;
+    memset(g + old * size, 0, (room - old) * size);
+    *q = g;
+    return 1;
+}
+
+/* The per-tile tables, grown to the tiles the tileset has now, and the
+ * tiles read since the last call prepared. 0 when out of memory. */
+static int grow_tiles(host *h) {
+    uint32_t old = h->tile_room, room = old ? old : 64u, t;
+    int c;
+    while (room < h->ts.count)
+        room *= 2u;
+    if (room > old) {
+        int ok = grow(&h->cost_ms, sizeof(double), old, room) &&
+                 grow(&h->file_bytes, sizeof(double), old, room) &&
+                 grow(&h->read_lo, sizeof(uint32_t), old, room) &&
+                 grow(&h->read_hi, sizeof(uint32_t), old, room) &&
+                 grow(&h->failed, 1, old, room) &&
+                 grow(&h->sse_stack, sizeof(uint32_t), old, room) &&
+                 grow(&h->sse_drawn, sizeof(uint32_t), old, room) &&
+                 grow(&h->rule_list, sizeof(uint32_t), old, room) &&
+                 grow(&h->query_tile, sizeof(uint32_t), 3u * (size_t)old, 3u * (size_t)room) &&
+                 grow(&h->query_area, sizeof(float), 3u * (size_t)old, 3u * (size_t)room) &&
+                 grow(&h->query_distance, sizeof(float), 3u * (size_t)old, 3u * (size_t)room) &&
+                 grow(&h->rules.drawn_stamp, sizeof(uint32_t), old, room) &&
+                 grow(&h->rules.refined_stamp, sizeof(uint32_t), old, room) &&
+                 grow(&h->rules.stack, sizeof(uint32_t), old, room) &&
+                 grow(&h->rules.refined, sizeof(uint32_t), old, room);
+        for (c = 0; c < 3 && ok; ++c) {
+            scene_copy *k = &h->copies[c];
+            ok = grow(&k->id_of_tile, sizeof(tclod_id), old, room) && grow(&k->open, 1, old, room);
+            for (t = old; ok && t < room; ++t)
+                k->id_of_tile[t] = TCLOD_NONE;
+        }
+        if (!ok)
+            return 0;
+        h->tile_room = room;
     }
-    if (st == TCLOD_OK && model_init(&h->model, &h->ts))
-        st = TCLOD_ERR_NOMEM;
-    if (st == TCLOD_OK && !cut_check_init(&h->rules, h->ts.count))
-        st = TCLOD_ERR_NOMEM;
-    if (st == TCLOD_OK &&
-        !(h->rule_list = (uint32_t *)malloc((h->ts.count ? h->ts.count : 1) * sizeof(uint32_t))))
-        st = TCLOD_ERR_NOMEM;
-    h->query_tile = (uint32_t *)malloc((h->ts.count ? 3u * h->ts.count : 1) * sizeof(uint32_t));
-    h->query_area = (float *)malloc((h->ts.count ? 3u * h->ts.count : 1) * sizeof(float));
-    h->query_distance = (float *)malloc((h->ts.count ? 3u * h->ts.count : 1) * sizeof(float));
-    if (st == TCLOD_OK && (!h->query_tile || !h->query_area || !h->query_distance))
+    for (t = h->known; t < h->ts.count; ++t) {
+        const tile *x = &h->ts.tiles[t];
+        h->cost_ms[t] = exact_cost(x->bytes * 1e-6 * h->ms_per_mb);
+        h->file_bytes[t] = x->unexpanded ? x->file_bytes : -1.0;
+    }
+    h->known = h->ts.count;
+    return h->model.ts == NULL || model_grow(&h->model) == 0;
+}
+
+/* Reads the file tile t stands for into the tileset (once, whichever copy
+ * asks first). A file that cannot be read is said once and leaves t a tile
+ * without content or children. 0 when out of memory. */
+static int read_tile(host *h, uint32_t t) {
+    char err[1024];
+    uint32_t before = h->ts.count;
+    if (!h->ts.tiles[t].unexpanded || h->failed[t])
+        return 1;
+    if (tileset_expand(&h->ts, t, err, sizeof(err))) {
+        h->failed[t] = 1;
+        if (h->failed_files++ == 0)
+            fprintf(stderr, "tclod_tiles: %s (the tile stays without content)\n", err);
+        return 1;
+    }
+    h->read_lo[t] = before;
+    h->read_hi[t] = h->ts.count;
+    /* a subtree's root took its content */
+    h->cost_ms[t] = exact_cost(h->ts.tiles[t].bytes * 1e-6 * h->ms_per_mb);
+    return grow_tiles(h);
+}
+
+/* The copy's id room for the scene's ids, new ones naming no tile. */
+static int grow_ids(scene_copy *k) {
+    uint32_t count = tclod_scene_node_count(k->scene), room = k->id_room ? k->id_room : 64u, i;
+    if (count <= k->id_room)
+        return 1;
+    while (room < count)
+        room *= 2u;
+    if (!grow(&k->tile_of_id, sizeof(uint32_t), k->id_room, room))
+        return 0;
+    for (i = k->id_room; i < room; ++i)
+        k->tile_of_id[i] = TILE_NONE;
+    k->id_room = room;
+    return 1;
+}
+
+/* Adds tile t to the copy below its parent's node. as_read: t as its file
+ * was read, unexpanded if it then stood for a file (whatever another copy
+ * read since); else as it is now. 0 after saying what failed. */
+static int add_tile(scene_copy *k, uint32_t t, int as_read) {
+    host *h = k->h;
+    const tile *x = &h->ts.tiles[t];
+    tclod_node_desc d;
+    tclod_id id;
+    tclod_status st;
+    tile_node_desc(x, x->parent == TILE_NONE ? TCLOD_NONE : k->id_of_tile[x->parent], &d);
+    if (h->failed[t]) {
+        d.unexpanded = 0;
+        d.empty = 1;
+    } else if (as_read && h->file_bytes[t] >= 0.0) {
+        d.unexpanded = 1;
+        d.empty = 0;
+    }
+    if (d.unexpanded)
+        d.bytes = h->file_bytes[t];
+    st = tclod_scene_add_node_desc(k->scene, &d, &id);
+    if (st == TCLOD_OK && !grow_ids(k))
         st = TCLOD_ERR_NOMEM;
     if (st != TCLOD_OK) {
+        fprintf(stderr, "tclod_tiles: adding tile %lu as a node failed: %s\n", (unsigned long)t,
+                tclod_status_string(st));
+        return 0;
+    }
+    k->id_of_tile[t] = id;
+    k->tile_of_id[id] = t;
+    k->open[t] = (uint8_t)d.unexpanded;
+    return 1;
+}
+
+/* Every tile known into the copy, parents first (the tiles' order). */
+static int add_tiles(scene_copy *k) {
+    uint32_t t;
+    for (t = 0; t < k->h->ts.count; ++t)
+        if (!add_tile(k, t, 0))
+            return 0;
+    return 1;
+}
+
+/* The copy's scene, the callbacks' user k. 0 after saying what failed. */
+static int build_copy(host *h, int index) {
+    scene_copy *k = &h->copies[index];
+    tclod_status st = tclod_scene_create(NULL, &k->scene);
+    k->h = h;
+    k->index = index;
+    if (st == TCLOD_OK && !add_tiles(k))
+        return 0;
+    if (st == TCLOD_OK)
+        st = tclod_scene_prepare(k->scene);
+    if (st != TCLOD_OK) {
         fprintf(stderr, "tclod_tiles: building the scene failed: %s\n", tclod_status_string(st));
+        return 0;
+    }
+    h->copy_count = index + 1;
+    return 1;
+}
+
+/* stream_host.expand: unexpanded node id of copy c is read (the tileset
+ * reads the file if no copy did) and replaced by what the file holds: the
+ * tile itself, now with its content or as a link, and the tiles the file
+ * added, unexpanded where they stand for files in turn. */
+static int expand_node(void *user, int c, tclod_id id) {
+    host *h = (host *)user;
+    scene_copy *k = &h->copies[c];
+    uint32_t t = id < k->id_room ? k->tile_of_id[id] : TILE_NONE, u;
+    tclod_status st;
+    if (t == TILE_NONE || !k->open[t]) {
+        fprintf(stderr, "tclod_tiles: node %lu to expand is no unexpanded tile\n",
+                (unsigned long)id);
+        return 0;
+    }
+    if (!read_tile(h, t)) {
+        fprintf(stderr, "tclod_tiles: out of memory\n");
+        return 0;
+    }
+    st = tclod_scene_remove_node(k->scene, id);
+    if (st != TCLOD_OK) {
+        fprintf(stderr, "tclod_tiles: removing node %lu failed: %s\n", (unsigned long)id,
+                tclod_status_string(st));
+        return 0;
+    }
+    k->tile_of_id[id] = TILE_NONE;
+    k->id_of_tile[t] = TCLOD_NONE;
+    k->open[t] = 0;
+    if (!add_tile(k, t, 0))
+        return 0;
+    if (!h->failed[t])
+        for (u = h->read_lo[t]; u < h->read_hi[t]; ++u)
+            if (!add_tile(k, u, 1))
+                return 0;
+    return 1;
+}
+
+/* The host's scene (copy 0) and the tables the callbacks index. 1 after
+ * saying what failed. */
+static int build_scene(host *h, double ms_per_mb) {
+    h->ms_per_mb = ms_per_mb;
+    if (!cut_check_init(&h->rules, 0) || !grow_tiles(h) || model_init(&h->model, &h->ts)) {
+        fprintf(stderr, "tclod_tiles: out of memory\n");
         return 1;
     }
-    for (t = 0; t < h->id_count; ++t)
-        h->tile_of_id[t] = TILE_NONE;
-    for (t = 0; t < h->ts.count; ++t)
-        h->tile_of_id[h->id_of_tile[t]] = t;
-    return 0;
+    return !build_copy(h, STREAM_SIM_OURS);
 }
 
 static void free_host(host *h) {
+    int c;
     cut_check_free(&h->rules);
     free(h->rule_list);
     free(h->query_tile);
     free(h->query_area);
     free(h->query_distance);
     model_free(&h->model);
-    tclod_scene_destroy(h->scene);
-    tclod_scene_destroy(h->copy[0]);
-    tclod_scene_destroy(h->copy[1]);
-    free(h->bytes);
-    free(h->error);
-    free(h->id_of_tile);
-    free(h->tile_of_id);
+    for (c = 0; c < 3; ++c) {
+        tclod_scene_destroy(h->copies[c].scene);
+        free(h->copies[c].id_of_tile);
+        free(h->copies[c].open);
+        free(h->copies[c].tile_of_id);
+    }
     free(h->cost_ms);
+    free(h->file_bytes);
+    free(h->read_lo);
+    free(h->read_hi);
+    free(h->failed);
+    free(h->sse_stack);
+    free(h->sse_drawn);
     tileset_free(&h->ts);
     if (h->have_sizes)
         size_table_free(&h->sizes);
@@ -496,18 +644,39 @@ static void free_host(host *h) {
 
 /* ---- callbacks ----------------------------------------------------------------- */
 
-/* The tile of node id, or TILE_NONE. */
-static uint32_t tile_of(const host *h, tclod_id id) {
-    return id < h->id_count ? h->tile_of_id[id] : TILE_NONE;
+/* The tile of node id of copy k, or TILE_NONE. */
+static uint32_t tile_of(const scene_copy *k, tclod_id id) {
+    return id < k->id_room ? k->tile_of_id[id] : TILE_NONE;
 }
 
 /* The tile of a queried node, or TILE_NONE (counted) for an id that is not one
  * the scene returned: the library promises never to ask about those. */
-static uint32_t queried_tile(host *h, tclod_id id) {
-    uint32_t t = tile_of(h, id);
+static uint32_t queried_tile(const scene_copy *k, tclod_id id) {
+    uint32_t t = tile_of(k, id);
     if (t == TILE_NONE)
-        ++h->unknown_ids;
+        ++k->h->unknown_ids;
     return t;
+}
+
+/* stream_host's functions */
+static double node_bytes(void *user, int c, tclod_id id) {
+    const host *h = (const host *)user;
+    uint32_t t = tile_of(&h->copies[c], id);
+    if (t == TILE_NONE)
+        return 0.0;
+    return h->copies[c].open[t] ? h->file_bytes[t] : h->ts.tiles[t].bytes;
+}
+
+static double node_error(void *user, int c, tclod_id id) {
+    const host *h = (const host *)user;
+    uint32_t t = tile_of(&h->copies[c], id);
+    return t == TILE_NONE ? 0.0 : h->ts.tiles[t].geometric_error;
+}
+
+static int node_unexpanded(void *user, int c, tclod_id id) {
+    const host *h = (const host *)user;
+    uint32_t t = tile_of(&h->copies[c], id);
+    return t != TILE_NONE && h->copies[c].open[t];
 }
 
 /* Keeps a query for check_queries, after the select: each node is asked once
@@ -531,28 +700,29 @@ static double tile_benefit(host *h, uint32_t t, float area, float distance) {
 }
 
 static double benefit_cb(void *user, const tclod_query *q) {
-    host *h = (host *)user;
-    uint32_t t = queried_tile(h, q->id);
+    scene_copy *k = (scene_copy *)user;
+    uint32_t t = queried_tile(k, q->id);
     if (t == TILE_NONE || !q->view)
         return 0.0;
-    take_query(h, t, q->screen_area, q->distance);
-    return tile_benefit(h, t, q->screen_area, q->distance);
+    take_query(k->h, t, q->screen_area, q->distance);
+    return tile_benefit(k->h, t, q->screen_area, q->distance);
 }
 
 /* The batch form: every area of the batch is taken first, so that a tile's
  * share finds its siblings' areas measured (they come together). */
 static void benefit_batch_cb(void *user, const tclod_batch *b, double *out) {
-    host *h = (host *)user;
+    scene_copy *k = (scene_copy *)user;
     uint32_t i;
     for (i = 0; i < b->count; ++i) {
-        uint32_t t = queried_tile(h, b->ids[i]);
+        uint32_t t = queried_tile(k, b->ids[i]);
         if (t != TILE_NONE && b->view)
-            take_query(h, t, b->screen_area[i], b->distance[i]);
+            take_query(k->h, t, b->screen_area[i], b->distance[i]);
     }
     for (i = 0; i < b->count; ++i) {
-        uint32_t t = tile_of(h, b->ids[i]); /* counted above */
-        out[i] = t == TILE_NONE || !b->view ? 0.0
-                                            : tile_benefit(h, t, b->screen_area[i], b->distance[i]);
+        uint32_t t = tile_of(k, b->ids[i]); /* counted above */
+        out[i] = t == TILE_NONE || !b->view
+                     ? 0.0
+                     : tile_benefit(k->h, t, b->screen_area[i], b->distance[i]);
     }
 }
 
@@ -582,18 +752,32 @@ static void check_queries(host *h) {
     h->query_count = 0;
 }
 
+/* A tile's cost; an unexpanded node's is that of the content it is expected
+ * to bring first, which is not known before its file is read: its nearest
+ * ancestor's with content (a level below costs about as much as the level
+ * above in the trees producers write), 0 when it has none. */
+static double copy_cost(const scene_copy *k, uint32_t t) {
+    const tileset *ts = &k->h->ts;
+    uint32_t a;
+    if (!k->open[t])
+        return k->h->cost_ms[t];
+    for (a = ts->tiles[t].parent; a != TILE_NONE && ts->tiles[a].empty; a = ts->tiles[a].parent)
+        ;
+    return a == TILE_NONE ? 0.0 : k->h->cost_ms[a];
+}
+
 static double cost_cb(void *user, const tclod_query *q) {
-    host *h = (host *)user;
-    uint32_t t = queried_tile(h, q->id);
-    return t == TILE_NONE ? 0.0 : h->cost_ms[t];
+    const scene_copy *k = (const scene_copy *)user;
+    uint32_t t = queried_tile(k, q->id);
+    return t == TILE_NONE ? 0.0 : copy_cost(k, t);
 }
 
 static void cost_batch_cb(void *user, const tclod_batch *b, double *out) {
-    host *h = (host *)user;
+    const scene_copy *k = (const scene_copy *)user;
     uint32_t i;
     for (i = 0; i < b->count; ++i) {
-        uint32_t t = queried_tile(h, b->ids[i]);
-        out[i] = t == TILE_NONE ? 0.0 : h->cost_ms[t];
+        uint32_t t = queried_tile(k, b->ids[i]);
+        out[i] = t == TILE_NONE ? 0.0 : copy_cost(k, t);
     }
 }
 
@@ -727,18 +911,26 @@ static void cut_check_free(cut_check *c) {
     free(c->refined);
 }
 
+/* Whether tile t is in libtclod's copy, read and resident. */
+static int tile_resident(const host *h, const stream_loader *L, uint32_t t) {
+    const scene_copy *k = &h->copies[STREAM_SIM_OURS];
+    tclod_id id = k->id_of_tile[t];
+    return id != TCLOD_NONE && !k->open[t] && id < L->nodes.count &&
+           L->state[id] == STREAM_RESIDENT;
+}
+
 /* Whether the drawn tiles (list[0 .. n), in drawing order) obey 3D Tiles:
  * no tile twice; above a drawn tile, every tile with content is refined,
  * which a REPLACE tile is by not being drawn and an ADD tile by being drawn
  * too, and listed first; and no hole: below a refined tile, every tile in the
  * frustum that neither draws nor has drawn descendants must be refined into
  * nothing visible, so that each leaf with content reached through such tiles
- * in the frustum is drawn. With --stream, state (libtclod's copy's residency
- * by node id, else NULL) says which tiles are not there yet: no hole is
- * looked for in them. 0 when they do; else 1 and a message for the first
+ * in the frustum is drawn. With --stream, state (libtclod's loader, else
+ * NULL) says which tiles are not there yet (not read, or not resident): no
+ * hole is looked for in them, nor in tiles whose file is not read. 0 when they do; else 1 and a message for the first
  * fault in why. */
-static int check_cut(host *h, cut_check *c, const uint32_t *list, size_t n, const uint8_t *state,
-                     char *why, size_t why_size) {
+static int check_cut(host *h, cut_check *c, const uint32_t *list, size_t n,
+                     const stream_loader *state, char *why, size_t why_size) {
     const tileset *ts = &h->ts;
     size_t i, refined = 0;
     uint32_t s = ++c->stamp;
@@ -786,9 +978,9 @@ static int check_cut(host *h, cut_check *c, const uint32_t *list, size_t n, cons
         while (top > 0) {
             uint32_t t = c->stack[--top];
             const tile *x = &ts->tiles[t];
-            if (model_area(&h->model, t) <= 0.0 || model_out_of_request(&h->model, t) ||
-                c->drawn_stamp[t] == s || c->refined_stamp[t] == s ||
-                (state && state[h->id_of_tile[t]] != STREAM_RESIDENT))
+            if (x->unexpanded || model_area(&h->model, t) <= 0.0 ||
+                model_out_of_request(&h->model, t) || c->drawn_stamp[t] == s ||
+                c->refined_stamp[t] == s || (state && !tile_resident(h, state, t)))
                 continue;
             if (x->child_count == 0 && !x->empty && !faults++)
                 snprintf(why, why_size,
@@ -805,7 +997,7 @@ static int check_cut(host *h, cut_check *c, const uint32_t *list, size_t n, cons
 /* Checks one method's selection at a frame (state as check_cut's); the first
  * fault is reported. */
 static void check_rules(host *h, const char *method, unsigned long frame, const uint32_t *list,
-                        size_t n, const uint8_t *state) {
+                        size_t n, const stream_loader *state) {
     char why[256];
     if (check_cut(h, &h->rules, list, n, state, why, sizeof(why))) {
         if (h->rule_errors++ == 0)
@@ -861,23 +1053,36 @@ static double coverage_error(host *h, const uint32_t *list, size_t n) {
  * once per frame (its frustum's planes, within the timing) and the volumes
  * prepared once (the model's, tiles_model.h), not with the library's public
  * helpers, which prepare both on every call. */
-static void sse16_frame(host *h, unsigned long frame, const tclod_view *v, uint32_t *stack,
-                        uint32_t *drawn, frame_result *out) {
+static int sse16_frame(host *h, unsigned long frame, const tclod_view *v, frame_result *out) {
     const tileset *ts = &h->ts;
     tiles_model *m = &h->model;
     size_t top = 0;
     uint32_t n = 0, i;
     double cost = 0.0, benefit = 0.0, t0, t1;
 
+    h->expand_us = 0.0;
     t0 = now_us();
     model_set_view(m, v);
-    stack[top++] = 0;
+    h->sse_stack[top++] = 0;
     while (top > 0) {
-        uint32_t t = stack[--top];
-        const tile *x = &ts->tiles[t];
+        uint32_t t = h->sse_stack[--top];
+        const tile *x;
         int refine;
         if (!model_visible(m, t) || model_out_of_request(m, t))
             continue;
+        if (ts->tiles[t].unexpanded) {
+            /* read on demand: the traversal sees the tileset whole, the file
+             * it reaches read now, outside its time */
+            double e0 = now_us();
+            if (!read_tile(h, t)) {
+                fprintf(stderr, "tclod_tiles: out of memory\n");
+                return 1;
+            }
+            h->expand_us += now_us() - e0;
+        }
+        x = &ts->tiles[t];
+        if (x->unexpanded)
+            continue; /* its file could not be read */
         refine = x->child_count > 0 &&
                  (x->empty || model_sse(m, t, model_distance(m, t)) > MODEL_SSE_REF);
         if (refine || m->link[t].children_bound) {
@@ -889,45 +1094,38 @@ static void sse16_frame(host *h, unsigned long frame, const tclod_view *v, uint3
             refine = refine && seen; /* none in view: the tile is drawn instead */
         }
         if (!x->empty && (!refine || x->refine == TCLOD_REFINE_ADD)) {
-            drawn[n++] = t;
+            h->sse_drawn[n++] = t;
             cost += h->cost_ms[t];
         }
         if (refine)
             for (i = x->child_count; i > 0; --i)
-                stack[top++] = ts->children[x->first_child + i - 1];
+                h->sse_stack[top++] = ts->children[x->first_child + i - 1];
     }
-    t1 = now_us();
+    t1 = now_us() - h->expand_us;
     /* its benefit under the same model, outside the timing */
     for (i = 0; i < n; ++i)
-        benefit += model_benefit(m, drawn[i], model_distance(m, drawn[i]));
-    check_rules(h, "the sse16 traversal", frame, drawn, n, NULL);
-    out->max_sse = max_error(h, drawn, n);
-    out->cwsse = coverage_error(h, drawn, n);
+        benefit += model_benefit(m, h->sse_drawn[i], model_distance(m, h->sse_drawn[i]));
+    check_rules(h, "the sse16 traversal", frame, h->sse_drawn, n, NULL);
+    out->max_sse = max_error(h, h->sse_drawn, n);
+    out->cwsse = coverage_error(h, h->sse_drawn, n);
     out->cost = cost;
     out->benefit = benefit;
     out->tiles = n;
     out->us = t1 - t0;
+    return 0;
 }
 
-/* The whole flight's sse16 frames, first: their median cost is the budget. */
+/* The whole flight's sse16 frames, first: their median cost is the budget.
+ * Read on demand, it reads the files its views reach. */
 static int run_sse16(host *h, const flight *f, frame_result *results) {
-    uint32_t *stack = (uint32_t *)malloc((size_t)h->ts.count * sizeof(uint32_t));
-    uint32_t *drawn = (uint32_t *)malloc((size_t)h->ts.count * sizeof(uint32_t));
     unsigned long frame;
-    if (!stack || !drawn) {
-        free(stack);
-        free(drawn);
-        fprintf(stderr, "tclod_tiles: out of memory\n");
-        return 1;
-    }
     for (frame = 0; frame < f->frames; ++frame) {
         tclod_view view;
         double distance;
         camera_at(f, frame, &view, &distance);
-        sse16_frame(h, frame, &view, stack, drawn, &results[frame]);
+        if (sse16_frame(h, frame, &view, &results[frame]))
+            return 1;
     }
-    free(stack);
-    free(drawn);
     return 0;
 }
 
@@ -961,13 +1159,37 @@ static void print_row(FILE *out, int csv, unsigned long frame, double budget,
     fputc('\n', out);
 }
 
-/* --stream: the simulation over the scene and its copies (their selectors
- * share the callbacks: the copies have the same ids). 0 after saying what
- * failed. */
+/* The host's side of the simulation: sizes, errors and expansions by copy. */
+static stream_host stream_host_of(host *h) {
+    stream_host sh;
+    memset(&sh, 0, sizeof(sh));
+    sh.user = h;
+    sh.bytes = node_bytes;
+    sh.error = node_error;
+    sh.unexpanded = node_unexpanded;
+    sh.expand = expand_node;
+    sh.selector_user[0] = &h->copies[STREAM_SIM_BASE];
+    sh.selector_user[1] = &h->copies[STREAM_SIM_ALL];
+    /* read on demand, the sizes file tells what the whole tileset holds */
+    if (h->opened.unexpanded && h->have_sizes) {
+        size_t i;
+        for (i = 0; i < h->sizes.count; ++i)
+            sh.scene_bytes += h->sizes.entries[i].bytes;
+    }
+    return sh;
+}
+
+/* --stream: the simulation over the scene and its copies (their selectors'
+ * callbacks take the copy). 0 after saying what failed. */
 static int start_stream(host *h, const options *o, tclod_selector *sel,
                         const tclod_selector_desc *sd, stream_sim *ss) {
-    return stream_sim_start(ss, &o->stream, o->frames, h->scene, sel, h->copy[0], h->copy[1], sd,
-                            h->bytes, h->error, "tclod_tiles");
+    stream_host sh = stream_host_of(h);
+    stream_sim_options so = o->stream;
+    if (h->opened.unexpanded && !sh.scene_bytes && !(so.memory_mb > 0.0))
+        so.memory_mb = STREAM_UNKNOWN_MEMORY_MB;
+    return stream_sim_start(ss, &so, o->frames, h->copies[STREAM_SIM_OURS].scene, sel,
+                            h->copies[STREAM_SIM_BASE].scene, h->copies[STREAM_SIM_ALL].scene, sd,
+                            NULL, NULL, &sh, "tclod_tiles");
 }
 
 /* Selects every frame of the flight under the budget, prints and writes the
@@ -987,12 +1209,12 @@ static int run_tclod(host *h, const options *o, const flight *f, const double *b
         sd.callbacks.benefit_batch = benefit_batch_cb;
         sd.callbacks.cost_batch = cost_batch_cb;
     }
-    sd.callbacks.user = h;
+    sd.callbacks.user = &h->copies[STREAM_SIM_OURS];
     /* a tileset's levels need not gain at every step (a producer's child may
      * carry a larger geometric error than its parent): an increment looks
      * one level past the children (docs/tiles.md, the solver) */
     sd.greedy.lookahead = 1;
-    st = tclod_selector_create(h->scene, &sd, NULL, &sel);
+    st = tclod_selector_create(h->copies[STREAM_SIM_OURS].scene, &sd, NULL, &sel);
     if (st != TCLOD_OK) {
         fprintf(stderr, "tclod_tiles: creating the selector failed: %s\n", tclod_status_string(st));
         return 1;
@@ -1044,7 +1266,7 @@ static int run_tclod(host *h, const options *o, const flight *f, const double *b
         /* the budget guarantee, checked from outside: this program's costs of
          * the listed tiles, summed in the listed order */
         for (i = 0; i < n; ++i) {
-            uint32_t t = tile_of(h, ids[i]);
+            uint32_t t = tile_of(&h->copies[STREAM_SIM_OURS], ids[i]);
             if (t == TILE_NONE) {
                 fprintf(stderr, "tclod_tiles: frame %lu: the cut lists node %lu, no tile's\n",
                         frame, (unsigned long)ids[i]);
@@ -1055,7 +1277,7 @@ static int run_tclod(host *h, const options *o, const flight *f, const double *b
             benefit += model_benefit(&h->model, t, model_distance(&h->model, t));
             h->rule_list[i] = t;
         }
-        check_rules(h, "libtclod", frame, h->rule_list, n, ss ? ss->ours.state : NULL);
+        check_rules(h, "libtclod", frame, h->rule_list, n, ss ? &ss->ours : NULL);
         r->max_sse = max_error(h, h->rule_list, n);
         r->cwsse = coverage_error(h, h->rule_list, n);
         r->cost = cost;
@@ -1268,10 +1490,12 @@ int main(int argc, char **argv) {
     if (opt.stream.enabled) {
         /* the spiral of the default flight, down and back up, with teleports */
         f.spiral = DEFAULT_FRAMES;
-        if (!build_copies(&h))
+        stream_host sh = stream_host_of(&h);
+        if (!build_copy(&h, STREAM_SIM_BASE) || !build_copy(&h, STREAM_SIM_ALL))
             goto done;
         if (!stream_path_init(&path, 2.0 * (double)(DEFAULT_FRAMES - 1u), opt.stream.teleport_every,
-                              opt.frames, loop_view, &f, h.scene, h.bytes, h.error)) {
+                              opt.frames, loop_view, &f, h.copies[STREAM_SIM_OURS].scene, NULL,
+                              NULL, &sh)) {
             fprintf(stderr, "tclod_tiles: out of memory\n");
             goto done;
         }

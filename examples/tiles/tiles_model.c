@@ -69,42 +69,81 @@ static void prepare_volume(const tclod_bounds *b, model_volume *v) {
     v->r = -1.0;
 }
 
-int model_init(tiles_model *m, const tileset *ts) {
-    size_t n = ts->count ? ts->count : 1;
+/* What the benefit reads of tile t, from the tileset as it is. */
+static void prepare_link(tiles_model *m, uint32_t t) {
+    const tileset *ts = m->ts;
+    const tile *x = &ts->tiles[t];
+    model_link *l = &m->link[t];
+    uint32_t i;
+    l->geometric_error = x->geometric_error;
+    l->parent = x->parent;
+    l->add_anchor = x->add_anchor;
+    l->first_child = x->first_child;
+    l->child_count = x->child_count;
+    l->children_bound = x->refine == TCLOD_REFINE_REPLACE && x->child_count > 0 &&
+                        x->bounds.kind == TCLOD_BOUNDS_OBB;
+    for (i = 0; i < x->child_count && l->children_bound; ++i) {
+        const tile *c = &ts->tiles[ts->children[x->first_child + i]];
+        if (c->bounds.kind != TCLOD_BOUNDS_OBB || c->loose) /* a child that is no box, or reaches out */
+            l->children_bound = 0;
+    }
+}
+
+/* Grows *p, of `size`-byte entries, from `old` to `room`, the new ones zero. */
+static int grow(void *p, size_t size, size_t old, size_t room) {
+    void **q = (void **)p;
+    char *g = (char *)realloc(*q, room * size);
+    if (!g)
+        return 0;
+    memset(g + old * size, 0, (room - old) * size);
+    *q = g;
+    return 1;
+}
+
+int model_grow(tiles_model *m) {
+    const tileset *ts = m->ts;
+    size_t old = m->room, room = old ? old : 1u;
     uint32_t t;
+    while (room < ts->count)
+        room *= 2u;
+    if (room > old &&
+        !(grow(&m->vol, sizeof(*m->vol), old, room) && grow(&m->link, sizeof(*m->link), old, room) &&
+          grow(&m->area_stamp, sizeof(uint32_t), old, room) &&
+          grow(&m->share_stamp, sizeof(uint32_t), old, room) &&
+          grow(&m->sum_stamp, sizeof(uint32_t), old, room) &&
+          grow(&m->distance_stamp, sizeof(uint32_t), old, room) &&
+          grow(&m->area, sizeof(double), old, room) && grow(&m->share, sizeof(double), old, room) &&
+          grow(&m->child_sum, sizeof(double), old, room) &&
+          grow(&m->distance, sizeof(double), old, room)))
+        return 1;
+    m->room = room;
+    if (ts->counts.max_depth + 1u > m->path_room) {
+        uint32_t *p = (uint32_t *)realloc(m->path, ((size_t)ts->counts.max_depth + 1) * sizeof(uint32_t));
+        if (!p)
+            return 1;
+        m->path = p;
+        m->path_room = ts->counts.max_depth + 1u;
+    }
+    for (t = m->count; t < ts->count; ++t) {
+        uint32_t p = ts->tiles[t].parent;
+        prepare_volume(&ts->tiles[t].bounds, &m->vol[t]);
+        prepare_link(m, t);
+        if (p != TILE_NONE && p < m->count) {
+            /* a tile read on: its parent's children changed */
+            prepare_link(m, p);
+            m->sum_stamp[p] = 0;
+        }
+    }
+    m->count = ts->count;
+    return 0;
+}
+
+int model_init(tiles_model *m, const tileset *ts) {
     memset(m, 0, sizeof(*m));
     m->ts = ts;
-    m->vol = (model_volume *)malloc(n * sizeof(model_volume));
-    m->link = (model_link *)malloc(n * sizeof(model_link));
-    m->area_stamp = (uint32_t *)calloc(n, sizeof(uint32_t));
-    m->share_stamp = (uint32_t *)calloc(n, sizeof(uint32_t));
-    m->sum_stamp = (uint32_t *)calloc(n, sizeof(uint32_t));
-    m->distance_stamp = (uint32_t *)calloc(n, sizeof(uint32_t));
-    m->area = (double *)malloc(n * sizeof(double));
-    m->share = (double *)malloc(n * sizeof(double));
-    m->child_sum = (double *)malloc(n * sizeof(double));
-    m->distance = (double *)malloc(n * sizeof(double));
-    m->path = (uint32_t *)malloc(((size_t)ts->counts.max_depth + 1) * sizeof(uint32_t));
-    if (!m->area_stamp || !m->share_stamp || !m->sum_stamp || !m->distance_stamp || !m->area ||
-        !m->share || !m->child_sum || !m->distance || !m->path || !m->vol || !m->link) {
+    if (model_grow(m)) {
         model_free(m);
         return 1;
-    }
-    for (t = 0; t < ts->count; ++t) {
-        const tile *x = &ts->tiles[t];
-        prepare_volume(&x->bounds, &m->vol[t]);
-        m->link[t].geometric_error = x->geometric_error;
-        m->link[t].parent = x->parent;
-        m->link[t].add_anchor = x->add_anchor;
-        m->link[t].first_child = x->first_child;
-        m->link[t].child_count = x->child_count;
-        m->link[t].children_bound = x->refine == TCLOD_REFINE_REPLACE && x->child_count > 0 &&
-                                    x->bounds.kind == TCLOD_BOUNDS_OBB;
-    }
-    for (t = 0; t < ts->count; ++t) { /* a child that is no box, or reaches out */
-        const tile *x = &ts->tiles[t];
-        if (x->parent != TILE_NONE && (x->bounds.kind != TCLOD_BOUNDS_OBB || x->loose))
-            m->link[x->parent].children_bound = 0;
     }
     return 0;
 }
@@ -156,7 +195,7 @@ void model_set_view(tiles_model *m, const tclod_view *v) {
     m->sse_factor = (double)v->viewport_height / (2.0 * tan(0.5 * (double)v->fov_y));
     /* stamp 0 is what calloc left: never a view's */
     if (++m->stamp == 0) {
-        size_t n = m->ts->count;
+        size_t n = m->count;
         memset(m->area_stamp, 0, n * sizeof(uint32_t));
         memset(m->share_stamp, 0, n * sizeof(uint32_t));
         memset(m->sum_stamp, 0, n * sizeof(uint32_t));

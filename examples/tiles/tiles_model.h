@@ -79,10 +79,17 @@ typedef struct tiles_model {
     double *child_sum; /* projected areas of the children, summed */
     double *distance;  /* tclod_view_bounds_distance */
     uint32_t *path;    /* scratch: a tile's ancestors */
+    uint32_t count;    /* tiles prepared */
+    size_t room;       /* entries of the per-tile arrays */
+    uint32_t path_room;
 } tiles_model;
 
 /* 0 on success, 1 when out of memory. */
 int model_init(tiles_model *m, const tileset *ts);
+/* After the tileset grew (tileset_expand): prepares the tiles added since,
+ * and their parents again. 0 on success, 1 when out of memory (m still
+ * serves the tiles it had). */
+int model_grow(tiles_model *m);
 void model_free(tiles_model *m);
 
 /* Starts a view: every measure after this is of v (copied). */
