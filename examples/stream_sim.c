@@ -777,7 +777,7 @@ int stream_sim_start(stream_sim *s, const stream_sim_options *opt, unsigned long
         return 0;
     s->scene_bytes = s->host.scene_bytes > 0.0 ? s->host.scene_bytes : s->ours.nodes.total_bytes;
     s->memory_bytes = opt->memory_mb > 0.0 ? opt->memory_mb * 1e6 : 0.5 * s->scene_bytes;
-    if (s->host.expand) {
+    if (s->host.expand && s->all.nodes.unexpanded_count) {
         /* the all-resident copy expands what its plan asks for, at once */
         tclod_stream_desc d;
         memset(&d, 0, sizeof(d));
@@ -882,7 +882,7 @@ static int all_select(stream_sim *s, const tclod_frame *fr, tclod_stats *stats,
         tclod_status st = tclod_select(L->sel, fr, stats);
         if (st != TCLOD_OK)
             return fail(prog, "the all-resident tclod_select", st);
-        if (!s->host.expand || round == STREAM_SIM_EXPAND_ROUNDS)
+        if (!s->host.expand || !L->nodes.unexpanded_count || round == STREAM_SIM_EXPAND_ROUNDS)
             return 1;
         st = tclod_selector_requests(L->sel, &items, &n);
         if (st != TCLOD_OK)
