@@ -3,7 +3,7 @@
  * at the first misfit, and the flat per-object greedy. See baselines.h.
  *
  * Node values are cached per call with a stamp (no clearing between frames). The view
- * is set up once per call in the same way as src/view.c does it (its header states the
+ * is set up once per call in the same way as src/core/view.c does it (its header states the
  * formulas): the public helpers tclod_view_sphere_visible and tclod_view_screen_area
  * re-derive the camera basis at every call, which an engine's culling loop would not
  * do, and which would make the baselines look slower than they are.

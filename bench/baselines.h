@@ -23,7 +23,7 @@
  *    in falling benefit gained per cost, a step that does not fit being skipped.
  *
  * All three evaluate nodes lazily, with the same queries the library builds (screen
- * area from a frustum test and the projected bounding sphere, src/view.c), the view
+ * area from a frustum test and the projected bounding sphere, src/core/view.c), the view
  * set up once per frame, and each node's callbacks called at most once per frame.
  */
 #ifndef BASELINES_H

@@ -4,9 +4,10 @@
 #
 #   cmake -D OUT=<dir> -P cmake/amalgamate.cmake
 #
-# tclod.c is every src/*.h, each after the headers it includes (name order
-# among those whose includes are placed), followed by every src/*.c in name
-# order, each file's #include "<private header>" lines dropped; the public
+# tclod.c is every private header of src/ (its layers' folders), each after
+# the headers it includes (path order among those whose includes are placed),
+# followed by every source of src/ in path order, each file's
+# #include "<private header>" lines dropped; the public
 # header stays a separate file that tclod.c includes. Static names must
 # therefore be unique across src/ (a static function of one file would clash
 # with its namesake in another): .ci/run compiles the result with -Werror to
@@ -26,20 +27,26 @@ foreach(_line IN LISTS _version_lines)
 endforeach()
 string(SUBSTRING "${_version}" 1 -1 _version)
 
-file(GLOB _sources RELATIVE "${_root}" "${_root}/src/*.c")
+file(GLOB_RECURSE _sources RELATIVE "${_root}" "${_root}/src/*.c")
 list(SORT _sources)
 
 # The private headers in an order where each follows those it includes.
-file(GLOB _pending RELATIVE "${_root}" "${_root}/src/*.h")
+file(GLOB_RECURSE _pending RELATIVE "${_root}" "${_root}/src/*.h")
 list(SORT _pending)
 set(_headers "")
 while(_pending)
   set(_placed "")
   foreach(_h IN LISTS _pending)
-    file(STRINGS "${_root}/${_h}" _includes REGEX "^#include \"[a-z_]+\\.h\"")
+    file(STRINGS "${_root}/${_h}" _includes REGEX "^#include \"[./a-z_]+\\.h\"")
+    get_filename_component(_dir "${_root}/${_h}" DIRECTORY)
     set(_ready 1)
     foreach(_line IN LISTS _includes)
-      string(REGEX REPLACE "^#include \"([a-z_]+\\.h)\".*$" "src/\\1" _dep "${_line}")
+      string(REGEX REPLACE "^#include \"([./a-z_]+\\.h)\".*$" "\\1" _dep "${_line}")
+      get_filename_component(_dep "${_dir}/${_dep}" ABSOLUTE)
+      if(NOT EXISTS "${_dep}")
+        continue() # the public header, tclod/tclod.h, on the include path
+      endif()
+      file(RELATIVE_PATH _dep "${_root}" "${_dep}")
       list(FIND _headers "${_dep}" _at)
       if(_at EQUAL -1)
         set(_ready 0)
@@ -91,7 +98,7 @@ set(_text [=[/*
  * includes tclod/tclod.h (no DLL import or export).
  */
 #if !defined(_WIN32) && !defined(_POSIX_C_SOURCE)
-#define _POSIX_C_SOURCE 200809L /* clock_gettime, as src/alloc.c asks */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime, as src/core/alloc.c asks */
 #endif
 ]=])
 string(REPLACE "@VERSION@" "${_version}" _text "${_text}")
@@ -99,7 +106,7 @@ string(REPLACE "@VERSION@" "${_version}" _text "${_text}")
 foreach(_file IN LISTS _files)
   file(READ "${_root}/${_file}" _body)
   # each private header is in tclod.c already, above this file
-  string(REGEX REPLACE "\n#include \"[a-z_]+\\.h\"" "" _body "${_body}")
+  string(REGEX REPLACE "\n#include \"((\\.\\./)+[a-z_/]+|[a-z_]+)\\.h\"" "" _body "${_body}")
   string(APPEND _text "\n/* ---- ${_file} ---- */\n${_body}")
 endforeach()
 

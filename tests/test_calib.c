@@ -1,5 +1,5 @@
 /*
- * test_calib — the header's "Frame time" section (src/calib.c): the render
+ * test_calib — the header's "Frame time" section (src/schedule/calib.c): the render
  * budget of [RH §5.3 (eq. 5-7)] on inputs worked out by hand, and the
  * calibration of predicted cost against measured render time ([GEO §4.2]):
  * convergence on a constant hidden factor, step changes at the rise and fall

@@ -1,5 +1,5 @@
 /*
- * test_greedy — the greedy solver (src/greedy.c): increment order worked out
+ * test_greedy — the greedy solver (src/solve/greedy/greedy.c): increment order worked out
  * by hand, fill past increments that do not fit, culling of invisible
  * subtrees, dropping of roots that do not fit, the ½-of-optimum bound (on an
  * adversarial instance and against a brute-force optimum on random trees),

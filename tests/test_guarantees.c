@@ -1,11 +1,11 @@
 /*
  * test_guarantees — what every selection keeps (docs/api.md), exercised
  * through the greedy solver, the selector and the allocator hooks
- * (src/selector.c, src/alloc.c): the exact budget guarantee under floating
+ * (src/select/selector.c, src/core/alloc.c): the exact budget guarantee under floating
  * point absorption, bad callback values (sanitised or, in strict mode,
  * reported), bad arguments, determinism, no allocation per frame, and
  * refusal of re-entry from callbacks (allocation failure: test_allocation.c). The same guarantees
- * for the mixed solver (src/mixed.c, src/split.c) over 10,000 random instances of discrete
+ * for the mixed solver (src/solve/mixed.c, src/solve/split.c) over 10,000 random instances of discrete
  * hierarchies and smooth objects, with every group's cost recomputed member by member from the
  * table, and the smooth order that groups and queries refer to.
  */

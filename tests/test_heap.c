@@ -1,5 +1,5 @@
 /*
- * test_heap — the priority queues of the greedy solver (src/heap.c, internal),
+ * test_heap — the priority queues of the greedy solver (src/core/heap.c, internal),
  * observed through the selection: increments leave in decreasing ratio
  * Δbenefit/Δcost with ties going to the lower node id, whatever order they
  * were pushed in, and decrements leave least loss per saved cost first.

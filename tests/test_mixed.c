@@ -1,5 +1,5 @@
 /*
- * test_mixed — the mixed discrete/continuous solver (src/mixed.c): the line
+ * test_mixed — the mixed discrete/continuous solver (src/solve/mixed.c): the line
  * search of eq. 8.14 on a hand-worked two-variable case, the choice between a
  * discrete step and a smooth one by their slopes (eq. 8.8-8.11), saturation
  * and the barrier of eq. 8.13, a kinked setup cost (eq. 8.18) against a

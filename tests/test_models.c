@@ -1,6 +1,6 @@
 /*
  * test_models — the ready-made benefit and cost models of the header's
- * "Benefit and cost models" section (src/models.c): the terrain patch benefit
+ * "Benefit and cost models" section (src/core/models.c): the terrain patch benefit
  * ([Thesis8 eq. 8.21]), the tree-group benefit (eq. 8.20), the kinked splat cost
  * (eq. 8.18), the triangle-strip cost (eq. 8.19, [GEO §4.2]) and the
  * accuracy benefit of [GEO §4.2], against values worked out by hand, with

@@ -1,7 +1,7 @@
 /*
- * test_resume — resumable selection (src/selector.c: tclod_select_begin,
+ * test_resume — resumable selection (src/select/selector.c: tclod_select_begin,
  * tclod_select_step, tclod_select_finish, tclod_select_cancel, and the
- * solvers' resumable stages in src/greedy.c, src/mixed.c, src/robin_hood.c):
+ * solvers' resumable stages in src/solve/greedy/greedy.c, src/solve/mixed.c, src/solve/robin_hood.c):
  * a solve spread over one-iteration steps gives exactly the one-shot result
  * for every solver, cold and warm; the previous result stays readable while a
  * solve is pending; ending the search after any number of steps commits a

@@ -1,5 +1,5 @@
 /*
- * test_robin_hood — the Robin Hood solver (src/robin_hood.c, [RH §5]):
+ * test_robin_hood — the Robin Hood solver (src/solve/robin_hood.c, [RH §5]):
  * shares proportional to value (eq. 2-4), leftover passed on, the
  * simple-to-complex order, the value functions (eq. 8-11), the misfit
  * policies, smooth objects' inverse cost, branches, and the budget.

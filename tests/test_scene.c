@@ -1,5 +1,5 @@
 /*
- * test_scene — building scenes (src/scene.c): dense node and smooth-object
+ * test_scene — building scenes (src/core/scene.c): dense node and smooth-object
  * ids, parents and hierarchy errors, bounds validation, counts, prepare and
  * memory release; plus the status strings and the version functions.
  */

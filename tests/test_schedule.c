@@ -1,5 +1,5 @@
 /*
- * test_schedule — the predictive geomorph scheduler (src/schedule.c; [GEO]
+ * test_schedule — the predictive geomorph scheduler (src/schedule/schedule.c; [GEO]
  * §3.3-3.4, §4.3-4.5): the conservative camera on hand-computed values, linear
  * prediction (exact on a straight path, clamped to the speed and turn bounds),
  * the timing of Fig. 6 (a down-morph ends when its interval begins, an

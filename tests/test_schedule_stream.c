@@ -1,6 +1,6 @@
 /*
  * test_schedule_stream — streaming with the predictive geomorph scheduler
- * (src/schedule.c; docs/scheduler.md, Streaming): a morph never starts
+ * (src/schedule/schedule.c; docs/scheduler.md, Streaming): a morph never starts
  * towards a node that is not resident (an evicted fine end holds the old
  * level, an evicted coarse end mid-morph switches at once), a selection
  * never lands a node evicted while it ran, the evictions never name what a

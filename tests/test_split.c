@@ -1,6 +1,6 @@
 /*
- * test_split — smooth variables (src/split.c and the scene's quadtree in
- * src/scene.c): quadtree order, frustum and small-detail culling, and the
+ * test_split — smooth variables (src/solve/split.c and the scene's quadtree in
+ * src/core/scene_prepare.c): quadtree order, frustum and small-detail culling, and the
  * splitting criterion of docs/mixed.md, worked out by hand:
  *
  *   a node of n objects with benefit scales c_j (benefit at full resolution),

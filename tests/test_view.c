@@ -1,5 +1,5 @@
 /*
- * test_view — view helpers (src/view.c): validation, sphere-frustum tests,
+ * test_view — view helpers (src/core/view.c): validation, sphere-frustum tests,
  * projected screen area and distance, and how a selection fills the query
  * handed to the callbacks (screen_area, distance, view) from a node's bounds.
  * Bounding volumes of every kind (sphere, AABB, OBB): their validation, the
