@@ -900,16 +900,52 @@ static void warm_start_with_lookahead_after_model_changes_stays_feasible(void **
     warm_starts_over_changing_models((helper_fixture *)*state, 3, 0);
 }
 
+static void a_warm_start_swaps_past_the_balance_point_to_fill_the_room(void **state) {
+    helper_fixture *f = (helper_fixture *)*state;
+    /* A 0 (10, 2) -> A1 2 (14, 4): Δb 4, Δc 2, ratio 2. B 1 (10, 2) -> B1 3
+     * (13, 3): Δb 3, Δc 1, ratio 3. Budget 6, roots cost 4. The plain pass
+     * (restarts off) takes B's increment, and A's needs 2 where 1 is left:
+     * {A, B1}, b 23, c 5. A warm solve of the same frame: A's ratio, 2, is
+     * below the loss ratio of collapsing B1, 3, so [MB97]'s balance holds and
+     * no exchange of equal cost gains. But A lacks only 1, less than its
+     * cost: collapsing B1 frees that 1 for a loss of 3, and A gains 4.
+     * {A1, B}: b 24, c 6, the optimum ({A1, B1} costs 7). The swap back, B
+     * for A1's collapse, would lose 4 for 3. */
+    static const tclod_id plain[] = {0, 3};
+    static const tclod_id swapped[] = {1, 2};
+    tclod_selector *sel;
+    tclod_stats st;
+    helper_add(f, TCLOD_NONE, 10.0, 2.0);
+    helper_add(f, TCLOD_NONE, 10.0, 2.0);
+    helper_add(f, 0, 14.0, 4.0);
+    helper_add(f, 1, 13.0, 3.0);
+    sel = tuned_selector(f->scene, &f->model, 1, 0, 0);
+    select_frame(sel, 6.0, 0, &st); /* the first solve is cold */
+    helper_assert_cut(sel, plain, 2);
+    assert_totals(&st, 23.0, 5.0);
+    select_frame(sel, 6.0, 0, &st);
+    helper_assert_cut(sel, swapped, 2);
+    assert_totals(&st, 24.0, 6.0);
+    assert_int_equal(st.increments, 1);
+    assert_int_equal(st.decrements, 1);
+    select_frame(sel, 6.0, 0, &st); /* and stays */
+    helper_assert_cut(sel, swapped, 2);
+    assert_int_equal(st.decrements, 0);
+    tclod_selector_destroy(sel);
+}
+
 static void warm_start_evaluates_the_frontier_not_the_path_from_the_roots(void **state) {
     helper_fixture *f = (helper_fixture *)*state;
     /* 100 chains of 20 levels (object o's level k is node 20 o + k); the
      * budget is what every object costs at level 8, so the cut lies deep in
      * the chains. A cold solve evaluates every level from the root down to
      * one below the cut's: k + 2 nodes for an object cut at level k < 19.
-     * On the same frame a warm solve keeps the cut (nothing to gain) and
-     * evaluates only its frontier: the cut node, its child (to key its
-     * increment) and its parent (collapsible: its only child is in the
-     * cut), at most 3 per object. */
+     * On the same frame a warm solve keeps the cut, but for the swaps that
+     * fill the room its misfits leave (at most 16 tried past the balance
+     * point), and evaluates only its frontier: the cut node, its child (to
+     * key its increment) and its parent (collapsible: its only child is in
+     * the cut), at most 3 per object, and the parents a tried swap's
+     * collapses make collapsible, at most one a try. */
     tclod_selector *cold, *warm;
     tclod_stats st_cold, st_warm;
     table_rng rng;
@@ -940,7 +976,7 @@ static void warm_start_evaluates_the_frontier_not_the_path_from_the_roots(void *
     helper_check_result(warm, &f->model, &st_warm, budget, 0);
     assert_true(st_warm.benefit >= st_cold.benefit);
     assert_int_equal(st_warm.evaluations, table_asked_nodes(&f->model));
-    assert_true(st_warm.evaluations <= frontier);
+    assert_true(st_warm.evaluations <= frontier + 16u);
     assert_true(2u * st_warm.evaluations < path);
     tclod_selector_destroy(warm);
     tclod_selector_destroy(cold);
@@ -2003,6 +2039,7 @@ int main(void) {
         FIXTURE_TEST(warm_starts_with_lookahead_and_fallback_stay_feasible),
         FIXTURE_TEST(warm_start_after_model_changes_stays_feasible),
         FIXTURE_TEST(warm_start_with_lookahead_after_model_changes_stays_feasible),
+        FIXTURE_TEST(a_warm_start_swaps_past_the_balance_point_to_fill_the_room),
         FIXTURE_TEST(warm_start_evaluates_the_frontier_not_the_path_from_the_roots),
         FIXTURE_TEST(warm_start_after_the_scene_grew_includes_new_nodes),
         FIXTURE_TEST(warm_start_recovers_dropped_roots_when_the_budget_returns),

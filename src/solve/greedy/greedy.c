@@ -22,8 +22,9 @@
  * would have made (free ones, into invisible parents, those that gain),
  * applies decrements (children -> parent, least benefit lost per cost saved
  * first) while over budget, then increments and increment/decrement swaps
- * while they gain; on a scene with nodes that are
- * not resident it first gives up the cut nodes residency no longer allows
+ * while they gain, past [MB97]'s balance point too where a misfit lacks less
+ * than its cost (exchange_may_gain); on a scene with nodes that are not
+ * resident it first gives up the cut nodes residency no longer allows
  * (stream_repair).
  * A final exact re-summation in result order repairs any rounding drift, so the
  * budget guarantee holds to the last bit.
@@ -98,6 +99,31 @@ static double min_loss_ratio(const tclod_selector *sel) {
     if (!(sel->greedy.delta[p].delta_c > 0.0))
         return HUGE_VAL;
     return -sel->greedy.dec.items[0].key;
+}
+
+/* Past the balance point (the best increment's ratio not above the cheapest
+ * decrement's, r_min), a swap can still gain: freeing `need` loses at least
+ * r_min * need, and a misfit that lacks less than its cost, need < Δc, gains
+ * more than that when Δb > r_min * need, that is when its ratio is above
+ * r_min * (1 - room / Δc), room being what the budget has left. Equal-cost
+ * exchanges cannot gain there; these fill the room a misfit leaves over. 1
+ * while such a swap may gain for the best increment n: the increments that
+ * come later have no better ratio, and none costs less than the cheapest
+ * queued, so once r(n) <= r_min * (1 - room / c_min) none can. At most
+ * GREEDY_EXCHANGES are tried a solve, which bounds the work past the
+ * balance point. */
+static int exchange_may_gain(tclod_selector *sel) {
+    tclod_greedy_resume *R = &sel->resume.greedy;
+    double r_min = min_loss_ratio(sel), room, c_min;
+    if (R->exchanges >= GREEDY_EXCHANGES || !(r_min < HUGE_VAL) || sel->unaffordable)
+        return 0;
+    room = greedy_cut_budget(sel) - sel->cost_sum - sel->cost_err;
+    if (!(room > 0.0))
+        return 0;
+    if (sel->greedy.cheap_live != CHEAP_LIVE || sel->greedy.cheap.count == 0)
+        return 1;
+    c_min = -sel->greedy.cheap.items[0].key;
+    return c_min > 0.0 && sel->greedy.inc.items[0].key > r_min * (1.0 - room / c_min);
 }
 
 /* After decrement p is taken for a swap: the collapse of p's parent q, when
@@ -404,12 +430,18 @@ static int improve(tclod_selector *sel, int warm, int alt) {
             R->phase = PHASE_SWAPS;
             continue;
         }
-        if (!warm || R->phase == PHASE_LAST_FILL ||
-            !(sel->greedy.inc.items[0].key > min_loss_ratio(sel))) {
+        if (!warm || R->phase == PHASE_LAST_FILL) {
             if (R->phase != PHASE_SWAPS)
                 break;
             R->phase = PHASE_LAST_FILL;
             continue;
+        }
+        if (!(sel->greedy.inc.items[0].key > min_loss_ratio(sel))) {
+            if (!exchange_may_gain(sel)) {
+                R->phase = PHASE_LAST_FILL;
+                continue;
+            }
+            R->exchanges++;
         }
         n = pop_increment(sel);
         sel->stats.iterations++;

@@ -101,8 +101,10 @@ typedef struct tclod_greedy_resume {
     uint32_t parked;
     double closure_key, closure_cost, closure_err; /* closure_err: closure_cost's
                                                       compensation, as cost_err */
-    /* a warm solve's phase of improve (greedy.c) */
+    /* a warm solve's phase of improve (greedy.c), and the swaps it tried past
+     * the balance point (GREEDY_EXCHANGES at most) */
     int phase;
+    uint32_t exchanges;
     /* an audited solve: 1 while its warm solve runs, 2 while its cold one does;
      * the warm solve's cut is kept in tclod_greedy_state.audit_cut meanwhile,
      * with its benefit and stop reason */

@@ -15,6 +15,11 @@
 /* Relative gain a swap must make, so rounding can never make swaps cycle. */
 #define GREEDY_SWAP_MARGIN 1e-12
 
+/* Swaps a solve tries past [MB97]'s balance point, where the best increment's
+ * ratio is no longer above the cheapest decrement's: a swap there gains only
+ * when the misfit needs less than it costs (greedy.c, exchange_may_gain). */
+#define GREEDY_EXCHANGES 16u
+
 /* The stages of a greedy solve (sel->resume.phase). */
 enum {
     GREEDY_START = 0,
