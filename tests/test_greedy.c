@@ -944,8 +944,9 @@ static void warm_start_evaluates_the_frontier_not_the_path_from_the_roots(void *
      * fill the room its misfits leave (at most 16 tried past the balance
      * point), and evaluates only its frontier: the cut node, its child (to
      * key its increment) and its parent (collapsible: its only child is in
-     * the cut), at most 3 per object, and the parents a tried swap's
-     * collapses make collapsible, at most one a try. */
+     * the cut), at most 3 per object. A tried swap's collapse also evaluates
+     * the grandparent it makes collapsible; the margin of 16 bounds those
+     * here, far below the path the cold solve walks. */
     tclod_selector *cold, *warm;
     tclod_stats st_cold, st_warm;
     table_rng rng;
