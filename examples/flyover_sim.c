@@ -100,6 +100,16 @@
 #define PI 3.14159265358979323846
 /* The hidden factor never falls below this, whatever the walk does. */
 #define FACTOR_MIN 0.05
+/* --gpu-model features: the hidden machine prices each feature (the scene's:
+ * draws and triangles, or draws, vertices and splats) at its prior times these
+ * factors, and changes machine half-way through the flight; true render time =
+ * hidden coefficients · the frame's features x noise. */
+static const double gpu_before[3] = {2.0, 0.6, 1.3};
+static const double gpu_after[3] = {0.7, 1.8, 0.8};
+/* The frames after the start, and after the change, the summary's settled
+ * figures leave out. */
+#define SETTLE_START 100u
+#define SETTLE_CHANGE 60u
 
 typedef enum scene_kind { SCENE_FLYOVER, SCENE_THESIS } scene_kind;
 
@@ -120,8 +130,11 @@ typedef struct options {
     int target_given;
     double gpu_c; /* the simulated machine's true C of eq. 7 */
     int gpu_c_given;
-    int scheduler; /* --scheduler: the predictive geomorph scheduler */
-    double tau;    /* its interval, s */
+    int gpu_features; /* --gpu-model features: the hidden multi-feature machine */
+    int learn;        /* --cost-model features: the learned cost model */
+    int model_given;  /* --gpu-model or --cost-model given */
+    int scheduler;    /* --scheduler: the predictive geomorph scheduler */
+    double tau;       /* its interval, s */
     int tau_given;
     int morph; /* its three-stage pipeline with geomorphs */
     int morph_given;
@@ -135,7 +148,8 @@ static const char usage_options[] =
     "usage: flyover_sim [--scene flyover|thesis] [--frames N] [--budget-ms X]\n"
     "                   [--solver greedy|mixed|robin_hood] [--split 0|1] [--warm 0|1]\n"
     "                   [--csv FILE] [--svg FILE]\n"
-    "                   [--simulate-gpu [--target-ms T] [--gpu-c C]]\n"
+    "                   [--simulate-gpu [--target-ms T] [--gpu-c C]\n"
+    "                    [--gpu-model factor|features] [--cost-model scale|features]]\n"
     "                   [--scheduler [--tau T] [--morph 0|1] [--slice-us X]]\n"
     "                   [--stream [--latency-ms L] [--bandwidth-mbps W] [--memory-mb M]\n"
     "                   [--teleport-every N]] [--help]\n"
@@ -168,6 +182,13 @@ static const char usage_options[] =
     "  --target-ms T   --simulate-gpu: target frame time in ms, T > 0 (default 25)\n"
     "  --gpu-c C       --simulate-gpu: the simulated machine's constant C of [RH]\n"
     "                  eq. 7, C > 0 (default 1, what the calibration assumes)\n"
+    "  --gpu-model M   --simulate-gpu: the hidden machine. factor (default): the\n"
+    "                  predicted cost times a drifting factor; features: a hidden\n"
+    "                  price per feature (draws, triangles; thesis: draws, vertices,\n"
+    "                  splats) that changes half-way through the flight\n"
+    "  --cost-model M  --simulate-gpu: the host's calibration. scale (default): one\n"
+    "                  ratio measured / predicted; features: the learned cost model,\n"
+    "                  the scene's features priced by learned coefficients\n"
     "  --scheduler     select through the predictive geomorph scheduler\n"
     "                  (docs/scheduler.md): each selection is for an interval ahead,\n"
     "                  spread over the frames before it, and levels change by\n"
@@ -212,7 +233,8 @@ static const char usage_output[] =
     "  tclod_stats; smooth_groups the smooth groups drawn. --simulate-gpu adds\n"
     "  frame_ms,target_ms,scale,unconstrained_ms,factor: the frame time, the target,\n"
     "  the calibration's scale (measured ms per predicted ms), the frame time with\n"
-    "  every visible object at its finest, and the hidden render-time factor.\n"
+    "  every visible object at its finest, and the hidden render-time factor (with\n"
+    "  --gpu-model features: true render time / predicted cost).\n"
     "  --scheduler writes instead frame,time_s,select_us,drawn,morphing,cost_ms,\n"
     "  budget_ms,selections,unfinished,emergencies,changes,morphs,pops: time_s the\n"
     "  scheduler's clock, the last six its running totals (tclod_scheduler_stats).\n";
@@ -235,6 +257,16 @@ static const char usage_summary[] =
     "  mean_ms stddev_ms   mean and population standard deviation of the frame times\n"
     "  avg_err             mean of |frame time - target| / target\n"
     "  p99_overshoot       99th percentile of max(0, frame time / target - 1)\n"
+    "  avg_err_from_100    avg_err over the frames from 100 on (--gpu-model features:\n"
+    "                      but the 60 after the change)\n"
+    "--gpu-model features adds:\n"
+    "  change_frame        the frame the hidden machine changes at (frames / 2)\n"
+    "  avg_err_before      avg_err over frames 100 .. change_frame - 1\n"
+    "  avg_err_after       avg_err over frames change_frame + 60 .. the last\n"
+    "  settle_frames       frames after the change until the first run of 30 frames\n"
+    "                      with an avg_err <= 0.01\n"
+    "  price_err           --cost-model features: the largest relative error of a\n"
+    "                      learned price against the hidden machine's, at the end\n"
     "--scene thesis then adds, as means per frame:\n"
     "  variables line_searches smooth_groups\n"
     "--scheduler has, after violations:\n"
@@ -337,6 +369,9 @@ static int parse_options(int argc, char **argv, options *o) {
     o->target_given = 0;
     o->gpu_c = 1.0;
     o->gpu_c_given = 0;
+    o->gpu_features = 0;
+    o->learn = 0;
+    o->model_given = 0;
     o->scheduler = 0;
     o->tau = 0.5;
     o->tau_given = 0;
@@ -392,7 +427,8 @@ static int parse_options(int argc, char **argv, options *o) {
                    strcmp(opt, "--solver") == 0 || strcmp(opt, "--csv") == 0 ||
                    strcmp(opt, "--svg") == 0 || strcmp(opt, "--warm") == 0 ||
                    strcmp(opt, "--scene") == 0 || strcmp(opt, "--split") == 0 ||
-                   strcmp(opt, "--target-ms") == 0 || strcmp(opt, "--gpu-c") == 0) {
+                   strcmp(opt, "--target-ms") == 0 || strcmp(opt, "--gpu-c") == 0 ||
+                   strcmp(opt, "--gpu-model") == 0 || strcmp(opt, "--cost-model") == 0) {
             if (!val) {
                 fprintf(stderr, "flyover_sim: option %s needs a value\n", opt);
                 return OPTIONS_BAD;
@@ -425,6 +461,18 @@ static int parse_options(int argc, char **argv, options *o) {
                     return OPTIONS_BAD;
                 }
                 o->gpu_c_given = 1;
+            } else if (strcmp(opt, "--gpu-model") == 0 || strcmp(opt, "--cost-model") == 0) {
+                int gpu = opt[2] == 'g', on = strcmp(val, "features") == 0;
+                if (!on && strcmp(val, gpu ? "factor" : "scale") != 0) {
+                    fprintf(stderr, "flyover_sim: %s expects %s or features, got '%s'\n", opt,
+                            gpu ? "factor" : "scale", val);
+                    return OPTIONS_BAD;
+                }
+                if (gpu)
+                    o->gpu_features = on;
+                else
+                    o->learn = on;
+                o->model_given = 1;
             } else if (strcmp(opt, "--solver") == 0) {
                 if (!solver_from_name(val, &o->solver)) {
                     fprintf(stderr,
@@ -471,8 +519,9 @@ static int parse_options(int argc, char **argv, options *o) {
             return OPTIONS_BAD;
         }
     }
-    if (!o->simulate_gpu && (o->target_given || o->gpu_c_given)) {
-        fprintf(stderr, "flyover_sim: --target-ms and --gpu-c need --simulate-gpu\n");
+    if (!o->simulate_gpu && (o->target_given || o->gpu_c_given || o->model_given)) {
+        fprintf(stderr, "flyover_sim: --target-ms, --gpu-c, --gpu-model and --cost-model need "
+                        "--simulate-gpu\n");
         return OPTIONS_BAD;
     }
     if (!o->scheduler && (o->tau_given || o->morph_given || o->slice_given)) {
@@ -860,6 +909,7 @@ static double draw_cost(const sim_scene *sim, draw_check *c, const tclod_schedul
 typedef struct frame_figures {
     double sum, sum_sq, sum_err; /* of t_f, t_f², |t_f - T| / T */
     double *overshoot;           /* per frame: max(0, t_f / T - 1) */
+    double *err;                 /* per frame: |t_f - T| / T */
 } frame_figures;
 
 /* A flight: the host's handles (a selector that selects every frame, or the
@@ -874,6 +924,8 @@ typedef struct flight {
     tclod_selector *finest; /* --simulate-gpu: the unconstrained frame */
     tclod_calib *calib;     /* --simulate-gpu */
     gpu_sim gpu;
+    uint32_t features;                /* the scene's features (2 or 3) */
+    double prior[TCLOD_MAX_FEATURES]; /* their prices in the scene's cost model */
     frame_figures ff;
     change_counter cc;
     unsigned long changes, mismatches;
@@ -914,6 +966,16 @@ static int start_selector(flight *f) {
          * hidden factor is unknown) and machine_c 1; the simulated machine's C is
          * opt->gpu_c, 1 unless --gpu-c says otherwise. */
         tclod_calib_desc_default(&cd);
+        if (opt->learn) { /* the learned model starts from the scene's own prices */
+            uint32_t i;
+            const char *const *names =
+                opt->scene == SCENE_THESIS ? thesis_feature_names : world_feature_names;
+            cd.feature_count = f->features;
+            for (i = 0; i < f->features; ++i) {
+                cd.feature_names[i] = names[i];
+                cd.prior[i] = f->prior[i];
+            }
+        }
         st = tclod_calib_create(&cd, NULL, &f->calib);
         /* The unconstrained frame ([RH Fig. 3]'s bold line): every visible
          * object at its finest, whatever the budget; a second selector with an
@@ -934,7 +996,8 @@ static int start_selector(flight *f) {
         f->gpu.rng = GPU_SEED;
         f->gpu.true_c = opt->gpu_c;
         f->ff.overshoot = (double *)malloc(opt->frames * sizeof(*f->ff.overshoot));
-        if (!f->ff.overshoot)
+        f->ff.err = (double *)malloc(opt->frames * sizeof(*f->ff.err));
+        if (!f->ff.overshoot || !f->ff.err)
             return out_of_memory();
     }
     if (!change_counter_init(&f->cc, tclod_scene_node_count(f->scene)))
@@ -1008,6 +1071,17 @@ static int start_flight(flight *f, const options *opt, sim_scene *sim) {
     f->sd.solver = opt->solver;
     f->sd.callbacks =
         sim->kind == SCENE_THESIS ? thesis_callbacks(&sim->thesis) : world_callbacks(&sim->world);
+    f->features = sim->kind == SCENE_THESIS ? THESIS_FEATURES : WORLD_FEATURES;
+    if (sim->kind == SCENE_THESIS)
+        thesis_feature_prior(&sim->thesis, f->prior);
+    else
+        world_feature_prior(&sim->world_desc.cost, f->prior);
+    if (opt->learn) {
+        f->sd.callbacks = sim->kind == SCENE_THESIS ? thesis_feature_callbacks(&sim->thesis)
+                                                    : world_feature_callbacks(&sim->world);
+        f->sd.feature_count = f->features;
+        memcpy(f->sd.coefficients, f->prior, sizeof f->prior);
+    }
     f->sd.cold_start = !opt->warm;
     if (opt->split >= 0)
         f->sd.mixed.split_smooth = opt->split;
@@ -1083,6 +1157,60 @@ static void print_header(const flight *f) {
     }
 }
 
+/* The features of a selection summed (f->features entries into out), and,
+ * priced at coef, its cost as the library sums it: each node's and group's
+ * coef · features, in result order. */
+static double selection_features(const flight *f, const tclod_id *ids, size_t n,
+                                 const tclod_smooth_group *groups, size_t group_count,
+                                 const double *coef, double *out) {
+    const sim_scene *sim = f->sim;
+    double one[TCLOD_MAX_FEATURES], cost = 0.0;
+    size_t k;
+    uint32_t i;
+    memset(out, 0, f->features * sizeof *out);
+    for (k = 0; k < n + group_count; ++k) {
+        double c = 0.0;
+        if (k < n && sim->kind == SCENE_THESIS)
+            thesis_features(NULL, NULL, one);
+        else if (k < n)
+            world_sum_features(&sim->world, ids + k, 1, one);
+        else
+            thesis_group_features(
+                (double)thesis_group_trees(&sim->thesis, groups[k - n].first, groups[k - n].count),
+                groups[k - n].resolution, one, NULL);
+        for (i = 0; i < f->features; ++i) {
+            out[i] += one[i];
+            c += coef[i] * one[i];
+        }
+        cost += c;
+    }
+    return cost;
+}
+
+/* The hidden machine's render time of a frame with features x (--gpu-model
+ * features), before its noise. */
+static double gpu_feature_time(const flight *f, unsigned long frame, const double *x) {
+    const double *m = frame < f->opt->frames / 2u ? gpu_before : gpu_after;
+    double t = 0.0;
+    uint32_t i;
+    for (i = 0; i < f->features; ++i)
+        t += f->prior[i] * m[i] * x[i];
+    return t;
+}
+
+/* The features of the selector's current selection, summed into out. */
+static int current_features(const flight *f, const tclod_selector *sel, double *out) {
+    const tclod_id *ids;
+    const tclod_smooth_group *groups = NULL;
+    size_t n, group_count = 0;
+    if (tclod_selector_cut(sel, &ids, &n) != TCLOD_OK ||
+        (f->sim->kind == SCENE_THESIS &&
+         tclod_selector_smooth_groups(sel, &groups, &group_count) != TCLOD_OK))
+        return 0;
+    selection_features(f, ids, n, groups, group_count, f->prior, out);
+    return 1;
+}
+
 /* --simulate-gpu, after frame `frame` selected with the frame request fr: the
  * machine draws the selection, and the host measures render and logic time
  * (never the hidden factor) and reports them. */
@@ -1093,25 +1221,43 @@ static int simulate_gpu_frame(flight *f, unsigned long frame, const tclod_frame 
     tclod_frame unlimited = *fr;
     tclod_stats finest_stats;
     tclod_status st;
-    double noise, logic_ms, render_ms, t;
+    double noise, logic_ms, render_ms, finest_ms, t;
+    double x[TCLOD_MAX_FEATURES], xf[TCLOD_MAX_FEATURES];
     gpu_frame(&f->gpu, frame, opt->target_ms, factor, &noise, &logic_ms);
-    render_ms = stats->cost * *factor * noise;
-    *frame_ms = frame_time_ms(logic_ms, render_ms, f->gpu.true_c);
     unlimited.budget = INFINITY;
     st = tclod_select(f->finest, &unlimited, &finest_stats);
+    if (st == TCLOD_OK && !(current_features(f, f->sel, x) && current_features(f, f->finest, xf)))
+        st = TCLOD_ERR_STATE;
+    if (opt->gpu_features) {
+        render_ms = gpu_feature_time(f, frame, x) * noise;
+        finest_ms = gpu_feature_time(f, frame, xf) * noise;
+        *factor = stats->cost > 0.0 ? render_ms / stats->cost : 0.0;
+    } else { /* the scene's own cost model, whatever the host learns, times the factor */
+        uint32_t i;
+        double own = 0.0, own_finest = 0.0;
+        for (i = 0; i < f->features; ++i) {
+            own += f->prior[i] * x[i];
+            own_finest += f->prior[i] * xf[i];
+        }
+        render_ms = (opt->learn ? own : stats->cost) * *factor * noise;
+        finest_ms = (opt->learn ? own_finest : finest_stats.cost) * *factor * noise;
+    }
+    *frame_ms = frame_time_ms(logic_ms, render_ms, f->gpu.true_c);
     if (st == TCLOD_OK)
-        st = tclod_calib_report(f->calib, stats->cost, render_ms, logic_ms);
+        st = opt->learn ? tclod_calib_report_features(f->calib, x, render_ms, logic_ms)
+                        : tclod_calib_report(f->calib, stats->cost, render_ms, logic_ms);
     if (st != TCLOD_OK) {
         fprintf(stderr, "flyover_sim: simulating frame %lu failed: %s\n", frame,
                 tclod_status_string(st));
         return 0;
     }
-    *unconstrained_ms = frame_time_ms(logic_ms, finest_stats.cost * *factor * noise, f->gpu.true_c);
+    *unconstrained_ms = frame_time_ms(logic_ms, finest_ms, f->gpu.true_c);
     t = *frame_ms / opt->target_ms - 1.0;
     f->ff.sum += *frame_ms;
     f->ff.sum_sq += *frame_ms * *frame_ms;
     f->ff.sum_err += fabs(t);
     f->ff.overshoot[frame] = t > 0.0 ? t : 0.0;
+    f->ff.err[frame] = fabs(t);
     return 1;
 }
 
@@ -1133,6 +1279,8 @@ static int selected_frame(flight *f, unsigned long frame) {
     if (opt->simulate_gpu) {
         scale = tclod_calib_scale(f->calib);
         st = tclod_calib_budget(f->calib, opt->target_ms, &budget);
+        if (st == TCLOD_OK && opt->learn) /* the nodes priced as the model learned */
+            st = tclod_selector_set_coefficients(f->sel, tclod_calib_coefficients(f->calib));
         if (st != TCLOD_OK) {
             fprintf(stderr, "flyover_sim: tclod_calib_budget failed at frame %lu: %s\n", frame,
                     tclod_status_string(st));
@@ -1171,9 +1319,15 @@ static int selected_frame(flight *f, unsigned long frame) {
     /* The guarantee, checked from outside: what our cost callbacks return for
      * the listed nodes (and drawn smooth groups), summed in result order, must
      * not exceed the budget. */
-    own_cost = opt->scene == SCENE_THESIS
-                   ? thesis_sum_cost(&f->sim->thesis, ids, drawn, groups, group_count)
-                   : world_sum_cost(&f->sim->world, ids, drawn);
+    if (opt->learn) {
+        double x[TCLOD_MAX_FEATURES];
+        own_cost = selection_features(f, ids, drawn, groups, group_count,
+                                      tclod_calib_coefficients(f->calib), x);
+    } else {
+        own_cost = opt->scene == SCENE_THESIS
+                       ? thesis_sum_cost(&f->sim->thesis, ids, drawn, groups, group_count)
+                       : world_sum_cost(&f->sim->world, ids, drawn);
+    }
     if (stats.cost > budget || own_cost > budget)
         ++f->violations;
     if (own_cost != stats.cost)
@@ -1278,6 +1432,54 @@ static int fly(flight *f) {
     return 1;
 }
 
+/* The mean of the frames' relative errors over [from, to) (0 when empty). */
+static double mean_err(const flight *f, unsigned long from, unsigned long to) {
+    double sum = 0.0;
+    unsigned long k;
+    for (k = from; k < to; ++k)
+        sum += f->ff.err[k];
+    return to > from ? sum / (double)(to - from) : 0.0;
+}
+
+/* The summary's figures of the frames once the calibration has settled. */
+static void print_settled(const flight *f) {
+    unsigned long n = f->opt->frames, change = n / 2u, k, settle;
+    const unsigned long window = 30u;
+    if (!f->opt->gpu_features) {
+        printf(" avg_err_from_100=%.5f", mean_err(f, n < SETTLE_START ? n : SETTLE_START, n));
+        return;
+    }
+    /* the first frame after the change from which a window of 30 has an
+     * avg_err <= 0.01, as frames after the change */
+    settle = n - change;
+    for (k = change; k + window <= n; ++k)
+        if (mean_err(f, k, k + window) <= 0.01) {
+            settle = k - change;
+            break;
+        }
+    {
+        unsigned long b0 = SETTLE_START < change ? SETTLE_START : change;
+        unsigned long a0 = change + SETTLE_CHANGE < n ? change + SETTLE_CHANGE : n;
+        double both =
+            (double)(change - b0) * mean_err(f, b0, change) + (double)(n - a0) * mean_err(f, a0, n);
+        printf(" avg_err_from_100=%.5f change_frame=%lu avg_err_before=%.5f avg_err_after=%.5f "
+               "settle_frames=%lu",
+               (change - b0) + (n - a0) > 0 ? both / (double)((change - b0) + (n - a0)) : 0.0,
+               change, mean_err(f, b0, change), mean_err(f, a0, n), settle);
+        if (f->opt->learn) { /* the learned prices against the hidden machine's, at the end */
+            const double *coef = tclod_calib_coefficients(f->calib);
+            double worst = 0.0;
+            uint32_t i;
+            for (i = 0; i < f->features; ++i) {
+                double hidden = f->prior[i] * gpu_after[i];
+                double e = hidden > 0.0 ? fabs(coef[i] / hidden - 1.0) : 0.0;
+                worst = e > worst ? e : worst;
+            }
+            printf(" price_err=%.5f", worst);
+        }
+    }
+}
+
 /* The summary line (--help lists its keys). Sorts the frame times. */
 static void print_summary(flight *f) {
     const options *opt = f->opt;
@@ -1316,6 +1518,7 @@ static void print_summary(flight *f) {
         printf(" target_ms=%.3f mean_ms=%.4f stddev_ms=%.4f avg_err=%.5f p99_overshoot=%.5f",
                opt->target_ms, mean, sqrt(var > 0.0 ? var : 0.0), f->ff.sum_err / frames,
                percentile(f->ff.overshoot, opt->frames, 99.0));
+        print_settled(f);
     }
     if (opt->scene == SCENE_THESIS)
         printf(" variables=%.1f line_searches=%.1f smooth_groups=%.1f", f->sum_variables / frames,
@@ -1358,6 +1561,7 @@ static int end_flight(flight *f, int ok) {
     tclod_scheduler_destroy(f->sch);
     change_counter_free(&f->cc);
     free(f->ff.overshoot);
+    free(f->ff.err);
     tclod_calib_destroy(f->calib);
     tclod_selector_destroy(f->finest);
     tclod_selector_destroy(f->sel);

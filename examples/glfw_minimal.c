@@ -8,12 +8,21 @@
  * shows it with the selection's predicted cost. The frame loop alone, in legacy
  * OpenGL; glfw_forest is the full host (calibration, measured times, smooth objects).
  *
+ * A box at level k is drawn as its own draw with its faces cut into 4^k quads, so
+ * what a level costs is what it sends: the selector prices each box by its
+ * features (one draw, its vertices) at coefficients per draw and per vertex.
+ * --target-ms T aims at frames of T ms instead of a fixed budget: the learned
+ * cost model (docs/calibration.md) learns those coefficients from the drawing's
+ * measured time (CPU time around glFinish) and turns T into the budget.
+ *
  * --frames N renders N frames at a fixed 60 Hz step and exits (--screenshot writes
  * the last one as a binary PPM); exit status 77 means no display or OpenGL context.
  * At exit it prints
  *   summary: frames=N budget_ms=B mean_cost_ms=C violations=V levels=a/b/c/d
  * V the frames whose predicted cost exceeded the budget (0, or the exit status is
- * 1), a..d the boxes the last frame drew at each level, coarsest first.
+ * 1), a..d the boxes the last frame drew at each level, coarsest first; with
+ * --target-ms, then target_ms=T mean_ms=M avg_err=E: the drawing's mean time and
+ * its mean |time - T| / T.
  */
 #include <GLFW/glfw3.h>
 
@@ -35,7 +44,11 @@
 #define EXIT_SKIP 77
 
 static const double level_detail[LEVELS] = {0.25, 0.6, 0.85, 1.0};
-static const double level_ms[LEVELS] = {0.002, 0.006, 0.02, 0.07}; /* predicted */
+static const int level_cells[LEVELS] = {1, 2, 4, 8}; /* a face's quads per side */
+/* The price of a draw and of a vertex, ms, to start from: level costs of 0.003,
+ * 0.006, 0.019 and 0.07 ms */
+static const double prior_ms[2] = {0.002, 5.3e-5};
+static const char *const feature_names[2] = {"draws", "vertices"};
 
 typedef struct app {
     int level[NODES];    /* per node id: its level */
@@ -43,11 +56,17 @@ typedef struct app {
     double budget_ms;
 } app;
 
+/* The vertices a box at level k sends: 5 faces of n x n quads. */
+static double level_vertices(int k) {
+    return 20.0 * level_cells[k] * level_cells[k];
+}
+
 static double benefit(void *user, const tclod_query *q) {
     return q->screen_area > 0 ? level_detail[((app *)user)->level[q->id]] * q->screen_area : 0.0;
 }
-static double cost(void *user, const tclod_query *q) {
-    return level_ms[((app *)user)->level[q->id]];
+static void features(void *user, const tclod_query *q, double *out) {
+    out[0] = 1.0; /* its draw */
+    out[1] = level_vertices(((app *)user)->level[q->id]);
 }
 
 /* + and -, by the character typed whatever the keyboard's layout. */
@@ -127,24 +146,39 @@ static void load_camera(const tclod_view *v) {
     glLoadMatrixf(m);
 }
 
-/* One box: the top and four sides, each face a shade of its level's colour. */
+/* A face from corner o along edges u and v, cut into n x n quads. */
+static void draw_face(const float o[3], const float u[3], const float v[3], int n) {
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            float a = (float)i / n, b = (float)j / n, d = 1.0f / n;
+            float q[4][2] = {{a, b}, {a + d, b}, {a + d, b + d}, {a, b + d}};
+            for (int k = 0; k < 4; ++k)
+                glVertex3f(o[0] + q[k][0] * u[0] + q[k][1] * v[0],
+                           o[1] + q[k][0] * u[1] + q[k][1] * v[1],
+                           o[2] + q[k][0] * u[2] + q[k][1] * v[2]);
+        }
+}
+
+/* One box, one draw: the top and four sides, each face a shade of its level's
+ * colour and cut into level_cells[level]² quads. */
 static void draw_box(const float b[4], int level) {
     static const float side[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
     const unsigned char *c = glfw_minimal_colour[level];
     float x = b[0], z = b[1], w = b[2], h = b[3];
     unsigned s = glfw_minimal_shade[0];
+    int n = level_cells[level];
+    glBegin(GL_QUADS);
     glColor3ub((GLubyte)(c[0] * s / 4), (GLubyte)(c[1] * s / 4), (GLubyte)(c[2] * s / 4));
-    glVertex3f(x - w, h, z - w), glVertex3f(x - w, h, z + w);
-    glVertex3f(x + w, h, z + w), glVertex3f(x + w, h, z - w);
+    draw_face((const float[3]){x - w, h, z - w}, (const float[3]){0, 0, 2 * w},
+              (const float[3]){2 * w, 0, 0}, n);
     for (int k = 0; k < 4; ++k) {
         float nx = side[k][0], nz = side[k][1], tx = -nz, tz = nx; /* normal, tangent */
         s = glfw_minimal_shade[nx != 0.0f ? 1 : 2];
         glColor3ub((GLubyte)(c[0] * s / 4), (GLubyte)(c[1] * s / 4), (GLubyte)(c[2] * s / 4));
-        glVertex3f(x + w * (nx - tx), 0.0f, z + w * (nz - tz));
-        glVertex3f(x + w * (nx + tx), 0.0f, z + w * (nz + tz));
-        glVertex3f(x + w * (nx + tx), h, z + w * (nz + tz));
-        glVertex3f(x + w * (nx - tx), h, z + w * (nz - tz));
+        draw_face((const float[3]){x + w * (nx - tx), 0.0f, z + w * (nz - tz)},
+                  (const float[3]){2 * w * tx, 0, 2 * w * tz}, (const float[3]){0, h, 0}, n);
     }
+    glEnd();
 }
 
 /* The back buffer as a binary PPM, top row first. */
@@ -167,12 +201,15 @@ static int write_ppm(const char *path, int w, int h) {
 }
 
 static const char usage[] =
-    "usage: glfw_minimal [--budget-ms X] [--frames N [--screenshot FILE.ppm]] [--help]\n"
+    "usage: glfw_minimal [--budget-ms X | --target-ms T] [--frames N [--screenshot FILE.ppm]]\n"
+    "                    [--help]\n"
     "\n"
     "A field of 576 boxes of 4 levels of detail, drawn in the colour of the level the\n"
     "greedy solver selects within the budget: red, orange, green, blue, coarse to fine.\n"
     "\n"
     "  --budget-ms X      budget of predicted ms per frame, 0.05 <= X <= 100 (default 3)\n"
+    "  --target-ms T      aim the drawing at T ms, 1 <= T <= 500, learning the price\n"
+    "                     of a draw and a vertex from its measured time\n"
     "  --frames N         render N frames (a fixed 60 Hz step), then exit\n"
     "  --screenshot FILE  with --frames: write the last frame as a binary PPM\n"
     "Keys: + and - budget x 1.25 and / 1.25, Esc quit. Exit status 0; 1 on a failure;\n"
@@ -181,6 +218,7 @@ static const char usage[] =
 int main(int argc, char **argv) {
     static app a = {.budget_ms = 3.0};
     unsigned long frames = 0, frame = 0, violations = 0;
+    double target_ms = 0.0, sum_ms = 0.0, sum_err = 0.0;
     const char *shot = NULL;
     for (int i = 1; i < argc; ++i) {
         const char *v = i + 1 < argc ? argv[i + 1] : "";
@@ -190,6 +228,9 @@ int main(int argc, char **argv) {
             return 0;
         } else if (!strcmp(argv[i], "--budget-ms") && (a.budget_ms = strtod(v, &end)) >= 0.05 &&
                    a.budget_ms <= 100.0 && !*end) {
+            ++i;
+        } else if (!strcmp(argv[i], "--target-ms") && (target_ms = strtod(v, &end)) >= 1.0 &&
+                   target_ms <= 500.0 && !*end) {
             ++i;
         } else if (!strcmp(argv[i], "--frames") && *v >= '1' && *v <= '9' &&
                    (frames = strtoul(v, &end, 10)) > 0 && !*end) {
@@ -228,9 +269,19 @@ int main(int argc, char **argv) {
     tclod_selector *sel = NULL;
     tclod_selector_desc desc;
     tclod_selector_desc_default(&desc); /* greedy solver, warm start */
-    desc.callbacks = (tclod_callbacks){.benefit = benefit, .cost = cost, .user = &a};
+    desc.callbacks = (tclod_callbacks){.benefit = benefit, .features = features, .user = &a};
+    desc.feature_count = 2;
+    desc.coefficients[0] = prior_ms[0], desc.coefficients[1] = prior_ms[1];
     desc.strict = 1;
-    tclod_status st = tclod_scene_create(NULL, &scene);
+    tclod_calib *calib = NULL; /* --target-ms: the learned cost model */
+    tclod_calib_desc cd;
+    tclod_calib_desc_default(&cd);
+    cd.feature_count = 2;
+    for (int k = 0; k < 2; ++k)
+        cd.prior[k] = prior_ms[k], cd.feature_names[k] = feature_names[k];
+    tclod_status st = target_ms > 0.0 ? tclod_calib_create(&cd, NULL, &calib) : TCLOD_OK;
+    if (st == TCLOD_OK)
+        st = tclod_scene_create(NULL, &scene);
     if (st == TCLOD_OK)
         st = build(&a, scene);
     if (st == TCLOD_OK)
@@ -253,7 +304,13 @@ int main(int argc, char **argv) {
         tclod_stats stats;
         const tclod_id *ids;
         size_t n;
-        st = tclod_select(sel, &(tclod_frame){.view = &view, .budget = a.budget_ms}, &stats);
+        if (calib) { /* the model's prices, and the budget that fits the target */
+            st = tclod_selector_set_coefficients(sel, tclod_calib_coefficients(calib));
+            if (st == TCLOD_OK)
+                st = tclod_calib_budget(calib, target_ms, &a.budget_ms);
+        }
+        if (st == TCLOD_OK)
+            st = tclod_select(sel, &(tclod_frame){.view = &view, .budget = a.budget_ms}, &stats);
         if (st == TCLOD_OK)
             st = tclod_selector_cut(sel, &ids, &n);
         if (st != TCLOD_OK) {
@@ -272,12 +329,25 @@ int main(int argc, char **argv) {
         glColor3ub(56, 56, 56); /* the ground */
         glVertex3f(-70, 0, -70), glVertex3f(-70, 0, 70);
         glVertex3f(70, 0, 70), glVertex3f(70, 0, -70);
+        glEnd();
         memset(at, 0, sizeof at);
+        double x[2] = {0.0, 0.0}, t0 = 0.0; /* what the boxes send, and when they began */
+        if (calib) {
+            glFinish();
+            t0 = glfwGetTime();
+        }
         for (size_t i = 0; i < n; ++i) {
             draw_box(a.box[ids[i]], a.level[ids[i]]);
             ++at[a.level[ids[i]]];
+            x[0] += 1.0, x[1] += level_vertices(a.level[ids[i]]);
         }
-        glEnd();
+        if (calib) { /* the drawing's time to the model */
+            glFinish();
+            double ms = (glfwGetTime() - t0) * 1e3;
+            tclod_calib_report_features(calib, x, ms, TCLOD_OFF);
+            sum_ms += ms;
+            sum_err += fabs(ms - target_ms) / target_ms;
+        }
         if (shot && frame + 1 == frames && !write_ppm(shot, w, h)) {
             fprintf(stderr, "glfw_minimal: cannot write %s\n", shot);
             rc = 1;
@@ -290,11 +360,17 @@ int main(int argc, char **argv) {
         glfwSetWindowTitle(win, title);
         ++frame;
     }
-    if (frame)
+    if (frame) {
         printf("summary: frames=%lu budget_ms=%.3f mean_cost_ms=%.3f violations=%lu "
-               "levels=%zu/%zu/%zu/%zu\n",
+               "levels=%zu/%zu/%zu/%zu",
                frame, a.budget_ms, sum_cost / (double)frame, violations, at[0], at[1], at[2],
                at[3]);
+        if (calib)
+            printf(" target_ms=%.3f mean_ms=%.3f avg_err=%.4f", target_ms, sum_ms / (double)frame,
+                   sum_err / (double)frame);
+        printf("\n");
+    }
+    tclod_calib_destroy(calib);
     rc = violations ? 1 : rc;
     glfwDestroyWindow(win);
     glfwTerminate();

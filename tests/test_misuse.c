@@ -223,7 +223,7 @@ static void selector_descs_name_the_field_and_rule(void **state) {
     } while (0)
     BAD(solver, (tclod_solver)3, "desc.solver is not a tclod_solver");
     BAD(callbacks.benefit, NULL, "desc.callbacks.benefit is NULL");
-    BAD(callbacks.cost, NULL, "desc.callbacks.cost is NULL");
+    BAD(callbacks.cost, NULL, "desc.callbacks.cost and features are NULL: one of them prices the nodes");
     BAD(cold_start, 2, "desc.cold_start must be 0 or 1");
     BAD(strict, -1, "desc.strict must be 0 or 1");
     BAD(overflow, (tclod_overflow)2, "desc.overflow is not a tclod_overflow");

@@ -19,7 +19,11 @@
  *  4. measures the time the drawing took (GL_TIME_ELAPSED queries, read a frame or
  *     two later; CPU time around glFinish where there are none, and on software
  *     renderers, whose queries do not time the rasterisation) and reports it with
- *     the frame's predicted cost to the calibration (tclod_calib_report).
+ *     what the frame drew to the calibration: by default the learned cost model
+ *     (tclod_calib_report_features with the draws, strip vertices and splats it
+ *     sent and the framebuffer's pixels, whose render time per unit the model
+ *     learns and the selector prices the next frame's nodes with), or with
+ *     --cost-model scale the frame's predicted cost (tclod_calib_report).
  * Before the first frame one unmeasured draw lets the driver compile its shaders,
  * and one measured selection gives the calibration its starting scale.
  * A HUD shows the frame time against the target as a scrolling graph, the budget,
@@ -31,11 +35,18 @@
  * means no display or no usable OpenGL context. At exit (Ctrl-C included) it
  * prints
  *
- *   summary: frames=N mean_ms=M target_ms=T avg_err=E
+ *   summary: frames=N mean_ms=M target_ms=T avg_err=E p95_err=P mean_ratio=R
  *
  * with E the mean over the frames of |t_frame − T_frame| / T_frame, t_frame the
  * wall-clock time of a whole frame (selection, drawing, HUD and buffer swap) and
- * T_frame the target in force then; T is the target at exit.
+ * T_frame the target in force then; T is the target at exit; P the 95th
+ * percentile (nearest rank) of that error, R the mean of t_frame / T_frame,
+ * and J (jitter=J, last) the median of |t_frame − t_previous| / T_frame: how
+ * much consecutive frames differ, which no budget can take out (a renderer
+ * whose frame times scatter by a standard deviation s about what it was asked
+ * for has J ≈ 0.95 s and an avg_err of at least about 0.8 s ≈ 0.84 J;
+ * docs/calibration.md).
+ * --csv FILE writes a row per frame (usage() lists the columns).
  *
  * Plain OpenGL 1.5 (vertex buffers, fixed function), what Mesa's llvmpipe draws
  * reliably; timer queries where the context has them (GL 3.3 or ARB_timer_query).
@@ -82,6 +93,8 @@
 /* The probe that measures the calibration's starting scale selects with this
  * share of the target as its budget. */
 #define PROBE_SHARE 0.2
+/* --hold: frames selected (and calibrated) before the selection is kept. */
+#define HOLD_AFTER 60ul
 /* --morph: the share of the target frame time each frame gives the scheduler's
  * pending selection. */
 #define SLICE_SHARE 0.1
@@ -106,6 +119,16 @@
  * more than the crown's width. */
 #define SPLAT_SCALE 0.65
 
+/* The learned cost model's features (docs/calibration.md, the learned cost):
+ * the thesis scene's draws, strip vertices and splats, which its nodes and
+ * tree groups have, then the framebuffer's pixels, which only the frame has
+ * (clearing, filling the ground: work no node's choice changes). */
+#define FOREST_PIXELS THESIS_FEATURES
+#define FOREST_FEATURES (THESIS_FEATURES + 1)
+
+static const char *const forest_feature_names[FOREST_FEATURES] = {"draws", "vertices", "splats",
+                                                                  "pixels"};
+
 static const float sky_colour[3] = {0.64f, 0.76f, 0.90f};
 
 /* ------------------------------------------------------------------------- */
@@ -119,6 +142,9 @@ typedef struct options {
     tclod_solver solver;
     int timer; /* a timer_mode */
     int morph; /* draw the geomorph scheduler's lists instead of selecting */
+    int scale; /* --cost-model scale: the one-ratio calibration */
+    int hold;  /* --hold: the camera stands; from HOLD_AFTER frames on, so does the selection */
+    const char *csv;
 } options;
 
 /* in the order of timer_names */
@@ -139,7 +165,8 @@ static void usage(FILE *out) {
     fprintf(out,
             "usage: glfw_forest [--frames N [--screenshot FILE.ppm]] [--target-ms T]\n"
             "                   [--solver greedy|mixed|robin_hood] [--timer auto|gpu|cpu]\n"
-            "                   [--morph] [--help]\n"
+            "                   [--morph] [--cost-model features|scale] [--csv FILE] [--hold]\n"
+            "                   [--help]\n"
             "\n"
             "Flies over the thesis's 120 km terrain with 1.4 million point-splat trees,\n"
             "drawing what libtclod selects every frame so that frames take T ms.\n"
@@ -152,7 +179,18 @@ static void usage(FILE *out) {
             "                     cpu = CPU time around glFinish, auto = gpu where the\n"
             "                     context has them, except on software renderers (default)\n"
             "  --morph            select ahead with the geomorph scheduler and draw its\n"
-            "                     transitions (terrain patches morph, trees fade)\n"
+            "                     transitions (terrain patches morph, trees fade); its\n"
+            "                     calibration is the scale\n"
+            "  --hold             the camera stands still and, after 60 frames, the\n"
+            "                     selection too: the same frame is drawn again and again,\n"
+            "                     and jitter measures the renderer's own scatter\n"
+            "  --cost-model M     features (default): the learned cost model, nodes priced\n"
+            "                     by learned ms per draw, vertex and splat and the frame by\n"
+            "                     its pixels; scale: one ratio measured / predicted\n"
+            "  --csv FILE         a row per frame: frame,target_ms,frame_ms,render_ms,\n"
+            "                     logic_ms,predicted_ms,budget_ms,draws,vertices,splats,\n"
+            "                     pixels,select_ms (predicted_ms the frame's predicted\n"
+            "                     render time, budget_ms what its nodes could spend)\n"
             "\n"
             "Keys: +/- target time, Tab solver, F free flight (WASD, Q/E down/up, drag the\n"
             "left mouse button to look, Shift faster), Esc quit.\n"
@@ -175,6 +213,10 @@ static int parse_options(int argc, char **argv, options *o) {
             o->morph = 1;
             continue;
         }
+        if (!strcmp(a, "--hold")) {
+            o->hold = 1;
+            continue;
+        }
         if (!v) {
             fprintf(stderr, "glfw_forest: unknown option or missing value: %s\n", a);
             return 2;
@@ -188,6 +230,14 @@ static int parse_options(int argc, char **argv, options *o) {
             }
         } else if (!strcmp(a, "--screenshot")) {
             o->screenshot = v;
+        } else if (!strcmp(a, "--csv")) {
+            o->csv = v;
+        } else if (!strcmp(a, "--cost-model")) {
+            if (strcmp(v, "features") && strcmp(v, "scale")) {
+                fprintf(stderr, "glfw_forest: --cost-model needs features or scale\n");
+                return 2;
+            }
+            o->scale = !strcmp(v, "scale");
         } else if (!strcmp(a, "--target-ms")) {
             o->target_ms = strtod(v, &end);
             if (*end || !(o->target_ms >= MIN_TARGET_MS && o->target_ms <= MAX_TARGET_MS)) {
@@ -974,6 +1024,7 @@ typedef struct app {
     tclod_calib *calib;
     tclod_scheduler *sch; /* --morph */
     camera cam;
+    int learn; /* the learned cost model: features, not --cost-model scale or --morph */
 } app;
 
 static void selector_desc(app *a, tclod_solver s, tclod_selector_desc *d) {
@@ -981,6 +1032,15 @@ static void selector_desc(app *a, tclod_solver s, tclod_selector_desc *d) {
     d->solver = s;
     d->callbacks = thesis_callbacks(&a->scene);
     d->mixed.split_smooth = 1; /* the thesis's grouping of nearby tree sets (SplitVar) */
+    if (a->learn) {            /* priced by features, at what the model learned so far */
+        d->callbacks = thesis_feature_callbacks(&a->scene);
+        d->feature_count = THESIS_FEATURES;
+        if (a->calib)
+            memcpy(d->coefficients, tclod_calib_coefficients(a->calib),
+                   THESIS_FEATURES * sizeof(double));
+        else
+            thesis_feature_prior(&a->scene, d->coefficients);
+    }
 }
 
 /* Replaces the scheduler by one selecting with a->solver, whose calibration
@@ -1145,6 +1205,7 @@ typedef struct pending {
     GLuint query;
     int waiting;
     double predicted, frame_ms;
+    double x[FOREST_FEATURES]; /* what it drew */
 } pending;
 
 typedef struct timing {
@@ -1157,7 +1218,18 @@ typedef struct timing {
 /* Reports every finished frame to the calibration, oldest first (the oldest is the
  * slot at head, about to be reused); with block, waits for it. The render time is the drawing's GPU
  * time, the logic time the rest of the frame. */
-static void timing_collect(timing *tm, const gl_ext *gl, tclod_calib *calib, int block) {
+/* One frame's measurements to the calibration: its features to a learned
+ * model, else its predicted cost. */
+static void report_frame(tclod_calib *calib, int learn, const double *x, double predicted,
+                         double render_ms, double frame_ms) {
+    double logic = frame_ms > render_ms ? frame_ms - render_ms : 0.0;
+    if (learn)
+        tclod_calib_report_features(calib, x, render_ms, logic);
+    else
+        tclod_calib_report(calib, predicted, render_ms, logic);
+}
+
+static void timing_collect(timing *tm, const gl_ext *gl, tclod_calib *calib, int learn, int block) {
     int i;
     for (i = 0; i < QUERY_RING; ++i) {
         pending *p = &tm->ring[(tm->head + i) % QUERY_RING];
@@ -1172,8 +1244,7 @@ static void timing_collect(timing *tm, const gl_ext *gl, tclod_calib *calib, int
             return; /* later frames finish later */
         gl->GetQueryObjectui64v(p->query, GL_QUERY_RESULT, &ns);
         render = (double)ns * 1e-6;
-        tclod_calib_report(calib, p->predicted, render,
-                           p->frame_ms > render ? p->frame_ms - render : 0.0);
+        report_frame(calib, learn, p->x, p->predicted, render, p->frame_ms);
         tm->last_render_ms = render;
         p->waiting = 0;
         block = 0;
@@ -1305,6 +1376,40 @@ static int write_ppm(const char *path, int w, int h) {
 /* Main                                                                      */
 /* ------------------------------------------------------------------------- */
 
+/* The frames' relative errors, for the summary's percentile. */
+typedef struct errors {
+    double *v;
+    size_t n, cap;
+} errors;
+
+static int errors_add(errors *e, double x) {
+    if (e->n == e->cap) {
+        size_t cap = e->cap ? 2u * e->cap : 1024u;
+        double *v = (double *)realloc(e->v, cap * sizeof(*v));
+        if (!v)
+            return 0;
+        e->v = v;
+        e->cap = cap;
+    }
+    e->v[e->n++] = x;
+    return 1;
+}
+
+static int compare_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The q-quantile, nearest rank (sorts the values); 0 for none. */
+static double errors_quantile(errors *e, double q) {
+    size_t rank;
+    if (e->n == 0)
+        return 0.0;
+    qsort(e->v, e->n, sizeof(*e->v), compare_double);
+    rank = (size_t)ceil(q * (double)e->n);
+    return e->v[(rank > 0 ? rank : 1u) - 1u];
+}
+
 /* Ctrl-C ends the loop, so that an interactive run prints its summary too. */
 static volatile sig_atomic_t interrupted;
 
@@ -1370,6 +1475,15 @@ static int setup(app *a, renderer *r, GLFWwindow *win) {
     tclod_calib_desc_default(&cd);
     cd.initial_scale = probe_scale(a, r, &v, PROBE_SHARE * a->opt.target_ms, fb_w, fb_h);
     cd.initial_measured = 1; /* a measurement: blend the first frames from it */
+    if (a->learn) {          /* the thesis's prices at the probe's scale; the pixels' unknown */
+        uint32_t i;
+        cd.feature_count = FOREST_FEATURES;
+        thesis_feature_prior(&a->scene, cd.prior);
+        for (i = 0; i < FOREST_FEATURES; ++i) {
+            cd.feature_names[i] = forest_feature_names[i];
+            cd.prior[i] = i < THESIS_FEATURES ? cd.prior[i] * cd.initial_scale : 0.0;
+        }
+    }
     st = tclod_calib_create(&cd, NULL, &a->calib);
     if (st != TCLOD_OK) {
         fprintf(stderr, "glfw_forest: tclod_calib_create failed: %s\n", tclod_status_string(st));
@@ -1386,7 +1500,14 @@ int main(int argc, char **argv) {
     static timing tm;
     GLFWwindow *win;
     tclod_status st;
-    double last_time, sum_ms = 0.0, sum_err = 0.0;
+    double last_time, sum_ms = 0.0, sum_err = 0.0, sum_ratio = 0.0;
+    errors errs = {NULL, 0, 0}, jumps = {NULL, 0, 0};
+    double last_ms = 0.0;
+    const tclod_id *ids = NULL; /* the selection drawn, kept from frame to frame for --hold */
+    const tclod_smooth_group *groups = NULL;
+    size_t n_ids = 0, n_groups = 0;
+    tclod_stats kept;
+    FILE *csv = NULL;
     double now = 0.0; /* the scheduler's clock: flight time, s */
     unsigned long frame = 0;
     int rc, i, fb_w, fb_h;
@@ -1399,6 +1520,7 @@ int main(int argc, char **argv) {
     if (rc != 0)
         return rc;
 
+    a.learn = !a.opt.scale && !a.opt.morph;
     glfwSetErrorCallback(on_glfw_error);
     if (!glfwInit()) {
         fprintf(stderr, "glfw_forest: no display (GLFW could not start); skipped\n");
@@ -1434,25 +1556,33 @@ int main(int argc, char **argv) {
     for (i = 0; tm.gpu && i < QUERY_RING; ++i)
         r.gl.GenQueries(1, &tm.ring[i].query);
 
+    if (rc == 0 && a.opt.csv) {
+        csv = fopen(a.opt.csv, "w");
+        if (csv)
+            fprintf(csv, "frame,target_ms,frame_ms,render_ms,logic_ms,predicted_ms,budget_ms,"
+                         "draws,vertices,splats,pixels,select_ms\n");
+        else {
+            fprintf(stderr, "glfw_forest: cannot write %s\n", a.opt.csv);
+            rc = 1;
+        }
+    }
     last_time = glfwGetTime();
     signal(SIGINT, on_interrupt);
     while (rc == 0 && !interrupted && !glfwWindowShouldClose(win) &&
            (a.opt.frames == 0 || frame < a.opt.frames)) {
-        double start = glfwGetTime(), budget = 0.0, view_d[16], frame_ms, t0, predicted;
-        double dt = a.opt.frames ? HEADLESS_STEP : start - last_time;
+        double start = glfwGetTime(), budget = 0.0, view_d[16], frame_ms, t0, predicted, err;
+        double fixed[FOREST_FEATURES] = {0.0}, x[FOREST_FEATURES];
+        double dt = a.opt.hold ? 0.0 : a.opt.frames ? HEADLESS_STEP : start - last_time;
         int last = a.opt.frames && frame + 1u == a.opt.frames;
         tclod_view view;
         tclod_frame fr;
         tclod_stats stats;
-        const tclod_id *ids = NULL;
-        const tclod_smooth_group *groups = NULL;
-        size_t n_ids = 0, n_groups = 0;
         hud_figures hf;
 
         last_time = start;
         glfwPollEvents();
         if (tm.gpu)
-            timing_collect(&tm, &r.gl, a.calib, tm.ring[tm.head].waiting);
+            timing_collect(&tm, &r.gl, a.calib, a.learn, tm.ring[tm.head].waiting);
         glfwGetFramebufferSize(win, &fb_w, &fb_h);
         if (fb_w <= 0 || fb_h <= 0) { /* minimised */
             glfwWaitEventsTimeout(0.1);
@@ -1461,8 +1591,14 @@ int main(int argc, char **argv) {
         dt = dt > 0.1 ? 0.1 : dt;
         now += dt;
         update_view(&a, win, dt, fb_w, fb_h, &view);
+        fixed[FOREST_PIXELS] = (double)fb_w * (double)fb_h;
         memset(&stats, 0, sizeof(stats));
         hf.morphing = 0;
+        if (!a.sch) {
+            ids = NULL;
+            groups = NULL;
+            n_ids = n_groups = 0;
+        }
 
         if (a.sch) {
             /* the scheduler: the render time that fits the target (its own
@@ -1490,20 +1626,34 @@ int main(int argc, char **argv) {
             stats.solve_seconds = ss.select_seconds;
             hf.morphing = ss.morphing;
         } else {
-            /* libtclod: the budget for the target frame time, the selection, the result */
-            tclod_calib_budget(a.calib, a.opt.target_ms, &budget);
+            /* libtclod: the budget for the target frame time, the selection, the
+             * result; with the learned model the nodes are priced as it learned,
+             * and the budget is what the frame's pixels leave */
+            if (a.learn) {
+                tclod_selector_set_coefficients(a.sel, tclod_calib_coefficients(a.calib));
+                tclod_calib_budget_fixed(a.calib, a.opt.target_ms, fixed, &budget);
+            } else {
+                tclod_calib_budget(a.calib, a.opt.target_ms, &budget);
+            }
             memset(&fr, 0, sizeof(fr));
             fr.view = &view;
             fr.budget = budget;
-            st = tclod_select(a.sel, &fr, &stats);
-            if (st != TCLOD_OK) {
-                fprintf(stderr, "glfw_forest: tclod_select failed: %s\n", tclod_status_string(st));
-                rc = 1;
-                break;
+            if (a.opt.hold && frame >= HOLD_AFTER) {
+                stats = kept; /* --hold: the same selection, drawn again */
+                stats.solve_seconds = 0.0;
+            } else {
+                st = tclod_select(a.sel, &fr, &stats);
+                if (st != TCLOD_OK) {
+                    fprintf(stderr, "glfw_forest: tclod_select failed: %s\n",
+                            tclod_status_string(st));
+                    rc = 1;
+                    break;
+                }
+                kept = stats;
             }
             tclod_selector_cut(a.sel, &ids, &n_ids);
             tclod_selector_smooth_groups(a.sel, &groups, &n_groups);
-            predicted = stats.cost;
+            predicted = stats.cost + tclod_calib_predict(a.calib, fixed);
         }
         terrain_prepare(&r.terrain, &r.gl, &a.scene, ids, n_ids, (uint32_t)frame);
 
@@ -1525,6 +1675,10 @@ int main(int argc, char **argv) {
             tm.last_render_ms = (glfwGetTime() - t0) * 1e3;
         }
 
+        x[THESIS_DRAWS] = (double)(n_ids + r.terrain.morph_count) + (double)hf.trees.trees;
+        x[THESIS_VERTICES] = (double)(n_ids + r.terrain.morph_count) * THESIS_PATCH_VERTICES;
+        x[THESIS_SPLATS] = hf.trees.splats;
+        x[FOREST_PIXELS] = fixed[FOREST_PIXELS];
         hf.frame_ms =
             hud.filled ? (double)hud.frame_ms[(hud.next + GRAPH_FRAMES - 1) % GRAPH_FRAMES] : 0.0;
         hf.target_ms = a.opt.target_ms;
@@ -1551,10 +1705,10 @@ int main(int argc, char **argv) {
             tm.ring[tm.head].waiting = 1;
             tm.ring[tm.head].predicted = predicted;
             tm.ring[tm.head].frame_ms = frame_ms;
+            memcpy(tm.ring[tm.head].x, x, sizeof x);
             tm.head = (tm.head + 1) % QUERY_RING;
         } else {
-            tclod_calib_report(a.calib, predicted, tm.last_render_ms,
-                               frame_ms > tm.last_render_ms ? frame_ms - tm.last_render_ms : 0.0);
+            report_frame(a.calib, a.learn, x, predicted, tm.last_render_ms, frame_ms);
         }
         /* the scheduler's own calibration, render and logic time: with GPU timing
          * the latest measured frame, a frame or two old, stands in for this one */
@@ -1567,14 +1721,36 @@ int main(int argc, char **argv) {
         hud.next = (hud.next + 1) % GRAPH_FRAMES;
         if (hud.filled < GRAPH_FRAMES)
             hud.filled++;
+        err = fabs(frame_ms - a.opt.target_ms) / a.opt.target_ms;
+        if (csv)
+            fprintf(csv, "%lu,%g,%.4f,%.4f,%.4f,%.4f,%.4f,%.0f,%.0f,%.0f,%.0f,%.4f\n", frame,
+                    a.opt.target_ms, frame_ms, tm.last_render_ms,
+                    frame_ms > tm.last_render_ms ? frame_ms - tm.last_render_ms : 0.0, predicted,
+                    budget, x[0], x[1], x[2], x[3], stats.solve_seconds * 1e3);
+        if (!errors_add(&errs, err) ||
+            (frame > 0 && !errors_add(&jumps, fabs(frame_ms - last_ms) / a.opt.target_ms))) {
+            fprintf(stderr, "glfw_forest: out of memory for the frame figures\n");
+            rc = 1;
+        }
         sum_ms += frame_ms;
-        sum_err += fabs(frame_ms - a.opt.target_ms) / a.opt.target_ms;
+        sum_err += err;
+        sum_ratio += frame_ms / a.opt.target_ms;
+        last_ms = frame_ms;
         ++frame;
     }
 
     if (frame > 0)
-        printf("summary: frames=%lu mean_ms=%.3f target_ms=%.3f avg_err=%.4f\n", frame,
-               sum_ms / (double)frame, a.opt.target_ms, sum_err / (double)frame);
+        printf("summary: frames=%lu mean_ms=%.3f target_ms=%.3f avg_err=%.4f p95_err=%.4f "
+               "mean_ratio=%.4f jitter=%.4f\n",
+               frame, sum_ms / (double)frame, a.opt.target_ms, sum_err / (double)frame,
+               errors_quantile(&errs, 0.95), sum_ratio / (double)frame,
+               errors_quantile(&jumps, 0.5));
+    free(errs.v);
+    free(jumps.v);
+    if (csv && fclose(csv) != 0) {
+        fprintf(stderr, "glfw_forest: cannot write %s\n", a.opt.csv);
+        rc = 1;
+    }
     for (i = 0; tm.gpu && i < QUERY_RING; ++i)
         r.gl.DeleteQueries(1, &tm.ring[i].query);
     r.gl.DeleteBuffers(1, &r.tree_vbo);

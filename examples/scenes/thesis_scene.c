@@ -742,6 +742,52 @@ tclod_callbacks thesis_callbacks(thesis_scene *t) {
     return cb;
 }
 
+const char *const thesis_feature_names[THESIS_FEATURES] = {"draws", "vertices", "splats"};
+
+void thesis_features(void *user, const tclod_query *q, double *out) {
+    (void)user;
+    (void)q;
+    out[THESIS_DRAWS] = 1.0;
+    out[THESIS_VERTICES] = (double)THESIS_PATCH_VERTICES;
+    out[THESIS_SPLATS] = 0.0;
+}
+
+void thesis_group_features(double trees, double r, double *out, double *d_dr) {
+    double splats = r * trees * (double)THESIS_SPLATS_PER_TREE;
+    out[THESIS_DRAWS] = splats < trees ? splats : trees;
+    out[THESIS_VERTICES] = 0.0;
+    out[THESIS_SPLATS] = splats;
+    if (d_dr) { /* at the kink, the slope after it, as tclod_cost_splats */
+        d_dr[THESIS_DRAWS] = splats < trees ? trees * (double)THESIS_SPLATS_PER_TREE : 0.0;
+        d_dr[THESIS_VERTICES] = 0.0;
+        d_dr[THESIS_SPLATS] = trees * (double)THESIS_SPLATS_PER_TREE;
+    }
+}
+
+void thesis_smooth_features(void *user, const tclod_query *q, double r, double *out, double *d_dr) {
+    const thesis_scene *t = (const thesis_scene *)user;
+    uint32_t first, count;
+    double trees = 0.0;
+    if (query_range(t, q, &first, &count))
+        trees = (double)thesis_group_trees(t, first, count);
+    thesis_group_features(trees, r, out, d_dr);
+}
+
+tclod_callbacks thesis_feature_callbacks(thesis_scene *t) {
+    tclod_callbacks cb = thesis_callbacks(t);
+    cb.cost = NULL;
+    cb.smooth_cost = NULL;
+    cb.features = thesis_features;
+    cb.smooth_features = thesis_smooth_features;
+    return cb;
+}
+
+void thesis_feature_prior(const thesis_scene *t, double *out) {
+    out[THESIS_DRAWS] = t->c_tree_ms;
+    out[THESIS_VERTICES] = t->c_vertex_ms;
+    out[THESIS_SPLATS] = t->c_splat_ms;
+}
+
 /* Screen area of bounds under view as a callback would see it: 0 outside the
  * frustum, the nominal pi·radius² without a view. */
 static double own_area(const tclod_view *view, const float bounds[4]) {

@@ -187,6 +187,24 @@ double thesis_cost(void *user, const tclod_query *q);
 double thesis_smooth_benefit(void *user, const tclod_query *q, double r, double *d_dr);
 double thesis_smooth_cost(void *user, const tclod_query *q, double r, double *d_dr);
 
+/* Cost from features (docs/calibration.md, the learned cost): what drawing
+ * a patch or a group sends, THESIS_FEATURES of them: draws (a patch is one, a
+ * group at r one per tree it draws, min(r · S · N, N) for its N trees with S
+ * THESIS_SPLATS_PER_TREE splats each), strip vertices (a patch's
+ * THESIS_PATCH_VERTICES) and splats (r · S · N). eq. 8.18 and 8.19 are these
+ * features priced at c_tree, c_vertex and c_splat (thesis_feature_prior), but
+ * for the c_tree a patch's draw adds. */
+enum { THESIS_DRAWS = 0, THESIS_VERTICES = 1, THESIS_SPLATS = 2, THESIS_FEATURES = 3 };
+extern const char *const thesis_feature_names[THESIS_FEATURES];
+void thesis_features(void *user, const tclod_query *q, double *out);
+void thesis_smooth_features(void *user, const tclod_query *q, double r, double *out, double *d_dr);
+/* thesis_callbacks pricing by features (cost and smooth_cost NULL). */
+tclod_callbacks thesis_feature_callbacks(thesis_scene *t);
+/* The features of a group of `trees` trees at r into out, d/dr into d_dr (may be NULL). */
+void thesis_group_features(double trees, double r, double *out, double *d_dr);
+/* The prior: c_tree, c_vertex and c_splat of the scene, ms per unit. */
+void thesis_feature_prior(const thesis_scene *t, double *out);
+
 /* Benefit of terrain node `node` alone under view (NULL: the nominal area), with
  * its own frustum test and screen area; 0 outside the frustum or for an unknown id. */
 double thesis_node_benefit(const thesis_scene *t, const tclod_view *view, tclod_id node);

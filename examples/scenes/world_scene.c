@@ -1006,6 +1006,34 @@ tclod_callbacks world_batch_callbacks(world_scene *w) {
     return cb;
 }
 
+const char *const world_feature_names[WORLD_FEATURES] = {"draws", "triangles"};
+
+void world_features(void *user, const tclod_query *q, double *out) {
+    const world_scene *w = (const world_scene *)user;
+    out[WORLD_DRAWS] = 1.0;
+    out[WORLD_TRIANGLES] = (double)w->triangles[q->id];
+}
+
+tclod_callbacks world_feature_callbacks(world_scene *w) {
+    tclod_callbacks cb = world_callbacks(w);
+    cb.cost = NULL;
+    cb.features = world_features;
+    return cb;
+}
+
+void world_sum_features(const world_scene *w, const tclod_id *ids, size_t n, double *out) {
+    size_t i;
+    out[WORLD_DRAWS] = (double)n;
+    out[WORLD_TRIANGLES] = 0.0;
+    for (i = 0; i < n; ++i)
+        out[WORLD_TRIANGLES] += (double)w->triangles[ids[i]];
+}
+
+void world_feature_prior(const world_cost_model *m, double *out) {
+    out[WORLD_DRAWS] = m->ms_per_draw;
+    out[WORLD_TRIANGLES] = m->ms_per_triangle;
+}
+
 double world_sum_cost(const world_scene *w, const tclod_id *ids, size_t n) {
     double sum = 0.0;
     size_t i;

@@ -204,6 +204,19 @@ void world_cost_batch(void *user, const tclod_batch *b, double *out);
  * budget guarantee is about, computed independently of it. */
 double world_sum_cost(const world_scene *w, const tclod_id *ids, size_t n);
 
+/* Cost from features (docs/calibration.md, the learned cost): a node's
+ * WORLD_FEATURES features are its draw (1) and its triangles, priced at
+ * ms_per_draw and ms_per_triangle by world_cost_model's prior. */
+enum { WORLD_DRAWS = 0, WORLD_TRIANGLES = 1, WORLD_FEATURES = 2 };
+extern const char *const world_feature_names[WORLD_FEATURES];
+void world_features(void *user, const tclod_query *q, double *out);
+/* world_callbacks pricing by features instead of cost_ms (cost NULL). */
+tclod_callbacks world_feature_callbacks(world_scene *w);
+/* The features of the n nodes ids summed into out (WORLD_FEATURES entries). */
+void world_sum_features(const world_scene *w, const tclod_id *ids, size_t n, double *out);
+/* The prior of a cost model: out[WORLD_DRAWS], out[WORLD_TRIANGLES]. */
+void world_feature_prior(const world_cost_model *m, double *out);
+
 /* Objects whose level-0 bounds intersect the view frustum. */
 uint32_t world_visible_objects(const world_scene *w, const tclod_view *view);
 

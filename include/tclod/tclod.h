@@ -59,6 +59,10 @@ extern "C" {
 
 /* Index of a node or of a smooth object. */
 typedef uint32_t tclod_id;
+
+/* The most features a cost model takes (tclod_selector_desc.feature_count,
+ * tclod_calib_desc.feature_count; docs/calibration.md, the learned cost). */
+#define TCLOD_MAX_FEATURES 8u
 /* "No node": the parent of a root, and the invalid id. */
 #define TCLOD_NONE ((tclod_id)0xffffffffu)
 
@@ -270,6 +274,20 @@ typedef struct tclod_callbacks {
      * bit-identical either way (docs/api.md, batch evaluation). */
     void (*benefit_batch)(void *user, const tclod_batch *b, double *out);
     void (*cost_batch)(void *user, const tclod_batch *b, double *out);
+    /* Optional cost from features (docs/calibration.md, the learned cost):
+     * the selector's feature_count features of drawing node q->id (draws,
+     * vertices, splats, ...: what the host counts while it draws, each >= 0
+     * and finite) into out, which holds NaN on entry (an entry left unwritten
+     * is a bad value). The node's cost is then coefficients · features
+     * (tclod_selector_desc.coefficients, tclod_selector_set_coefficients),
+     * plus the cost callback's value when that is set too: cost may be NULL.
+     * A bad feature is a bad cost. With features, cost_batch is not asked. */
+    void (*features)(void *user, const tclod_query *q, double *out);
+    /* The same for a smooth object or group at resolution r: its features
+     * into out and their d/dr into d_dr (feature_count entries each, NaN on
+     * entry), every feature nondecreasing in r and 0 at r = 0. Its cost is
+     * coefficients · out, plus smooth_cost when set: smooth_cost may be NULL. */
+    void (*smooth_features)(void *user, const tclod_query *q, double r, double *out, double *d_dr);
 } tclod_callbacks;
 
 /* ------------------------------------------------------------------------- */
@@ -588,6 +606,12 @@ typedef struct tclod_selector_desc {
                                          (benefit, cost and their batch forms) are called
                                          from the workers at the same time, on different
                                          nodes */
+    /* The features of callbacks.features and smooth_features, 1 ..
+     * TCLOD_MAX_FEATURES; 0 (default): none. */
+    uint32_t feature_count;
+    /* Cost per unit of each feature, finite and >= 0, until
+     * tclod_selector_set_coefficients; entries past feature_count unused. */
+    double coefficients[TCLOD_MAX_FEATURES];
 } tclod_selector_desc;
 
 /* Asks for 0 in a desc field whose 0 means "the default" (restarts,
@@ -603,7 +627,7 @@ typedef struct tclod_selector_desc {
 TCLOD_API void tclod_selector_desc_default(tclod_selector_desc *d);
 
 /* NULL when d is valid for a selector or scheduler over s, else the rule it
- * breaks ("desc.callbacks.cost is NULL"): why tclod_selector_create or
+ * breaks ("desc.callbacks.benefit is NULL"): why tclod_selector_create or
  * tclod_scheduler_create returned TCLOD_ERR_ARG. s may be NULL: the rule that
  * needs the scene (smooth callbacks of the mixed solver) is then not checked. */
 TCLOD_API const char *tclod_selector_desc_check(const tclod_scene *s, const tclod_selector_desc *d);
@@ -737,6 +761,15 @@ TCLOD_API tclod_status tclod_select_step(tclod_selector *sel, double slice_secon
  * (stop reason TCLOD_STOP_FINISHED). Errors as tclod_select_step. */
 TCLOD_API tclod_status tclod_select_finish(tclod_selector *sel, tclod_stats *st);
 
+/* Sets the cost per unit of each of the desc's feature_count features
+ * (coefficients[i] finite and >= 0), as tclod_calib_coefficients gives them;
+ * the next select prices every node and smooth group with them. Errors:
+ * TCLOD_ERR_ARG (NULL argument, a selector without features, a coefficient
+ * NaN, infinite or negative, naming it), TCLOD_ERR_STATE (a solve is pending,
+ * or from a callback); nothing changes on error. */
+TCLOD_API tclod_status tclod_selector_set_coefficients(tclod_selector *sel,
+                                                       const double *coefficients);
+
 /* Drops the pending solve, if any; the previous result stays. Errors:
  * TCLOD_ERR_ARG (NULL), TCLOD_ERR_STATE (from a callback). */
 TCLOD_API tclod_status tclod_select_cancel(tclod_selector *sel);
@@ -812,8 +845,9 @@ TCLOD_API tclod_status tclod_selector_set_stream(tclod_selector *sel, const tclo
 /* tclod_stream_item.flags */
 #define TCLOD_STREAM_SMOOTH 0x1u /* id is a smooth object, not a node */
 #define TCLOD_STREAM_LISTED 0x2u /* it was in the previous select's list too */
-#define TCLOD_STREAM_EXPAND 0x4u /* a request to read an unexpanded node's part of the
-                                    hierarchy (tclod_node_desc.unexpanded) */
+#define TCLOD_STREAM_EXPAND                                    \
+    0x4u /* a request to read an unexpanded node's part of the \
+            hierarchy (tclod_node_desc.unexpanded) */
 
 /* A load request or an eviction. */
 typedef struct tclod_stream_item {
@@ -927,6 +961,32 @@ typedef struct tclod_calib_desc {
     int initial_measured; /* 1: the initial values are measurements, blended at the
                              rates. 0 (default): guesses, replaced by the first
                              measurements */
+    /* The learned cost model (docs/calibration.md, the learned cost): with
+     * feature_count > 0 the calibration learns a render time per unit of each
+     * feature from tclod_calib_report_features; initial_scale is unused, and
+     * the rates and dead_band drive the fast scale on the learned coefficients
+     * (docs/calibration.md, the estimator). */
+    uint32_t feature_count; /* 1 .. TCLOD_MAX_FEATURES; 0 (default): the scale above */
+    /* optional names, for messages; copied (31 bytes at most each) */
+    const char *feature_names[TCLOD_MAX_FEATURES];
+    /* render time per unit of each feature to start from, finite and >= 0; 0: none known */
+    double prior[TCLOD_MAX_FEATURES];
+    double forgetting;   /* weight of the past per frame, (0, 1]: the model remembers
+                            about 1 / (1 - forgetting) frames. 0: default 0.998 */
+    double outlier;      /* a frame whose relative error exceeds this many times the
+                            mean relative error is an outlier, > 1. 0: default 4;
+                            TCLOD_OFF: none */
+    double least_share;  /* the least coefficient as a share of its prior (after the
+                            first frame scaled the prior), [0, 1]: no feature gets
+                            cheaper than that, so that a selection cannot buy without
+                            bound what the frames have not priced. 0: default 0.1;
+                            TCLOD_OFF: none */
+    double prior_weight; /* the least weight the prior keeps, in frames, >= 0: it holds
+                            the coefficients near the prior where the frames say
+                            little (a feature that never varies). 0: default 1;
+                            TCLOD_OFF: none once enough frames came */
+    int strict;          /* 1: a bad report fails with TCLOD_ERR_ARG. 0 (default):
+                            it is counted and ignored */
 } tclod_calib_desc;
 
 /* Fills d with the explicit defaults: the same calibration as a zeroed desc. */
@@ -955,8 +1015,55 @@ TCLOD_API const char *tclod_calib_last_error(const tclod_calib *c);
 TCLOD_API tclod_status tclod_calib_report(tclod_calib *c, double predicted_cost, double render_time,
                                           double logic_time);
 
+/* Reports one frame to the learned cost model (feature_count > 0): the
+ * frame's features summed over what it drew (feature_count entries: the
+ * nodes' and smooth groups' features, plus those of the frame's own work that
+ * no node draws, such as a full-screen pass or a constant 1), the measured
+ * render time and logic time (as tclod_calib_report). A feature or time that
+ * is NaN, infinite or negative is counted (tclod_calib_counts) and the frame
+ * ignored, or, strict, TCLOD_ERR_ARG naming it; an outlier frame (a hitch, a
+ * resize) is counted and ignored, unless three in a row err the same way,
+ * which is a change of machine the model starts again from. Errors:
+ * TCLOD_ERR_ARG (NULL c or features, no features, strict and a bad value),
+ * and nothing changes. */
+TCLOD_API tclod_status tclod_calib_report_features(tclod_calib *c, const double *features,
+                                                   double render_time, double logic_time);
+
+/* The learned render time per unit of each feature (feature_count entries,
+ * each finite and >= 0), for tclod_selector_set_coefficients. Valid until the
+ * next report or destroy; NULL for NULL or without features. */
+TCLOD_API const double *tclod_calib_coefficients(const tclod_calib *c);
+
+/* The learned model's render time for the given features (coefficients ·
+ * features), for a host that prices its own nodes. 0 for NULL arguments or
+ * without features. */
+TCLOD_API double tclod_calib_predict(const tclod_calib *c, const double *features);
+
+/* What the reports to a learned cost model were. */
+typedef struct tclod_calib_counts {
+    uint32_t frames;   /* reports */
+    uint32_t used;     /* frames the model learned from */
+    uint32_t invalid;  /* frames with a bad feature or time, ignored */
+    uint32_t empty;    /* frames that drew nothing or took no time, ignored */
+    uint32_t outliers; /* frames ignored as outliers */
+    uint32_t changes;  /* changes of machine the model started again from */
+} tclod_calib_counts;
+
+/* The counts of c into *out (zeros for NULL c). Errors: TCLOD_ERR_ARG (NULL out). */
+TCLOD_API tclod_status tclod_calib_get_counts(const tclod_calib *c, tclod_calib_counts *out);
+
+/* The budget for a target frame time when the frame's own work (the fixed
+ * features, feature_count entries: the parts of the reported features no
+ * node draws) takes render time too: tclod_calib_budget's minus
+ * tclod_calib_predict(fixed), at least 0. fixed NULL: none. Errors as
+ * tclod_calib_budget. */
+TCLOD_API tclod_status tclod_calib_budget_fixed(const tclod_calib *c, double frame_time,
+                                                const double *fixed, double *budget);
+
 /* The current ratio measured render time / predicted cost (> 0), and logic-time
- * estimate (>= 0). 0 for NULL. */
+ * estimate (>= 0); with features, the fast scale the coefficients carry on the
+ * model's (1 once the model alone is right to within the dead band). 0 for
+ * NULL. */
 TCLOD_API double tclod_calib_scale(const tclod_calib *c);
 TCLOD_API double tclod_calib_logic(const tclod_calib *c);
 
@@ -1059,7 +1166,9 @@ typedef struct tclod_scheduler_stats {
  * the predicted views, and from tclod_scheduler_update itself) and the
  * scheduling desc d; both are copied. a may be NULL (malloc/free). Errors:
  * TCLOD_ERR_ARG (NULL argument, sd rejected as tclod_selector_create rejects
- * it, a field of d out of range or NaN, tau not as described above),
+ * it, sd with features: the scheduler's views take costs, which a cost
+ * callback may compute as tclod_calib_predict of its features; a field of d
+ * out of range or NaN, d.calib with features, tau not as described above),
  * TCLOD_ERR_NOMEM. */
 TCLOD_API tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_desc *sd,
                                               const tclod_scheduler_desc *d,

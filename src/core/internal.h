@@ -116,6 +116,11 @@ const char *tclod_calib_check(const tclod_calib_desc *d, int nested);
 #define TCLOD_PREFETCH_WRITE(p) ((void)0)
 #define TCLOD_UNLIKELY(x) (x)
 #endif
+/* Whether callbacks price smooth objects: smooth_cost or smooth_features. */
+static inline int tclod_smooth_priced(const tclod_callbacks *cb) {
+    return cb->smooth_cost != NULL || cb->smooth_features != NULL;
+}
+
 /* How many slots ahead a walk over the cut fetches the node record it will
  * read: the cut lists nodes in no order of id, so each is a miss of its own
  * once the nodes outgrow the cache (docs/robin_hood.md, memory). */

@@ -162,9 +162,8 @@ static void batch_ask(const tclod_selector *sel, tclod_batch_worker *w, uint32_t
     const tclod_callbacks *cb = &sel->desc.callbacks;
     void (*batch)(void *, const tclod_batch *, double *) =
         cost ? cb->cost_batch : cb->benefit_batch;
-    double (*one)(void *, const tclod_query *) = cost ? cb->cost : cb->benefit;
     uint32_t i;
-    if (batch) {
+    if (batch && !(cost && cb->features)) { /* features are asked node by node */
         tclod_batch b;
         b.count = m;
         b.ids = ids;
@@ -179,7 +178,7 @@ static void batch_ask(const tclod_selector *sel, tclod_batch_worker *w, uint32_t
     }
     for (i = 0; i < m; ++i) {
         batch_query(sel, w, ids[i], area[i], dist[i]);
-        out[i] = one(cb->user, &w->query);
+        out[i] = cost ? tclod_node_cost(sel, &w->query) : cb->benefit(cb->user, &w->query);
     }
 }
 
@@ -228,7 +227,7 @@ static void batch_chunk(tclod_selector *sel, tclod_batch_worker *w, uint32_t wor
         for (i = 0; i < m; ++i) {
             batch_query(sel, w, ids[i], w->area[i], w->dist[i]);
             if (batch_benefit(w, &node[ids[i]], cb->benefit(cb->user, &w->query)))
-                batch_cost(sel, w, ids[i], cb->cost(cb->user, &w->query));
+                batch_cost(sel, w, ids[i], tclod_node_cost(sel, &w->query));
         }
         return;
     }
@@ -443,4 +442,57 @@ int tclod_smooth_call(tclod_selector *sel, uint32_t first, uint32_t count, const
                       float area, float distance, double x, double *b, double *db, double *c,
                       double *dc) {
     return tclod_smooth_call_inline(sel, first, count, bounds, area, distance, x, b, db, c, dc);
+}
+
+/* ---- costs from features ------------------------------------------------ */
+
+/* Whether a feature is a valid count: finite and >= 0 (-0 passes). */
+static int feature_valid(double f) {
+    return f >= 0.0 && f < HUGE_VAL;
+}
+
+double tclod_feature_cost(const tclod_selector *sel, const tclod_query *q) {
+    const tclod_callbacks *cb = &sel->desc.callbacks;
+    const double *coef = sel->desc.coefficients;
+    double f[TCLOD_MAX_FEATURES], c = 0.0;
+    uint32_t i, n = sel->desc.feature_count;
+    for (i = 0; i < n; ++i) /* what the callback leaves unwritten is a bad value */
+        f[i] = (double)NAN;
+    cb->features(cb->user, q, f);
+    if (cb->cost) {
+        c = cb->cost(cb->user, q);
+        if (!feature_valid(c))
+            return (double)NAN;
+    }
+    for (i = 0; i < n; ++i) {
+        if (!feature_valid(f[i]))
+            return (double)NAN;
+        c += coef[i] * f[i];
+    }
+    return c; /* +inf when the sum overflows: a bad cost too */
+}
+
+double tclod_feature_smooth_cost(const tclod_selector *sel, const tclod_query *q, double r,
+                                 double *d_dr) {
+    const tclod_callbacks *cb = &sel->desc.callbacks;
+    const double *coef = sel->desc.coefficients;
+    double f[TCLOD_MAX_FEATURES], df[TCLOD_MAX_FEATURES], c = 0.0, d = 0.0;
+    uint32_t i, n = sel->desc.feature_count;
+    for (i = 0; i < n; ++i)
+        f[i] = df[i] = (double)NAN;
+    cb->smooth_features(cb->user, q, r, f, df);
+    if (cb->smooth_cost) {
+        c = cb->smooth_cost(cb->user, q, r, &d);
+        if (!feature_valid(c))
+            return (double)NAN;
+    }
+    for (i = 0; i < n; ++i) {
+        if (!feature_valid(f[i]))
+            return (double)NAN;
+        c += coef[i] * f[i];
+        /* a bad slope spoils only the slope, as a bad d/dr of smooth_cost does */
+        d = feature_valid(df[i]) && feature_valid(d) ? d + coef[i] * df[i] : (double)NAN;
+    }
+    *d_dr = d;
+    return c;
 }

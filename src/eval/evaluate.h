@@ -178,6 +178,32 @@ struct tclod_selector {
     struct tclod_selector_saved *keep; /* see tclod_selector_keep; NULL: none */
 };
 
+/* Costs from features (evaluate.c): coefficients · the host's features of
+ * node q->id, plus its cost callback's value when set; NaN when a feature or
+ * that value is bad, so that the caller's checks count it once. The smooth
+ * form also prices d/dr into *d_dr (NaN when a slope is bad). */
+double tclod_feature_cost(const tclod_selector *sel, const tclod_query *q);
+double tclod_feature_smooth_cost(const tclod_selector *sel, const tclod_query *q, double r,
+                                 double *d_dr);
+
+/* The host's predicted cost of node q->id: its cost callback, or its features
+ * priced. */
+static inline double tclod_node_cost(const tclod_selector *sel, const tclod_query *q) {
+    const tclod_callbacks *cb = &sel->desc.callbacks;
+    if (TCLOD_UNLIKELY(cb->features != NULL))
+        return tclod_feature_cost(sel, q);
+    return cb->cost(cb->user, q);
+}
+
+/* The same for a smooth object or group at r, its slope into *d_dr. */
+static inline double tclod_smooth_cost(const tclod_selector *sel, const tclod_query *q, double r,
+                                       double *d_dr) {
+    const tclod_callbacks *cb = &sel->desc.callbacks;
+    if (TCLOD_UNLIKELY(cb->smooth_features != NULL))
+        return tclod_feature_smooth_cost(sel, q, r, d_dr);
+    return cb->smooth_cost(cb->user, q, r, d_dr);
+}
+
 /* Counts a bad callback value (and fails the solve in strict mode). */
 static inline void tclod_bad_value(tclod_selector *sel) {
     sel->stats.invalid_values++;
@@ -298,7 +324,7 @@ static inline int tclod_evaluate_bounded(tclod_selector *sel, tclod_id n, float 
     b = cb->benefit(cb->user, q);
     if (tclod_bits(b) - 1u >= TCLOD_BITS_MAX)
         return tclod_evaluate_invisible(sel, st, b);
-    c = cb->cost(cb->user, q);
+    c = tclod_node_cost(sel, q);
     st->benefit = b;
     if (tclod_bits(c) > TCLOD_BITS_MAX)
         return tclod_evaluate_bad_cost(sel, st, c);
@@ -428,7 +454,7 @@ static inline int tclod_smooth_call_inline(tclod_selector *sel, uint32_t first, 
     }
     if (c) {
         *dc = 0.0;
-        *c = cb->smooth_cost(cb->user, &q, xs, dc);
+        *c = tclod_smooth_cost(sel, &q, xs, dc);
         if (tclod_smooth_value_bad(*c)) {
             tclod_bad_value(sel);
             *c = *dc = HUGE_VAL;

@@ -736,7 +736,7 @@ static int plan_smooth(tclod_selector *sel, uint32_t *count) {
     uint32_t found = 0, want = S->desc.max_requests;
     double mean = s->res_count > 0 ? s->resident_bytes / s->res_count : 0.0;
     float area, distance;
-    if (sel->desc.solver != TCLOD_SOLVER_MIXED || !cb->smooth_benefit || !cb->smooth_cost ||
+    if (sel->desc.solver != TCLOD_SOLVER_MIXED || !cb->smooth_benefit || !tclod_smooth_priced(cb) ||
         s->smooth_absent_count == 0 || !sel->has_view || s->qt_count == 0 || want == 0)
         return 0;
     tclod_view_cache_measure(&sel->view, s->qt[0].bounds, &area, &distance);

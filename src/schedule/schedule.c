@@ -563,7 +563,8 @@ tclod_status tclod_scheduler_create(const tclod_scene *s, const tclod_selector_d
     tclod_selector_desc inner;
     tclod_status st;
     if (!s || !sd || !d || !out || !tclod_allocator_init(&alloc, a) ||
-        tclod_scheduler_desc_check(d))
+        tclod_scheduler_desc_check(d) || sd->feature_count != 0 || sd->callbacks.features ||
+        sd->callbacks.smooth_features)
         return TCLOD_ERR_ARG;
     sch = (tclod_scheduler *)tclod_mem_alloc(&alloc, sizeof *sch);
     if (!sch)

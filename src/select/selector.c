@@ -15,6 +15,7 @@
 #include "selector.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 const char *tclod_status_string(tclod_status s) {
@@ -77,6 +78,16 @@ static double resolve(double v, double def) {
     return v == 0.0 ? def : (v < 0.0 ? 0.0 : v);
 }
 
+/* The first of the n coefficients that is NaN, infinite or negative (-0
+ * passes), or -1. */
+static int coefficient_bad(const double *c, uint32_t n) {
+    uint32_t i;
+    for (i = 0; i < n; ++i)
+        if (!(c[i] >= 0.0 && c[i] < HUGE_VAL))
+            return (int)i;
+    return -1;
+}
+
 const char *tclod_selector_desc_check(const tclod_scene *s, const tclod_selector_desc *d) {
     if (!d)
         return "desc is NULL";
@@ -84,12 +95,22 @@ const char *tclod_selector_desc_check(const tclod_scene *s, const tclod_selector
         return "desc.solver is not a tclod_solver";
     if (!d->callbacks.benefit)
         return "desc.callbacks.benefit is NULL";
-    if (!d->callbacks.cost)
-        return "desc.callbacks.cost is NULL";
+    if (!d->callbacks.cost && !d->callbacks.features)
+        return "desc.callbacks.cost and features are NULL: one of them prices the nodes";
     if (d->solver == TCLOD_SOLVER_MIXED && s && s->smooth_live > 0 &&
-        (!d->callbacks.smooth_benefit || !d->callbacks.smooth_cost))
+        (!d->callbacks.smooth_benefit || !tclod_smooth_priced(&d->callbacks)))
         return "desc.callbacks.smooth_benefit and smooth_cost are NULL: the mixed solver "
                "needs both on a scene with smooth objects";
+    if (d->feature_count > TCLOD_MAX_FEATURES)
+        return "desc.feature_count must be at most TCLOD_MAX_FEATURES (8)";
+    if ((d->callbacks.features || d->callbacks.smooth_features) && d->feature_count == 0)
+        return "desc.feature_count is 0 but callbacks.features or smooth_features is set";
+    if (d->feature_count > 0 && !d->callbacks.features && !d->callbacks.smooth_features)
+        return "desc.feature_count is set but callbacks.features and smooth_features are NULL";
+    if (d->feature_count > 0 && !d->callbacks.features && !d->callbacks.cost)
+        return "desc.callbacks.cost and features are NULL: one of them prices the nodes";
+    if (coefficient_bad(d->coefficients, d->feature_count) >= 0)
+        return "desc.coefficients: each of the first feature_count must be finite and >= 0";
     if (!flag(d->cold_start))
         return "desc.cold_start must be 0 or 1";
     if (!flag(d->strict))
@@ -308,7 +329,7 @@ int tclod_selector_scene_ok(const tclod_selector *sel) {
     /* the mixed solver without smooth callbacks solves like the greedy while
      * the scene has no smooth objects */
     return sel->desc.solver != TCLOD_SOLVER_MIXED || sel->scene->smooth_live == 0 ||
-           (sel->desc.callbacks.smooth_benefit && sel->desc.callbacks.smooth_cost);
+           (sel->desc.callbacks.smooth_benefit && tclod_smooth_priced(&sel->desc.callbacks));
 }
 
 tclod_status tclod_selector_reserve(tclod_selector *sel) {
@@ -561,8 +582,8 @@ static void note(tclod_selector *sel) {
         notes |= TCLOD_NOTE_INVALID_VALUES;
     if (!sel->has_view)
         notes |= TCLOD_NOTE_NO_VIEW;
-    if (s->smooth_live > 0 &&
-        (sel->desc.solver == TCLOD_SOLVER_GREEDY || !cb->smooth_benefit || !cb->smooth_cost))
+    if (s->smooth_live > 0 && (sel->desc.solver == TCLOD_SOLVER_GREEDY || !cb->smooth_benefit ||
+                               !tclod_smooth_priced(cb)))
         notes |= TCLOD_NOTE_SMOOTH_IGNORED;
     if (sel->result_count == 0 && sel->group_count == 0 &&
         (s->live_nodes > 0 || s->smooth_live > 0))
@@ -680,6 +701,32 @@ tclod_status tclod_select_finish(tclod_selector *sel, tclod_stats *st) {
         sel->stats.stop_reason = TCLOD_STOP_FINISHED;
     }
     return run(sel, 0.0, 0, &done, st, fn);
+}
+
+tclod_status tclod_selector_set_coefficients(tclod_selector *sel, const double *coefficients) {
+    static const char fn[] = "tclod_selector_set_coefficients";
+    int bad;
+    if (!sel)
+        return TCLOD_ERR_ARG;
+    if (sel->busy)
+        return tclod_fail(sel->error, TCLOD_ERR_STATE, fn, TCLOD_MSG_BUSY);
+    if (sel->pending)
+        return tclod_fail(sel->error, TCLOD_ERR_STATE, fn,
+                          "a solve is pending: its nodes are priced with the coefficients "
+                          "it began with");
+    if (!coefficients)
+        return tclod_fail(sel->error, TCLOD_ERR_ARG, fn, "coefficients is NULL");
+    if (sel->desc.feature_count == 0)
+        return tclod_fail(sel->error, TCLOD_ERR_ARG, fn,
+                          "the selector has no features (desc.feature_count 0)");
+    bad = coefficient_bad(coefficients, sel->desc.feature_count);
+    if (bad >= 0) {
+        char msg[80];
+        snprintf(msg, sizeof msg, "coefficients[%d] must be finite and >= 0", bad);
+        return tclod_fail(sel->error, TCLOD_ERR_ARG, fn, msg);
+    }
+    memcpy(sel->desc.coefficients, coefficients, sel->desc.feature_count * sizeof *coefficients);
+    return TCLOD_OK;
 }
 
 tclod_status tclod_select_cancel(tclod_selector *sel) {

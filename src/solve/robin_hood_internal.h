@@ -203,7 +203,7 @@ static inline uint32_t child_count(const tclod_selector *sel, tclod_id n) {
 
 /* Whether smooth objects are instances: the smooth callbacks are set. */
 static inline int with_smooth(const tclod_selector *sel) {
-    return sel->desc.callbacks.smooth_benefit && sel->desc.callbacks.smooth_cost;
+    return sel->desc.callbacks.smooth_benefit && tclod_smooth_priced(&sel->desc.callbacks);
 }
 
 /* ---- robin_hood_prepare.c ------------------------------------------------------ */

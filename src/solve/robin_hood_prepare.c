@@ -49,7 +49,7 @@ static double node_complexity(tclod_selector *sel, tclod_id head, tclod_id end) 
     tclod_scene_public_bounds(sel->scene, q.id, &qb);
     q.bounds = qb.kind != TCLOD_BOUNDS_NONE ? &qb : NULL;
     return complexity_value(
-        sel, cb->complexity ? cb->complexity(cb->user, &q) : cb->cost(cb->user, &q), 0.0);
+        sel, cb->complexity ? cb->complexity(cb->user, &q) : tclod_node_cost(sel, &q), 0.0);
 }
 
 static double smooth_complexity(tclod_selector *sel, uint32_t pos) {
@@ -69,7 +69,7 @@ static double smooth_complexity(tclod_selector *sel, uint32_t pos) {
     if (cb->complexity)
         return complexity_value(sel, cb->complexity(cb->user, &q), 0.0);
     d = 0.0;
-    c = cb->smooth_cost(cb->user, &q, 1.0, &d);
+    c = tclod_smooth_cost(sel, &q, 1.0, &d);
     return complexity_value(sel, c, d);
 }
 

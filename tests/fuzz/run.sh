@@ -7,7 +7,7 @@
 #
 # SECONDS defaults to 60 per target (what CI runs); WORK_DIR (default: a new
 # temporary directory) receives the build, the growing corpora and any crash
-# reproducer. TARGETs default to every target (select schedule calib stream, and
+# reproducer. TARGETs default to every target (select schedule calib learn stream, and
 # tileset, the 3D Tiles reader of examples/tiles, when cJSON is found). Prints
 # each target's executions, executions per second and corpus size; exits
 # non-zero on the first crash, leak, sanitizer report, failed assertion or
@@ -22,7 +22,7 @@ shift $(($# > 2 ? 2 : $#))
 targets=("$@")
 default_targets=$((${#targets[@]} == 0))
 if ((default_targets)); then
-    targets=(select schedule calib stream)
+    targets=(select schedule calib learn stream)
 fi
 jobs="$(nproc 2>/dev/null || echo 2)"
 mkdir -p "$work"
