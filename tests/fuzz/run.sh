@@ -5,7 +5,7 @@
 #
 #   tests/fuzz/run.sh [SECONDS [WORK_DIR [TARGET...]]]
 #
-# SECONDS defaults to 60 per target (what CI runs); WORK_DIR (default: a new
+# SECONDS defaults to 60 per target (CI runs 40); WORK_DIR (default: a new
 # temporary directory) receives the build, the growing corpora and any crash
 # reproducer. TARGETs default to every target (select schedule calib learn stream, and
 # tileset, the 3D Tiles reader of examples/tiles, when cJSON is found). Prints
