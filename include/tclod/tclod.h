@@ -1022,7 +1022,7 @@ TCLOD_API tclod_status tclod_calib_report(tclod_calib *c, double predicted_cost,
  * render time and logic time (as tclod_calib_report). A feature or time that
  * is NaN, infinite or negative is counted (tclod_calib_counts) and the frame
  * ignored, or, strict, TCLOD_ERR_ARG naming it; an outlier frame (a hitch, a
- * resize) is counted and ignored, unless three in a row err the same way,
+ * resize) is counted and ignored, unless two in a row err the same way,
  * which is a change of machine the model starts again from. Errors:
  * TCLOD_ERR_ARG (NULL c or features, no features, strict and a bad value),
  * and nothing changes. */
